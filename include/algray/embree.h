@@ -1,0 +1,131 @@
+#pragma once
+// The public Embree API of algray: an algebraic surface as Embree 3 user geometry.
+//
+//   algray::SurfaceDesc desc;
+//   desc.polynomial = algray::parsePolynomial("x^2 + y^2 + z^2 - 1");
+//   desc.clip = algray::ClipSphere{{0, 0, 0}, 1.5};
+//   algray::SurfaceGeometry sphere(device, desc);      // builds cells, commits
+//   rtcAttachGeometry(scene, sphere.geometry());       // host keeps its filters/masks
+//
+// The SurfaceGeometry must outlive every scene it is attached to (like a host's shared
+// vertex buffers). Hits (written only for tnear < t < tfar, after the host's filters):
+//   tfar    the ray parameter of the first accepted root;
+//   Ng      grad f at the hit, not normalised, in the space the geometry lives in
+//           (desc.transform applied: A^-T grad f_object). Inside an Embree instance this is
+//           the instanced scene's space, as for every Embree geometry;
+//   u, v    spherical coordinates of the object-space hit point about the clip centre,
+//           u = azimuth atan2(y, x) / 2pi in [0, 1), v = polar angle acos(z / r) / pi in
+//           [0, 1]: a texture parametrisation that is seamless except at u = 0;
+//   primID  the cell (Embree primitive) of the hit, geomID/instID from Embree.
+// Occlusion writes tfar = -inf at the first accepted root and computes no normal.
+// Rays leaving the surface need no epsilon: a root at the ray origin (the origin lies
+// on the surface within the rounding of its evaluation and of its own coordinates) is
+// removed from the ray polynomial (see plugin/embree/surface_intersect.cpp).
+//
+// Double precision: Embree rays are float. A host that wants double-precision rays and
+// hits (algray-query, the accuracy benchmarks) passes an algray::IntersectContext to
+// rtcIntersect1/rtcOccluded1; the callbacks then read the double ray and write the double
+// hit. A plain RTCIntersectContext works as usual.
+#include "algray/polynomial.h"
+#include "algray/roots.h"
+
+#include <embree3/rtcore.h>
+#include <glm/mat4x4.hpp>
+
+#include <memory>
+#include <variant>
+
+namespace algray {
+
+struct ClipSphere {
+  glm::dvec3 center{0.0};
+  double radius = 1.0;
+};
+struct ClipBox {
+  glm::dvec3 lo{-1.0};
+  glm::dvec3 hi{1.0};
+};
+using ClipRegion = std::variant<ClipSphere, ClipBox>;
+
+// Switches kept for measurement (tests/bench): the defaults are the fast, accurate path.
+struct SurfaceOptions {
+  RootOptions roots;
+  bool useCells = true;       // split the clip region into cells the surface may cross
+  int cellDepth = -1;         // -1: chosen automatically per surface
+  bool originCache = true;    // per-thread expansion about the last ray origin
+  bool recentre = true;       // expand far rays about their closest point to the clip
+  bool singlePrecision = false;  // float restriction and solver (comparison only)
+};
+
+struct SurfaceDesc {
+  Polynomial polynomial;          // object space
+  ClipRegion clip = ClipSphere{};  // object space; required (surfaces are often unbounded)
+  glm::dmat4 transform{1.0};      // object to world, affine
+  SurfaceOptions options;
+};
+
+struct SurfaceData;  // the adapter's private state (plugin/embree/)
+
+class SurfaceGeometry {
+ public:
+  // Throws algray::Error on invalid input (zero or non-finite polynomial, empty or
+  // non-finite clip region, singular transform).
+  SurfaceGeometry(RTCDevice device, SurfaceDesc desc);
+  ~SurfaceGeometry();
+  SurfaceGeometry(SurfaceGeometry&&) noexcept;
+  SurfaceGeometry& operator=(SurfaceGeometry&&) noexcept;
+  SurfaceGeometry(const SurfaceGeometry&) = delete;
+  SurfaceGeometry& operator=(const SurfaceGeometry&) = delete;
+
+  RTCGeometry geometry() const;
+  unsigned primitiveCount() const;
+  const SurfaceDesc& desc() const;
+  // Number of exceptions caught inside Embree callbacks (each one counted as a miss);
+  // stays 0 unless something is badly wrong. For tests and diagnostics.
+  unsigned long long callbackErrors() const;
+
+ private:
+  std::unique_ptr<SurfaceData> data_;
+};
+
+// Double-precision side channel for single rays.
+// The float RTCRay handed to Embree must be this ray rounded outward (makeRayHit): Embree
+// traverses with the float ray, the callbacks solve with the double one. Used only for
+// geometries outside instances (inside an instance the float ray is used, since Embree
+// transformed it).
+struct RayD {
+  glm::dvec3 org{0.0};
+  glm::dvec3 dir{0.0};
+  double tnear = 0;
+  double tfar = 0;
+  // Optional bound on the distance from org to the point it stands for (pbrt-v4's
+  // pError, e.g. gamma_3 (|o| + |t d|) for a point computed as o + t d from a far ray).
+  // 0: org is exact up to its own rounding. A ray leaving a surface uses it to recognise
+  // its own origin.
+  double orgError = 0;
+};
+// Written by the callbacks of every algray geometry the ray reaches. After
+// rtcIntersect1 the HitD is the closest algray hit; it is the scene's closest hit when
+// rayhit.hit.geomID == hit.geomID (another geometry type may have been closer).
+struct HitD {
+  bool hit = false;
+  double t = 0;
+  glm::dvec3 Ng{0.0};  // gradient, space as for RTCHit::Ng (not normalised)
+  double u = 0, v = 0;
+  unsigned geomID = RTC_INVALID_GEOMETRY_ID;
+  unsigned primID = RTC_INVALID_GEOMETRY_ID;
+};
+struct IntersectContext {
+  RTCIntersectContext base;  // first member: Embree sees only this
+  const RayD* ray = nullptr;
+  HitD* hit = nullptr;
+  RTCFilterFunctionN hostFilter = nullptr;  // the host's context filter, chained
+};
+// Initialises base (rtcInitIntersectContext) and marks the context as algray's.
+void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit);
+// The float ray for Embree: origin and direction rounded to nearest, tnear rounded down
+// and tfar rounded up (the double interval is re-applied in the callbacks), mask ~0u,
+// hit ids invalid.
+RTCRayHit makeRayHit(const RayD& ray);
+
+}  // namespace algray

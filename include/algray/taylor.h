@@ -1,0 +1,66 @@
+#pragma once
+// Taylor restriction of a surface to a ray (the seed paper's central identity):
+//   g(t) = f(o + t d) = sum_{n <= m} t^n / n! (d . grad)^n f(o) = sum_n t^n H_n(d),
+// where H_n is the homogeneous part of degree n of the shifted polynomial u -> f(o + u).
+// Two paths:
+//  (1) OriginExpansion: shift f to o once (all derivative tensors at o); then each ray
+//      from o costs one evaluation of the homogeneous parts at d, O(#terms). This is the
+//      path for rays sharing an origin (a camera's primary rays).
+//  (2) restrictToRay: a direct per-ray restriction for arbitrary origins, by nested
+//      Horner in the ring of univariate polynomials.
+// Both return coefficients with a componentwise rounding-error bound the solver uses to
+// decide tangent roots (roots.h).
+#include "algray/polynomial.h"
+
+#include <array>
+
+namespace algray {
+
+// g(s) = sum_{i <= degree} coeff[i] s^i, where the ray parameter is t = tShift + s.
+// error[i] bounds |coeff[i] - exact coefficient| for the given (double) expansion point.
+struct RayPolynomial {
+  int degree = -1;
+  double tShift = 0;
+  std::array<double, kMaxDegree + 1> coeff{};
+  std::array<double, kMaxDegree + 1> error{};
+
+  // Value of g at s and a bound on |computed - exact| (coefficient error plus Horner
+  // rounding, Higham Eq. (5.3)).
+  double evaluate(double s) const;
+  double evaluateWithBound(double s, double& bound) const;
+};
+
+// Parameter of the point of the line o + t d closest to c: the natural expansion point
+// when o is far from the clip region (re-centring avoids the cancellation of
+// |o|^m-sized terms when evaluating near the surface).
+double closestParameter(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& c);
+
+// Path (2): coefficients of g(s) = f(o + (tShift + s) d). Cost O(m^4) for a dense f of
+// degree m, less for sparse ones.
+RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d,
+                            double tShift = 0.0);
+
+// Path (1): f expanded about o once; restrict(d) for every ray from o.
+class OriginExpansion {
+ public:
+  OriginExpansion() = default;
+  OriginExpansion(const Polynomial& f, const glm::dvec3& o);
+
+  const glm::dvec3& origin() const { return origin_; }
+  const Polynomial& shifted() const { return shifted_; }
+  int degree() const { return shifted_.degree(); }
+
+  // Coefficients of g(t) = f(o + t d) (tShift = 0): coeff[n] = H_n(d). With
+  // withError = false the error array is left zero (saves half the work when the caller
+  // does not need tangent decisions).
+  RayPolynomial restrict(const glm::dvec3& d, bool withError = true) const;
+
+ private:
+  glm::dvec3 origin_{0.0};
+  Polynomial shifted_;
+  // Per-coefficient bound on |shifted_ - exact shift| plus gamma-scaled |shifted_|,
+  // so that one evaluation at |d| bounds the error of H_n(d).
+  Polynomial errorWeights_;
+};
+
+}  // namespace algray

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The two commands of the README:
+#   bash scripts/algray.sh render   install what is missing, build, render the default scene
+#   bash scripts/algray.sh test     install what is missing, build, run every test
+#                                   (Release, then ASan+UBSan, then the installed-package
+#                                   example examples/minimal against a temporary prefix)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+jobs=$(nproc 2>/dev/null || echo 2)
+
+# ---- 1. Debian bookworm packages ------------------------------------------------
+packages=(cmake ninja-build g++ pkg-config libembree-dev libopenimageio-dev openimageio-tools
+          libglm-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev libmpfr-dev
+          libgmp-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev python3
+          python3-matplotlib povray)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "algray: installing ${missing[*]}"
+  sudo_cmd=()
+  [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -q
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+configure_and_build() {  # dir, extra cmake args...
+  local dir=$1; shift
+  cmake -S "$root" -B "$dir" -G Ninja "$@"
+  cmake --build "$dir" -j "$jobs"
+}
+
+case "${1:-}" in
+  render)
+    configure_and_build build -DCMAKE_BUILD_TYPE=Release
+    if [[ -x build/examples/render/algray-render ]]; then
+      build/examples/render/algray-render -o algray.png "${@:2}"
+    else
+      build/examples/core-demo "${@:2}"
+    fi
+    ;;
+  test)
+    # Release build: unit tests, stress tests and one smoke run of every benchmark.
+    configure_and_build build -DCMAKE_BUILD_TYPE=Release
+    ctest --test-dir build --output-on-failure -j "$jobs"
+    # ASan + UBSan build of the test suites (benchmarks excluded: they are timing code).
+    configure_and_build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DALGRAY_SANITIZE=ON \
+      -DALGRAY_BUILD_BENCHMARKS=OFF
+    ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      ctest --test-dir build-asan --output-on-failure -j "$jobs"
+    # The installed package: find_package(algray) from examples/minimal.
+    if [[ -f examples/minimal/CMakeLists.txt ]]; then
+      prefix=$(mktemp -d)
+      cmake --install build --prefix "$prefix" >/dev/null
+      cmake -S examples/minimal -B "$prefix/minimal-build" -G Ninja \
+        -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release
+      cmake --build "$prefix/minimal-build" -j "$jobs"
+      "$prefix/minimal-build/algray-minimal"
+      rm -rf "$prefix"
+    fi
+    ;;
+  *)
+    echo "usage: bash scripts/algray.sh render|test" >&2
+    exit 2
+    ;;
+esac
