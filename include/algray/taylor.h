@@ -58,9 +58,8 @@ class OriginExpansion {
  private:
   glm::dvec3 origin_{0.0};
   Polynomial shifted_;
-  // Per-coefficient bound on |shifted_ - exact shift| plus gamma-scaled |shifted_|,
-  // so that one evaluation at |d| bounds the error of H_n(d).
-  Polynomial errorWeights_;
+  // Per homogeneous block n: W_n with |error of H_n(d)| <= W_n max|d_i|^n (taylor.cpp).
+  std::array<double, kMaxDegree + 1> blockErrorWeight_{};
 };
 
 }  // namespace algray

@@ -1,5 +1,6 @@
 #include "algray/taylor.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace algray {
@@ -77,7 +78,11 @@ void nestedHorner(const Polynomial& f, const glm::dvec3& p, const glm::dvec3& d,
   }
 }
 
-// H_n(d) for every n: the homogeneous blocks of `poly` evaluated at d.
+// H_n(d) for every n: the homogeneous blocks of `poly` evaluated at d (Eq. 4.4 of the
+// seed paper: g_n = H_n(d)). Within block n the coefficients are ordered by (j + k, k),
+// so with the triangle YZ[(j+k)(j+k+1)/2 + k] = d.y^j d.z^k, shared by all blocks,
+//   H_n(d) = sum_{jk <= n} d.x^(n - jk) * <c_n segment jk, YZ segment jk>,
+// two contiguous dot products per segment: about 2 flops per term.
 void evaluateHomogeneousParts(const Polynomial& poly, const glm::dvec3& d, double* out) {
   const int m = poly.degree();
   double px[kMaxDegree + 1], py[kMaxDegree + 1], pz[kMaxDegree + 1];
@@ -87,12 +92,25 @@ void evaluateHomogeneousParts(const Polynomial& poly, const glm::dvec3& d, doubl
     py[i] = py[i - 1] * d.y;
     pz[i] = pz[i - 1] * d.z;
   }
+  double yz[(kMaxDegree + 1) * (kMaxDegree + 2) / 2];
+  for (int jk = 0, idx = 0; jk <= m; ++jk)
+    for (int k = 0; k <= jk; ++k) yz[idx++] = py[jk - k] * pz[k];
   const double* c = poly.coeffs().data();
   for (int n = 0; n <= m; ++n) {
     double sum = 0.0;
+    const double* w = yz;
     for (int jk = 0; jk <= n; ++jk) {
-      const double xi = px[n - jk];
-      for (int k = 0; k <= jk; ++k) sum += *c++ * (xi * (py[jk - k] * pz[k]));
+      // Two accumulators break the dependency chain of the dot product.
+      double s0 = 0.0, s1 = 0.0;
+      int k = 0;
+      for (; k + 1 <= jk; k += 2) {
+        s0 += c[k] * w[k];
+        s1 += c[k + 1] * w[k + 1];
+      }
+      if (k == jk) s0 += c[k] * w[k];
+      sum += px[n - jk] * (s0 + s1);
+      c += jk + 1;
+      w += jk + 1;
     }
     out[n] = sum;
   }
@@ -149,8 +167,12 @@ OriginExpansion::OriginExpansion(const Polynomial& f, const glm::dvec3& o)
   // Error of the shift: three univariate Taylor shifts by synthetic division, each
   // componentwise within gamma_{2m} of the same shift applied to |c| by |o_axis|
   // (Higham Sec. 5.1); composed: gamma_{6m}. Then H_n(d) adds at most n + 1 + N_n
-  // roundings per term (powers, product, summation over the N_n terms of the block).
-  // errorWeights_ folds both into one polynomial evaluated at |d| per ray.
+  // roundings per term (powers, products, summation over the N_n terms of block n).
+  // Both fold into per-term weights w_m with |error of H_n(d)| <= sum_m w_m |d^m|.
+  // Since |d^m| <= max|d_i|^n for every monomial of degree n, the per-block sums
+  // W_n = sum_{m in block n} w_m give the rigorous bound W_n max|d_i|^n at O(1) per
+  // coefficient (looser than sum w_m |d^m| by at most the block size, which only
+  // matters for tangent decisions at the rounding level).
   const int m = shifted_.degree();
   if (m < 0) return;
   Polynomial absF;
@@ -160,14 +182,14 @@ OriginExpansion::OriginExpansion(const Polynomial& f, const glm::dvec3& o)
     });
   const Polynomial absShift = absF.translate(glm::abs(o));
   const double shiftFactor = gamma(6 * m + 6) * (1.0 + gamma(6 * m + 6));
-  for (int n = 0; n <= absShift.degree(); ++n) {
+  for (int n = 0; n <= m; ++n) {
     const int blockSize = (n + 1) * (n + 2) / 2;
     const double evalFactor = gamma(n + 2 + blockSize);
-    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
-      const double w = shiftFactor * absShift.coeffs()[idx] +
-                       evalFactor * std::abs(shifted_.coeff(i, j, k));
-      errorWeights_.setCoeff(i, j, k, w * (1.0 + gamma(2 * m + 8)));
+    double w = 0.0;
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+      w += shiftFactor * absShift.coeff(i, j, k) + evalFactor * std::abs(shifted_.coeff(i, j, k));
     });
+    blockErrorWeight_[n] = w * (1.0 + gamma(blockSize + 2));
   }
 }
 
@@ -176,10 +198,11 @@ RayPolynomial OriginExpansion::restrict(const glm::dvec3& d, bool withError) con
   g.degree = shifted_.degree();
   if (g.degree < 0) return g;
   evaluateHomogeneousParts(shifted_, d, g.coeff.data());
-  if (withError && !errorWeights_.isZero()) {
-    double e[kMaxDegree + 1] = {};
-    evaluateHomogeneousParts(errorWeights_, glm::abs(d), e);
-    for (int n = 0; n <= errorWeights_.degree(); ++n) g.error[n] = e[n];
+  if (withError) {
+    const double dmax = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    double dn = 1.0;
+    for (int n = 0; n <= g.degree; ++n, dn *= dmax)
+      g.error[n] = blockErrorWeight_[n] * dn * (1.0 + gamma(n + 2));
   }
   while (g.degree > 0 && g.coeff[g.degree] == 0.0 && g.error[g.degree] == 0.0) --g.degree;
   return g;
