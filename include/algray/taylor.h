@@ -13,6 +13,7 @@
 #include "algray/polynomial.h"
 
 #include <array>
+#include <vector>
 
 namespace algray {
 
@@ -58,6 +59,12 @@ class OriginExpansion {
  private:
   glm::dvec3 origin_{0.0};
   Polynomial shifted_;
+  // Non-zero terms of shifted_, used instead of the dense kernel when few (taylor.cpp).
+  struct SparseTerm {
+    double c;
+    int n, i, j, k;
+  };
+  std::vector<SparseTerm> sparseTerms_;
   // Per homogeneous block n: W_n with |error of H_n(d)| <= W_n max|d_i|^n (taylor.cpp).
   std::array<double, kMaxDegree + 1> blockErrorWeight_{};
 };

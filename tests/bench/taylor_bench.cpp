@@ -7,9 +7,12 @@
 // Run: build/tests/bench/taylor_bench --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "algray/gallery.h"
 #include "algray/taylor.h"
 
 namespace {
@@ -67,6 +70,60 @@ void BM_ExpandOrigin(benchmark::State& state) {
     benchmark::DoNotOptimize(e);
   }
 }
+
+// Storage choice (polynomial.h): the shifted polynomial about a camera origin, evaluated
+// per ray, by the library (dense segment dot products, or its own sparse list when the
+// shifted polynomial has few terms) versus a plain sparse list of non-zero terms. Counters
+// show how much translation fills in: the gallery's sparse surfaces become dense.
+struct SparseTerm {
+  int i, j, k;
+  double c;
+};
+
+void BM_GalleryShifted(benchmark::State& state, const algray::GallerySurface* surface, bool dense) {
+  const Polynomial f = surface->build();
+  const glm::dvec3 camera = glm::dvec3(0.6, -0.8, 2.5) * surface->clipRadius;
+  const algray::OriginExpansion expansion(f, camera);
+  const Polynomial& shifted = expansion.shifted();
+  std::vector<SparseTerm> terms;
+  for (int n = 0; n <= shifted.degree(); ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      if (shifted.coeffs()[idx] != 0.0) terms.push_back({i, j, k, shifted.coeffs()[idx]});
+    });
+  const auto dirs = directions(1024);
+  size_t r = 0;
+  for (auto _ : state) {
+    const glm::dvec3 d = dirs[r++ & 1023];
+    if (dense) {
+      auto g = expansion.restrict(d, false);
+      benchmark::DoNotOptimize(g);
+    } else {
+      double px[algray::kMaxDegree + 1], py[algray::kMaxDegree + 1], pz[algray::kMaxDegree + 1];
+      px[0] = py[0] = pz[0] = 1.0;
+      for (int e = 1; e <= shifted.degree(); ++e) {
+        px[e] = px[e - 1] * d.x;
+        py[e] = py[e - 1] * d.y;
+        pz[e] = pz[e - 1] * d.z;
+      }
+      std::array<double, algray::kMaxDegree + 1> g{};
+      for (const SparseTerm& t : terms) g[t.i + t.j + t.k] += t.c * px[t.i] * py[t.j] * pz[t.k];
+      benchmark::DoNotOptimize(g);
+    }
+  }
+  state.counters["terms_f"] = f.nonZeroCount();
+  state.counters["terms_shifted"] = shifted.nonZeroCount();
+  state.counters["dense_terms"] = Polynomial::termCount(shifted.degree());
+}
+
+const bool kGalleryRegistered = [] {
+  for (const algray::GallerySurface& s : algray::gallery()) {
+    benchmark::RegisterBenchmark(("BM_GalleryShifted/library/" + std::string(s.name)).c_str(),
+                                 BM_GalleryShifted, &s, true);
+    benchmark::RegisterBenchmark(("BM_GalleryShifted/sparse-list/" + std::string(s.name)).c_str(),
+                                 BM_GalleryShifted, &s, false);
+  }
+  return true;
+}();
 
 void degrees(benchmark::internal::Benchmark* b) {
   for (int d : {2, 3, 4, 6, 8, 10, 12, 16}) b->Args({d, 1});
