@@ -14,67 +14,62 @@ namespace {
 // coefficients of |f|(|p| + s |d|), the magnitudes the error bound scales: two independent
 // dependency chains, so the second one is nearly free on a pipelined core.
 // Cost: about m^4/24 + m^3/3 multiply-adds (twice) for degree m.
-struct Series2 {  // a pair of univariate polynomials: values and magnitudes
-  double v[kMaxDegree + 2];
-  double a[kMaxDegree + 2];
-};
+//
+// A (value, magnitude) pair is one 2-lane vector (GCC/Clang vector extension): both chains
+// advance in one SIMD operation and every load matches the width of the store that wrote
+// it. (With separate scalar arrays the compiler vectorised the additions, and 16-byte
+// loads of two 8-byte stores defeated store forwarding: a 3x slowdown, found by perf.)
+typedef double Pair __attribute__((vector_size(16)));
 
 // q <- q * (p + d s) on both chains; q has degree deg >= 0 before the call.
-inline void mulLinear(Series2& q, int deg, double p, double d, double ap, double ad) {
-  q.v[deg + 1] = d * q.v[deg];
-  q.a[deg + 1] = ad * q.a[deg];
-  for (int r = deg; r >= 1; --r) {
-    q.v[r] = p * q.v[r] + d * q.v[r - 1];
-    q.a[r] = ap * q.a[r] + ad * q.a[r - 1];
-  }
-  q.v[0] = p * q.v[0];
-  q.a[0] = ap * q.a[0];
+inline void mulLinear(Pair* q, int deg, Pair p, Pair d) {
+  q[deg + 1] = d * q[deg];
+  for (int r = deg; r >= 1; --r) q[r] = p * q[r] + d * q[r - 1];
+  q[0] = p * q[0];
 }
 
-void nestedHorner(const Polynomial& f, const glm::dvec3& p, const glm::dvec3& d, double* g,
-                  double* mag) {
-  const int m = f.degree();
-  const double* c = f.coeffs().data();
-  const glm::dvec3 ap = glm::abs(p), ad = glm::abs(d);
-  Series2 gx, fy, fz;
-  gx.v[0] = gx.a[0] = 0.0;
+// Degree as a template parameter (Yuksel's cyPolynomial style): with a compile-time
+// degree every loop bound is known and the compiler unrolls the small ones; kDynamic
+// reads the degree at run time.
+constexpr int kDynamic = -1;
+
+template <int M>
+void nestedHorner(const double* c, int mRuntime, const glm::dvec3& p, const glm::dvec3& d,
+                  double* g, double* mag) {
+  const int m = M == kDynamic ? mRuntime : M;
+  const Pair px = {p.x, std::abs(p.x)}, py = {p.y, std::abs(p.y)}, pz = {p.z, std::abs(p.z)};
+  const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
+  Pair gx[kMaxDegree + 2], fy[kMaxDegree + 2], fz[kMaxDegree + 2];
+  gx[0] = Pair{0.0, 0.0};
   for (int i = m; i >= 0; --i) {
     // G <- G * X (degree m - i - 1 -> m - i).
-    if (i < m) mulLinear(gx, m - i - 1, p.x, d.x, ap.x, ad.x);
-    for (int r = 0; r <= m - i; ++r) fy.v[r] = fy.a[r] = 0.0;
+    if (i < m) mulLinear(gx, m - i - 1, px, dx);
+    for (int r = 0; r <= m - i; ++r) fy[r] = Pair{0.0, 0.0};
     for (int j = m - i; j >= 0; --j) {
       // F <- F * Y (degree m - i - j - 1 -> m - i - j).
-      if (j < m - i) mulLinear(fy, m - i - j - 1, p.y, d.y, ap.y, ad.y);
+      if (j < m - i) mulLinear(fy, m - i - j - 1, py, dy);
       // H = sum_k c_ijk Z^k by Horner; leading zero coefficients are skipped, so sparse
       // columns cost nothing.
       int degH = -1;
       for (int k = m - i - j; k >= 0; --k) {
         const double cijk = c[Polynomial::index(i, j, k)];
+        if (degH < 0 && cijk == 0.0) continue;
+        const Pair term = {cijk, std::abs(cijk)};
         if (degH < 0) {
-          if (cijk == 0.0) continue;
-          fz.v[0] = cijk;
-          fz.a[0] = std::abs(cijk);
-          degH = 0;
-          continue;
+          fz[0] = term;
+        } else {
+          mulLinear(fz, degH, pz, dz);
+          fz[0] += term;
         }
-        mulLinear(fz, degH, p.z, d.z, ap.z, ad.z);
-        fz.v[0] += cijk;
-        fz.a[0] += std::abs(cijk);
         ++degH;
       }
-      for (int r = 0; r <= degH; ++r) {
-        fy.v[r] += fz.v[r];
-        fy.a[r] += fz.a[r];
-      }
+      for (int r = 0; r <= degH; ++r) fy[r] += fz[r];
     }
-    for (int r = 0; r <= m - i; ++r) {
-      gx.v[r] += fy.v[r];
-      gx.a[r] += fy.a[r];
-    }
+    for (int r = 0; r <= m - i; ++r) gx[r] += fy[r];
   }
   for (int r = 0; r <= m; ++r) {
-    g[r] = gx.v[r];
-    mag[r] = gx.a[r];
+    g[r] = gx[r][0];
+    mag[r] = gx[r][1];
   }
 }
 
@@ -150,7 +145,16 @@ RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm:
   if (f.isZero()) return g;
   const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
   double mag[kMaxDegree + 1];
-  nestedHorner(f, p, d, g.coeff.data(), mag);
+  const double* c = f.coeffs().data();
+  switch (f.degree()) {  // measured in tests/bench/taylor_bench (BM_RestrictToRay)
+    case 1: nestedHorner<1>(c, 1, p, d, g.coeff.data(), mag); break;
+    case 2: nestedHorner<2>(c, 2, p, d, g.coeff.data(), mag); break;
+    case 3: nestedHorner<3>(c, 3, p, d, g.coeff.data(), mag); break;
+    case 4: nestedHorner<4>(c, 4, p, d, g.coeff.data(), mag); break;
+    case 5: nestedHorner<5>(c, 5, p, d, g.coeff.data(), mag); break;
+    case 6: nestedHorner<6>(c, 6, p, d, g.coeff.data(), mag); break;
+    default: nestedHorner<kDynamic>(c, f.degree(), p, d, g.coeff.data(), mag); break;
+  }
   // Every coefficient of g is reached through at most m linear-factor steps, each one
   // multiply and at most two additions, plus the coefficient itself: gamma_{3m+3} times
   // the same computation on absolute values bounds the rounding (Higham Sec. 5.1 applied
