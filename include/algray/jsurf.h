@@ -10,14 +10,17 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace algray {
 
 class JsurfFile {
  public:
-  // Throws Error("NAME:LINE: message") on malformed input; NAME is used in messages.
+  // Throws Error("NAME:LINE: message") on malformed input (a bad \uXXXX escape); NAME is
+  // used in messages. Later duplicates of a key replace earlier ones, as in Java.
   static JsurfFile parse(std::string_view text, std::string name = "<jsurf>");
+  // Reads a file; Error("PATH: cannot read") if it cannot be opened.
   static JsurfFile read(const std::filesystem::path& path);
 
   const std::string& name() const { return name_; }
@@ -39,7 +42,11 @@ class JsurfFile {
   struct Entry {
     std::string value;
     int line = 0;
+    // Source (line, column) of each code point of the value, so that an error in the
+    // equation points into the file even across escapes and line continuations.
+    std::vector<std::pair<int, int>> positions;
   };
+  std::string where(const Entry& entry, int column = 0) const;
   std::string name_;
   std::map<std::string, Entry, std::less<>> entries_;
 };

@@ -4,6 +4,19 @@
 //   x^2 + y ^2 + z^2 - 1          (whitespace anywhere)
 //   (x^2+y^2+z^2+R^2-r^2)^2 = 4*R^2*(x^2+y^2)   with parameters R, r from the caller
 //   .5*x*y*z - 24/7 + sqrt(2)*pi  (functions of constants only are folded to numbers)
+//
+// Language: + - * / ^ (also **), parentheses, unary signs, an optional "lhs = rhs"
+// (= lhs - rhs); literals 2 .5 1. 1e-3; names x y z, pi e, options.parameters, and
+// sqrt sin cos tan exp log ln abs of constants. '^' is right-associative and binds
+// tighter than a sign (-x^2 = -(x^2), 2^-1 = 0.5). A base containing x, y, z needs a
+// non-negative integer constant exponent; divisors and function arguments must be free of
+// x, y, z. The degree is checked before each product or power is expanded.
+//
+// Rounding junk is removed by a documented rule (plugin/core/tracked_value.h): every
+// coefficient carries a running error bound gamma_k * M (Higham ch. 3), and after each
+// operation a coefficient with |c| <= 2 gamma_k M is set to exactly 0. So
+// (x+0.1)^2 - x^2 - 0.2*x - 0.01 is the zero polynomial while (x+1e-8)^3 - x^3 keeps its
+// three small coefficients.
 #include "algray/polynomial.h"
 
 #include <map>
@@ -26,10 +39,12 @@ class ParseError : public Error {
 
 struct ParseOptions {
   std::map<std::string, double, std::less<>> parameters;  // named constants: a, b, ...
-  int maxDegree = kMaxDegree;
+  int maxDegree = kMaxDegree;  // clamped to [0, kMaxDegree]
 };
 
-// Parses "lhs = rhs" (meaning lhs - rhs) or a single expression. Throws ParseError.
+// Parses "lhs = rhs" (meaning lhs - rhs) or a single expression. Throws ParseError with
+// the 1-based column (in code points) of the offending character; what() is
+// "column N: message". Never crashes or hangs on any input (nesting depth is bounded).
 Polynomial parsePolynomial(std::string_view text, const ParseOptions& options = {});
 
 }  // namespace algray

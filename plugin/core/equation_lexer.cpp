@@ -1,0 +1,169 @@
+#include "equation_lexer.h"
+
+#include "algray/parser.h"
+
+#include <charconv>
+#include <cstdio>
+
+namespace algray::detail {
+
+namespace {
+
+bool isDigit(char c) { return c >= '0' && c <= '9'; }
+bool isNameStart(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
+bool isNameChar(char c) { return isNameStart(c) || isDigit(c); }
+bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+bool isContinuation(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
+
+// Length in bytes of the (possibly multi-byte UTF-8) character at text[i].
+int charLength(std::string_view text, size_t i) {
+  size_t j = i + 1;
+  while (j < text.size() && isContinuation(text[j])) ++j;
+  return static_cast<int>(j - i);
+}
+
+// Reads a decimal literal: digits [. digits] [(e|E) [+|-] digits], at least one digit in
+// the mantissa. Values are rounded to nearest by std::from_chars (locale-independent).
+Token readNumber(std::string_view text, size_t start) {
+  size_t i = start;
+  int mantissaDigits = 0;
+  // Decimal exponent of the first non-zero digit relative to the point, to tell an
+  // underflow (rounds to 0, accepted) from an overflow (rejected) below.
+  long firstNonZero = 0;
+  bool seenNonZero = false, seenPoint = false;
+  long digitsBeforePoint = 0, zerosAfterPoint = 0;
+  for (; i < text.size(); ++i) {
+    const char c = text[i];
+    if (isDigit(c)) {
+      ++mantissaDigits;
+      if (!seenPoint) ++digitsBeforePoint;
+      if (c != '0' && !seenNonZero) {
+        seenNonZero = true;
+        firstNonZero = seenPoint ? -(zerosAfterPoint + 1) : 0;
+      } else if (c == '0' && seenPoint && !seenNonZero) {
+        ++zerosAfterPoint;
+      }
+    } else if (c == '.' && !seenPoint) {
+      seenPoint = true;
+    } else {
+      break;
+    }
+  }
+  auto malformed = [&](size_t end) {
+    throw ParseError(columnOf(text, static_cast<int>(start)),
+                     "malformed number '" + std::string(text.substr(start, end - start)) + "'");
+  };
+  if (mantissaDigits == 0) malformed(i);
+  long exponent = 0;
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    size_t j = i + 1;
+    bool negative = false;
+    if (j < text.size() && (text[j] == '+' || text[j] == '-')) negative = text[j++] == '-';
+    const size_t expStart = j;
+    while (j < text.size() && isDigit(text[j])) {
+      if (exponent < 100000) exponent = exponent * 10 + (text[j] - '0');
+      ++j;
+    }
+    if (j == expStart) malformed(j);  // "2e", "1e+": an exponent needs digits
+    if (negative) exponent = -exponent;
+    i = j;
+  }
+  // A letter or a second point glued to the literal ("2x", "1.2.3") is a typo, not a
+  // product: say so here rather than as a missing operator.
+  if (i < text.size() && (isNameChar(text[i]) || text[i] == '.')) {
+    size_t j = i;
+    while (j < text.size() && (isNameChar(text[j]) || text[j] == '.')) ++j;
+    throw ParseError(columnOf(text, static_cast<int>(start)),
+                     "malformed number '" + std::string(text.substr(start, j - start)) +
+                         "' (write a product with '*', e.g. 2*x)");
+  }
+  Token t{TokenKind::Number, static_cast<int>(start), static_cast<int>(i - start)};
+  const char* first = text.data() + start;
+  const auto [ptr, ec] = std::from_chars(first, text.data() + i, t.number);
+  if (ec == std::errc::result_out_of_range) {
+    const long magnitude = seenNonZero ? (firstNonZero < 0 ? firstNonZero : digitsBeforePoint) + exponent : 0;
+    if (magnitude < 0) {
+      t.number = 0.0;  // below the smallest subnormal: the nearest double is 0
+    } else {
+      throw ParseError(columnOf(text, static_cast<int>(start)),
+                       "number '" + std::string(text.substr(start, i - start)) +
+                           "' is too large for double (not finite)");
+    }
+  } else if (ec != std::errc() || ptr != text.data() + i) {
+    malformed(i);
+  }
+  return t;
+}
+
+}  // namespace
+
+int columnOf(std::string_view text, int offset) {
+  int column = 1;
+  for (int i = 0; i < offset && i < static_cast<int>(text.size()); ++i)
+    if (!isContinuation(text[i])) ++column;
+  return column;
+}
+
+std::string describe(std::string_view text, const Token& token) {
+  if (token.kind == TokenKind::End) return "the end of the equation";
+  return "'" + std::string(text.substr(token.offset, token.length)) + "'";
+}
+
+std::vector<Token> tokenize(std::string_view text) {
+  std::vector<Token> tokens;
+  size_t i = 0;
+  while (i < text.size()) {
+    const char c = text[i];
+    if (isSpace(c)) {
+      ++i;
+      continue;
+    }
+    const int at = static_cast<int>(i);
+    auto single = [&](TokenKind kind, int length = 1) {
+      tokens.push_back({kind, at, length});
+      i += length;
+    };
+    if (isDigit(c) || (c == '.' && i + 1 < text.size() && isDigit(text[i + 1]))) {
+      tokens.push_back(readNumber(text, i));
+      i += tokens.back().length;
+    } else if (isNameStart(c)) {
+      size_t j = i;
+      while (j < text.size() && isNameChar(text[j])) ++j;
+      single(TokenKind::Name, static_cast<int>(j - i));
+    } else if (c == '+') {
+      single(TokenKind::Plus);
+    } else if (c == '-') {
+      single(TokenKind::Minus);
+    } else if (c == '*') {
+      if (i + 1 < text.size() && text[i + 1] == '*') single(TokenKind::Caret, 2);
+      else single(TokenKind::Star);
+    } else if (c == '/') {
+      single(TokenKind::Slash);
+    } else if (c == '^') {
+      single(TokenKind::Caret);
+    } else if (c == '(') {
+      single(TokenKind::LeftParen);
+    } else if (c == ')') {
+      single(TokenKind::RightParen);
+    } else if (c == '=') {
+      single(TokenKind::Equals);
+    } else {
+      const int n = charLength(text, i);
+      std::string shown(text.substr(i, n));
+      if (n == 1 && (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)) {
+        char buf[16];
+        std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(static_cast<unsigned char>(c)));
+        shown = buf;
+      }
+      std::string hint;
+      if (c == '[' || c == '{') hint = " (use '(' for grouping)";
+      else if (c == ']' || c == '}') hint = " (use ')' for grouping)";
+      else if (c == ',') hint = " (functions take one argument; write decimals with '.')";
+      throw ParseError(columnOf(text, at), "unexpected character '" + shown + "'" + hint);
+    }
+  }
+  tokens.push_back({TokenKind::End, static_cast<int>(text.size()), 0});
+  return tokens;
+}
+
+}  // namespace algray::detail

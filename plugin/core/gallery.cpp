@@ -1,0 +1,243 @@
+// The gallery: classic algebraic surfaces written from their definitions with Polynomial
+// arithmetic (not parsed from text, so the parser tests can compare against them).
+// Coordinates: the affine chart w = 1 of the projective definitions. Clip radii frame the
+// part people draw (tests/gallery_test.cpp checks that the surface crosses or fills it).
+#include "algray/gallery.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace algray {
+
+namespace {
+
+const Polynomial& X() {
+  static const Polynomial p = Polynomial::variable(0);
+  return p;
+}
+const Polynomial& Y() {
+  static const Polynomial p = Polynomial::variable(1);
+  return p;
+}
+const Polynomial& Z() {
+  static const Polynomial p = Polynomial::variable(2);
+  return p;
+}
+Polynomial c(double v) { return Polynomial(v); }
+Polynomial r2() { return X() * X() + Y() * Y() + Z() * Z(); }
+
+constexpr double kPhi = std::numbers::phi;  // golden ratio (1 + sqrt 5) / 2
+
+Polynomial sphere() { return r2() - c(1.0); }
+
+// Semi-axes 1, 0.75, 0.5: x^2/a^2 + y^2/b^2 + z^2/c^2 = 1.
+Polynomial ellipsoid() {
+  return X().pow(2) + Y().pow(2) * (1.0 / (0.75 * 0.75)) + Z().pow(2) * (1.0 / (0.5 * 0.5)) - c(1.0);
+}
+
+// Torus about the z axis, tube centre radius R = 1, tube radius r = 0.4:
+// (x^2 + y^2 + z^2 + R^2 - r^2)^2 = 4 R^2 (x^2 + y^2).
+Polynomial torus() {
+  const double R = 1.0, r = 0.4;
+  return (r2() + c(R * R - r * r)).pow(2) - 4.0 * R * R * (X() * X() + Y() * Y());
+}
+
+// Clebsch diagonal cubic, x0 + ... + x4 = 0 = x0^3 + ... + x4^3 in P^4, in the affine
+// S3-symmetric form popularised by Hunt, "The Geometry of some special Arithmetic
+// Quotients" (1996), and the SURFER gallery: all 27 lines are real.
+Polynomial clebschCubic() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  return 81.0 * (x.pow(3) + y.pow(3) + z.pow(3)) -
+         189.0 * (x * x * y + x * x * z + y * y * x + y * y * z + z * z * x + z * z * y) +
+         54.0 * x * y * z + 126.0 * (x * y + y * z + z * x) - 9.0 * r2() - 9.0 * (x + y + z) + c(1.0);
+}
+
+// Cayley's 4-nodal cubic: 4 (x0^3 + x1^3 + x2^3 + x3^3) = (x0 + x1 + x2 + x3)^3 with
+// x3 = w = 1 (the SURFER "record_cayleycubic" with a = b = 1/2, times 4). Its gradient
+// 12 xi^2 = 3 S^2 vanishes where every xi = +-S/2 with exactly one sign odd: the nodes
+// (1,1,-1), (1,-1,1), (-1,1,1), (-1,-1,-1).
+Polynomial cayleyCubic() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  return 4.0 * (x.pow(3) + y.pow(3) + z.pow(3) + c(1.0)) - (x + y + z + c(1.0)).pow(3);
+}
+
+// Steiner's Roman surface x^2 y^2 + y^2 z^2 + z^2 x^2 = r^2 x y z (r = 1), the image of
+// (u:v:w) -> (vw, uw, uv) on the sphere; the real zero set also holds the three axes.
+Polynomial romanSurface() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  return x * x * y * y + y * y * z * z + z * z * x * x - x * y * z;
+}
+
+// Kummer's quartic family (x^2+y^2+z^2-mu^2)^2 - lambda p q r s, lambda = (3mu^2-1)/(3-mu^2),
+// with the tetrahedron planes p, q, r, s = 1 - z -+ sqrt2 x, 1 + z +- sqrt2 y (as in
+// SURFER); mu^2 = 1.69 gives 16 real nodes.
+Polynomial kummerQuartic() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  const double mu2 = 1.69, lambda = (3.0 * mu2 - 1.0) / (3.0 - mu2), s = std::numbers::sqrt2;
+  const Polynomial p = c(1.0) - z - s * x, q = c(1.0) - z + s * x;
+  const Polynomial r = c(1.0) + z + s * y, t = c(1.0) + z - s * y;
+  return (r2() - c(mu2)).pow(2) - lambda * (p * q * r * t);
+}
+
+// Barth's sextic (Barth, J. Alg. Geom. 5 (1996) 173-186), 65 nodes, icosahedral symmetry:
+// 4 (phi^2 x^2 - y^2)(phi^2 y^2 - z^2)(phi^2 z^2 - x^2) - (1 + 2 phi)(x^2+y^2+z^2-w^2)^2 w^2.
+Polynomial barthSextic() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  const double p2 = kPhi * kPhi;
+  return 4.0 * (p2 * x * x - y * y) * (p2 * y * y - z * z) * (p2 * z * z - x * x) -
+         (1.0 + 2.0 * kPhi) * (r2() - c(1.0)).pow(2);
+}
+
+// Barth's decic (same paper), 345 nodes:
+// 8 (x^2 - phi^4 y^2)(y^2 - phi^4 z^2)(z^2 - phi^4 x^2)(x^4+y^4+z^4 - 2x^2y^2 - 2y^2z^2 - 2z^2x^2)
+//   + (3 + 5 phi)(x^2+y^2+z^2 - w^2)^2 (x^2+y^2+z^2 - (2 - phi) w^2)^2 w^2.
+Polynomial barthDecic() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  const double p4 = std::pow(kPhi, 4);
+  const Polynomial x2 = x * x, y2 = y * y, z2 = z * z;
+  return 8.0 * (x2 - p4 * y2) * (y2 - p4 * z2) * (z2 - p4 * x2) *
+             (x2 * x2 + y2 * y2 + z2 * z2 - 2.0 * (x2 * y2 + y2 * z2 + z2 * x2)) +
+         (3.0 + 5.0 * kPhi) * (r2() - c(1.0)).pow(2) * (r2() - c(2.0 - kPhi)).pow(2);
+}
+
+// Taubin's heart (Taubin, "An accurate algorithm for rasterizing algebraic curves and
+// surfaces", IEEE CG&A 1994): (x^2 + 9/4 y^2 + z^2 - 1)^3 - x^2 z^3 - 9/80 y^2 z^3.
+Polynomial heart() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  return (x * x + 2.25 * y * y + z * z - c(1.0)).pow(3) - x * x * z.pow(3) - (9.0 / 80.0) * y * y * z.pow(3);
+}
+
+// Chebyshev polynomial T_n(v) by the recurrence T_{k+1} = 2 v T_k - T_{k-1}.
+Polynomial chebyshev(int n, const Polynomial& v) {
+  Polynomial previous = c(1.0), current = v;
+  if (n == 0) return previous;
+  for (int k = 1; k < n; ++k) {
+    Polynomial next = 2.0 * (v * current) - previous;
+    previous = std::move(current);
+    current = std::move(next);
+  }
+  return current;
+}
+
+// Chmutov's surfaces T_n(x) + T_n(y) + T_n(z) + 1 = 0 (Chmutov 1992; the SURFER
+// "record_chmutovoktic" is the n = 8 one divided by 128). Nodes where T_n' vanishes in
+// all three variables with two of the T_n = -1 and one = +1.
+template <int n>
+Polynomial chmutov() {
+  return chebyshev(n, X()) + chebyshev(n, Y()) + chebyshev(n, Z()) + c(1.0);
+}
+
+// Endrass' octic X+ (Endrass, "A projective surface of degree eight with 168 nodes",
+// J. Alg. Geom. 6 (1997) 325-334), 168 real nodes:
+// 64 (x^2-w^2)(y^2-w^2)((x+y)^2-2w^2)((x-y)^2-2w^2)
+//   = [-4(1+sqrt2)(x^2+y^2)^2 + (8(2+sqrt2) z^2 + 2(2+7 sqrt2) w^2)(x^2+y^2)
+//      - 16 z^4 + 8(1-2 sqrt2) z^2 w^2 - (1+12 sqrt2) w^4]^2.
+Polynomial endrassOctic() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  const double s = std::numbers::sqrt2;
+  const Polynomial rho2 = x * x + y * y, z2 = z * z;
+  const Polynomial lhs = 64.0 * (x * x - c(1.0)) * (y * y - c(1.0)) * ((x + y).pow(2) - c(2.0)) *
+                         ((x - y).pow(2) - c(2.0));
+  const Polynomial quartic = -4.0 * (1.0 + s) * rho2.pow(2) +
+                             (8.0 * (2.0 + s) * z2 + c(2.0 * (2.0 + 7.0 * s))) * rho2 -
+                             16.0 * z2.pow(2) + 8.0 * (1.0 - 2.0 * s) * z2 - c(1.0 + 12.0 * s);
+  return lhs - quartic.pow(2);
+}
+
+// The 120 vertices of the 600-cell (the unit quaternions of the binary icosahedral group
+// 2I), one of each pair +-v: (+-1,0,0,0) and permutations, (+-1/2,+-1/2,+-1/2,+-1/2), and the
+// even permutations of (+-phi/2, +-1/2, +-1/(2 phi), 0) (Coxeter, "Regular Polytopes", 8.7).
+std::vector<std::array<double, 4>> sixHundredCellHalf() {
+  std::vector<std::array<double, 4>> all;
+  for (int i = 0; i < 4; ++i) {
+    std::array<double, 4> v{0, 0, 0, 0};
+    v[i] = 1.0;
+    all.push_back(v);
+  }
+  for (int signs = 0; signs < 16; ++signs)
+    all.push_back({signs & 1 ? -0.5 : 0.5, signs & 2 ? -0.5 : 0.5, signs & 4 ? -0.5 : 0.5, signs & 8 ? -0.5 : 0.5});
+  const double base[4] = {kPhi / 2, 0.5, 1.0 / (2.0 * kPhi), 0.0};
+  std::array<int, 4> perm{0, 1, 2, 3};
+  do {
+    int inversions = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) inversions += perm[i] > perm[j];
+    if (inversions % 2) continue;
+    for (int signs = 0; signs < 8; ++signs) {
+      std::array<double, 4> v{};
+      for (int k = 0; k < 4; ++k) v[perm[k]] = (k < 3 && (signs >> k & 1)) ? -base[k] : base[k];
+      all.push_back(v);
+    }
+  } while (std::next_permutation(perm.begin(), perm.end()));
+  // Keep the representative whose first non-zero coordinate is positive.
+  std::vector<std::array<double, 4>> half;
+  for (const auto& v : all) {
+    for (double c : v) {
+      if (c == 0.0) continue;
+      if (c > 0.0) half.push_back(v);
+      break;
+    }
+  }
+  return half;
+}
+
+// Sarti's dodecic (Sarti, "Pencils of symmetric surfaces in P3", J. Algebra 246 (2001)
+// 429-452), 600 nodes. The bipolyhedral group (p -> a p b for a, b in 2I, p a quaternion
+// (w, x, y, z)) has, besides Q^6 = |p|^12, one more invariant of degree 12,
+//   S(p) = sum over the 60 vertex pairs +-c of the 600-cell of <c, p>^12
+// (the 600-cell is a spherical 11-design, so S is not a multiple of Q^6). In the pencil
+// S - lambda Q^6 a node at p needs grad S(p) parallel to p: p is a critical point of S on
+// the unit sphere and lambda = S(p). The critical orbit of p* = (sqrt5, 1/phi, phi, 2)/(2 sqrt3)
+// has 600 points in P^3 (found numerically; tests/gallery_test.cpp checks the nodes), so
+// lambda = S(p*). Affine chart w = 1.
+Polynomial sartiDodecic() {
+  const auto cells = sixHundredCellHalf();
+  const double s3 = std::sqrt(3.0);
+  const std::array<double, 4> node{std::sqrt(5.0) / (2 * s3), 1.0 / (kPhi * 2 * s3), kPhi / (2 * s3), 2.0 / (2 * s3)};
+  Polynomial s;
+  double lambda = 0.0;
+  for (const auto& v : cells) {
+    s += (c(v[0]) + v[1] * X() + v[2] * Y() + v[3] * Z()).pow(12);
+    lambda += std::pow(v[0] * node[0] + v[1] * node[1] + v[2] * node[2] + v[3] * node[3], 12);
+  }
+  return s - lambda * (r2() + c(1.0)).pow(6);
+}
+
+const std::array kGallery = {
+    GallerySurface{"sphere", "unit sphere x^2 + y^2 + z^2 = 1", 1.2, &sphere},
+    GallerySurface{"ellipsoid", "ellipsoid with semi-axes 1, 0.75, 0.5", 1.2, &ellipsoid},
+    GallerySurface{"torus", "torus R = 1, r = 0.4 about the z axis", 1.6, &torus},
+    GallerySurface{"clebsch-cubic", "Clebsch diagonal cubic, 27 real lines (Hunt's affine form)", 2.0,
+                   &clebschCubic},
+    GallerySurface{"cayley-cubic", "Cayley's 4-nodal cubic 4(x^3+y^3+z^3+1) = (x+y+z+1)^3", 2.5,
+                   &cayleyCubic},
+    GallerySurface{"roman-surface", "Steiner's Roman surface x^2y^2 + y^2z^2 + z^2x^2 = xyz", 0.75,
+                   &romanSurface},
+    GallerySurface{"kummer-quartic", "Kummer quartic with 16 real nodes, mu^2 = 1.69 (SURFER form)", 2.5,
+                   &kummerQuartic},
+    GallerySurface{"barth-sextic", "Barth's sextic, 65 nodes (Barth 1996)", 2.0, &barthSextic},
+    GallerySurface{"barth-decic", "Barth's decic, 345 nodes (Barth 1996)", 2.2, &barthDecic},
+    GallerySurface{"heart", "Taubin's heart (x^2+9/4y^2+z^2-1)^3 = x^2z^3 + 9/80y^2z^3", 1.5, &heart},
+    GallerySurface{"chmutov-8", "Chmutov octic T8(x)+T8(y)+T8(z)+1 = 0", 1.75, &chmutov<8>},
+    GallerySurface{"chmutov-12", "Chmutov dodecic T12(x)+T12(y)+T12(z)+1 = 0", 1.75, &chmutov<12>},
+    GallerySurface{"chmutov-16", "Chmutov surface of degree 16, T16(x)+T16(y)+T16(z)+1 = 0", 1.75,
+                   &chmutov<16>},
+    GallerySurface{"endrass-octic", "Endrass' octic X+, 168 real nodes (Endrass 1997)", 2.5, &endrassOctic},
+    GallerySurface{"sarti-dodecic", "Sarti's dodecic, 600 nodes, bipolyhedral symmetry (Sarti 2001)", 3.0,
+                   &sartiDodecic},
+};
+
+}  // namespace
+
+std::span<const GallerySurface> gallery() { return kGallery; }
+
+const GallerySurface* findGallerySurface(std::string_view name) {
+  for (const GallerySurface& s : kGallery)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+}  // namespace algray

@@ -1,0 +1,297 @@
+// Recursive-descent parser of the equation language (include/algray/parser.h). It
+// evaluates while it parses: every subexpression becomes a TrackedValue (a constant or
+// a polynomial with its rounding-error bound, see tracked_value.h), so the degree of an
+// operand is known before a product or power is expanded and can be refused up front.
+//
+// Grammar (precedence low to high; '^' is right-associative and binds tighter than a
+// unary sign, so -x^2 = -(x^2) and 2^-1 = 0.5):
+//   equation := expr [ '=' expr ] END
+//   expr     := term { ('+' | '-') term }
+//   term     := unary { ('*' | '/') unary }
+//   unary    := ('+' | '-') unary | power
+//   power    := primary [ ('^' | '**') unary ]
+//   primary  := NUMBER | NAME | FUNCTION '(' expr ')' | '(' expr ')'
+#include "algray/parser.h"
+
+#include "equation_lexer.h"
+#include "tracked_value.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace algray {
+
+ParseError::ParseError(int column, const std::string& message)
+    : Error("column " + std::to_string(column) + ": " + message), column_(column), message_(message) {}
+
+namespace {
+
+using detail::Token;
+using detail::TokenKind;
+using detail::TrackedValue;
+
+std::string formatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+class Parser {
+ public:
+  Parser(std::string_view text, const ParseOptions& options)
+      : text_(text),
+        options_(options),
+        maxDegree_(std::clamp(options.maxDegree, 0, kMaxDegree)),
+        tokens_(detail::tokenize(text)) {}
+
+  Polynomial parseEquation() {
+    if (peek().kind == TokenKind::End) throw ParseError(1, "empty equation");
+    if (peek().kind == TokenKind::Equals) fail(peek(), "missing left-hand side before '='");
+    TrackedValue value = parseExpr();
+    if (peek().kind == TokenKind::Equals) {
+      const Token equals = next();
+      if (peek().kind == TokenKind::End) fail(equals, "missing right-hand side after '='");
+      TrackedValue rhs = parseExpr();
+      if (peek().kind == TokenKind::Equals) fail(peek(), "only one '=' is allowed in an equation");
+      value = detail::add(value, rhs, /*subtract=*/true);
+      checkFinite(value, equals);
+    }
+    const Token& t = peek();
+    if (t.kind == TokenKind::RightParen)
+      fail(t, "unbalanced parenthesis: ')' at column " + std::to_string(column(t)) + " has no matching '('");
+    if (t.kind != TokenKind::End) missingOperator(t);
+    return value.toPolynomial();
+  }
+
+ private:
+  const Token& peek() const { return tokens_[pos_]; }
+  const Token& next() { return tokens_[pos_++]; }
+  int column(const Token& t) const { return detail::columnOf(text_, t.offset); }
+  std::string_view spelling(const Token& t) const { return text_.substr(t.offset, t.length); }
+
+  [[noreturn]] void fail(const Token& t, const std::string& message) const {
+    throw ParseError(column(t), message);
+  }
+  [[noreturn]] void missingOperator(const Token& t) const {
+    fail(t, "missing operator before " + detail::describe(text_, t) + " (write a product with '*')");
+  }
+
+  void checkFinite(const TrackedValue& v, const Token& at) const {
+    if (v.isFinite()) return;
+    if (v.hasVariables)
+      fail(at, "coefficient overflow: the expansion is not finite in double precision");
+    fail(at, "the value is not finite (" + formatNumber(v.value) + ")");
+  }
+
+  void checkDegree(long long degree, const Token& at) const {
+    if (degree > maxDegree_)
+      fail(at, "degree " + std::to_string(degree) + " exceeds the limit " + std::to_string(maxDegree_));
+  }
+
+  TrackedValue parseExpr() {
+    TrackedValue value = parseTerm();
+    // Finiteness is checked once per chain (a scan of every coefficient); an overflow is
+    // reported at the last '+' or '-' of the chain.
+    const Token* lastOp = nullptr;
+    while (peek().kind == TokenKind::Plus || peek().kind == TokenKind::Minus) {
+      lastOp = &next();
+      TrackedValue rhs = parseTerm();
+      detail::accumulate(value, rhs, lastOp->kind == TokenKind::Minus);
+    }
+    if (lastOp) {
+      checkFinite(value, *lastOp);
+      detail::prune(value);
+    }
+    return value;
+  }
+
+  TrackedValue parseTerm() {
+    TrackedValue value = parseUnary();
+    for (;;) {
+      const Token& t = peek();
+      if (t.kind == TokenKind::Number || t.kind == TokenKind::Name || t.kind == TokenKind::LeftParen)
+        missingOperator(t);
+      if (t.kind != TokenKind::Star && t.kind != TokenKind::Slash) return value;
+      const Token op = next();
+      const Token operandStart = peek();
+      TrackedValue rhs = parseUnary();
+      if (op.kind == TokenKind::Star) {
+        if (value.hasVariables && rhs.hasVariables)
+          checkDegree(static_cast<long long>(value.degree()) + rhs.degree(), op);
+        value = detail::multiply(value, rhs);
+      } else {
+        if (rhs.hasVariables)
+          fail(operandStart, "division by an expression in x, y, z is not a polynomial");
+        if (rhs.value == 0.0)
+          fail(operandStart, rhs.magnitude == 0.0
+                                 ? "division by zero"
+                                 : "division by zero (the divisor cancels to zero within rounding)");
+        value = detail::divide(value, rhs);
+      }
+      checkFinite(value, op);
+    }
+  }
+
+  TrackedValue parseUnary() {
+    // Every recursion (parentheses, signs, exponents) passes here: bound the depth so
+    // that "((((...x" of any length is an error, not a stack overflow.
+    struct DepthGuard {
+      int& depth;
+      explicit DepthGuard(int& d) : depth(++d) {}
+      ~DepthGuard() { --depth; }
+    } guard(depth_);
+    if (depth_ > kMaxNesting) fail(peek(), "the expression is nested too deeply (more than " +
+                                               std::to_string(kMaxNesting) + " levels)");
+    if (peek().kind == TokenKind::Minus) {
+      next();
+      return detail::negate(parseUnary());
+    }
+    if (peek().kind == TokenKind::Plus) {
+      next();
+      return parseUnary();
+    }
+    return parsePower();
+  }
+
+  TrackedValue parsePower() {
+    TrackedValue base = parsePrimary();
+    if (peek().kind != TokenKind::Caret) return base;
+    const Token caret = next();
+    const Token exponentStart = peek();
+    TrackedValue exponent = parseUnary();
+    if (exponent.hasVariables)
+      fail(exponentStart, "exponent must be a constant (it contains x, y or z)");
+    const double e = exponent.value;
+    TrackedValue result;
+    if (!base.hasVariables) {
+      result = detail::constantPower(base, exponent);
+      if (std::isnan(result.value) && std::isfinite(base.value) && std::isfinite(e))
+        fail(caret, "power of a negative number to a non-integer exponent is not real");
+      if (std::isinf(result.value) && base.value == 0.0) fail(caret, "division by zero (zero to a negative power)");
+    } else {
+      if (!(e >= 0.0) || e != std::floor(e))
+        fail(exponentStart, "exponent must be a non-negative integer (it is " + formatNumber(e) +
+                                ") when the base contains x, y or z");
+      const int degree = base.degree();
+      if (degree <= 0) {
+        // x - x + 2 and the like: a polynomial that reduced to a constant.
+        result = detail::promoted(detail::constantPower(base.asConstant(), exponent));
+      } else {
+        if (e * degree > maxDegree_)
+          fail(caret, e * degree < 1e6 ? "degree " + std::to_string(static_cast<long long>(e) * degree) +
+                                             " exceeds the limit " + std::to_string(maxDegree_)
+                                       : "exponent " + formatNumber(e) + " exceeds the degree limit " +
+                                             std::to_string(maxDegree_));
+        result = detail::integerPower(base, static_cast<int>(e));
+      }
+    }
+    checkFinite(result, caret);
+    return result;
+  }
+
+  TrackedValue parsePrimary() {
+    const Token t = next();
+    switch (t.kind) {
+      case TokenKind::Number:
+        return TrackedValue::constant(t.number);
+      case TokenKind::Name:
+        return parseName(t);
+      case TokenKind::LeftParen: {
+        if (peek().kind == TokenKind::RightParen) fail(peek(), "empty parentheses");
+        TrackedValue inner = parseExpr();
+        closeParenthesis(t);
+        return inner;
+      }
+      case TokenKind::End: {
+        const Token& previous = tokens_[pos_ - 2 >= 0 ? pos_ - 2 : 0];
+        fail(t, "the equation ends after " + detail::describe(text_, previous) + " where an operand is expected");
+      }
+      case TokenKind::RightParen:
+        if (pos_ >= 2 && tokens_[pos_ - 2].kind == TokenKind::LeftParen) fail(t, "empty parentheses");
+        [[fallthrough]];
+      default:
+        fail(t, "expected a number, a name or '(' but found " + detail::describe(text_, t));
+    }
+  }
+
+  void closeParenthesis(const Token& open) {
+    const Token& t = peek();
+    if (t.kind == TokenKind::RightParen) {
+      next();
+      return;
+    }
+    if (t.kind == TokenKind::End)
+      fail(open, "unbalanced parenthesis: '(' at column " + std::to_string(column(open)) + " is never closed");
+    if (t.kind == TokenKind::Number || t.kind == TokenKind::Name || t.kind == TokenKind::LeftParen)
+      missingOperator(t);
+    fail(t, "expected ')' to close '(' at column " + std::to_string(column(open)) + " but found " +
+                detail::describe(text_, t));
+  }
+
+  TrackedValue parseName(const Token& t) {
+    const std::string_view name = spelling(t);
+    const auto parameter = options_.parameters.find(name);
+    const bool reserved = name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" ||
+                          detail::isFunctionName(name);
+    if (reserved && parameter != options_.parameters.end())
+      fail(t, "parameter '" + std::string(name) + "' clashes with the built-in name '" + std::string(name) + "'");
+    if (name == "x" || name == "y" || name == "z") return TrackedValue::variable(name[0] - 'x');
+    if (name == "pi") return TrackedValue::constant(std::numbers::pi);
+    if (name == "e") return TrackedValue::constant(std::numbers::e);
+    if (detail::isFunctionName(name)) return parseFunction(t, name);
+    if (parameter != options_.parameters.end()) {
+      if (!std::isfinite(parameter->second))
+        fail(t, "parameter '" + std::string(name) + "' is not finite (" + formatNumber(parameter->second) + ")");
+      return TrackedValue::constant(parameter->second);
+    }
+    std::string message = "unknown name '" + std::string(name) + "'";
+    if (peek().kind == TokenKind::LeftParen) {
+      message = "unknown function '" + std::string(name) + "' (known: sqrt, sin, cos, tan, exp, log, ln, abs)";
+    } else if (name.find_first_not_of("xyz0123456789") == std::string_view::npos) {
+      message += " (write products with '*' and powers with '^', e.g. x*y or x^2)";
+    } else if (!options_.parameters.empty()) {
+      message += " (parameters:";
+      for (const auto& [key, value] : options_.parameters) message += " " + key;
+      message += ")";
+    }
+    fail(t, message);
+  }
+
+  TrackedValue parseFunction(const Token& t, std::string_view name) {
+    if (peek().kind != TokenKind::LeftParen)
+      fail(t, "function '" + std::string(name) + "' needs an argument in parentheses");
+    const Token open = next();
+    if (peek().kind == TokenKind::RightParen) fail(peek(), "empty parentheses");
+    TrackedValue argument = parseExpr();
+    closeParenthesis(open);
+    if (argument.hasVariables)
+      fail(t, std::string(name) + "() of an expression in x, y, z is not a polynomial");
+    TrackedValue result;
+    detail::applyFunction(name, argument, result);
+    if (!std::isfinite(result.value) || !std::isfinite(result.magnitude)) {
+      const std::string value = formatNumber(argument.value);
+      if ((name == "sqrt" && argument.value < 0.0) || ((name == "log" || name == "ln") && argument.value <= 0.0))
+        fail(t, std::string(name) + "(" + value + ") is not a finite real number");
+      fail(t, "the value of " + std::string(name) + "(" + value + ") is not finite");
+    }
+    return result;
+  }
+
+  std::string_view text_;
+  const ParseOptions& options_;
+  int maxDegree_;
+  std::vector<Token> tokens_;
+  int pos_ = 0;
+  int depth_ = 0;
+  static constexpr int kMaxNesting = 256;  // far beyond real equations; small stack frames even under ASan
+};
+
+}  // namespace
+
+Polynomial parsePolynomial(std::string_view text, const ParseOptions& options) {
+  return Parser(text, options).parseEquation();
+}
+
+}  // namespace algray

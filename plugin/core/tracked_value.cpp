@@ -1,0 +1,369 @@
+#include "tracked_value.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace algray::detail {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Saturating sum of rounding counts (absurd inputs cannot wrap around).
+std::int64_t addCounts(std::int64_t a, std::int64_t b) {
+  constexpr std::int64_t kCap = std::int64_t{1} << 50;
+  return std::min(kCap, a + b);
+}
+
+// Relative condition of a constant: Mc / |c| >= 1 (how much its cancellations amplify
+// the relative rounding error).
+double conditionOf(const TrackedValue& c) {
+  return c.value != 0.0 ? std::max(1.0, c.magnitude / std::abs(c.value)) : 1.0;
+}
+
+}  // namespace
+
+TrackedValue promoted(const TrackedValue& c) {
+  if (c.hasVariables) return c;
+  TrackedValue p = c;
+  p.hasVariables = true;
+  p.poly = Polynomial(c.value);
+  p.polyMagnitude = Polynomial(c.magnitude);
+  return p;
+}
+
+double gammaOf(std::int64_t k) {
+  const double ku = static_cast<double>(k) * kUnitRoundoff;
+  return ku < 0.5 ? ku / (1.0 - ku) : kInf;
+}
+
+TrackedValue TrackedValue::constant(double v, std::int64_t roundings) {
+  TrackedValue t;
+  t.value = v;
+  t.magnitude = std::abs(v);
+  t.roundings = roundings;
+  return t;
+}
+
+TrackedValue TrackedValue::variable(int axis) {
+  TrackedValue t;
+  t.hasVariables = true;
+  t.monomial = true;
+  t.exponents[axis] = 1;
+  t.value = t.magnitude = 1.0;
+  return t;
+}
+
+void TrackedValue::materialize() {
+  if (!monomial) return;
+  monomial = false;
+  poly = Polynomial();
+  polyMagnitude = Polynomial();
+  if (value != 0.0) poly.setCoeff(exponents[0], exponents[1], exponents[2], value);
+  if (magnitude != 0.0 && value != 0.0)
+    polyMagnitude.setCoeff(exponents[0], exponents[1], exponents[2], magnitude);
+  value = magnitude = 0.0;
+}
+
+Polynomial TrackedValue::toPolynomial() const {
+  if (!hasVariables) return Polynomial(value);
+  if (!monomial) return poly;
+  TrackedValue copy = *this;
+  copy.materialize();
+  return copy.poly;
+}
+
+bool TrackedValue::isFinite() const {
+  if (!hasVariables || monomial) return std::isfinite(value) && std::isfinite(magnitude);
+  return poly.isFinite() && polyMagnitude.isFinite();
+}
+
+TrackedValue TrackedValue::asConstant() const {
+  if (!hasVariables) return *this;
+  TrackedValue c;
+  if (monomial) {
+    const bool constantTerm = exponents[0] + exponents[1] + exponents[2] == 0;
+    c.value = constantTerm ? value : 0.0;
+    c.magnitude = constantTerm ? magnitude : 0.0;
+    c.roundings = roundings;
+    return c;
+  }
+  c.value = poly.coeff(0, 0, 0);
+  c.magnitude = polyMagnitude.coeff(0, 0, 0);
+  c.roundings = roundings;
+  return c;
+}
+
+TrackedValue negate(TrackedValue a) {
+  if (a.hasVariables && !a.monomial) a.poly *= -1.0;
+  else a.value = -a.value;
+  return a;
+}
+
+TrackedValue add(const TrackedValue& a, const TrackedValue& b, bool subtract) {
+  TrackedValue r = a;
+  accumulate(r, b, subtract);
+  prune(r);
+  return r;
+}
+
+void accumulate(TrackedValue& acc, const TrackedValue& b, bool subtract) {
+  acc.roundings = addCounts(std::max(acc.roundings, b.roundings), 1);
+  if (!acc.hasVariables && !b.hasVariables) {
+    acc.value = subtract ? acc.value - b.value : acc.value + b.value;
+    acc.magnitude += b.magnitude;
+    return;
+  }
+  if (!acc.hasVariables) acc = promoted(acc);
+  acc.materialize();
+  if (b.monomial) {
+    // One coefficient changes: O(1) unless the storage grows.
+    const int i = b.exponents[0], j = b.exponents[1], k = b.exponents[2];
+    if (b.value != 0.0) acc.poly.setCoeff(i, j, k, acc.poly.coeff(i, j, k) + (subtract ? -b.value : b.value));
+    if (b.value != 0.0) acc.polyMagnitude.setCoeff(i, j, k, acc.polyMagnitude.coeff(i, j, k) + b.magnitude);
+  } else if (b.hasVariables) {
+    if (subtract) acc.poly -= b.poly;
+    else acc.poly += b.poly;
+    acc.polyMagnitude += b.polyMagnitude;
+  } else {
+    acc.poly += Polynomial(subtract ? -b.value : b.value);
+    acc.polyMagnitude += Polynomial(b.magnitude);
+  }
+}
+
+TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
+  TrackedValue r;
+  const bool aSparse = !a.hasVariables || a.monomial, bSparse = !b.hasVariables || b.monomial;
+  if ((a.monomial || b.monomial) && aSparse && bSparse) {
+    // Monomial times monomial or constant: one product, no cancellation, no pruning.
+    r.hasVariables = r.monomial = true;
+    for (int axis = 0; axis < 3; ++axis)
+      r.exponents[axis] = (a.monomial ? a.exponents[axis] : 0) + (b.monomial ? b.exponents[axis] : 0);
+    r.value = a.value * b.value;
+    r.magnitude = a.magnitude * b.magnitude;
+    r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
+    return r;
+  }
+  if (a.monomial || b.monomial) {
+    TrackedValue da = a, db = b;
+    da.materialize();
+    db.materialize();
+    return multiply(da, db);
+  }
+  if (!a.hasVariables && !b.hasVariables) {
+    r.value = a.value * b.value;
+    r.magnitude = a.magnitude * b.magnitude;
+    r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
+  } else if (!a.hasVariables || !b.hasVariables) {
+    const TrackedValue& c = a.hasVariables ? b : a;
+    const TrackedValue& p = a.hasVariables ? a : b;
+    r.hasVariables = true;
+    r.poly = p.poly * c.value;
+    r.polyMagnitude = p.polyMagnitude * c.magnitude;
+    r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
+  } else {
+    r.hasVariables = true;
+    const int m = std::min(a.poly.nonZeroCount(), b.poly.nonZeroCount());
+    r.poly = a.poly * b.poly;
+    r.polyMagnitude = a.polyMagnitude * b.polyMagnitude;
+    r.roundings = addCounts(addCounts(a.roundings, b.roundings), std::max(m, 1));
+  }
+  prune(r);
+  return r;
+}
+
+TrackedValue divide(const TrackedValue& a, const TrackedValue& d) {
+  // Division is coefficient by coefficient (one correctly rounded quotient each), so that
+  // x/3 has the same coefficient as 1/3. The magnitude rule: q = a/d with d perturbed by
+  // gamma_kd Md gives |dq| <= |da|/|d| + |a| gamma_kd rho_d / |d| + u|q|.
+  TrackedValue r;
+  const double scale = conditionOf(d) / std::abs(d.value);
+  r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
+  if (!a.hasVariables || a.monomial) {
+    r = a;
+    r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
+    r.value = a.value / d.value;
+    r.magnitude = a.magnitude * scale;
+  } else {
+    r.hasVariables = true;
+    const auto c = a.poly.coeffs();
+    std::vector<double> q(c.size());
+    for (size_t i = 0; i < c.size(); ++i) q[i] = c[i] / d.value;
+    for (int n = a.poly.degree(); n >= 0; --n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+        if (q[idx] != 0.0) r.poly.setCoeff(i, j, k, q[idx]);
+      });
+    r.polyMagnitude = a.polyMagnitude * scale;
+  }
+  prune(r);
+  return r;
+}
+
+TrackedValue integerPower(const TrackedValue& a, int n) {
+  if (n == 0) {  // x^0 = 1, still "an expression in x, y, z" for the syntactic rules
+    const TrackedValue one = TrackedValue::constant(1.0, 0);
+    return a.hasVariables ? promoted(one) : one;
+  }
+  if (!a.hasVariables || a.degree() <= 0) {
+    // A constant (or a polynomial that reduced to one): exact repeated products would be
+    // slow for x^0*... ^1000000; pow is within one ulp.
+    TrackedValue c = constantPower(a.asConstant(), TrackedValue::constant(n, 0));
+    if (!a.hasVariables) return c;
+    return promoted(c);
+  }
+  if (a.monomial) {
+    // c x^i y^j z^k: its power is one term, c^n by the same n - 1 products the general
+    // loop would do, without expanding anything.
+    TrackedValue r = a;
+    for (int axis = 0; axis < 3; ++axis) r.exponents[axis] = n * a.exponents[axis];
+    for (int s = 1; s < n; ++s) r.value *= a.value, r.magnitude *= a.magnitude;
+    r.roundings = addCounts(static_cast<std::int64_t>(n) * a.roundings, n - 1);
+    return r;
+  }
+  if (a.poly.nonZeroCount() == 1) {
+    // A monomial c x^i y^j z^k: its power is one term, c^n by the same n - 1 products
+    // the general loop would do, without expanding anything.
+    int e[3] = {0, 0, 0};
+    double coefficient = 0.0, magnitude = 0.0;
+    const int d = a.poly.degree();
+    forEachMonomialOfDegree(d, [&](int i, int j, int k, int idx) {
+      if (a.poly.coeffs()[idx] != 0.0) {
+        e[0] = i, e[1] = j, e[2] = k;
+        coefficient = a.poly.coeffs()[idx];
+        magnitude = a.polyMagnitude.coeffs()[idx];
+      }
+    });
+    if (coefficient != 0.0) {
+      TrackedValue r;
+      r.hasVariables = true;
+      double c = coefficient, m = magnitude;
+      for (int s = 1; s < n; ++s) c *= coefficient, m *= magnitude;
+      r.poly.setCoeff(n * e[0], n * e[1], n * e[2], c);
+      r.polyMagnitude.setCoeff(n * e[0], n * e[1], n * e[2], m);
+      r.roundings = addCounts(static_cast<std::int64_t>(n) * a.roundings, n - 1);
+      return r;
+    }
+  }
+  // Repeated multiplication by the base, so that every step sums at most nnz(base)
+  // products: k grows by kBase + nnz(base) per step (the product rule above).
+  const std::int64_t step = addCounts(a.roundings, std::max(a.poly.nonZeroCount(), 1));
+  TrackedValue r = a;
+  for (int i = 1; i < n; ++i) {
+    r.poly = r.poly * a.poly;
+    r.roundings = addCounts(r.roundings, step);
+  }
+  r.polyMagnitude = a.polyMagnitude.pow(n);
+  prune(r);
+  return r;
+}
+
+TrackedValue constantPower(const TrackedValue& c, const TrackedValue& e) {
+  TrackedValue r;
+  r.value = std::pow(c.value, e.value);
+  r.roundings = addCounts(std::max(c.roundings, e.roundings), 2);
+  if (c.value == 0.0) {
+    // 0^e: the exact base is at most gamma_kc Mc, its power at most (gamma_kc Mc)^e.
+    if (e.value == 0.0) r.magnitude = 1.0;
+    else if (e.value >= 1.0) r.magnitude = std::pow(c.magnitude, e.value);
+    else r.magnitude = std::pow(c.magnitude, e.value) * std::pow(gammaOf(c.roundings), e.value - 1.0);
+    if (!std::isfinite(r.magnitude)) r.magnitude = std::abs(r.value);
+    return r;
+  }
+  // d(c^e)/(c^e) = e dc/c + ln|c| de: relative error |e| gamma_kc rho_c + |ln c| gamma_ke Me.
+  const double logc = std::abs(std::log(std::abs(c.value)));
+  r.magnitude = std::abs(r.value) *
+                (std::max(1.0, std::abs(e.value)) * conditionOf(c) + logc * e.magnitude + 1.0);
+  prune(r);
+  return r;
+}
+
+bool isFunctionName(std::string_view name) {
+  return name == "sqrt" || name == "sin" || name == "cos" || name == "tan" || name == "exp" ||
+         name == "log" || name == "ln" || name == "abs";
+}
+
+bool applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r) {
+  const double x = c.value, mx = c.magnitude;
+  r = TrackedValue{};
+  r.roundings = addCounts(c.roundings, 2);
+  double slope = 0.0;  // |f'(x)|
+  if (name == "sqrt") {
+    r.value = std::sqrt(x);
+    if (x == 0.0) {
+      // sqrt is not Lipschitz at 0: the exact argument is at most gamma_k Mc, its root at
+      // most sqrt(gamma_k Mc) = gamma_k * sqrt(Mc / gamma_k).
+      const double g = gammaOf(c.roundings);
+      r.magnitude = g > 0.0 ? std::sqrt(mx / g) : 0.0;
+      return true;
+    }
+    slope = 0.5 / r.value;
+  } else if (name == "sin") {
+    r.value = std::sin(x);
+    slope = std::abs(std::cos(x));
+  } else if (name == "cos") {
+    r.value = std::cos(x);
+    slope = std::abs(std::sin(x));
+  } else if (name == "tan") {
+    r.value = std::tan(x);
+    slope = 1.0 + r.value * r.value;
+  } else if (name == "exp") {
+    r.value = std::exp(x);
+    slope = r.value;
+  } else if (name == "log" || name == "ln") {
+    r.value = std::log(x);
+    slope = 1.0 / std::abs(x);
+  } else if (name == "abs") {
+    r.value = std::abs(x);
+    r.magnitude = mx;
+    r.roundings = c.roundings;
+    return true;
+  } else {
+    return false;
+  }
+  r.magnitude = std::abs(r.value) + slope * mx;
+  prune(r);
+  return true;
+}
+
+void prune(TrackedValue& v) {
+  // Non-finite values are left alone for the caller to report (an infinite magnitude
+  // must not sweep an overflowed expansion under the carpet).
+  const double g2 = 2.0 * gammaOf(v.roundings);
+  if (!v.hasVariables || v.monomial) {
+    if (v.value != 0.0 && std::isfinite(v.magnitude) && std::abs(v.value) <= g2 * v.magnitude) {
+      v.value = 0.0;
+      v.magnitude *= 3.0;
+    }
+    return;
+  }
+  const auto c = v.poly.coeffs();
+  const auto m = v.polyMagnitude.coeffs();
+  std::vector<double> threshold(c.size());
+  bool any = false;
+  for (size_t i = 0; i < c.size(); ++i) {
+    threshold[i] = i < m.size() && std::isfinite(m[i]) ? g2 * m[i] : -1.0;
+    any = any || (c[i] != 0.0 && std::abs(c[i]) <= threshold[i]);
+  }
+  if (any) {
+    // Inflate M where a coefficient is dropped (|exact| <= 3 gamma_k M there).
+    for (int n = v.poly.degree(); n >= 0; --n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+        if (c[idx] != 0.0 && std::abs(c[idx]) <= threshold[idx])
+          v.polyMagnitude.setCoeff(i, j, k, 3.0 * m[idx]);
+      });
+    v.poly.pruneBelow(threshold);
+  }
+  // Magnitudes above the degree that remains belong to coefficients declared zero.
+  const int kept = Polynomial::termCount(v.poly.degree());
+  const auto mm = v.polyMagnitude.coeffs();
+  if (static_cast<int>(mm.size()) > kept) {
+    std::vector<double> cut(mm.size(), -1.0);
+    std::fill(cut.begin() + kept, cut.end(), kInf);
+    v.polyMagnitude.pruneBelow(cut);
+  }
+}
+
+}  // namespace algray::detail

@@ -1,0 +1,95 @@
+#pragma once
+// A value of the equation language with a running rounding-error bound, so that the
+// parser can tell rounding junk from real coefficients (the pruning rule below).
+//
+// Every value V carries, next to its computed coefficients v_i, a magnitude M_i >= |v_i|
+// and a count k of rounding steps such that the exact coefficient (the one the same
+// expression has in real arithmetic on the same literals) satisfies
+//
+//     |v_i - exact_i| <= gamma_k * M_i,        gamma_k = k u / (1 - k u).
+//
+// M is the "absolute" expansion of Higham, "Accuracy and Stability of Numerical
+// Algorithms", 2nd ed., Sec. 3.1-3.3: the same expression evaluated with |.| of every
+// constant and + for every -, so M_i bounds every partial sum that fed v_i. The rules
+// (first order in u, the factor 2 of the pruning rule covers the second-order terms):
+//   literal, pi, e, parameter   k = 1 (one rounding to double), M = |v|
+//   a +- b                      k = max(ka, kb) + 1,  M = Ma + Mb          (Lemma 3.3)
+//   a * b (b a constant)        k = ka + kb + 1,      M = Ma * Mb
+//   a * b (polynomials)         k = ka + kb + m,      M = Ma * Mb
+//                               m = min(non-zeros of a, b): the longest convolution sum
+//                               (recursive summation of m products, Higham Eq. (3.4))
+//   a / d (d a constant)        k = ka + kd + 1,      M = Ma * rho_d / |d|, rho_d = Md/|d|
+//   a^n (repeated products)     k and M from the product rule applied n-1 times
+//   c^e (constants, libm pow)   k = max(kc, ke) + 2,
+//                               M = |c^e| (max(1, |e|) rho_c + |ln|c|| Me + 1)
+//   f(c) for sqrt, sin, ...     k = kc + 2 (libm within 1 ulp), M = |f(c)| + |f'(c)| Mc
+//
+// Pruning rule (applied after every operation that can cancel: *, /, ^, functions, and
+// once at the end of each chain a1 +- a2 +- ... +- an):
+//     a coefficient with |v_i| <= 2 gamma_k M_i is pure rounding junk: it is set to 0.
+// Its exact value is then at most 3 gamma_k M_i in magnitude, so M_i is multiplied by 3 to
+// keep the invariant, and M is truncated to the degree that remains (a pruned top block is
+// declared zero). Example: (x+0.1)^2 - x^2 - 0.2*x - 0.01 prunes to exactly 0, while
+// (x+1e-8)^3 - x^3 keeps 3e-8 x^2, 3e-16 x and 1e-24 (each is its own magnitude).
+#include "algray/polynomial.h"
+
+#include <cstdint>
+#include <string_view>
+
+namespace algray::detail {
+
+struct TrackedValue {
+  // True when the expression mentions x, y or z (decided by the syntax, not by the
+  // value: x - x is still a polynomial and cannot be a divisor or an exponent).
+  bool hasVariables = false;
+  // A single term value * x^e0 y^e1 z^e2 kept sparse (hasVariables is true, poly and
+  // polyMagnitude are unused): typed monomials like 3*x^2*y cost O(1) instead of a dense
+  // block each; materialize() turns it into the dense form when it meets a polynomial.
+  bool monomial = false;
+  int exponents[3] = {0, 0, 0};
+  double value = 0.0;  // when !hasVariables, or the coefficient of a monomial
+  double magnitude = 0.0;
+  Polynomial poly;  // when hasVariables and !monomial
+  Polynomial polyMagnitude;
+  std::int64_t roundings = 0;
+
+  static TrackedValue constant(double v, std::int64_t roundings = 1);
+  static TrackedValue variable(int axis);
+
+  int degree() const {
+    if (monomial) return value != 0.0 ? exponents[0] + exponents[1] + exponents[2] : -1;
+    return hasVariables ? poly.degree() : (value != 0.0 ? 0 : -1);
+  }
+  // A monomial becomes a dense polynomial (no-op otherwise).
+  void materialize();
+  bool isFinite() const;
+  // The constant a polynomial reduces to when its degree is <= 0.
+  TrackedValue asConstant() const;
+  Polynomial toPolynomial() const;
+};
+
+double gammaOf(std::int64_t k);
+
+TrackedValue negate(TrackedValue a);
+TrackedValue add(const TrackedValue& a, const TrackedValue& b, bool subtract);
+// acc +-= b without pruning (for a chain a1 + a2 + ... + an, which the parser prunes once
+// at its end: O(size of b) per term instead of O(size of acc)).
+void accumulate(TrackedValue& acc, const TrackedValue& b, bool subtract);
+TrackedValue multiply(const TrackedValue& a, const TrackedValue& b);
+// d must be a constant with a non-zero value (the parser checks).
+TrackedValue divide(const TrackedValue& a, const TrackedValue& d);
+// a^n for a polynomial a and an integer n >= 0 (the parser checks the degree first).
+TrackedValue integerPower(const TrackedValue& a, int n);
+// The constant c as a polynomial of degree <= 0 with the same bound.
+TrackedValue promoted(const TrackedValue& c);
+// c^e for constants; may be non-finite (the parser checks).
+TrackedValue constantPower(const TrackedValue& c, const TrackedValue& e);
+// f(c) for f in sqrt, sin, cos, tan, exp, log (ln), abs; c constant. Returns false for an
+// unknown function name. The result may be non-finite (the parser checks).
+bool applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& result);
+bool isFunctionName(std::string_view name);
+
+// The pruning rule above, in place.
+void prune(TrackedValue& v);
+
+}  // namespace algray::detail

@@ -1,0 +1,331 @@
+// Tests of include/algray/gallery.h: every surface against its defining formula written
+// again here in long double (not from the Polynomial), its degree, points known to lie on
+// it (parametrisations, nodes with vanishing gradient), and a clip radius that frames it.
+#include "algray/gallery.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <vector>
+#include <map>
+#include <numbers>
+#include <random>
+#include <set>
+#include <string>
+
+namespace algray {
+namespace {
+
+using LD = long double;
+using Formula = std::function<LD(LD, LD, LD)>;
+
+LD chebyshevT(int n, LD v) {
+  LD a = 1, b = v;
+  if (n == 0) return a;
+  for (int k = 1; k < n; ++k) {
+    const LD c = 2 * v * b - a;
+    a = b;
+    b = c;
+  }
+  return b;
+}
+
+// ---- Sarti: the binary icosahedral group 2I built independently of gallery.cpp, as the
+// closure under quaternion products of two generators (Coxeter, Regular Polytopes 8.7).
+using Quat = std::array<LD, 4>;  // (w, x, y, z)
+
+Quat mul(const Quat& a, const Quat& b) {
+  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3], a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1], a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+}
+
+bool close(const Quat& a, const Quat& b, LD tol = 1e-12L) {
+  for (int i = 0; i < 4; ++i)
+    if (std::abs(a[i] - b[i]) > tol) return false;
+  return true;
+}
+
+const std::vector<Quat>& binaryIcosahedral() {
+  static const std::vector<Quat> group = [] {
+    const LD phi = (1 + std::sqrt(5.0L)) / 2;
+    const std::vector<Quat> gens = {{0.5L, 0.5L, 0.5L, 0.5L}, {phi / 2, 0.5L, 1 / (2 * phi), 0}};
+    std::vector<Quat> g = {{1, 0, 0, 0}};
+    for (size_t i = 0; i < g.size(); ++i)
+      for (const Quat& h : gens) {
+        const Quat p = mul(g[i], h);
+        bool known = false;
+        for (const Quat& q : g) known = known || close(p, q);
+        if (!known) g.push_back(p);
+      }
+    return g;
+  }();
+  return group;
+}
+
+LD dot(const Quat& a, const Quat& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]; }
+
+// S(p) - S(p*) Q(p)^6 with S(p) = 1/2 sum over all 120 elements c of <c, p>^12.
+LD sartiS(const Quat& p) {
+  LD s = 0;
+  for (const Quat& c : binaryIcosahedral()) s += std::pow(dot(c, p), 12) / 2;
+  return s;
+}
+const Quat& sartiNode() {
+  static const Quat p = [] {
+    const LD phi = (1 + std::sqrt(5.0L)) / 2, n = 2 * std::sqrt(3.0L);
+    return Quat{std::sqrt(5.0L) / n, 1 / (phi * n), phi / n, 2 / n};
+  }();
+  return p;
+}
+LD sartiReference(const Quat& p) {
+  static const LD lambda = sartiS(sartiNode());
+  return sartiS(p) - lambda * std::pow(dot(p, p), 6);
+}
+
+struct Reference {
+  int degree;
+  Formula f;
+};
+
+// The defining formulas, from the references cited in plugin/core/gallery.cpp.
+const std::map<std::string, Reference>& references() {
+  static const std::map<std::string, Reference> refs = [] {
+    const LD phi = (1 + std::sqrt(5.0L)) / 2, s2 = std::sqrt(2.0L);
+    std::map<std::string, Reference> m;
+    m["sphere"] = {2, [](LD x, LD y, LD z) { return x * x + y * y + z * z - 1; }};
+    m["ellipsoid"] = {2, [](LD x, LD y, LD z) {
+                        return x * x + (y / 0.75L) * (y / 0.75L) + (z / 0.5L) * (z / 0.5L) - 1;
+                      }};
+    m["torus"] = {4, [](LD x, LD y, LD z) {
+                    const LD R = 1, r = 0.4L, q = x * x + y * y + z * z + R * R - r * r;
+                    return q * q - 4 * R * R * (x * x + y * y);
+                  }};
+    m["clebsch-cubic"] = {3, [](LD x, LD y, LD z) {
+                            return 81 * (x * x * x + y * y * y + z * z * z) -
+                                   189 * (x * x * y + x * x * z + y * y * x + y * y * z + z * z * x + z * z * y) +
+                                   54 * x * y * z + 126 * (x * y + y * z + z * x) - 9 * (x * x + y * y + z * z) -
+                                   9 * (x + y + z) + 1;
+                          }};
+    m["cayley-cubic"] = {3, [](LD x, LD y, LD z) {
+                           const LD s = x + y + z + 1;
+                           return 4 * (x * x * x + y * y * y + z * z * z + 1) - s * s * s;
+                         }};
+    m["roman-surface"] = {4, [](LD x, LD y, LD z) {
+                            return x * x * y * y + y * y * z * z + z * z * x * x - x * y * z;
+                          }};
+    m["kummer-quartic"] = {4, [s2](LD x, LD y, LD z) {
+                             const LD mu2 = 1.69L, lambda = (3 * mu2 - 1) / (3 - mu2);
+                             const LD q = x * x + y * y + z * z - mu2;
+                             return q * q - lambda * (1 - z - s2 * x) * (1 - z + s2 * x) * (1 + z + s2 * y) *
+                                                (1 + z - s2 * y);
+                           }};
+    m["barth-sextic"] = {6, [phi](LD x, LD y, LD z) {
+                           const LD p2 = phi * phi, q = x * x + y * y + z * z - 1;
+                           return 4 * (p2 * x * x - y * y) * (p2 * y * y - z * z) * (p2 * z * z - x * x) -
+                                  (1 + 2 * phi) * q * q;
+                         }};
+    m["barth-decic"] = {10, [phi](LD x, LD y, LD z) {
+                          const LD p4 = phi * phi * phi * phi, x2 = x * x, y2 = y * y, z2 = z * z;
+                          const LD r = x2 + y2 + z2;
+                          return 8 * (x2 - p4 * y2) * (y2 - p4 * z2) * (z2 - p4 * x2) *
+                                     (x2 * x2 + y2 * y2 + z2 * z2 - 2 * x2 * y2 - 2 * y2 * z2 - 2 * z2 * x2) +
+                                 (3 + 5 * phi) * (r - 1) * (r - 1) * (r - (2 - phi)) * (r - (2 - phi));
+                        }};
+    m["heart"] = {6, [](LD x, LD y, LD z) {
+                    const LD q = x * x + 9 * y * y / 4 + z * z - 1;
+                    return q * q * q - x * x * z * z * z - 9 * y * y * z * z * z / 80;
+                  }};
+    for (int n : {8, 12, 16})
+      m["chmutov-" + std::to_string(n)] = {
+          n, [n](LD x, LD y, LD z) { return chebyshevT(n, x) + chebyshevT(n, y) + chebyshevT(n, z) + 1; }};
+    m["endrass-octic"] = {8, [s2](LD x, LD y, LD z) {
+                            const LD r = x * x + y * y, z2 = z * z;
+                            const LD lhs = 64 * (x * x - 1) * (y * y - 1) * ((x + y) * (x + y) - 2) *
+                                           ((x - y) * (x - y) - 2);
+                            const LD q = -4 * (1 + s2) * r * r + (8 * (2 + s2) * z2 + 2 * (2 + 7 * s2)) * r -
+                                         16 * z2 * z2 + 8 * (1 - 2 * s2) * z2 - (1 + 12 * s2);
+                            return lhs - q * q;
+                          }};
+    m["sarti-dodecic"] = {12, [](LD x, LD y, LD z) { return sartiReference({1, x, y, z}); }};
+    return m;
+  }();
+  return refs;
+}
+
+TEST(Gallery, NamesAreUniqueAndFindable) {
+  std::set<std::string_view> names;
+  for (const GallerySurface& s : gallery()) {
+    EXPECT_TRUE(names.insert(s.name).second) << s.name;
+    EXPECT_EQ(findGallerySurface(s.name), &s);
+    EXPECT_FALSE(s.description.empty());
+    EXPECT_GT(s.clipRadius, 0.0);
+  }
+  EXPECT_EQ(findGallerySurface("no-such-surface"), nullptr);
+  for (const char* required : {"sphere", "ellipsoid", "torus", "clebsch-cubic", "cayley-cubic", "roman-surface",
+                               "kummer-quartic", "barth-sextic", "heart", "chmutov-8", "chmutov-12", "chmutov-16",
+                               "endrass-octic", "sarti-dodecic"})
+    EXPECT_NE(findGallerySurface(required), nullptr) << required;
+}
+
+// Polynomial vs. the defining formula at random points of the clip ball.
+TEST(Gallery, MatchesTheDefiningFormula) {
+  std::mt19937_64 rng(5);
+  for (const GallerySurface& s : gallery()) {
+    SCOPED_TRACE(std::string(s.name));
+    const auto it = references().find(std::string(s.name));
+    ASSERT_NE(it, references().end()) << "no reference formula in the test";
+    const Polynomial f = s.build();
+    EXPECT_TRUE(f.isFinite());
+    EXPECT_EQ(f.degree(), it->second.degree);
+    std::uniform_real_distribution<double> u(-s.clipRadius, s.clipRadius);
+    for (int i = 0; i < 200; ++i) {
+      const glm::dvec3 p(u(rng), u(rng), u(rng));
+      const auto e = f.evaluateWithBound(p);
+      const LD ref = it->second.f(p.x, p.y, p.z);
+      EXPECT_LE(std::abs(static_cast<double>(ref - e.value)), 1e-13 * e.magnitude + 4 * e.valueError)
+          << p.x << " " << p.y << " " << p.z;
+    }
+  }
+}
+
+// The surface has points inside the clip ball: some radial segment from the centre to
+// the clip sphere changes sign (a crossing), for a good share of directions.
+TEST(Gallery, ClipRadiusFramesTheSurface) {
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> g;
+  for (const GallerySurface& s : gallery()) {
+    SCOPED_TRACE(std::string(s.name));
+    const Polynomial f = s.build();
+    int crossing = 0;
+    const int rays = 200;
+    for (int i = 0; i < rays; ++i) {
+      const glm::dvec3 d = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
+      double previous = f.evaluate(glm::dvec3(0.0));
+      bool crossed = false;
+      for (int k = 1; k <= 300 && !crossed; ++k) {
+        const double v = f.evaluate(d * (s.clipRadius * k / 300.0));
+        crossed = (v > 0) != (previous > 0);
+        previous = v;
+      }
+      crossing += crossed;
+    }
+    EXPECT_GE(crossing, rays / 5) << "the surface barely meets the clip ball";
+  }
+}
+
+// |f| and |grad f| vanish at p relative to the size of the terms of f there.
+void expectNode(const Polynomial& f, const glm::dvec3& p, bool gradientToo = true) {
+  const auto e = f.evaluateWithBound(p);
+  EXPECT_LE(std::abs(e.value), 1e-13 * e.magnitude + 4 * e.valueError) << p.x << " " << p.y << " " << p.z;
+  if (gradientToo) {
+    EXPECT_LE(glm::length(e.gradient), 1e-12 * e.magnitude) << p.x << " " << p.y << " " << p.z;
+  }
+}
+
+TEST(Gallery, KnownPointsAndNodes) {
+  const auto get = [](const char* name) { return findGallerySurface(name)->build(); };
+  // Parametrised points (not nodes).
+  const Polynomial sphere = get("sphere"), ellipsoid = get("ellipsoid"), torus = get("torus");
+  const Polynomial roman = get("roman-surface");
+  for (double a = 0.1; a < 6.2; a += 0.7)
+    for (double b = 0.05; b < 3.1; b += 0.45) {
+      const glm::dvec3 n(std::sin(b) * std::cos(a), std::sin(b) * std::sin(a), std::cos(b));
+      expectNode(sphere, n, false);
+      expectNode(ellipsoid, n * glm::dvec3(1.0, 0.75, 0.5), false);
+      const double R = 1.0, r = 0.4;
+      expectNode(torus, glm::dvec3((R + r * std::cos(b * 2)) * std::cos(a), (R + r * std::cos(b * 2)) * std::sin(a),
+                                   r * std::sin(b * 2)),
+                 false);
+      // Steiner's map (u, v, w) -> (vw, uw, uv) on the unit sphere.
+      expectNode(roman, glm::dvec3(n.y * n.z, n.x * n.z, n.x * n.y), false);
+    }
+  // Cayley: four nodes at the vertices of a tetrahedron (derivation in gallery.cpp).
+  const Polynomial cayley = get("cayley-cubic");
+  for (const glm::dvec3 p : {glm::dvec3(1, 1, -1), glm::dvec3(1, -1, 1), glm::dvec3(-1, 1, 1), glm::dvec3(-1, -1, -1)})
+    expectNode(cayley, p);
+  // Barth sextic: at (0, 0, +-1) and permutations every factor phi^2 u^2 - v^2 with
+  // u = v = 0 vanishes to second order, and so does (r^2 - 1)^2.
+  const Polynomial barth = get("barth-sextic");
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : {-1.0, 1.0}) {
+      glm::dvec3 p(0.0);
+      p[axis] = sign;
+      expectNode(barth, p);
+    }
+  // Chmutov: x, y, z critical points of T_n (cos(k pi/n)) with T values -1, -1, +1.
+  for (int n : {8, 12, 16}) {
+    const Polynomial f = get(("chmutov-" + std::to_string(n)).c_str());
+    const double a = std::cos(std::numbers::pi / n), b = std::cos(2 * std::numbers::pi / n);
+    expectNode(f, glm::dvec3(a, a, b));
+    expectNode(f, glm::dvec3(b, -a, a));
+    expectNode(f, glm::dvec3(-a, b, std::cos(3 * std::numbers::pi / n)));
+  }
+  // Sarti: the orbit of p* under p -> a p b (a, b in 2I) has 600 points of P^3, and
+  // every one in the chart w = 1 is a node of the gallery polynomial.
+  {
+    const auto& g = binaryIcosahedral();
+    ASSERT_EQ(g.size(), 120u);
+    std::vector<Quat> orbit;
+    for (const Quat& a : g)
+      for (const Quat& b : g) {
+        Quat q = mul(mul(a, sartiNode()), b);
+        for (int i = 0; i < 4; ++i)  // representative of +-q: first non-zero entry > 0
+          if (std::abs(q[i]) > 1e-9L) {
+            if (q[i] < 0)
+              for (LD& v : q) v = -v;
+            break;
+          }
+        bool known = false;
+        for (const Quat& o : orbit) known = known || close(o, q, 1e-9L);
+        if (!known) orbit.push_back(q);
+      }
+    EXPECT_EQ(orbit.size(), 600u);
+    const Polynomial sarti = get("sarti-dodecic");
+    int affine = 0;
+    for (const Quat& q : orbit) {
+      if (std::abs(q[0]) < 0.05L) continue;  // near the plane at infinity
+      const glm::dvec3 p(static_cast<double>(q[1] / q[0]), static_cast<double>(q[2] / q[0]),
+                         static_cast<double>(q[3] / q[0]));
+      const auto e = sarti.evaluateWithBound(p);
+      EXPECT_LE(std::abs(e.value), 1e-11 * e.magnitude) << p.x << " " << p.y << " " << p.z;
+      EXPECT_LE(glm::length(e.gradient), 1e-10 * e.magnitude * (1 + glm::length(p))) << p.x << " " << p.y;
+      ++affine;
+    }
+    EXPECT_GT(affine, 400);
+  }
+  // Every surface: points where the reference formula changes sign along random rays,
+  // located by bisection in long double, are zeros of the polynomial.
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> g;
+  for (const GallerySurface& s : gallery()) {
+    SCOPED_TRACE(std::string(s.name));
+    const Polynomial f = s.build();
+    const Formula& ref = references().at(std::string(s.name)).f;
+    int found = 0;
+    for (int i = 0; i < 50; ++i) {
+      const glm::dvec3 d = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
+      auto at = [&](LD t) { return ref(t * d.x, t * d.y, t * d.z); };
+      for (int k = 1; k < 100; ++k) {  // from k = 1: the Roman surface's triple point is 0
+        LD lo = s.clipRadius * k / 100.0L, hi = s.clipRadius * (k + 1) / 100.0L;
+        if ((at(lo) > 0) == (at(hi) > 0)) continue;
+        for (int it = 0; it < 80; ++it) {
+          const LD mid = (lo + hi) / 2;
+          ((at(mid) > 0) == (at(lo) > 0) ? lo : hi) = mid;
+        }
+        const double t = static_cast<double>((lo + hi) / 2);
+        // The bisection point is within one ulp of t of a zero: allow |grad| * ulp(t).
+        const auto e = f.evaluateWithBound(d * t);
+        EXPECT_LE(std::abs(e.value), 1e-13 * e.magnitude + 4 * e.valueError +
+                                         4 * glm::length(e.gradient) * std::ldexp(t, -52));
+        ++found;
+        break;
+      }
+    }
+    EXPECT_GT(found, 0);
+  }
+}
+
+}  // namespace
+}  // namespace algray

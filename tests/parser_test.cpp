@@ -1,0 +1,360 @@
+// Tests of include/algray/parser.h against independent references: a direct long double
+// evaluation of the text (tests/support/direct_eval.h), closed forms, MPFR expansions of
+// the same double literals, and Polynomial::toString() round trips.
+#include "algray/parser.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "support/direct_eval.h"
+#include "support/mp.h"
+
+namespace algray {
+namespace {
+
+using test::DirectEvaluator;
+using test::Mp;
+
+// Compares the expanded polynomial with the direct evaluation of the text at random
+// points. The tolerance is relative to the sum of |terms| of the expansion (the scale of
+// its own rounding), so it fails for any wrong or missing coefficient.
+void expectMatchesDirect(const std::string& text, const ParseOptions& options = {}, double radius = 1.5) {
+  SCOPED_TRACE(text);
+  const Polynomial f = parsePolynomial(text, options);
+  DirectEvaluator direct(text, options.parameters);
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> u(-radius, radius);
+  for (int i = 0; i < 50; ++i) {
+    const glm::dvec3 p(u(rng), u(rng), u(rng));
+    const auto e = f.evaluateWithBound(p);
+    const long double ref = direct(p.x, p.y, p.z);
+    ASSERT_FALSE(std::isnan(static_cast<double>(ref)));
+    EXPECT_LE(std::abs(static_cast<double>(ref - e.value)), 1e-12 * e.magnitude + 4 * e.valueError)
+        << "at " << p.x << " " << p.y << " " << p.z;
+  }
+}
+
+TEST(Parser, ExpandsClassicEquations) {
+  for (const char* text : {
+           "x^2 + y^2 + z^2 - 1",
+           "(x^2+y^2+z^2+0.84)^2 - 4*(x^2+y^2)",
+           "4*((1+sqrt(5))/2)^2*x^2 - y^2",
+           "(x^2 + 9/4*y^2 + z^2 - 1)^3 - x^2*z^3 - 9/80*y^2*z^3",
+           "(x*y - z^3 - 1)^2 - (1 - x^2 - y^2)^3",
+           "60*(x^2+y^2)*z^4 - (60 - x^2 - y^2 - z^2)^3",
+           "(x+y+z+1)^12",
+           "(x - 2*y + 0.5*z - 3)^7 * (x*y*z - 1)^2",
+           "x^2 = y*z + 1",
+           "(x^2+y^2+z^2)^20",
+       })
+    expectMatchesDirect(text);
+}
+
+TEST(Parser, ParametersAndConstants) {
+  ParseOptions o;
+  o.parameters = {{"a", 0.5}, {"b", 0.25}, {"R", 1.0}, {"r", 0.4}};
+  expectMatchesDirect("(x^2+y^2+z^2+R^2-r^2)^2 = 4*R^2*(x^2+y^2)", o);
+  expectMatchesDirect("(x^2+y^2+z^2-1*(0.5+2*a)^2)^2-1*(3.0*((0.5+2*a)^2)-1*1.0)/(3.0-1*((0.5+2*a)^2))"
+                      "*(1-1*z-1*sqrt(2)*x)*(1-1*z+sqrt(2)*x)*(1+z+sqrt(2)*y)*(1+z-1*sqrt(2)*y)",
+                      o);
+  expectMatchesDirect("pi*x + e*y - sin(pi/6)*z + cos(0)*exp(1)*log(2)*tan(1) + abs(-3)*ln(e)*x*y", o);
+  // Folded constants are the libm values, as the text asks.
+  const Polynomial f = parsePolynomial("sqrt(2)*x + pi*y + e*z");
+  EXPECT_EQ(f.coeff(1, 0, 0), std::sqrt(2.0));
+  EXPECT_EQ(f.coeff(0, 1, 0), M_PI);
+  EXPECT_EQ(f.coeff(0, 0, 1), M_E);
+}
+
+TEST(Parser, LiteralsWhitespaceAndPrecedence) {
+  // Literals read with correct rounding, quotients of constants in double.
+  EXPECT_EQ(parsePolynomial(".5*x").coeff(1, 0, 0), 0.5);
+  EXPECT_EQ(parsePolynomial("1e-3*x").coeff(1, 0, 0), 1e-3);
+  EXPECT_EQ(parsePolynomial("2.5E+2*x").coeff(1, 0, 0), 250.0);
+  EXPECT_EQ(parsePolynomial("24/7").coeff(0, 0, 0), 24.0 / 7.0);
+  EXPECT_EQ(parsePolynomial("1.").coeff(0, 0, 0), 1.0);
+  EXPECT_EQ(parsePolynomial("0.1*x").coeff(1, 0, 0), 0.1);
+  // Division of a polynomial is coefficient by coefficient (x/3 is 1/3 exactly rounded).
+  EXPECT_EQ(parsePolynomial("2*x/3").coeff(1, 0, 0), 2.0 / 3.0);
+  // Whitespace anywhere (real files write "y ^2").
+  EXPECT_EQ(parsePolynomial("  x ^2 +\ty ^ 2\n- 1 "), parsePolynomial("x^2+y^2-1"));
+  // Exponent forms: ^2, ^(1+1), ^2.0 and ** are the same power.
+  const Polynomial x2 = parsePolynomial("x*x");
+  for (const char* t : {"x^2", "x^(1+1)", "x^2.0", "x**2", "x^ +2"}) EXPECT_EQ(parsePolynomial(t), x2) << t;
+  // -x^2 = -(x^2); 2^-1 = 1/2; ^ is right-associative; unary minus after an operator.
+  EXPECT_EQ(parsePolynomial("-x^2").coeff(2, 0, 0), -1.0);
+  EXPECT_EQ(parsePolynomial("-2^2").coeff(0, 0, 0), -4.0);
+  EXPECT_EQ(parsePolynomial("2^-1*x").coeff(1, 0, 0), 0.5);
+  EXPECT_EQ(parsePolynomial("x^2^3").degree(), 8);
+  EXPECT_EQ(parsePolynomial("x*-y").coeff(1, 1, 0), -1.0);
+  EXPECT_EQ(parsePolynomial("x - -y").coeff(0, 1, 0), 1.0);
+  // Real powers of constants are fine.
+  EXPECT_EQ(parsePolynomial("2^0.5*x").coeff(1, 0, 0), std::pow(2.0, 0.5));
+  // lhs = rhs means lhs - rhs.
+  EXPECT_EQ(parsePolynomial("x^2 = y"), parsePolynomial("x^2 - y"));
+  // Underflowing literals round to zero like any other literal.
+  EXPECT_EQ(parsePolynomial("1e-400*x + 1"), Polynomial(1.0));
+}
+
+// Random polynomials of every storage shape: toString() then parse gives the same
+// coefficients bit for bit.
+TEST(Parser, RoundTripsToString) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0), keep(0.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-30, 30);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int degree = trial < 50 ? trial % 13 : 40;
+    const double density = trial < 50 ? 0.7 : 0.02;
+    Polynomial f;
+    for (int n = 0; n <= degree; ++n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+        if (keep(rng) < density || (n == degree && i == n))
+          f.setCoeff(i, j, k, std::ldexp(mantissa(rng), exponent(rng)));
+      });
+    const std::string text = f.toString();
+    const Polynomial g = parsePolynomial(text);
+    ASSERT_EQ(g.degree(), f.degree()) << text.substr(0, 200);
+    for (size_t m = 0; m < f.coeffs().size(); ++m) ASSERT_EQ(g.coeffs()[m], f.coeffs()[m]) << m;
+  }
+  EXPECT_TRUE(parsePolynomial(Polynomial().toString()).isZero());
+}
+
+// ---- Pruning of rounding junk ------------------------------------------------------
+
+// Exact expansion of prod (a_i x + b_i) with double a_i, b_i, rounded per coefficient.
+std::vector<double> mpExpandLinear(const std::vector<std::pair<double, double>>& factors) {
+  std::vector<Mp> c{Mp(1.0)};
+  for (const auto& [a, b] : factors) {
+    std::vector<Mp> next(c.size() + 1);
+    for (size_t i = 0; i < c.size(); ++i) {
+      next[i] += c[i] * Mp(b);
+      next[i + 1] += c[i] * Mp(a);
+    }
+    c = next;
+  }
+  std::vector<double> out;
+  for (const Mp& v : c) out.push_back(v.toDouble());
+  return out;
+}
+
+std::string literal(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "(%.17g)", v);
+  return buf;
+}
+
+TEST(Parser, PrunesJunkToExactZero) {
+  EXPECT_TRUE(parsePolynomial("(x+0.1)^2 - x^2 - 0.2*x - 0.01").isZero());
+  EXPECT_TRUE(parsePolynomial("(sqrt(2)*x)^2 - 2*x^2").isZero());
+  EXPECT_TRUE(parsePolynomial("sin(pi)*x").isZero());
+  // Junk does not count towards the degree limit: the true degree here is 0.
+  EXPECT_TRUE(parsePolynomial("((sqrt(2)*x)^2 - 2*x^2)^21 + 0").isZero());
+  // A product of random binomials minus its correctly rounded expansion written out is
+  // zero up to rounding only; the parser must return exactly zero.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<std::pair<double, double>> factors;
+    std::string product, expanded;
+    const int n = 2 + trial % 7;
+    for (int i = 0; i < n; ++i) {
+      factors.emplace_back(u(rng), u(rng));
+      product += (i ? "*(" : "(") + literal(factors.back().first) + "*x+" + literal(factors.back().second) + ")";
+    }
+    const auto c = mpExpandLinear(factors);
+    for (size_t k = 0; k < c.size(); ++k) expanded += " + " + literal(c[k]) + "*x^" + std::to_string(k);
+    EXPECT_TRUE(parsePolynomial(product + " - (" + expanded + ")").isZero()) << product;
+    // A real small term survives the same cancellation.
+    const Polynomial g = parsePolynomial(product + " - (" + expanded + ") + 1e-9*y");
+    EXPECT_EQ(g.nonZeroCount(), 1) << product;
+    EXPECT_EQ(g.coeff(0, 1, 0), 1e-9);
+  }
+}
+
+TEST(Parser, KeepsRealSmallCoefficients) {
+  // (x + d)^3 - x^3 = 3d x^2 + 3d^2 x + d^3 with d = double(1e-8): all three are real.
+  const Polynomial f = parsePolynomial("(x+1e-8)^3 - x^3");
+  const Mp d(1e-8);
+  EXPECT_NEAR(f.coeff(2, 0, 0), (Mp(3.0) * d).toDouble(), 1e-15 * 3e-8);
+  EXPECT_NEAR(f.coeff(1, 0, 0), (Mp(3.0) * d * d).toDouble(), 1e-15 * 3e-16);
+  EXPECT_NEAR(f.coeff(0, 0, 0), (d * d * d).toDouble(), 1e-15 * 1e-24);
+  EXPECT_EQ(f.coeff(3, 0, 0), 0.0);
+  // Cancellation of large terms leaving a small exact one.
+  EXPECT_EQ(parsePolynomial("(1e8*x+1)^2 - 1e16*x^2 - 2e8*x"), Polynomial(1.0));
+  // Powers of binomials with tiny and huge constants: every coefficient agrees with the
+  // exact expansion of the same doubles (nothing real is dropped).
+  for (double b : {1e-8, 3.7e-5, 0.1, 7.0, 1e6}) {
+    for (int n : {2, 5, 10, 17}) {
+      const Polynomial g = parsePolynomial("(x + " + literal(b) + ")^" + std::to_string(n));
+      const auto c = mpExpandLinear(std::vector<std::pair<double, double>>(n, {1.0, b}));
+      for (int k = 0; k <= n; ++k)
+        EXPECT_NEAR(g.coeff(k, 0, 0), c[k], 1e-14 * std::abs(c[k])) << "b=" << b << " n=" << n << " k=" << k;
+    }
+  }
+}
+
+// ---- Rejections: column and message ---------------------------------------------------
+
+struct Rejection {
+  const char* text;
+  int column;
+  const char* message;  // a substring of ParseError::message()
+};
+
+void expectRejected(const Rejection& r, const ParseOptions& options = {}) {
+  try {
+    parsePolynomial(r.text, options);
+    ADD_FAILURE() << "accepted: " << r.text;
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.column(), r.column) << r.text << " -> " << e.message();
+    EXPECT_NE(e.message().find(r.message), std::string::npos) << r.text << " -> " << e.message();
+    EXPECT_NE(std::string(e.what()).find("column " + std::to_string(r.column)), std::string::npos);
+  }
+}
+
+TEST(Parser, RejectsWithColumnAndMessage) {
+  const Rejection cases[] = {
+      // Not a polynomial.
+      {"x^0.5", 3, "exponent must be a non-negative integer"},
+      {"y + x^-1", 7, "exponent must be a non-negative integer"},
+      {"(x-x)^0.5", 7, "exponent must be a non-negative integer"},
+      {"2^x", 3, "exponent must be a constant"},
+      {"1 + sin(x)", 5, "sin() of an expression in x, y, z is not a polynomial"},
+      {"sqrt(x^2)", 1, "sqrt() of an expression in x, y, z is not a polynomial"},
+      {"y/(x+1)", 3, "division by an expression in x, y, z is not a polynomial"},
+      {"y/(x-x+1)", 3, "division by an expression in x, y, z"},
+      {"y/x^0", 3, "division by an expression in x, y, z"},
+      // Names.
+      {"x + q", 5, "unknown name 'q'"},
+      {"2*xy + 1", 3, "unknown name 'xy' (write products with '*'"},
+      {"x2 + 1", 1, "unknown name 'x2'"},
+      {"foo(2)*x", 1, "unknown function 'foo'"},
+      {"sin x", 1, "needs an argument in parentheses"},
+      // Degree.
+      {"(x^2+y^2)^23", 10, "degree 46 exceeds the limit 40"},
+      {"(x+y)^20*(x+z)^21", 9, "degree 41 exceeds the limit 40"},
+      {"x^1e300", 2, "exceeds the degree limit 40"},
+      // Non-finite.
+      {"x*1e400", 3, "too large for double"},
+      {"1/0 + x", 3, "division by zero"},
+      {"x/(0.1*3-0.3)", 3, "division by zero"},
+      {"0^-1 + x", 2, "division by zero"},
+      {"sqrt(-1)*x", 1, "sqrt(-1) is not a finite real number"},
+      {"log(0)", 1, "log(0) is not a finite real number"},
+      {"exp(1000)*x", 1, "not finite"},
+      {"(-8)^(1/3)", 5, "not real"},
+      {"(1e200*x)^2", 10, "coefficient overflow"},
+      {"1e300*1e300 + x", 6, "not finite"},
+      // Structure.
+      {"", 1, "empty equation"},
+      {"  \t ", 1, "empty equation"},
+      {"(x+1", 1, "unbalanced parenthesis: '(' at column 1 is never closed"},
+      {"((x+1)*(y", 8, "unbalanced parenthesis: '(' at column 8 is never closed"},
+      {"x+1)", 4, "unbalanced parenthesis: ')' at column 4 has no matching '('"},
+      {"(x = 1)", 4, "expected ')' to close '(' at column 1"},
+      {"()", 2, "empty parentheses"},
+      {"x +", 4, "the equation ends after '+'"},
+      {"x * * y", 5, "expected a number, a name or '('"},
+      {"= x", 1, "missing left-hand side"},
+      {"x =", 3, "missing right-hand side"},
+      {"x = 1 = 2", 7, "only one '='"},
+      {"x y", 3, "missing operator before 'y'"},
+      {"2x + 1", 1, "malformed number '2x'"},
+      {"1.2.3", 1, "malformed number '1.2.3'"},
+      {"x + 2e", 5, "malformed number '2e'"},
+      {"x # y", 3, "unexpected character '#'"},
+      {"x + [y]", 5, "unexpected character '['"},
+      {"x\xc2\xb2 + 1", 2, "unexpected character '\xc2\xb2'"},
+      {"\xc3\xa9 \xc3\xa9 ?", 1, "unexpected character"},
+  };
+  for (const Rejection& r : cases) expectRejected(r);
+}
+
+TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
+  ParseOptions o;
+  o.parameters = {{"a", std::nan("")}, {"b", INFINITY}, {"c", 1.0}, {"x", 2.0}};
+  expectRejected({"z + a", 5, "parameter 'a' is not finite"}, o);
+  expectRejected({"z*b", 3, "parameter 'b' is not finite"}, o);
+  expectRejected({"z + d", 5, "unknown name 'd' (parameters: a b c x)"}, o);
+  expectRejected({"c*x", 3, "clashes with the built-in name 'x'"}, o);
+  ParseOptions low;
+  low.maxDegree = 4;
+  expectRejected({"x^5", 2, "degree 5 exceeds the limit 4"}, low);
+  expectRejected({"x^2*y^2*z", 8, "degree 5 exceeds the limit 4"}, low);
+  EXPECT_EQ(parsePolynomial("x^2*y^2", low).degree(), 4);
+}
+
+TEST(Parser, DeepNestingIsAnErrorNotACrash) {
+  const std::string deep = std::string(100000, '(') + "x" + std::string(100000, ')');
+  EXPECT_THROW(parsePolynomial(deep), ParseError);
+  EXPECT_THROW(parsePolynomial(std::string(100000, '-') + "x"), ParseError);
+  const std::string fine = std::string(200, '(') + "x" + std::string(200, ')');
+  EXPECT_EQ(parsePolynomial(fine), Polynomial::variable(0));
+  // Long inputs are linear: a sum of 20000 terms.
+  std::string sum = "0";
+  for (int i = 0; i < 20000; ++i) sum += "+x";
+  EXPECT_EQ(parsePolynomial(sum).coeff(1, 0, 0), 20000.0);
+}
+
+// Every ParseError is also an algray::Error (the type callers and the Embree boundary
+// catch) and no input crashes or hangs: a sweep over all one- and two-character inputs.
+TEST(Parser, NeverCrashesOnShortInputs) {
+  const std::string alphabet = "xyz0123456789.e+-*/^()= ,a#";
+  int accepted = 0, rejected = 0;
+  for (char a : alphabet)
+    for (char b : alphabet)
+      for (char c : alphabet) {
+        const std::string t{a, b, c};
+        try {
+          const Polynomial p = parsePolynomial(t);
+          EXPECT_TRUE(p.isFinite());
+          ++accepted;
+        } catch (const ParseError& e) {
+          EXPECT_GE(e.column(), 1) << t;
+          EXPECT_LE(e.column(), 4) << t;
+          ++rejected;
+        }
+      }
+  EXPECT_GT(accepted, 100);
+  EXPECT_GT(rejected, 100);
+}
+
+// Random token soup: every input is either accepted, with an expansion that agrees with
+// the direct evaluation, or rejected with a column inside the text (or just past it).
+TEST(Parser, RandomTokenSequences) {
+  const char* tokens[] = {"x", "y", "z", "2", "0.5", "3", "1e-3", "pi", "e", "sqrt(2)", "+", "-", "*",
+                          "/", "^", "(", ")", "=", "sin(", " ", "^2", "^3", "(x+1)", "7/3"};
+  std::mt19937_64 rng(2024);
+  std::uniform_int_distribution<int> pick(0, std::size(tokens) - 1), length(1, 25);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  int accepted = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::string text;
+    for (int n = length(rng); n > 0; --n) text += tokens[pick(rng)];
+    Polynomial f;
+    try {
+      f = parsePolynomial(text);
+    } catch (const ParseError& e) {
+      ASSERT_GE(e.column(), 1) << text;
+      ASSERT_LE(e.column(), static_cast<int>(text.size()) + 1) << text;
+      continue;
+    }
+    ++accepted;
+    ASSERT_TRUE(f.isFinite()) << text;
+    DirectEvaluator direct(text);
+    const glm::dvec3 p(u(rng), u(rng), u(rng));
+    const long double ref = direct(p.x, p.y, p.z);
+    const auto ev = f.evaluateWithBound(p);
+    ASSERT_FALSE(std::isnan(static_cast<double>(ref))) << text;
+    EXPECT_LE(std::abs(static_cast<double>(ref - ev.value)), 1e-12 * ev.magnitude + 4 * ev.valueError + 1e-300)
+        << text;
+  }
+  EXPECT_GT(accepted, 300);
+}
+
+}  // namespace
+}  // namespace algray
