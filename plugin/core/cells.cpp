@@ -1,0 +1,374 @@
+// Cells: recursive subdivision of the clip region, keeping the boxes where f may vanish.
+// See cells.h for the contract and range_bound.h for the emptiness test.
+#include "algray/cells.h"
+
+#include "algray/interval.h"
+#include "algray/range_bound.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace algray {
+
+namespace {
+
+constexpr int kMaxExplicitDepth = 30;  // cells 2^-30 of the clip box: far below any use
+constexpr int kMaxAutoDepth = 12;
+
+// ---- Automatic depth -------------------------------------------------------------------
+// The finest level whose cell count fits a budget set by build work (measured in
+// tests/bench/cells_bench.cpp, docs/cells-summary.md):
+//  * One halving costs MonomialTables::splitCost() interval multiply-adds (~m^4/24 for
+//    degree m; 10-40 ns each measured), and a kept cell costs about kTestsPerCell
+//    halvings (its own test plus its share of the rejected siblings and coarser levels:
+//    3.5-4.5 measured on the gallery). The build may spend kBuildWork multiply-adds
+//    (0.03-0.35 s measured), so quadrics and quartics get maxCells, a sextic ~24k cells, a
+//    degree-16 surface ~1000 and degree 40 the minimum of 64.
+//  * Diminishing returns: once refinement has become effective (a level kept <=
+//    kEffectiveRatio of the previous level's volume, the regime of a surface, where the
+//    ratio tends to 1/2), a refinement that keeps more than kVolumeRatio of the volume
+//    is not taken: the surface fills its cells at this scale (or the enclosure is too
+//    loose to separate it), and 4x the cells would cull little more.
+//    (At coarse levels the ratio is ~1 because the clip ball and a loose enclosure keep
+//    every box; the rule must not stop there.)
+//  * A level whose predicted count (growth of the last level) exceeds the budget is
+//    not attempted; an attempted level that exceeds the budget is abandoned.
+//  * Cells must cull to pay: with the adapter's kernel (one root solve per ray over the
+//    whole clip span, cells only decide which rays solve at all), a ray that meets a
+//    cell pays ~0.1 us of Embree callback per cell on top of the solve. Measured on the
+//    gallery (cells_bench BM_TraceCells): where the cells meet most rays (coverage
+//    0.45-1.0: surfaces that fill their clip ball) the automatic level without this rule
+//    was 1.1-1.9x slower than one primitive; where they meet few (coverage 0.09-0.22: the same surfaces in a ball of
+//    3x the radius) 3.5-6x faster. So when the finest affordable level still meets
+//    more than kMaxCoverage of the rays (CellStats::rayCoverage), the automatic choice
+//    is one cell for the whole region.
+constexpr double kBuildWork = 2e7;
+constexpr double kMaxCoverage = 0.3;
+constexpr double kTestsPerCell = 4.0;
+constexpr double kVolumeRatio = 0.75;
+constexpr double kEffectiveRatio = 0.6;
+constexpr long kMinAutoCells = 64;
+
+long autoBudget(const MonomialTables& t, int maxCells, RangeBound bound) {
+  const long perTest = t.splitCost() + (bound == RangeBound::Bernstein ? t.bernsteinCost() : 0);
+  const double cells = kBuildWork / (kTestsPerCell * static_cast<double>(perTest));
+  return std::clamp(static_cast<long>(cells), std::min(kMinAutoCells, static_cast<long>(maxCells)),
+                    static_cast<long>(maxCells));
+}
+
+// ---- The subdivision -----------------------------------------------------------------
+// A box of the recursion, in the normalised coordinates w in [-1, 1]^3 of the root box
+// (world point = c + h*w). Corners are dyadic rationals, hence exact.
+struct Node {
+  glm::dvec3 wlo{-1.0}, whi{1.0};
+  int splits[3] = {0, 0, 0};  // halvings per axis
+};
+
+// Level by level: the cells of level L+1 are found by a depth-first split of each cell of
+// level L (three halvings for a cube), whose polynomial is re-derived from the root's by
+// one Taylor shift per axis (BoxPolynomial::subBox). Memory is the cells, not their
+// polynomials, and the automatic rule can stop after any level without wasted work.
+class Builder {
+ public:
+  Builder(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+          const std::optional<CellSphere>& sphere, RangeBound bound)
+      : lo_(lo), hi_(hi), sphere_(sphere), bound_(bound), tables_(std::max(f.degree(), 0)) {
+    // Root box: centre c and half-widths h rounded up, so [c - h, c + h] contains [lo, hi].
+    for (int a = 0; a < 3; ++a) {
+      c_[a] = 0.5 * lo[a] + 0.5 * hi[a];
+      h_[a] = halfWidth(lo[a], c_[a], hi[a]);
+    }
+    hMax_ = std::max({h_.x, h_.y, h_.z});
+    rootPoly_ = BoxPolynomial(f, c_, h_, tables_);
+  }
+
+  const MonomialTables& tables() const { return tables_; }
+  bool flat() const { return hMax_ == 0; }
+
+  // The kept root (level 0), or nothing.
+  std::vector<Node> rootLevel() {
+    Node root;
+    if (!keep(root, rootPoly_)) return {};
+    return {root};
+  }
+
+  // The kept boxes of the next level, or nullopt once more than budget are kept.
+  std::optional<std::vector<Node>> refine(const std::vector<Node>& level, int nextLevel,
+                                          long budget) {
+    std::vector<Node> out;
+    // Depth-first stack whose slots (and their coefficient storage) are reused: no
+    // allocation per box after the first few.
+    struct Entry {
+      Node node;
+      BoxPolynomial poly;
+    };
+    std::vector<Entry> stack;
+    std::size_t top = 0;
+    auto push = [&]() -> Entry& {
+      if (top == stack.size()) stack.emplace_back();
+      return stack[top++];
+    };
+    BoxPolynomial parent;
+    for (const Node& cell : level) {
+      const glm::dvec3 centre = 0.5 * (cell.wlo + cell.whi);  // exact (dyadic)
+      Entry& first = push();
+      first.node = cell;
+      rootPoly_.subBox(centre, cell.splits, first.poly);
+      while (top > 0) {
+        --top;
+        const Node node = stack[top].node;
+        std::swap(parent, stack[top].poly);  // the slot is reused by the children
+        const int axis = splitAxis(node);
+        const double mid = 0.5 * (node.wlo[axis] + node.whi[axis]);
+        for (int side : {+1, -1}) {  // the -1 half is processed first
+          Entry& child = push();
+          child.node = node;
+          (side < 0 ? child.node.whi : child.node.wlo)[axis] = mid;
+          ++child.node.splits[axis];
+          parent.half(axis, side, child.poly);
+          if (!keep(child.node, child.poly)) {
+            --top;
+          } else if (reaches(child.node.splits, nextLevel)) {
+            out.push_back(child.node);
+            --top;
+            if (static_cast<long>(out.size()) > budget) return std::nullopt;
+          }
+        }
+      }
+    }
+    return out;
+  }
+
+  long tested() const { return tested_; }
+
+  // World box of a node, rounded outward, then intersected with the clip box (points of
+  // interest lie in both).
+  Cell worldBox(const Node& node) const {
+    Cell cell;
+    for (int a = 0; a < 3; ++a) {
+      cell.lo[a] = std::max(lo_[a], (Interval(h_[a]) * node.wlo[a] + c_[a]).lower());
+      cell.hi[a] = std::min(hi_[a], (Interval(h_[a]) * node.whi[a] + c_[a]).upper());
+      // w = -1 + 2 (index / 2^splits): exact in dyadics.
+      cell.index[a] = static_cast<int>(std::ldexp(node.wlo[a] + 1.0, node.splits[a] - 1));
+    }
+    return cell;
+  }
+
+  // Volume of a box at this split count over the root volume (flat axes ignored).
+  double volumeFraction(const Node& n) const {
+    int k = 0;
+    for (int a = 0; a < 3; ++a) k += h_[a] > 0 ? n.splits[a] : 0;
+    return std::ldexp(1.0, -k);
+  }
+
+ private:
+  bool keep(const Node& node, const BoxPolynomial& poly) {
+    ++tested_;
+    if (sphere_ && outsideSphere(worldBox(node))) return false;
+    if (poly.provablyNonZero()) return false;
+    if (bound_ == RangeBound::Bernstein) {
+      const Interval r = poly.rangeBernstein();
+      if (r.lower() > 0.0 || r.upper() < 0.0) return false;
+    }
+    return true;
+  }
+
+  // The longest (world) edge.
+  int splitAxis(const Node& node) const {
+    int axis = 0;
+    double longest = -1;
+    for (int a = 0; a < 3; ++a) {
+      const double edge = std::ldexp(h_[a], -node.splits[a]);
+      if (edge > longest) longest = edge, axis = a;
+    }
+    return axis;
+  }
+
+  // Every world edge <= (longest root edge) / 2^level.
+  bool reaches(const int* splits, int level) const {
+    const double limit = std::ldexp(hMax_, -level);
+    for (int a = 0; a < 3; ++a)
+      if (std::ldexp(h_[a], -splits[a]) > limit) return false;
+    return true;
+  }
+
+  // True if the closed box provably misses the closed ball: the squared distance from
+  // the centre to the box, rounded down, exceeds r^2 rounded up.
+  bool outsideSphere(const Cell& cell) const {
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double s = sphere_->center[a];
+      double d = 0;
+      if (s < cell.lo[a]) d = nextDown(cell.lo[a] - s);
+      else if (s > cell.hi[a]) d = nextDown(s - cell.hi[a]);
+      d = std::max(d, 0.0);
+      d2 = nextDown(d2 + nextDown(d * d));
+    }
+    const double r = sphere_->radius;
+    return d2 > nextUp(r * r);
+  }
+
+  glm::dvec3 lo_, hi_, c_{0.0}, h_{0.0};
+  double hMax_ = 0;
+  std::optional<CellSphere> sphere_;
+  RangeBound bound_;
+  MonomialTables tables_;
+  BoxPolynomial rootPoly_;
+  long tested_ = 0;
+};
+
+// Fraction of axis-parallel rays through the clip region that meet a cell, averaged over
+// the three axes: per axis, the grid columns holding a kept cell over the columns whose
+// nominal square meets the clip region's projection (the box, or the sphere's disk).
+// An estimate of the rays the cells cannot cull (docs/cells-summary.md).
+double rayCoverage(const std::vector<Cell>& cells, const glm::ivec3& grid, const glm::dvec3& lo,
+                   const glm::dvec3& hi, const std::optional<CellSphere>& sphere) {
+  if (cells.empty()) return 0.0;
+  double sum = 0;
+  for (int a = 0; a < 3; ++a) {
+    const int u = (a + 1) % 3, v = (a + 2) % 3;
+    std::vector<char> hit(static_cast<std::size_t>(grid[u]) * grid[v], 0);
+    for (const Cell& c : cells)
+      hit[static_cast<std::size_t>(c.index[u]) * grid[v] + c.index[v]] = 1;
+    long covered = 0, inside = 0;
+    const double du = (hi[u] - lo[u]) / grid[u], dv = (hi[v] - lo[v]) / grid[v];
+    for (int i = 0; i < grid[u]; ++i)
+      for (int j = 0; j < grid[v]; ++j) {
+        bool in = true;
+        if (sphere) {  // square [u0, u1] x [v0, v1] against the disk
+          const double u0 = lo[u] + i * du, v0 = lo[v] + j * dv;
+          const double qu = std::clamp(sphere->center[u], u0, u0 + du) - sphere->center[u];
+          const double qv = std::clamp(sphere->center[v], v0, v0 + dv) - sphere->center[v];
+          in = qu * qu + qv * qv <= sphere->radius * sphere->radius;
+        }
+        const bool h = hit[static_cast<std::size_t>(i) * grid[v] + j] != 0;
+        inside += in || h;
+        covered += h;
+      }
+    sum += inside > 0 ? static_cast<double>(covered) / static_cast<double>(inside) : 1.0;
+  }
+  return sum / 3.0;
+}
+
+void validate(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+              const std::optional<CellSphere>& sphere, const CellOptions& options) {
+  if (!f.isFinite()) throw Error("buildCells: polynomial has non-finite coefficients");
+  const char* names = "xyz";
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]))
+      throw Error(std::string("buildCells: non-finite clip box bound on axis ") + names[a]);
+  if (sphere) {
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(sphere->center[a]))
+        throw Error(std::string("buildCells: non-finite clip sphere centre on axis ") + names[a]);
+    if (!std::isfinite(sphere->radius))
+      throw Error("buildCells: non-finite clip sphere radius");
+  }
+  if (options.maxCells < 1)
+    throw Error("buildCells: maxCells must be >= 1, got " + std::to_string(options.maxCells));
+}
+
+}  // namespace
+
+std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+                             const std::optional<CellSphere>& sphere, const CellOptions& options,
+                             CellStats* stats) {
+  validate(f, lo, hi, sphere, options);
+  if (stats) *stats = CellStats{};
+  // Empty regions: no cells (not an error: a clip may legitimately be empty).
+  if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return {};
+  if (sphere && sphere->radius < 0) return {};
+
+  Builder builder(f, lo, hi, sphere, options.bound);
+  const bool automatic = options.depth < 0;
+  int maxLevel = automatic ? kMaxAutoDepth : std::min(options.depth, kMaxExplicitDepth);
+  if (builder.flat()) maxLevel = 0;  // a point: nothing to split
+  const long budget = automatic ? autoBudget(builder.tables(), options.maxCells, options.bound)
+                                : static_cast<long>(options.maxCells);
+
+  // ---- Level by level, until the depth, the budget or (automatic) diminishing returns.
+  const std::vector<Node> root = builder.rootLevel();
+  std::vector<Node> cells = root;
+  std::vector<long> counts = {static_cast<long>(cells.size())};
+  std::vector<double> volumes = {cells.empty() ? 0.0 : 1.0};
+  int level = 0;
+  bool effective = false;  // some refinement kept <= kEffectiveRatio of the volume
+  while (level < maxLevel && !cells.empty()) {
+    if (automatic && level > 0 && counts[level - 1] > 0) {
+      const double growth =
+          static_cast<double>(counts[level]) / static_cast<double>(counts[level - 1]);
+      if (static_cast<double>(counts[level]) * growth > static_cast<double>(budget)) break;
+    }
+    auto next = builder.refine(cells, level + 1, budget);
+    if (!next) break;  // over budget: keep this level
+    const double volume =
+        next->empty() ? 0.0
+                      : static_cast<double>(next->size()) * builder.volumeFraction(next->front());
+    counts.push_back(static_cast<long>(next->size()));
+    volumes.push_back(volume);
+    if (automatic && effective && volume > kVolumeRatio * volumes[level]) break;
+    effective = effective || volume <= kEffectiveRatio * volumes[level];
+    cells = std::move(*next);
+    ++level;
+  }
+  if (stats) {
+    stats->depth = level;
+    stats->boxesTested = builder.tested();
+    stats->keptPerLevel = counts;
+    stats->keptVolumeFraction = volumes;
+  }
+  std::vector<Cell> out;
+  out.reserve(cells.size());
+  for (const Node& n : cells) out.push_back(builder.worldBox(n));
+  glm::ivec3 grid(1);
+  if (!cells.empty())
+    for (int a = 0; a < 3; ++a) grid[a] = 1 << cells.front().splits[a];
+  const bool small = static_cast<double>(grid.x) * grid.y <= (1 << 20) &&
+                     static_cast<double>(grid.y) * grid.z <= (1 << 20) &&
+                     static_cast<double>(grid.z) * grid.x <= (1 << 20);
+  const double coverage = small ? rayCoverage(out, grid, lo, hi, sphere) : -1.0;
+  if (stats) {
+    stats->grid = grid;
+    stats->rayCoverage = coverage;
+  }
+  // Cells that cannot cull: one cell for the whole region (see "Automatic depth").
+  if (automatic && coverage > kMaxCoverage && !root.empty()) {
+    if (stats) {
+      stats->depth = 0;
+      stats->grid = glm::ivec3(1);
+    }
+    return {builder.worldBox(root.front())};
+  }
+  return out;
+}
+
+// ---- Ray / box ------------------------------------------------------------------------
+std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d,
+                                    const glm::dvec3& lo, const glm::dvec3& hi, double tMin,
+                                    double tMax) {
+  if (!(tMin <= tMax)) return std::nullopt;  // also NaN
+  double t0 = tMin, t1 = tMax;
+  for (int a = 0; a < 3; ++a) {
+    if (std::isnan(o[a]) || std::isnan(d[a])) return std::nullopt;
+    // 1/0 = inf: then (bound - o) * inf is +-inf (all or nothing) or NaN when o lies on
+    // the bound; the comparisons below ignore NaN, which keeps the closed slab.
+    const double inv = 1.0 / d[a];
+    double tNear = (lo[a] - o[a]) * inv;
+    double tFar = (hi[a] - o[a]) * inv;
+    if (tNear > tFar) std::swap(tNear, tFar);
+    // Both ends widened by 2 gamma(3) of their magnitude: the subtraction and the
+    // product each round once (pbrt-v4 widens tFar only; a widened tNear also keeps a
+    // root on the entry face inside the span).
+    // (A product, not an added term: inf stays inf instead of becoming inf - inf.)
+    tNear *= tNear > 0 ? 1 - 2 * gamma(3) : 1 + 2 * gamma(3);
+    tFar *= tFar > 0 ? 1 + 2 * gamma(3) : 1 - 2 * gamma(3);
+    t0 = tNear > t0 ? tNear : t0;
+    t1 = tFar < t1 ? tFar : t1;
+    if (t0 > t1) return std::nullopt;
+  }
+  return RaySpan{t0, t1};
+}
+
+}  // namespace algray

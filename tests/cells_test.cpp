@@ -1,0 +1,627 @@
+// Cells and range bounds (cells.h, range_bound.h) against independent references:
+//  * surface points certified by an exact sign change (MPFR evaluation of the stored
+//    coefficients at two double points a few ulps apart, found by long-double bisection
+//    along random lines) must lie in some kept cell;
+//  * range enclosures must contain the exact value of f at random points of the box;
+//  * closed-form distances to a sphere for tightness; exact ray/box geometry in MPFR.
+#include "algray/cells.h"
+#include "algray/range_bound.h"
+
+#include <gtest/gtest.h>
+#include <mpfr.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+#include <tuple>
+#include <vector>
+
+namespace algray {
+namespace {
+
+// ---- References -----------------------------------------------------------------------
+// Exact sign of f at a double point: every monomial of doubles is exact at 53 (m + 1)
+// bits, and the sum of terms spanning the exponent range of |p| <= 2^10 fits in the
+// precision below for the degrees used here (the sum is rounded at most once, far below
+// any term that decides the sign).
+// With offset: the exact sign of f(p) - offset.
+int exactSign(const Polynomial& f, const glm::dvec3& p, double offset = 0.0) {
+  mpfr_t sum, term, power[3];
+  const mpfr_prec_t prec = 53 * (f.degree() + 2) + 2200;
+  mpfr_inits2(prec, sum, term, power[0], power[1], power[2], static_cast<mpfr_ptr>(nullptr));
+  mpfr_set_d(sum, -offset, MPFR_RNDN);
+  const auto c = f.coeffs();
+  for (int n = 0; n <= f.degree(); ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      if (c[idx] == 0) return;
+      mpfr_set_d(term, c[idx], MPFR_RNDN);
+      const int e[3] = {i, j, k};
+      for (int a = 0; a < 3; ++a) {
+        mpfr_set_d(power[a], p[a], MPFR_RNDN);
+        mpfr_pow_ui(power[a], power[a], e[a], MPFR_RNDN);
+        mpfr_mul(term, term, power[a], MPFR_RNDN);
+      }
+      mpfr_add(sum, sum, term, MPFR_RNDN);
+    });
+  const int s = mpfr_sgn(sum);
+  mpfr_clears(sum, term, power[0], power[1], power[2], static_cast<mpfr_ptr>(nullptr));
+  return s;
+}
+
+// f in long double, straight from the monomials (independent of Polynomial::evaluate).
+long double evalLong(const Polynomial& f, const glm::dvec3& p) {
+  const int m = f.degree();
+  std::vector<long double> pw[3];
+  for (int a = 0; a < 3; ++a) {
+    pw[a].assign(m + 1, 1.0L);
+    for (int e = 1; e <= m; ++e) pw[a][e] = pw[a][e - 1] * static_cast<long double>(p[a]);
+  }
+  long double s = 0;
+  const auto c = f.coeffs();
+  for (int n = 0; n <= m; ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      if (c[idx] != 0) s += c[idx] * pw[0][i] * pw[1][j] * pw[2][k];
+    });
+  return s;
+}
+
+struct SurfacePoint {
+  glm::dvec3 a, b;  // f(a) and f(b) have opposite exact signs: a zero lies on [a, b]
+};
+
+// Zeros of f on random lines through the clip box, each certified by an exact sign
+// change between two double points a few ulps apart.
+std::vector<SurfacePoint> sampleSurface(const Polynomial& f, const glm::dvec3& lo,
+                                        const glm::dvec3& hi, int lines, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::normal_distribution<double> gauss;
+  const double diag = glm::length(hi - lo);
+  std::vector<SurfacePoint> out;
+  for (int l = 0; l < lines; ++l) {
+    glm::dvec3 o, d;
+    for (int a = 0; a < 3; ++a) o[a] = lo[a] + u01(rng) * (hi[a] - lo[a]);
+    for (int a = 0; a < 3; ++a) d[a] = gauss(rng);
+    d /= glm::length(d);
+    auto at = [&](double t) { return o + t * d; };  // a double point
+    const int steps = 300;
+    double tPrev = -diag;
+    long double fPrev = evalLong(f, at(tPrev));
+    for (int s = 1; s <= steps; ++s) {
+      const double t = -diag + 2 * diag * s / steps;
+      const long double ft = evalLong(f, at(t));
+      if ((fPrev < 0) != (ft < 0)) {
+        double ta = tPrev, tb = t;
+        const bool negA = fPrev < 0;
+        for (int it = 0; it < 200; ++it) {
+          const double tm = 0.5 * (ta + tb);
+          if (tm == ta || tm == tb) break;
+          ((evalLong(f, at(tm)) < 0) == negA ? ta : tb) = tm;
+        }
+        const glm::dvec3 pa = at(ta), pb = at(tb);
+        const int sa = exactSign(f, pa), sb = exactSign(f, pb);
+        if (sa * sb <= 0) out.push_back({pa, pb});
+      }
+      tPrev = t;
+      fPrev = ft;
+    }
+  }
+  return out;
+}
+
+bool boxesOverlap(const glm::dvec3& lo1, const glm::dvec3& hi1, const Cell& c) {
+  for (int a = 0; a < 3; ++a)
+    if (hi1[a] < c.lo[a] || lo1[a] > c.hi[a]) return false;
+  return true;
+}
+
+bool inside(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+  return glm::all(glm::lessThanEqual(lo, p)) && glm::all(glm::lessThanEqual(p, hi));
+}
+
+// Every certified surface point inside the clip region has a cell touching its segment.
+// Returns the number of points checked (the caller asserts it is not vacuous).
+int checkCovered(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+                 const std::optional<CellSphere>& sphere, const std::vector<Cell>& cells,
+                 int lines, unsigned seed) {
+  int checked = 0;
+  for (const SurfacePoint& s : sampleSurface(f, lo, hi, lines, seed)) {
+    const glm::dvec3 sLo = glm::min(s.a, s.b), sHi = glm::max(s.a, s.b);
+    if (!inside(sLo, lo, hi) || !inside(sHi, lo, hi)) continue;
+    if (sphere && (glm::length(s.a - sphere->center) > sphere->radius ||
+                   glm::length(s.b - sphere->center) > sphere->radius))
+      continue;
+    ++checked;
+    bool found = false;
+    for (const Cell& c : cells) found = found || boxesOverlap(sLo, sHi, c);
+    EXPECT_TRUE(found) << "surface point (" << s.a.x << ", " << s.a.y << ", " << s.a.z
+                       << ") in no cell of " << cells.size();
+    if (!found) break;
+  }
+  return checked;
+}
+
+// ---- Surfaces built from Polynomial operations (independent of the parser) -------------
+Polynomial X() { return Polynomial::variable(0); }
+Polynomial Y() { return Polynomial::variable(1); }
+Polynomial Z() { return Polynomial::variable(2); }
+Polynomial sphere(glm::dvec3 c, double r) {
+  return (X() - Polynomial(c.x)).pow(2) + (Y() - Polynomial(c.y)).pow(2) +
+         (Z() - Polynomial(c.z)).pow(2) - Polynomial(r * r);
+}
+// Torus about the z axis: (x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4 R^2 (x^2 + y^2).
+Polynomial torus(double R, double r) {
+  const Polynomial s = X().pow(2) + Y().pow(2) + Z().pow(2);
+  return (s + Polynomial(R * R - r * r)).pow(2) - 4 * R * R * (X().pow(2) + Y().pow(2));
+}
+// Clebsch-like cubic with a singular point mix: x^3 + y^3 + z^3 + 1 - (x + y + z + 1)^3.
+Polynomial cubic() {
+  return X().pow(3) + Y().pow(3) + Z().pow(3) + Polynomial(1.0) -
+         (X() + Y() + Z() + Polynomial(1.0)).pow(3);
+}
+// Product of n spheres of radius r on the unit circle: degree 2n.
+Polynomial sphereChain(int n, double r) {
+  Polynomial f(1.0);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    f = f * sphere({std::cos(a), std::sin(a), 0.0}, r);
+  }
+  return f;
+}
+
+const glm::dvec3 kLo(-1.5), kHi(1.5);
+
+// ---- Range enclosures ---------------------------------------------------------------------
+TEST(RangeBoundTest, ContainsExactValuesAtRandomPoints) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-2.0, 2.0), w(0.0, 1.0);
+  const Polynomial surfaces[] = {sphere({0.1, -0.2, 0.3}, 1.0), torus(1.0, 0.3), cubic(),
+                                 sphereChain(4, 0.3)};
+  for (const Polynomial& f : surfaces) {
+    for (int box = 0; box < 100; ++box) {
+      glm::dvec3 lo, hi;
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = u(rng);
+        hi[a] = lo[a] + std::ldexp(w(rng), -(box % 12));
+      }
+      const Interval r = rangeOverBox(f, lo, hi, box % 2 ? RangeBound::Bernstein : RangeBound::Centred);
+      for (int s = 0; s < 20; ++s) {
+        glm::dvec3 p;
+        for (int a = 0; a < 3; ++a) p[a] = std::clamp(lo[a] + w(rng) * (hi[a] - lo[a]), lo[a], hi[a]);
+        if (s < 8)  // the corners too
+          for (int a = 0; a < 3; ++a) p[a] = (s >> a) & 1 ? hi[a] : lo[a];
+        // Exact containment: f(p) - lower >= 0 and upper - f(p) >= 0 in exact arithmetic.
+        const int below = exactSign(f, p, r.lower());
+        const int above = -exactSign(f, p, r.upper());
+        ASSERT_GE(below, 0) << "f below the enclosure at box " << box;
+        ASSERT_GE(above, 0) << "f above the enclosure at box " << box;
+      }
+    }
+  }
+}
+
+// The centred form is tight to first order: for a linear f it is exact up to rounding,
+// and on a small box about a regular point of the sphere its width is ~ the true range.
+TEST(RangeBoundTest, CentredFormIsTight) {
+  const Polynomial lin = 2.0 * X() - 3.0 * Y() + Z() + Polynomial(0.5);
+  const Interval r = rangeOverBox(lin, glm::dvec3(0.0), glm::dvec3(1.0));
+  // True range over [0,1]^3: [0.5 - 3, 0.5 + 2 + 1] = [-2.5, 3.5].
+  EXPECT_NEAR(r.lower(), -2.5, 1e-13);
+  EXPECT_NEAR(r.upper(), 3.5, 1e-13);
+  const Polynomial s = sphere({0, 0, 0}, 1.0);
+  const double h = 1e-3;
+  const Interval q = rangeOverBox(s, glm::dvec3(1 - h, -h, -h), glm::dvec3(1 + h, h, h));
+  // True range: |p|^2 - 1 over the box is [(1-h)^2 - 1, (1+h)^2 + 2h^2 - 1] ~ [-2h, 2h].
+  EXPECT_LT(q.width(), 4 * h * 1.01 + 6 * h * h);
+  EXPECT_TRUE(q.containsZero());
+}
+
+// Bernstein is tighter than the centred form on a large box of a high-degree surface
+// (and never looser: rangeOverBox intersects the two), while both contain the true range.
+TEST(RangeBoundTest, BernsteinIsTighterOnLargeBoxes) {
+  const Polynomial f = sphereChain(5, 0.4);  // degree 10
+  const glm::dvec3 lo(0.2, -0.7, -0.5), hi(1.4, 0.5, 0.7);
+  const Interval c = rangeOverBox(f, lo, hi, RangeBound::Centred);
+  const Interval b = rangeOverBox(f, lo, hi, RangeBound::Bernstein);
+  EXPECT_LT(b.width(), 0.75 * c.width());  // measured: 248 vs 433
+  EXPECT_GE(b.lower(), c.lower());
+  EXPECT_LE(b.upper(), c.upper());
+  // The exact value at the box centre and a corner lies in both.
+  for (const glm::dvec3& p : {0.5 * (lo + hi), lo}) {
+    EXPECT_GE(exactSign(f, p, b.lower()), 0);
+    EXPECT_LE(exactSign(f, p, b.upper()), 0);
+  }
+}
+
+TEST(RangeBoundTest, RejectsBadInput) {
+  const Polynomial s = sphere({0, 0, 0}, 1.0);
+  EXPECT_THROW(rangeOverBox(s, glm::dvec3(1.0), glm::dvec3(0.0)), Error);
+  EXPECT_THROW(rangeOverBox(s, glm::dvec3(NAN), glm::dvec3(1.0)), Error);
+  Polynomial bad = s;
+  bad.setCoeff(1, 0, 0, INFINITY);
+  EXPECT_THROW(rangeOverBox(bad, glm::dvec3(0.0), glm::dvec3(1.0)), Error);
+}
+
+// Univariate enclosures (a ray's polynomial over a cell's span): the exact value of every
+// polynomial with coefficients within err of c, at random points of the span, is inside;
+// where quickNoRoot proves "no root", the exact samples all have one strict sign.
+TEST(RangeBoundTest, UnivariateContainsExactValues) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 1.0);
+  mpfr_t acc, term, x;
+  mpfr_inits2(4000, acc, term, x, static_cast<mpfr_ptr>(nullptr));
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int n = 1 + trial % 40;
+    std::vector<double> c(n + 1), err(n + 1);
+    for (int i = 0; i <= n; ++i) {
+      c[i] = std::ldexp(u(rng), static_cast<int>(u(rng) * 20));
+      err[i] = trial % 2 ? std::abs(c[i]) * 1e-12 * w(rng) : 0.0;
+    }
+    const double lo = 3 * u(rng), hi = lo + std::ldexp(w(rng), -(trial % 30));
+    const Interval r = rangeOverInterval(c, err, lo, hi);
+    const bool quick = quickNoRoot(c, err, lo, hi);
+    int signs[2] = {0, 0};  // exact values seen < 0, > 0
+    for (int k = 0; k < 10; ++k) {
+      const double s = k == 0 ? lo : k == 1 ? hi : std::clamp(lo + w(rng) * (hi - lo), lo, hi);
+      // A polynomial within the error bounds, evaluated exactly (Horner at 4000 bits).
+      mpfr_set_zero(acc, 1);
+      mpfr_set_d(x, s, MPFR_RNDN);
+      for (int i = n; i >= 0; --i) {
+        mpfr_mul(acc, acc, x, MPFR_RNDN);
+        mpfr_set_d(term, err[i], MPFR_RNDN);
+        mpfr_mul_d(term, term, k % 2 ? 1.0 : -1.0, MPFR_RNDN);
+        mpfr_add_d(term, term, c[i], MPFR_RNDN);
+        mpfr_add(acc, acc, term, MPFR_RNDN);
+      }
+      ASSERT_GE(mpfr_cmp_d(acc, r.lower()), 0) << "trial " << trial << " degree " << n;
+      ASSERT_LE(mpfr_cmp_d(acc, r.upper()), 0) << "trial " << trial << " degree " << n;
+      if (mpfr_sgn(acc) <= 0) ++signs[0];
+      if (mpfr_sgn(acc) >= 0) ++signs[1];
+    }
+    // quickNoRoot claims one strict sign over the span: the exact samples agree.
+    if (quick) {
+      EXPECT_TRUE(signs[0] == 0 || signs[1] == 0) << "quickNoRoot wrong at trial " << trial;
+    }
+  }
+  mpfr_clears(acc, term, x, static_cast<mpfr_ptr>(nullptr));
+}
+
+TEST(RangeBoundTest, UnivariateRootExclusion) {
+  // (s - 0.3)(s + 2) = s^2 + 1.7 s - 0.6 has a root in [0, 1]: never excluded.
+  const std::vector<double> g = {-0.6, 1.7, 1.0};
+  EXPECT_FALSE(provablyNoRoot(g, {}, 0.0, 1.0));
+  EXPECT_FALSE(provablyNoRoot(g, {}, 0.29, 0.31));
+  // ... and none in [0.4, 0.5] or [-1.9, -0.1]: the centred form proves it.
+  EXPECT_TRUE(provablyNoRoot(g, {}, 0.4, 0.5));
+  EXPECT_TRUE(provablyNoRoot(g, {}, -1.9, -0.1));
+  // s^2 + 1 on [-1, 1]: the even term is bounded in [0, 1], so the range is [1, 2].
+  const std::vector<double> p = {1.0, 0.0, 1.0};
+  const Interval r = rangeOverInterval(p, {}, -1.0, 1.0);
+  EXPECT_GE(r.lower(), 1.0 - 1e-14);
+  EXPECT_LE(r.upper(), 2.0 + 1e-14);
+  // Coefficient errors count: 1e-3 +- 2e-3 may vanish.
+  EXPECT_FALSE(provablyNoRoot(std::vector<double>{1e-3}, std::vector<double>{2e-3}, 0.0, 1.0));
+  // The O(m) test: never where there is a root, and it proves easy cases.
+  EXPECT_FALSE(quickNoRoot(g, {}, 0.0, 1.0));
+  EXPECT_FALSE(quickNoRoot(g, {}, 0.29, 0.31));
+  EXPECT_TRUE(quickNoRoot(g, {}, 0.45, 0.5));
+  EXPECT_TRUE(quickNoRoot(std::vector<double>{2.0, 0.0, 1.0}, {}, -1.0, 1.0));  // s^2 + 2
+  EXPECT_FALSE(quickNoRoot(std::vector<double>{1e-3}, std::vector<double>{2e-3}, 0.0, 1.0));
+  EXPECT_FALSE(quickNoRoot(std::vector<double>{1.0, NAN}, {}, 0.0, 1.0));
+  EXPECT_FALSE(quickNoRoot(g, {}, 0.4, NAN));
+  // Non-finite input proves nothing.
+  EXPECT_FALSE(provablyNoRoot(std::vector<double>{1.0, NAN}, {}, 0.0, 1.0));
+  EXPECT_FALSE(provablyNoRoot(g, {}, 0.4, INFINITY));
+}
+
+// ---- Cells: conservativeness -------------------------------------------------------------
+TEST(CellsTest, CoverSurfacePointsOfClassicSurfaces) {
+  struct Case {
+    const char* name;
+    Polynomial f;
+  };
+  const Case cases[] = {{"sphere", sphere({0.1, -0.2, 0.05}, 1.0)},
+                        {"torus", torus(1.0, 0.3)},
+                        {"cubic", cubic()},
+                        {"sphere chain (degree 12)", sphereChain(6, 0.4)}};
+  for (const Case& c : cases) {
+    for (int depth : {2, 4, 6}) {
+      CellStats stats;
+      const auto cells = buildCells(c.f, kLo, kHi, std::nullopt, {.depth = depth}, &stats);
+      ASSERT_FALSE(cells.empty()) << c.name;
+      EXPECT_EQ(stats.depth, depth) << c.name;
+      const int checked = checkCovered(c.f, kLo, kHi, std::nullopt, cells, 100, 11 + depth);
+      EXPECT_GE(checked, 40) << c.name << ": too few surface samples to mean anything";
+    }
+  }
+}
+
+// The Bernstein test keeps fewer cells and stays conservative.
+TEST(CellsTest, BernsteinCellsCoverAndPruneMore) {
+  const Polynomial f = torus(1.0, 0.3);
+  const auto centred = buildCells(f, kLo, kHi, std::nullopt, {.depth = 3});
+  const auto bern = buildCells(f, kLo, kHi, std::nullopt, {.depth = 3, .bound = RangeBound::Bernstein});
+  EXPECT_LT(bern.size(), centred.size());
+  EXPECT_GE(checkCovered(f, kLo, kHi, std::nullopt, bern, 100, 21), 40);
+  const Polynomial chain = sphereChain(6, 0.4);
+  const auto chainCells = buildCells(chain, kLo, kHi, std::nullopt, {.depth = 3, .bound = RangeBound::Bernstein});
+  EXPECT_GE(checkCovered(chain, kLo, kHi, std::nullopt, chainCells, 100, 22), 20);
+}
+
+TEST(CellsTest, CoverWithClipSphereAndAutomaticDepth) {
+  const Polynomial f = torus(1.0, 0.4);
+  // A clip ball much larger than the torus: most rays miss the surface, cells pay.
+  const CellSphere ball{{0.2, 0.0, 0.1}, 3.5};
+  const glm::dvec3 lo = ball.center - glm::dvec3(ball.radius), hi = ball.center + glm::dvec3(ball.radius);
+  CellStats stats;
+  const auto cells = buildCells(f, lo, hi, ball, {}, &stats);
+  ASSERT_FALSE(cells.empty());
+  EXPECT_GE(stats.depth, 3);
+  EXPECT_LE(stats.rayCoverage, 0.3);
+  EXPECT_LE(static_cast<long>(cells.size()), CellOptions{}.maxCells);
+  // Every cell touches the ball (the ones wholly outside were dropped).
+  for (const Cell& c : cells) {
+    const glm::dvec3 nearest = glm::clamp(ball.center, c.lo, c.hi);
+    EXPECT_LE(glm::length(nearest - ball.center), ball.radius * (1 + 1e-12));
+  }
+  EXPECT_GE(checkCovered(f, lo, hi, ball, cells, 200, 5), 25);  // 38 measured: the ball is mostly empty
+  // rayCoverage against sampled axis-parallel rays through the ball.
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double sum = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    int through = 0, meet = 0;
+    for (int k = 0; k < 3000; ++k) {
+      glm::dvec3 o = ball.center, d(0.0);
+      o[(axis + 1) % 3] += ball.radius * u(rng);
+      o[(axis + 2) % 3] += ball.radius * u(rng);
+      o[axis] = lo[axis] - 1.0;
+      d[axis] = 1.0;
+      const glm::dvec3 q = o - ball.center;
+      if (q[(axis + 1) % 3] * q[(axis + 1) % 3] + q[(axis + 2) % 3] * q[(axis + 2) % 3] > ball.radius * ball.radius)
+        continue;
+      ++through;
+      bool any = false;
+      for (const Cell& c : cells) any = any || clipRayToBox(o, d, c.lo, c.hi, 0.0, 1e9).has_value();
+      meet += any;
+    }
+    sum += static_cast<double>(meet) / through;
+  }
+  EXPECT_NEAR(stats.rayCoverage, sum / 3, 0.05);
+  // The same torus filling a tight ball: the cells would meet most rays, so the
+  // automatic choice is one cell for the whole region.
+  const CellSphere tight{{0.0, 0.0, 0.0}, 1.5};
+  CellStats tightStats;
+  const auto one = buildCells(f, glm::dvec3(-1.5), glm::dvec3(1.5), tight, {}, &tightStats);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(tightStats.depth, 0);
+  EXPECT_GT(tightStats.rayCoverage, 0.3);
+  EXPECT_EQ(one[0].lo, glm::dvec3(-1.5));
+  EXPECT_EQ(one[0].hi, glm::dvec3(1.5));
+}
+
+// A non-cubic clip box: the kd split takes the long axis first.
+TEST(CellsTest, CoverInElongatedBox) {
+  const Polynomial f = sphere({0.0, 0.0, 0.0}, 1.0);
+  const glm::dvec3 lo(-3.0, -1.2, -0.4), hi(3.0, 1.2, 0.7);
+  const auto cells = buildCells(f, lo, hi, std::nullopt, {.depth = 5});
+  ASSERT_FALSE(cells.empty());
+  for (const Cell& c : cells) {
+    EXPECT_TRUE(inside(c.lo, lo, hi) && inside(c.hi, lo, hi));  // clipped to the box
+    EXPECT_LE(c.hi.x - c.lo.x, 6.0 / 32 * (1 + 1e-12));          // depth 5 of the 6-long edge
+    EXPECT_LE(c.hi.y - c.lo.y, 6.0 / 32 * (1 + 1e-12));
+  }
+  EXPECT_GE(checkCovered(f, lo, hi, std::nullopt, cells, 80, 3), 40);
+}
+
+// Degree 40: a product of 20 spheres. Built at a modest depth, still conservative.
+// (At this depth the centred form keeps every box: its terms sum |c_m| over 12341
+// coefficients of a product that cancels; docs/cells-summary.md.)
+TEST(CellsTest, DegreeFortyProductOfSpheres) {
+  const Polynomial f = sphereChain(20, 0.1);
+  ASSERT_EQ(f.degree(), 40);
+  CellStats stats;
+  const auto cells = buildCells(f, kLo, kHi, std::nullopt, {.depth = 2}, &stats);
+  ASSERT_FALSE(cells.empty());
+  // Certified points near each sphere: the radial line through its centre crosses it.
+  int checked = 0;
+  for (int i = 0; i < 20; i += 3) {
+    const double a = 2 * M_PI * i / 20;
+    const glm::dvec3 c(std::cos(a), std::sin(a), 0.0);
+    // Vertically through the centre: only this sphere is crossed, at t = 0.1.
+    const glm::dvec3 dir(0.0, 0.0, 1.0);
+    double ta = 0.05, tb = 0.15;
+    const bool negA = evalLong(f, c + ta * dir) < 0;
+    for (int it = 0; it < 60; ++it) {
+      const double tm = 0.5 * (ta + tb);
+      ((evalLong(f, c + tm * dir) < 0) == negA ? ta : tb) = tm;
+    }
+    const glm::dvec3 pa = c + ta * dir, pb = c + tb * dir;
+    if (exactSign(f, pa) * exactSign(f, pb) > 0) continue;  // long double misjudged: skip
+    bool found = false;
+    for (const Cell& cell : cells) found = found || boxesOverlap(glm::min(pa, pb), glm::max(pa, pb), cell);
+    EXPECT_TRUE(found) << "sphere " << i;
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+  // Automatic depth on degree 40 stays within its small build budget (64 cells).
+  CellStats autoStats;
+  const auto autoCells = buildCells(f, kLo, kHi, std::nullopt, {}, &autoStats);
+  EXPECT_FALSE(autoCells.empty());
+  EXPECT_LE(autoCells.size(), 64u);
+  EXPECT_LE(autoStats.boxesTested, 200);
+}
+
+// ---- Cells: empty and degenerate regions -------------------------------------------------
+TEST(CellsTest, EmptyRegionsGiveNoCells) {
+  const Polynomial f = sphere({0, 0, 0}, 1.0);
+  EXPECT_TRUE(buildCells(f, glm::dvec3(1.0), glm::dvec3(-1.0)).empty());
+  EXPECT_TRUE(buildCells(f, glm::dvec3(-1.0, 0.0, 0.0), glm::dvec3(1.0, -0.1, 1.0)).empty());
+  EXPECT_TRUE(buildCells(f, kLo, kHi, CellSphere{{0, 0, 0}, -1.0}).empty());
+  // The surface misses the clip box: proved at the root already.
+  CellStats stats;
+  EXPECT_TRUE(buildCells(f, glm::dvec3(5.0), glm::dvec3(6.0), std::nullopt, {}, &stats).empty());
+  EXPECT_EQ(stats.boxesTested, 1);
+  // The clip box overlaps the surface but the clip sphere (radius 0.5) does not.
+  EXPECT_TRUE(buildCells(f, glm::dvec3(-2.0), glm::dvec3(2.0), CellSphere{{0, 0, 0}, 0.5},
+                         {.depth = 5})
+                  .empty());
+  // A constant non-zero polynomial has no surface.
+  EXPECT_TRUE(buildCells(Polynomial(2.0), kLo, kHi).empty());
+}
+
+TEST(CellsTest, DegenerateBoxes) {
+  const Polynomial f = sphere({0, 0, 0}, 1.0);
+  // A flat box (the plane z = 0) crossing the sphere's equator; (1, 0, 0) and (0, -1, 0)
+  // are exact surface points.
+  const auto cells = buildCells(f, glm::dvec3(-2.0, -2.0, 0.0), glm::dvec3(2.0, 2.0, 0.0),
+                                std::nullopt, {.depth = 4});
+  ASSERT_FALSE(cells.empty());
+  for (glm::dvec3 p : {glm::dvec3(1, 0, 0), glm::dvec3(0, -1, 0)}) {
+    bool found = false;
+    for (const Cell& c : cells) found = found || boxesOverlap(p, p, c);
+    EXPECT_TRUE(found);
+  }
+  // A point box: one cell on the surface, none off it.
+  EXPECT_EQ(buildCells(f, glm::dvec3(1, 0, 0), glm::dvec3(1, 0, 0)).size(), 1u);
+  EXPECT_TRUE(buildCells(f, glm::dvec3(0.5, 0, 0), glm::dvec3(0.5, 0, 0)).empty());
+}
+
+TEST(CellsTest, RejectsNonFiniteInput) {
+  const Polynomial f = sphere({0, 0, 0}, 1.0);
+  EXPECT_THROW(buildCells(f, glm::dvec3(NAN), kHi), Error);
+  EXPECT_THROW(buildCells(f, kLo, glm::dvec3(INFINITY)), Error);
+  EXPECT_THROW(buildCells(f, kLo, kHi, CellSphere{{0, NAN, 0}, 1.0}), Error);
+  EXPECT_THROW(buildCells(f, kLo, kHi, CellSphere{{0, 0, 0}, INFINITY}), Error);
+  Polynomial bad = f;
+  bad.setCoeff(0, 0, 0, NAN);
+  EXPECT_THROW(buildCells(bad, kLo, kHi), Error);
+  EXPECT_THROW(buildCells(f, kLo, kHi, std::nullopt, {.depth = 2, .maxCells = 0}), Error);
+}
+
+// ---- Cells: tightness and budgets --------------------------------------------------------
+// Kept cells hug the surface: the centre of every cell at depth d is within a few cell
+// diagonals of the unit sphere (closed-form distance | |c| - 1 |), and the kept volume
+// shrinks about 2x per level as it must for a surface.
+TEST(CellsTest, CellsHugTheSphere) {
+  const Polynomial f = sphere({0, 0, 0}, 1.0);
+  CellStats stats;
+  const auto cells = buildCells(f, kLo, kHi, std::nullopt, {.depth = 6}, &stats);
+  const double diag = std::sqrt(3.0) * 3.0 / 64;
+  for (const Cell& c : cells) {
+    const glm::dvec3 centre = 0.5 * (c.lo + c.hi);
+    EXPECT_LE(std::abs(glm::length(centre) - 1.0), 1.5 * diag);
+  }
+  ASSERT_EQ(stats.keptVolumeFraction.size(), 7u);
+  for (int l = 3; l < 6; ++l)
+    EXPECT_LT(stats.keptVolumeFraction[l + 1], 0.7 * stats.keptVolumeFraction[l]) << l;
+  // The sphere's area 4 pi over cell faces (3/64)^2 gives ~5700 cells crossed; a shell a
+  // few cells thick is at most ~4x that.
+  EXPECT_LT(cells.size(), 4 * 5720u);
+  EXPECT_GT(cells.size(), 5720u / 4);
+}
+
+TEST(CellsTest, MaxCellsCapsTheLevel) {
+  const Polynomial f = torus(1.0, 0.3);
+  CellStats stats;
+  const auto cells = buildCells(f, kLo, kHi, std::nullopt, {.depth = 8, .maxCells = 500}, &stats);
+  EXPECT_LE(cells.size(), 500u);
+  EXPECT_LT(stats.depth, 8);
+  EXPECT_FALSE(cells.empty());
+  // The returned level is complete: it is exactly the level built with that depth.
+  const auto direct = buildCells(f, kLo, kHi, std::nullopt, {.depth = stats.depth});
+  EXPECT_EQ(direct.size(), cells.size());
+}
+
+// The cells are one level of a regular grid: index and grid describe each nominal box
+// (the adapter uses them to give a root on a shared face to exactly one cell).
+TEST(CellsTest, GridIndicesDescribeTheCells) {
+  const Polynomial f = torus(1.0, 0.3);
+  const glm::dvec3 lo(-1.5, -1.5, -0.75), hi(1.5, 1.5, 0.75);  // elongated: grid 16 x 16 x 8
+  CellStats stats;
+  const auto cells = buildCells(f, lo, hi, std::nullopt, {.depth = 4}, &stats);
+  ASSERT_FALSE(cells.empty());
+  EXPECT_EQ(stats.grid, glm::ivec3(16, 16, 8));
+  std::set<std::tuple<int, int, int>> seen;
+  for (const Cell& c : cells) {
+    EXPECT_TRUE(seen.emplace(c.index.x, c.index.y, c.index.z).second) << "duplicate index";
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_GE(c.index[a], 0);
+      ASSERT_LT(c.index[a], stats.grid[a]);
+      const double step = (hi[a] - lo[a]) / stats.grid[a];
+      EXPECT_NEAR(c.lo[a], lo[a] + step * c.index[a], 1e-12);
+      EXPECT_NEAR(c.hi[a], lo[a] + step * (c.index[a] + 1), 1e-12);
+    }
+  }
+}
+
+// Enormous clip boxes overflow the enclosure to infinity: every box is kept (correct,
+// if useless), nothing crashes or hangs.
+TEST(CellsTest, HugeBoxesStayConservative) {
+  const Polynomial f = sphere({0, 0, 0}, 1.0);
+  CellStats stats;
+  const auto cells = buildCells(f, glm::dvec3(-1e300), glm::dvec3(1e300), std::nullopt, {.depth = 2}, &stats);
+  EXPECT_FALSE(cells.empty());
+  bool containsOrigin = false;
+  for (const Cell& c : cells) containsOrigin = containsOrigin || inside(glm::dvec3(1, 0, 0), c.lo, c.hi);
+  EXPECT_TRUE(containsOrigin);
+}
+
+// ---- Ray / box clipping ---------------------------------------------------------------------
+TEST(ClipRayTest, SimpleCases) {
+  const glm::dvec3 lo(0.0), hi(1.0);
+  auto s = clipRayToBox(glm::dvec3(-1.0), glm::dvec3(1.0), lo, hi, 0.0, 10.0);
+  ASSERT_TRUE(s);
+  EXPECT_NEAR(s->t0, 1.0, 1e-14);
+  EXPECT_NEAR(s->t1, 2.0, 1e-14);
+  // Clamped to [tMin, tMax].
+  s = clipRayToBox(glm::dvec3(-1.0), glm::dvec3(1.0), lo, hi, 1.5, 10.0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->t0, 1.5);
+  EXPECT_FALSE(clipRayToBox(glm::dvec3(-1.0), glm::dvec3(1.0), lo, hi, 0.0, 0.5));
+  // Zero direction components: inside the slab (also on its face) or not at all.
+  EXPECT_TRUE(clipRayToBox({0.5, 0.5, -1.0}, {0.0, 0.0, 1.0}, lo, hi, 0.0, 10.0));
+  EXPECT_TRUE(clipRayToBox({1.0, 0.0, -1.0}, {0.0, 0.0, 1.0}, lo, hi, 0.0, 10.0));
+  EXPECT_FALSE(clipRayToBox({1.5, 0.5, -1.0}, {0.0, 0.0, 1.0}, lo, hi, 0.0, 10.0));
+  // Misses and bad input.
+  EXPECT_FALSE(clipRayToBox({-1.0, 2.0, 0.5}, {1.0, 0.0, 0.0}, lo, hi, 0.0, 10.0));
+  EXPECT_FALSE(clipRayToBox(glm::dvec3(NAN), glm::dvec3(1.0), lo, hi, 0.0, 10.0));
+  EXPECT_FALSE(clipRayToBox(glm::dvec3(-1.0), glm::dvec3(1.0), lo, hi, 5.0, 1.0));
+  EXPECT_FALSE(clipRayToBox(glm::dvec3(-1.0), glm::dvec3(1.0), lo, hi, 0.0, NAN));
+}
+
+// Grazing corners: the box's lower corner is the exact point o + t* d rounded down, so
+// the exact ray touches the box at t*; the span must contain t*.
+TEST(ClipRayTest, GrazingCornersAreKept) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-10.0, 10.0), pos(0.01, 5.0);
+  mpfr_t x;
+  mpfr_init2(x, 300);
+  for (int trial = 0; trial < 20000; ++trial) {
+    glm::dvec3 o, d, lo, hi;
+    for (int a = 0; a < 3; ++a) o[a] = u(rng), d[a] = u(rng);
+    const double t = pos(rng);
+    for (int a = 0; a < 3; ++a) {
+      mpfr_set_d(x, d[a], MPFR_RNDN);
+      mpfr_mul_d(x, x, t, MPFR_RNDN);  // exact at 300 bits
+      mpfr_add_d(x, x, o[a], MPFR_RNDN);
+      // The entry faces on the side the ray comes from, rounded so that the exact point
+      // o + t d is inside the closed box by less than one ulp on every axis.
+      if (d[a] > 0) {
+        lo[a] = mpfr_get_d(x, MPFR_RNDD);
+        hi[a] = lo[a] + pos(rng);
+      } else {
+        hi[a] = mpfr_get_d(x, MPFR_RNDU);
+        lo[a] = hi[a] - pos(rng);
+      }
+    }
+    const auto s = clipRayToBox(o, d, lo, hi, 0.0, 1e30);
+    ASSERT_TRUE(s) << "trial " << trial;
+    EXPECT_LE(s->t0, t);
+    EXPECT_GE(s->t1, t);
+  }
+  mpfr_clear(x);
+}
+
+}  // namespace
+}  // namespace algray
