@@ -1,0 +1,356 @@
+// Numerical-stability stress suite, part 1 (issue 7): tangent and grazing rays, rays
+// through nodes and along double lines, far origins, scaled surfaces, degenerate rays and
+// clip regions. Every expected result is a closed form or the MPFR reference of
+// tests/support/reference.h; none is taken from the library. Part 2 (high degrees,
+// dynamic range, gallery shadow rays) is tests/stress_gallery_test.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "support/stress.h"
+
+namespace algray::test {
+namespace {
+
+// Position error allowed on a well-conditioned ray, relative to the clip radius
+// (the numerical contract of ../shared/DESIGN.md).
+constexpr double kContract = 1e-9;
+// At a tangency or a node the root is double: rounding of size u moves it by ~sqrt(u)
+// (1.5e-8) times a factor of the curvature; 1e-6 clip radii leaves a wide margin.
+constexpr double kDoubleRoot = 1e-6;
+
+// ---- Tangent and grazing rays ---------------------------------------------------------
+
+// The line z = 1 + delta, y = 0 against the unit sphere: roots x = -+sqrt(1 - (1+delta)^2),
+// so for delta < 0 the first hit from x = -2 is at t = 2 - sqrt(-2 delta - delta^2); at
+// delta = 0 a double root at t = 2; for delta > 0 no intersection at all.
+TEST(StressTangent, SphereTouchedAndGrazedFromOutside) {
+  OneSurface s(describe(spherePolynomial(1.0), 1.5));
+  for (double delta : {0.0, -1e-4, -1e-8, -1e-12, 1e-4, 1e-8, 1e-12}) {
+    const RayD ray = rayD({-2.0, 0.0, 1.0 + delta}, {1.0, 0.0, 0.0});
+    const auto hit = s.intersect(ray, "delta " + std::to_string(delta));
+    const long double z = ray.org.z;  // the line as rounded to double
+    const long double disc = 1.0L - z * z;
+    if (delta > 0) {
+      EXPECT_FALSE(hit) << "line at height 1 + " << delta << " misses the sphere, hit t=" << hit->t;
+    } else if (delta == 0) {
+      ASSERT_TRUE(hit) << "tangent ray must report the touching point";
+      EXPECT_NEAR(hit->t, 2.0, kDoubleRoot * 1.5);
+    } else {
+      ASSERT_TRUE(hit) << "delta " << delta;
+      const double expected = static_cast<double>(2.0L - std::sqrt(disc));
+      EXPECT_NEAR(hit->t, expected, kContract * 1.5) << "delta " << delta;
+    }
+  }
+}
+
+// Torus (x^2+y^2+z^2+R^2-r^2)^2 = 4R^2(x^2+y^2), R = 1, r = 0.4: the line y = 1,
+// z = 0.4 - delta along x is tangent to the top circle at x = 0 for delta = 0 and cuts the
+// tube where sqrt(x^2 + 1) = 1 + sqrt(r^2 - (r - delta)^2) for delta > 0.
+TEST(StressTangent, TorusTopCircle) {
+  const double R = 1.0, r = 0.4;
+  OneSurface s(describe(torusPolynomial(R, r), 1.6));
+  for (double delta : {0.0, 1e-3, 1e-6, -1e-6}) {
+    const RayD ray = rayD({-2.0, 1.0, r - delta}, {1.0, 0.0, 0.0});
+    const auto hit = s.intersect(ray);
+    const long double z = ray.org.z;
+    const long double w2 = (long double)r * r - z * z;
+    if (delta < 0) {
+      EXPECT_FALSE(hit) << "above the tube";
+    } else if (delta == 0) {
+      ASSERT_TRUE(hit);
+      EXPECT_NEAR(hit->t, 2.0, kDoubleRoot * 1.6);
+    } else {
+      ASSERT_TRUE(hit) << delta;
+      const long double w = std::sqrt(w2);
+      const long double x = std::sqrt((1 + w) * (1 + w) - 1);
+      EXPECT_NEAR(hit->t, static_cast<double>(2 - x), kContract * 1.6) << delta;
+    }
+  }
+}
+
+// ---- Rays through nodes ------------------------------------------------------------------
+// Each ray passes through the singular point at t = 2 (o = node - 2 d); the search window
+// (2 - w, 2 + w) holds no other intersection, so the expected answer is a hit at t = 2
+// within the double-root accuracy.
+void expectNodeHits(OneSurface& s, const std::vector<glm::dvec3>& nodes, double radius, const char* name) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  const double w = 1e-3;
+  for (size_t k = 0; k < nodes.size(); ++k)
+    for (int rep = 0; rep < 3; ++rep) {
+      glm::dvec3 d{normal(rng), normal(rng), normal(rng)};
+      d = radius * glm::normalize(d);
+      const RayD ray = rayD(nodes[k] - 2.0 * d, d, 2.0 - w, 2.0 + w);
+      const auto hit = s.intersect(ray, name);
+      ASSERT_TRUE(hit) << name << " node " << k << " (" << nodes[k].x << ", " << nodes[k].y << ", " << nodes[k].z
+                       << ") ray " << rep;
+      EXPECT_NEAR(hit->t, 2.0, kDoubleRoot) << name << " node " << k;
+    }
+}
+
+Polynomial X3(int axis, int power) { return Polynomial::variable(axis).pow(power); }
+
+// Cayley's cubic 4(x^3 + y^3 + z^3 + 1) = (x + y + z + 1)^3: the gradient 12 x_i^2 =
+// 3 S^2 (S = x + y + z + 1) vanishes where every x_i = +-S/2, on the surface exactly at the
+// four points with an odd number of minus signs among (x, y, z, 1).
+TEST(StressNodes, CayleyCubicFourNodes) {
+  const Polynomial x = X(), y = Y(), z = Z();
+  const Polynomial f = 4.0 * (X3(0, 3) + X3(1, 3) + X3(2, 3) + Polynomial(1.0)) - (x + y + z + Polynomial(1.0)).pow(3);
+  OneSurface s(describe(f, 2.5));
+  expectNodeHits(s, {{1, 1, -1}, {1, -1, 1}, {-1, 1, 1}, {-1, -1, -1}}, 2.5, "cayley");
+}
+
+// Kummer's quartic (x^2+y^2+z^2-mu^2)^2 - lambda p q r s with the SURFER tetrahedron
+// planes. Along an edge of the tetrahedron two planes vanish, so p q r s and its gradient
+// vanish there; where the edge meets the sphere r^2 = mu^2 the first term and its
+// gradient vanish too: 12 of the 16 nodes (2 on each of the 6 edges).
+TEST(StressNodes, KummerQuarticTwelveEdgeNodes) {
+  const double mu2 = 1.69, lambda = (3.0 * mu2 - 1.0) / (3.0 - mu2), s2 = std::numbers::sqrt2;
+  const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
+  const Polynomial p = one - z - s2 * x, q = one - z + s2 * x, r = one + z + s2 * y, t = one + z - s2 * y;
+  const Polynomial f = (x * x + y * y + z * z - Polynomial(mu2)).pow(2) - lambda * (p * q * r * t);
+  const glm::dvec3 n[4] = {{s2, 0, 1}, {-s2, 0, 1}, {0, -s2, -1}, {0, s2, -1}};  // plane: n . x = c
+  const double c[4] = {1, 1, 1, 1};
+  std::vector<glm::dvec3> nodes;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const glm::dvec3 e = glm::normalize(glm::cross(n[i], n[j]));
+      const double g11 = glm::dot(n[i], n[i]), g12 = glm::dot(n[i], n[j]), g22 = glm::dot(n[j], n[j]);
+      const double det = g11 * g22 - g12 * g12;
+      const glm::dvec3 x0 = ((c[i] * g22 - c[j] * g12) / det) * n[i] + ((c[j] * g11 - c[i] * g12) / det) * n[j];
+      const double h = mu2 - glm::dot(x0, x0);
+      ASSERT_GT(h, 0.0);
+      for (double sg : {1.0, -1.0}) nodes.push_back(x0 + sg * std::sqrt(h) * e);
+    }
+  ASSERT_EQ(nodes.size(), 12u);
+  for (const glm::dvec3& v : nodes) {  // the construction, checked on f itself
+    EXPECT_LE(std::abs(f.evaluate(v)), 1e-13 * absTermSum(f, v));
+    EXPECT_LE(glm::length(f.gradient(v)), 1e-12 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
+  }
+  OneSurface s(describe(f, 2.5));
+  expectNodeHits(s, nodes, 2.5, "kummer");
+}
+
+// Barth's sextic 4(phi^2x^2-y^2)(phi^2y^2-z^2)(phi^2z^2-x^2) - (1+2phi)(x^2+y^2+z^2-1)^2:
+// on the unit sphere, wherever two factors vanish (or one vanishes to second order, on
+// the axes), the product and its gradient vanish: 6 + 3 * 8 = 30 of the 65 nodes.
+TEST(StressNodes, BarthSexticThirtyNodes) {
+  const double phi = std::numbers::phi, p2 = phi * phi;
+  const Polynomial x = X(), y = Y(), z = Z();
+  const Polynomial f = 4.0 * (p2 * x * x - y * y) * (p2 * y * y - z * z) * (p2 * z * z - x * x) -
+                       (1.0 + 2.0 * phi) * (x * x + y * y + z * z - Polynomial(1.0)).pow(2);
+  std::vector<glm::dvec3> nodes;
+  for (int ax = 0; ax < 3; ++ax)
+    for (double sg : {1.0, -1.0}) {
+      glm::dvec3 v(0.0);
+      v[ax] = sg;
+      nodes.push_back(v);
+    }
+  for (glm::dvec3 b : {glm::dvec3(1, phi, p2), glm::dvec3(p2, 1, phi), glm::dvec3(1, phi, 1 / phi)}) {
+    b = glm::normalize(b);
+    for (int sg = 0; sg < 8; ++sg) nodes.push_back({sg & 1 ? -b.x : b.x, sg & 2 ? -b.y : b.y, sg & 4 ? -b.z : b.z});
+  }
+  for (const glm::dvec3& v : nodes) {
+    EXPECT_LE(std::abs(f.evaluate(v)), 1e-13 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
+    EXPECT_LE(glm::length(f.gradient(v)), 1e-12 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
+  }
+  OneSurface s(describe(f, 2.0));
+  expectNodeHits(s, nodes, 2.0, "barth");
+}
+
+// Steiner's Roman surface x^2y^2 + y^2z^2 + z^2x^2 = xyz contains the three axes as double
+// lines (f and grad f vanish on them) and has a triple point at the origin.
+TEST(StressNodes, RomanSurfaceDoubleLinesAndTriplePoint) {
+  const Polynomial x = X(), y = Y(), z = Z();
+  const Polynomial f = x * x * y * y + y * y * z * z + z * z * x * x - x * y * z;
+  OneSurface s(describe(f, 0.75));
+  // Crossing a double line transversally: a double root at the crossing point.
+  std::vector<glm::dvec3> points;
+  for (double a : {0.1, -0.25, 0.4})
+    for (int ax = 0; ax < 3; ++ax) {
+      glm::dvec3 v(0.0);
+      v[ax] = a;
+      points.push_back(v);
+    }
+  expectNodeHits(s, points, 0.75, "roman double line");
+  // The triple point: a triple root, accurate to ~u^(1/3) ~ 5e-6.
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> normal;
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 d = 0.75 * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+    const auto hit = s.intersect(rayD(-2.0 * d, d, 2.0 - 1e-3, 2.0 + 1e-3), "triple point");
+    ASSERT_TRUE(hit) << "ray " << k << " through the triple point";
+    EXPECT_NEAR(hit->t, 2.0, 1e-4);
+  }
+  // Along a double line the whole line lies in the surface: g is identically zero and
+  // there is no first point to report (embree.h: no hit), and certainly no crash.
+  for (int ax = 0; ax < 3; ++ax) {
+    glm::dvec3 o(0.0), d(0.0);
+    o[ax] = -2.0;
+    d[ax] = 1.0;
+    EXPECT_FALSE(s.intersect(rayD(o, d), "along an axis")) << "axis " << ax;
+    EXPECT_FALSE(s.occluded(rayD(o, d))) << "axis " << ax;
+  }
+}
+
+// ---- Far origins --------------------------------------------------------------------------
+// Origins 10^3 ... 10^6 clip radii away aimed into the clip ball; expected: the MPFR
+// reference of the same double ray, on well-conditioned rays within the contract.
+void expectFarRays(const Polynomial& f, double radius, const char* name) {
+  OneSurface s(describe(f, radius));
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal;
+  int compared = 0;
+  for (double dist : {1e3, 1e4, 1e5, 1e6})
+    for (int k = 0; k < 12; ++k) {
+      const glm::dvec3 o = dist * radius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+      const glm::dvec3 target = 0.4 * radius * glm::dvec3{normal(rng), normal(rng), normal(rng)};
+      const RayD ray = rayD(o, glm::normalize(target - o));
+      const RayRef ref = referenceFirstHit(f, ray.org, ray.dir, 0.0, kInfD, glm::dvec3(0.0), radius);
+      const auto hit = s.intersect(ray, name);
+      if (!ref.wellConditioned) continue;
+      ++compared;
+      ASSERT_EQ(hit.has_value(), ref.hit) << name << " at " << dist << " radii, ray " << k;
+      if (hit) {
+        EXPECT_NEAR(hit->t, ref.t, kContract * radius) << name << " at " << dist << " radii, ray " << k;
+      }
+    }
+  EXPECT_GT(compared, 24) << name << ": too few well-conditioned rays to mean anything";
+}
+
+TEST(StressFar, SphereFrom1e3To1e6Radii) { expectFarRays(spherePolynomial(1.0), 1.5, "sphere"); }
+TEST(StressFar, TorusFrom1e3To1e6Radii) { expectFarRays(torusPolynomial(1.0, 0.4), 1.6, "torus"); }
+
+// ---- Scaled surfaces --------------------------------------------------------------------
+// f(x / s) for s = 1e-6 and 1e6 (sphere and torus built with scaled coefficients, clip
+// radius scaled): every relative tolerance must scale with it. Expected: closed forms.
+TEST(StressScale, SphereAndTorusAt1eMinus6And1e6) {
+  for (double scale : {1e-6, 1e6}) {
+    {
+      OneSurface s(describe(spherePolynomial(scale), 1.5 * scale));
+      // Camera rays from 3 radii, and a ray leaving each hit along the
+      // same line: the exit point, one chord farther.
+      for (double a : {0.0, 0.2, 0.5, 0.9}) {
+        const glm::dvec3 o(0.0, 0.0, 3.0 * scale);
+        const glm::dvec3 d = glm::normalize(glm::dvec3(a, 0.1 * a, -3.0));
+        const auto hit = s.intersect(rayD(o, d), "scaled sphere");
+        // |o + t d|^2 = r^2 with |d| = 1: t = -b - sqrt(b^2 - c), b = o.d, c = |o|^2 - r^2.
+        const long double b = (long double)o.z * d.z, c = (long double)o.z * o.z - (long double)scale * scale;
+        const long double disc = b * b - c;
+        ASSERT_EQ(hit.has_value(), disc > 0) << scale << " " << a;
+        if (!hit) continue;
+        EXPECT_NEAR(hit->t, static_cast<double>(-b - std::sqrt(disc)), kContract * 1.5 * scale) << scale << " " << a;
+        // Leaving the surface: the next hit is the far side, t = 2 sqrt(disc) from there.
+        const glm::dvec3 p = o + hit->t * d;
+        const auto exit = s.intersect(rayD(p, d), "scaled sphere exit");
+        ASSERT_TRUE(exit) << "shadow ray from the hit misses the far side, scale " << scale;
+        EXPECT_GT(exit->t, 1e-6 * scale) << "speckle: the ray hit its own origin";
+        EXPECT_NEAR(exit->t, static_cast<double>(2.0L * std::sqrt(disc)), 1e-8 * scale) << scale << " " << a;
+      }
+    }
+    {
+      const double R = scale, r = 0.4 * scale;
+      OneSurface s(describe(torusPolynomial(R, r), 1.6 * scale));
+      // Straight down through the tube centre (R, 0, .): top at z = r, bottom at z = -r.
+      const glm::dvec3 o(R, 0.0, 2.0 * scale);
+      const auto hit = s.intersect(rayD(o, {0, 0, -1}), "scaled torus");
+      ASSERT_TRUE(hit) << scale;
+      EXPECT_NEAR(hit->t, 2.0 * scale - r, kContract * 1.6 * scale);
+      const auto exit = s.intersect(rayD(o + glm::dvec3(0, 0, -hit->t), {0, 0, -1}), "scaled torus exit");
+      ASSERT_TRUE(exit) << scale;
+      EXPECT_NEAR(exit->t, 2.0 * r, 1e-8 * scale);
+      // Through the hole: no hit.
+      EXPECT_FALSE(s.intersect(rayD({0, 0, 2.0 * scale}, {0, 0, -1}), "through the hole")) << scale;
+    }
+  }
+}
+
+// ---- Degenerate input ---------------------------------------------------------------------
+// NaN, infinite and zero-length rays and empty intervals: no hit, no hang, no crash.
+// Through the double channel every RayD is legal input: makeRayHit must hand Embree a
+// valid float ray (Embree 3 asserts |org|, |dir| <= 1.8e18 and non-NaN tnear/tfar).
+TEST(StressInput, NonFiniteAndZeroLengthRaysMissThroughDoubleChannel) {
+  OneSurface s(describe(torusPolynomial(1.0, 0.4), 1.6));
+  const double nan = std::nan(""), inf = kInfD;
+  const std::vector<RayD> rays = {
+      rayD({nan, 0, 3}, {0, 0, -1}),       rayD({0, 0, 3}, {nan, 0, -1}),      rayD({inf, 0, 3}, {0, 0, -1}),
+      rayD({1, 0, 3}, {0, 0, -inf}),       rayD({1, 0, 3}, {inf, inf, -inf}),  rayD({-inf, inf, 0}, {1, 0, 0}),
+      rayD({1, 0, 3}, {0, 0, 0}),          rayD({1, 0, 0}, {0, 0, 0}),         rayD({1, 0, 3}, {0, 0, -1}, nan, inf),
+      rayD({1, 0, 3}, {0, 0, -1}, 0, nan), rayD({1, 0, 3}, {0, 0, -1}, 5, 1),  rayD({1, 0, 3}, {0, 0, -1}, 2, 2),
+      rayD({1, 0, 3}, {0, 0, -1}, -inf, -inf),
+  };
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const std::string what = "degenerate ray " + std::to_string(i);
+    EXPECT_FALSE(s.intersect(rays[i], what)) << what;
+    EXPECT_FALSE(s.occluded(rays[i])) << what;
+  }
+}
+
+// A finite double ray beyond the float range Embree accepts (|org| <= 1.8e18): the double
+// channel must still hand Embree a valid float ray. Aimed through the torus tube along x:
+// expected hit where x = -1.4, i.e. t = 1e30 - 1.4 (= 1e30 in double).
+TEST(StressInput, HugeFiniteOriginThroughDoubleChannel) {
+  OneSurface s(describe(torusPolynomial(1.0, 0.4), 1.6));
+  const RayD ray = rayD({-1e30, 0, 0}, {1, 0, 0});
+  const auto hit = s.intersect(ray, "origin 1e30 away");
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, 1e30 - 1.4, 1e-9 * 1.6 + 1e30 * kUnitRoundoff);
+  EXPECT_TRUE(s.occluded(ray));
+  // The same line with a direction of length 1e30: t = (1e30 - 1.4) / 1e30 (= 1 in double).
+  const RayD longDir = rayD({-1e30, 0, 0}, {1e30, 0, 0});
+  const auto hit2 = s.intersect(longDir, "direction of length 1e30");
+  ASSERT_TRUE(hit2);
+  EXPECT_NEAR(hit2->t, 1.0, 4 * kUnitRoundoff);
+}
+
+// The plain float path with finite but degenerate rays (Embree's own contract excludes
+// non-finite float rays): zero direction, subnormal direction, empty intervals.
+TEST(StressInput, DegenerateFloatRaysMiss) {
+  OneSurface s(describe(torusPolynomial(1.0, 0.4), 1.6));
+  const std::vector<RayD> rays = {rayD({1, 0, 3}, {0, 0, 0}), rayD({1, 0, 0}, {0, 0, 0}),
+                                  rayD({1, 0, 3}, {0, 0, -1}, 5, 1), rayD({1, 0, 3}, {0, 0, -1}, 2, 2),
+                                  rayD({1, 0, 3}, {0, 0, -1e-44})};
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const std::string what = "degenerate float ray " + std::to_string(i);
+    const auto hit = s.intersectFloat(rays[i], what);
+    if (i + 1 < rays.size()) {
+      EXPECT_FALSE(hit) << what;
+    }
+  }
+}
+
+// A clip region with no volume is rejected at creation (embree.h: algray::Error); a
+// clip region away from the surface is valid and yields no hits.
+TEST(StressInput, EmptyClipRegion) {
+  Device device;
+  const double nan = std::nan("");
+  for (const ClipRegion& clip :
+       {ClipRegion{ClipSphere{{0, 0, 0}, -1.0}}, ClipRegion{ClipSphere{{0, 0, 0}, nan}},
+        ClipRegion{ClipSphere{{nan, 0, 0}, 1.0}}, ClipRegion{ClipSphere{{kInfD, 0, 0}, 1.0}},
+        ClipRegion{ClipBox{{1, 1, 1}, {-1, -1, -1}}}, ClipRegion{ClipBox{{0, 0, 0}, {1, nan, 1}}}}) {
+    SurfaceDesc desc;
+    desc.polynomial = spherePolynomial(1.0);
+    desc.clip = clip;
+    EXPECT_THROW({ SurfaceGeometry g(device, desc); }, Error);
+  }
+  // Zero radius: either rejected or nothing to hit.
+  {
+    SurfaceDesc desc = describe(spherePolynomial(1.0), 0.0, {1, 0, 0});
+    try {
+      OneSurface s(desc);
+      EXPECT_FALSE(s.intersect(rayD({3, 0, 0}, {-1, 0, 0})));
+    } catch (const Error&) {
+    }
+  }
+  // A clip ball that does not meet the sphere.
+  OneSurface s(describe(spherePolynomial(1.0), 0.5));
+  for (const glm::dvec3& d : {glm::dvec3(-1, 0, 0), glm::dvec3(-1, 0.1, 0.05), glm::dvec3(-1, -0.2, 0.1)})
+    EXPECT_FALSE(s.intersect(rayD({3, 0, 0}, d), "clip ball inside the sphere"));
+}
+
+}  // namespace
+}  // namespace algray::test

@@ -1,0 +1,89 @@
+#pragma once
+// Helpers of the numerical-stability stress suites (tests/stress_*test.cpp): one surface
+// in its own scene, traced through the double-precision side channel, with every hit
+// checked for finiteness and for lying inside the ray's interval.
+#include "algray/embree.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "../embree_test_util.h"
+#include "reference.h"
+
+namespace algray::test {
+
+inline constexpr double kInfD = std::numeric_limits<double>::infinity();
+
+inline RayD rayD(glm::dvec3 o, glm::dvec3 d, double tnear = 0.0, double tfar = kInfD) {
+  RayD r;
+  r.org = o;
+  r.dir = d;
+  r.tnear = tnear;
+  r.tfar = tfar;
+  return r;
+}
+
+inline bool finiteVec(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+class OneSurface {
+ public:
+  explicit OneSurface(const SurfaceDesc& desc) : scene_(device_) {
+    geometry_.emplace(device_, desc);
+    scene_.attach(geometry_->geometry());
+    scene_.commit();
+  }
+  ~OneSurface() { EXPECT_EQ(geometry_->callbackErrors(), 0u) << "exceptions inside Embree callbacks"; }
+  OneSurface(const OneSurface&) = delete;
+  OneSurface& operator=(const OneSurface&) = delete;
+
+  // Closest hit through the double channel; a hit must be finite and inside (tnear, tfar).
+  std::optional<HitD> intersect(const RayD& ray, const std::string& what = "") {
+    RTCRayHit rh;
+    const HitD hit = intersectD(scene_, ray, &rh);
+    if (!hit.hit) {
+      EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << what << ": float record without double hit";
+      return std::nullopt;
+    }
+    EXPECT_TRUE(std::isfinite(hit.t) && finiteVec(hit.Ng)) << what << ": non-finite hit t=" << hit.t;
+    EXPECT_TRUE(hit.t > ray.tnear && hit.t < ray.tfar) << what << ": hit outside the ray interval, t=" << hit.t;
+    EXPECT_TRUE(std::isfinite(rh.ray.tfar)) << what;
+    return hit;
+  }
+  // The plain float path (no double channel).
+  std::optional<float> intersectFloat(const RayD& ray, const std::string& what = "") {
+    RTCRayHit rh = makeRayHit(ray);
+    rh = intersect1(scene_, rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    EXPECT_TRUE(std::isfinite(rh.ray.tfar) && std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) << what;
+    return rh.ray.tfar;
+  }
+  // Occlusion through the double channel.
+  bool occluded(const RayD& ray) {
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit);
+    RTCRayHit rh = makeRayHit(ray);
+    const float before = rh.ray.tfar;  // -inf already means "occluded" to Embree
+    rtcOccluded1(scene_, &context.base, &rh.ray);
+    return before != -std::numeric_limits<float>::infinity() && rh.ray.tfar == -std::numeric_limits<float>::infinity();
+  }
+  const SurfaceGeometry& geometry() const { return *geometry_; }
+
+ private:
+  Device device_;
+  std::optional<SurfaceGeometry> geometry_;
+  Scene scene_;
+};
+
+inline SurfaceDesc describe(Polynomial f, double clipRadius, glm::dvec3 centre = glm::dvec3(0.0)) {
+  SurfaceDesc desc;
+  desc.polynomial = std::move(f);
+  desc.clip = ClipSphere{centre, clipRadius};
+  return desc;
+}
+
+}  // namespace algray::test
