@@ -1,0 +1,235 @@
+// Public entry points of roots.h: input checks, the map to the local frame, the
+// dispatch by method and degree.
+#include "algray/roots.h"
+
+#include "roots_detail.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <string>
+
+namespace algray {
+namespace {
+
+using roots_detail::gammaT;
+using roots_detail::LocalPoly;
+using roots_detail::LocalRoot;
+using roots_detail::Query;
+
+// The caller's frame: s = 2^e v. Why a power-of-two scaling and no shift of the origin:
+// the scaling is exact, so the local polynomial has exactly the caller's roots and
+// conditioning (the conditioning sum|c_i||r|^i / |g'(r)| refers to the caller's
+// coefficients), while a Taylor shift to the interval's midpoint would add rounding of
+// the size of one evaluation of g at the far end, and lose roots near the caller's
+// origin whenever that origin is far from the midpoint (roots 2^-k with lo = 0). The
+// caller chooses its expansion point (taylor.h re-centres a ray near its span); what the
+// local frame buys is |v| <= 1 (no overflow at degree 40, one relative rule for noise
+// and for dropping leading coefficients) and tolerances relative to the interval.
+template <class T>
+struct Frame {
+  T lo, hi;
+  int e;  // s = 2^e v
+};
+
+// x 2^k, exact when the result is normal. The common case (both x and the result normal)
+// multiplies by a power of two built from its bits instead of calling ldexp, which is a
+// library call per coefficient on the per-ray path; anything else goes to std::ldexp.
+// 2^k for k in the normal exponent range, from its bits.
+template <class T>
+T pow2(int k) {
+  if constexpr (std::is_same_v<T, double>)
+    return std::bit_cast<double>(static_cast<uint64_t>(k + 1023) << 52);
+  else
+    return std::bit_cast<float>(static_cast<uint32_t>(k + 127) << 23);
+}
+
+template <class T>
+T scale2(T x, int k) {
+  using Limits = std::numeric_limits<T>;
+  if (k >= Limits::min_exponent - 1 && k <= Limits::max_exponent - 1) {
+    const T r = x * pow2<T>(k);
+    if (std::abs(r) >= Limits::min() || r == 0) return r;
+  }
+  return std::ldexp(x, k);
+}
+
+// Exponent of a finite non-zero x as std::ilogb, from the bits for normal numbers.
+template <class T>
+int exponentOf(T x) {
+  if (std::abs(x) >= std::numeric_limits<T>::min()) {
+    if constexpr (std::is_same_v<T, double>)
+      return static_cast<int>((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) - 1023;
+    else
+      return static_cast<int>((std::bit_cast<uint32_t>(x) >> 23) & 0xff) - 127;
+  }
+  return std::ilogb(x);
+}
+
+template <class T>
+void checkSizes(std::span<const T> c, std::span<const T> err, const char* where) {
+  if (c.size() > static_cast<size_t>(kMaxDegree + 1))
+    throw Error(std::string(where) + ": " + std::to_string(c.size()) +
+                " coefficients, more than degree kMaxDegree = " + std::to_string(kMaxDegree) +
+                " allows");
+  if (!err.empty() && err.size() != c.size())
+    throw Error(std::string(where) + ": error bound has " + std::to_string(err.size()) +
+                " entries for " + std::to_string(c.size()) + " coefficients");
+}
+
+// Builds G(v) = g(2^e v) / 2^E with its noise bound (roots_detail.h). Returns false when
+// there can be no root: non-finite input, an empty or reversed interval, a constant or
+// zero polynomial.
+template <class T>
+bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
+             Frame<T>& fr) {
+  if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) return false;
+  int n = static_cast<int>(c.size()) - 1;
+  for (int i = 0; i <= n; ++i)
+    if (!std::isfinite(c[i]) || (!err.empty() && !std::isfinite(err[i]))) return false;
+  while (n >= 0 && c[n] == 0) --n;
+  if (n < 1) return false;
+
+  // ---- Frame: 2^e >= max(|lo|, |hi|) ------------------------------------------------
+  int e = 0;
+  std::frexp(std::max(std::abs(lo), std::abs(hi)), &e);  // max = f 2^e, f in [0.5, 1)
+  fr = Frame<T>{lo, hi, e};
+  g.lo = scale2(lo, -e);
+  g.hi = scale2(hi, -e);
+  if (!(g.lo < g.hi)) return false;  // only when lo, hi are adjacent subnormals
+
+  // ---- Coefficients C_j = c_j 2^(j e - E), max |C_j| in [1, 2) ----------------------
+  // Exponents are added as integers first so that no intermediate overflows.
+  int eMax = std::numeric_limits<int>::min();
+  for (int j = 0; j <= n; ++j)
+    if (c[j] != 0) eMax = std::max(eMax, exponentOf(c[j]) + j * e);
+  const T gEval = gammaT<T>(2 * n + 1);  // one Horner evaluation, Higham Eq. (5.3)
+  for (int j = 0; j <= n; ++j) {
+    const int shift = j * e - eMax;
+    g.c[j] = scale2(c[j], shift);
+    const T ej = err.empty() ? T(0) : scale2(std::abs(err[j]), shift);
+    // |computed G(v) - exact G(v)| <= sum_j (err_j + gamma(2n+1) |C_j|) |v|^j.
+    g.noise[j] = ej + gEval * std::abs(g.c[j]);
+    if (!std::isfinite(g.noise[j])) return false;  // err beyond the range of C
+  }
+
+  // ---- Drop leading coefficients that are noise -------------------------------------
+  // On [-1, 1], |C_n v^n| <= |C_n| |v|^k for k < n, so a leading coefficient with
+  // |C_n| <= u max_{k<n} |C_k| changes G by less than the rounding of evaluating the
+  // remaining terms anywhere in the interval; one within the caller's own error bound
+  // cannot be told from zero. Either way it is dropped and its size is moved into the
+  // noise bound of the new leading term (|C_n v^n| <= |C_n| |v|^(n-1)), so the tangent
+  // rule still accounts for it.
+  while (n >= 1) {
+    T maxLower = 0;
+    for (int j = 0; j < n; ++j) maxLower = std::max(maxLower, std::abs(g.c[j]));
+    const T lead = std::abs(g.c[n]);
+    const T leadErr = err.empty() ? T(0) : std::ldexp(std::abs(err[n]), n * e - eMax);
+    if (lead > roots_detail::kUnit<T> * maxLower && lead > leadErr) break;
+    g.noise[n - 1] += lead + g.noise[n];
+    g.c[n] = 0;
+    g.noise[n] = 0;
+    --n;
+  }
+  g.n = n;
+  return n >= 1;
+}
+
+// Maps a local root back to (lo, hi]: exact (a power of two) except for a root within
+// noise of hi, which the sweep reports as the local hi itself.
+template <class T>
+T toCaller(const Frame<T>& fr, const LocalPoly<T>& g, const LocalRoot<T>& r) {
+  if (r.v >= g.hi) return fr.hi;
+  const T s = scale2(r.v, fr.e);
+  return s > fr.lo ? s : std::nextafter(fr.lo, fr.hi);
+}
+
+template <class T>
+int solveLocal(const LocalPoly<T>& g, Query q, const RootOptions& o, LocalRoot<T>* out,
+               int maxOut) {
+  const T tol = static_cast<T>(std::max(0.0, o.relTolerance)) * (g.hi - g.lo);
+  switch (o.method) {
+    case RootMethod::Sturm:
+      if constexpr (std::is_same_v<T, double>)
+        return roots_detail::solveSturm(g, q, tol, out, maxOut);
+      break;
+    case RootMethod::Bernstein:
+      if constexpr (std::is_same_v<T, double>)
+        return roots_detail::solveBernstein(g, q, tol, out, maxOut);
+      break;
+    case RootMethod::Yuksel:
+      return roots_detail::solveYuksel(g, q, tol, out, maxOut);
+    case RootMethod::ClosedForm:
+    case RootMethod::Auto:
+      break;
+  }
+  // Auto: closed forms where they exist (degrees 1, 2), Yuksel above (measured, see
+  // docs/roots-summary.md). Float has no Sturm/Bernstein variant and lands here too.
+  return roots_detail::solveClosedForm(g, q, tol, out, maxOut);
+}
+
+template <class T>
+std::optional<T> firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi,
+                            const RootOptions& o) {
+  checkSizes(c, err, "firstRoot");
+  LocalPoly<T> g;
+  Frame<T> fr;
+  if (!toLocal(c, err, lo, hi, g, fr)) return std::nullopt;
+  LocalRoot<T> r[1];
+  if (solveLocal(g, Query::First, o, r, 1) == 0) return std::nullopt;
+  return toCaller(fr, g, r[0]);
+}
+
+template <class T>
+bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const RootOptions& o) {
+  checkSizes(c, err, "hasRoot");
+  LocalPoly<T> g;
+  Frame<T> fr;
+  if (!toLocal(c, err, lo, hi, g, fr)) return false;
+  LocalRoot<T> r[1];
+  return solveLocal(g, Query::Any, o, r, 1) > 0;
+}
+
+}  // namespace
+
+std::optional<double> firstRoot(std::span<const double> c, std::span<const double> err,
+                                double lo, double hi, const RootOptions& options) {
+  return firstRootT(c, err, lo, hi, options);
+}
+
+bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
+             const RootOptions& options) {
+  return hasRootT(c, err, lo, hi, options);
+}
+
+int allRoots(std::span<const double> c, std::span<const double> err, double lo, double hi,
+             std::span<double> out, const RootOptions& options) {
+  checkSizes(c, err, "allRoots");
+  LocalPoly<double> g;
+  Frame<double> fr;
+  if (out.empty() || !toLocal(c, err, lo, hi, g, fr)) return 0;
+  LocalRoot<double> r[kMaxDegree + 1];
+  const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
+  const int k = solveLocal(g, Query::All, options, r, maxOut);
+  // The sweep returns roots in increasing order; the clamping into (lo, hi] could merge
+  // two of them: keep the output strictly increasing.
+  int m = 0;
+  for (int i = 0; i < k; ++i) {
+    const double s = toCaller(fr, g, r[i]);
+    if (m > 0 && s <= out[m - 1]) continue;
+    out[m++] = s;
+  }
+  return m;
+}
+
+std::optional<float> firstRoot(std::span<const float> c, std::span<const float> err, float lo,
+                               float hi, const RootOptions& options) {
+  return firstRootT(c, err, lo, hi, options);
+}
+
+bool hasRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
+             const RootOptions& options) {
+  return hasRootT(c, err, lo, hi, options);
+}
+
+}  // namespace algray

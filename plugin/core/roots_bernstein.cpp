@@ -1,0 +1,145 @@
+// Bernstein/Descartes subdivision, the second comparison solver. On [0, 1] the number of
+// sign variations of the Bernstein coefficients bounds the number of roots and has the
+// same parity (Descartes' rule in Bernstein form; Lane and Riesenfeld, "Bounds on a
+// polynomial", BIT 21, 1981): 0 variations means no root, 1 means exactly one simple
+// root. Otherwise de Casteljau splits the interval in half (Farin, "Curves and Surfaces
+// for CAGD", Sec. 4.2) and the halves are examined left first, so the first root found
+// is the first root. A one-variation interval on which G changes sign is refined by the
+// same safeguarded Newton as the other solvers; an interval that keeps several
+// variations down to the depth cap or to the tolerance is a cluster or a multiple root
+// and its midpoint is reported as a tangent root.
+// Comparison solver: the endpoint noise rule of roots_scan.h is not applied.
+#include "roots_detail.h"
+
+#include <algorithm>
+
+namespace algray::roots_detail {
+namespace {
+
+constexpr int kMaxDepth = 60;
+
+struct Node {
+  double b[kMaxDegree + 1];
+  double u0, u1;
+  int depth;
+};
+
+int signVariations(const double* b, int n) {
+  int v = 0;
+  bool havePrev = false, prevNeg = false;
+  for (int i = 0; i <= n; ++i) {
+    if (b[i] == 0) continue;
+    const bool neg = b[i] < 0;
+    if (havePrev && neg != prevNeg) ++v;
+    havePrev = true;
+    prevNeg = neg;
+  }
+  return v;
+}
+
+// Power form to Bernstein form on u in [0, 1], v = lo + w u: a(u) = G(lo + w u) by a
+// Taylor shift to lo and a scaling by w^j, then b_i = sum_{j <= i} C(i, j) / C(n, j) a_j
+// (Farin, "Curves and Surfaces for CAGD", Sec. 5.x, change of basis). The shift rounds;
+// this is a comparison solver and the refinement below runs on the power form anyway.
+void toBernstein(const LocalPoly<double>& g, double* b) {
+  const int n = g.n;
+  const double w = g.hi - g.lo;
+  double a[kMaxDegree + 1];
+  std::copy(g.c.begin(), g.c.begin() + n + 1, a);
+  for (int k = 0; k < n; ++k)
+    for (int i = n - 1; i >= k; --i) a[i] += g.lo * a[i + 1];
+  double p = 1;
+  for (int j = 0; j <= n; ++j, p *= w) a[j] *= p;
+  // binom[i][j] on the fly: row of C(i, .) and the fixed row C(n, .).
+  double cn[kMaxDegree + 1];
+  cn[0] = 1;
+  for (int j = 1; j <= n; ++j) cn[j] = cn[j - 1] * (n - j + 1) / j;
+  double row[kMaxDegree + 1];
+  for (int i = 0; i <= n; ++i) {
+    row[i] = 1;  // C(i, i)
+    for (int j = i - 1; j >= 1; --j) row[j] += row[j - 1];
+    row[0] = 1;
+    double s = 0;
+    for (int j = 0; j <= i; ++j) s += row[j] / cn[j] * a[j];
+    b[i] = s;
+  }
+}
+
+// de Casteljau at 1/2: left into l, right into r.
+void split(const double* b, int n, double* l, double* r) {
+  double t[kMaxDegree + 1];
+  std::copy(b, b + n + 1, t);
+  l[0] = t[0];
+  r[n] = t[n];
+  for (int k = 1; k <= n; ++k) {
+    for (int i = 0; i <= n - k; ++i) t[i] = (t[i] + t[i + 1]) / 2;
+    l[k] = t[0];
+    r[n - k] = t[n - k];
+  }
+}
+
+}  // namespace
+
+int solveBernstein(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
+                   int maxOut) {
+  if (g.n < 1 || maxOut < 1) return 0;
+  const int n = g.n;
+  Node stack[kMaxDepth + 2];
+  int top = 0;
+  toBernstein(g, stack[0].b);
+  stack[0].u0 = 0;
+  stack[0].u1 = 1;
+  stack[0].depth = 0;
+  top = 1;
+  int count = 0;
+  const double* c = g.c.data();
+  while (top > 0) {
+    Node& nd = stack[top - 1];
+    const int v = signVariations(nd.b, n);
+    if (v == 0) {
+      --top;
+      continue;
+    }
+    const double va = g.lo + (g.hi - g.lo) * nd.u0, vb = g.lo + (g.hi - g.lo) * nd.u1;
+    const double width = vb - va;
+    if (v == 1 || q == Query::Any) {
+      if (q == Query::Any && v % 2 == 1) {
+        out[count++] = LocalRoot<double>{va + width / 2, false};
+        return count;
+      }
+      const double fa = horner(c, n, va), fb = horner(c, n, vb);
+      if (v == 1 && fa != 0 && fb != 0 && std::signbit(fa) != std::signbit(fb)) {
+        out[count++] =
+            LocalRoot<double>{newtonInBracket(c, g.noise.data(), n, va, vb, fa, fb, tol), false};
+        --top;
+        if (q != Query::All || count >= maxOut) return count;
+        continue;
+      }
+    }
+    const bool small =
+        width <= std::max(tol, 4 * kUnit<double> * std::max(std::abs(va), std::abs(vb)));
+    if (nd.depth >= kMaxDepth || small) {
+      out[count++] = LocalRoot<double>{va + width / 2, true};
+      --top;
+      if (q != Query::All || count >= maxOut) return count;
+      continue;
+    }
+    // Replace the node by its right half and push the left half on top.
+    Node& right = nd;
+    Node& left = stack[top];
+    double l[kMaxDegree + 1], r[kMaxDegree + 1];
+    split(nd.b, n, l, r);
+    const double mid = nd.u0 + (nd.u1 - nd.u0) / 2;
+    std::copy(l, l + n + 1, left.b);
+    left.u0 = nd.u0;
+    left.u1 = mid;
+    left.depth = nd.depth + 1;
+    std::copy(r, r + n + 1, right.b);
+    right.u0 = mid;
+    right.depth = left.depth;
+    ++top;
+  }
+  return count;
+}
+
+}  // namespace algray::roots_detail

@@ -1,0 +1,211 @@
+#pragma once
+// Private building blocks of the root solvers (roots*.cpp). Not installed.
+//
+// Every solver works on the *local* polynomial G(v) = g(2^e v) on the local interval
+// (lo, hi) = 2^-e (caller's lo, hi) inside [-1, 1] (roots.cpp builds it: 2^e is the
+// smallest power of two >= max(|lo|, |hi|), and the coefficients are scaled by another
+// power of two to max |C_j| in [1, 2)). Both scalings are exact, so G has exactly the
+// caller's roots and conditioning; |v| <= 1 makes the noise rules simple and keeps
+// degree-40 powers in range whatever the caller's units.
+#include "algray/polynomial.h"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace algray::roots_detail {
+
+template <class T>
+inline constexpr T kUnit = std::numeric_limits<T>::epsilon() / 2;  // unit roundoff
+
+// Higham's gamma_n for the precision T (Accuracy and Stability, Eq. (3.8)).
+template <class T>
+constexpr T gammaT(int n) {
+  return n * kUnit<T> / (1 - n * kUnit<T>);
+}
+
+template <class T>
+using Coeffs = std::array<T, kMaxDegree + 1>;
+
+// G(v) = sum_{j <= n} c[j] v^j on [-1, 1], with noise[j] >= 0 such that
+//   |computed G(v) - exact G(v)| <= sum_j noise[j] |v|^j
+// covers the caller's coefficient error, the mapping to the local frame and the Horner
+// rounding of one evaluation (so one Horner pass over noise[] bounds the noise at v).
+template <class T>
+struct LocalPoly {
+  int n = -1;
+  T lo = -1, hi = 1;  // the open interval searched, -1 <= lo < hi <= 1
+  Coeffs<T> c{};
+  Coeffs<T> noise{};
+};
+
+// A degree given at compile time (std::integral_constant) or at run time (int): loops
+// written against `int(deg)` unroll in the first case and stay generic in the second.
+template <int N>
+using Deg = std::integral_constant<int, N>;
+
+// ---- Evaluation -------------------------------------------------------------------
+template <class T, class D>
+inline T horner(const T* c, D deg, T x) {
+  const int n = deg;
+  T r = c[n];
+  for (int i = n - 1; i >= 0; --i) r = r * x + c[i];
+  return r;
+}
+
+// Value f, derivative df, half the second derivative dd and the noise bound nb at x in
+// one pass. The four recurrences are independent from one step to the next, so on a
+// superscalar core the three extra ones hide in the latency of the value recurrence.
+template <class T, class D>
+inline void hornerNewton(const T* c, const T* noise, D deg, T x, T& f, T& df, T& dd, T& nb) {
+  const int n = deg;
+  const T ax = std::abs(x);
+  f = c[n];
+  df = 0;
+  dd = 0;
+  nb = noise[n];
+  for (int i = n - 1; i >= 0; --i) {
+    dd = dd * x + df;
+    df = df * x + f;
+    f = f * x + c[i];
+    nb = nb * ax + noise[i];
+  }
+}
+
+// sum a_i |x|^i for non-negative a (a noise bound).
+template <class T, class D>
+inline T hornerAbs(const T* a, D deg, T x) {
+  const int n = deg;
+  const T ax = std::abs(x);
+  T r = a[n];
+  for (int i = n - 1; i >= 0; --i) r = r * ax + a[i];
+  return r;
+}
+
+// Derivative coefficients divided by the degree (d[i] = (i+1) c[i+1] / n): the same roots
+// as g', but the scale of the coefficients does not grow like n!/(n-k)! down the chain
+// of derivatives (degree 40 would otherwise approach the overflow threshold).
+template <class T, class D>
+inline void derivative(const T* c, D deg, T* d) {
+  const int n = deg;
+  const T inv = T(1) / T(n);
+  for (int i = 0; i < n; ++i) d[i] = c[i + 1] * (T(i + 1) * inv);
+}
+
+inline bool signBit(double x) { return std::signbit(x); }
+inline bool signBit(float x) { return std::signbit(x); }
+
+// ---- Safeguarded Newton in a monotone bracket -------------------------------------
+// p is monotone on [a, b] and p(a), p(b) have opposite signs (neither zero), so the
+// bracket always holds exactly one simple root. Newton steps that leave the bracket are
+// replaced by bisection (Yuksel, HPG 2022, Sec. 4; the classic rtsafe of Numerical
+// Recipes Sec. 9.4). Stopping rules, all relative:
+//  * the step is below `tol` (the caller's tolerance in the local frame), or the error
+//    predicted after it, |p''/(2p')| step^2, is below the rounding of x (full
+//    precision without the extra confirming iteration), or the step itself is 4 ulp;
+//  * |p(x)| is within its rounding bound (`noise`, see LocalPoly): the iterate is as good
+//    as the data; the last Newton step is kept when it stays in the bracket, since it
+//    removes the truncation error while noise moves it by only noise/p';
+//  * the bracket has collapsed to adjacent doubles.
+// The loop is capped (kMaxNewton), which also bounds the work on NaN-free but
+// pathological input; bisection alone needs <= 64 halvings to reach adjacent doubles of
+// [-1, 1] at normal magnitudes.
+inline constexpr int kMaxNewton = 96;
+
+template <class T, class D>
+T newtonInBracket(const T* p, const T* noise, D deg, T a, T b, T fa, T fb, T tol) {
+  // Start at the secant (regula falsi) point: for a monotone piece it is inside the
+  // bracket and usually much closer to the root than the midpoint.
+  T x = (a * fb - b * fa) / (fb - fa);
+  if (!(x > a && x < b)) x = a + (b - a) / 2;
+  const bool negA = signBit(fa);
+  T stepOld = b - a;
+  for (int it = 0; it < kMaxNewton; ++it) {
+    T f, df, dd, nb;
+    hornerNewton(p, noise, deg, x, f, df, dd, nb);
+    if (f == 0) return x;
+    if (signBit(f) == negA)
+      a = x;
+    else
+      b = x;
+    const bool atNoise = std::abs(f) <= nb;
+    T xn = x - f / df;
+    // Bisect when Newton leaves the bracket (also df == 0, NaN) or when it does not at
+    // least halve the previous step: far from the root of a steep piece (x^n-like growth
+    // towards one end) Newton creeps by a factor 1 - 1/n per step, which would exhaust
+    // the cap (rtsafe's rule, Numerical Recipes Sec. 9.4).
+    const bool inside = xn > a && xn < b;
+    if (!inside || 2 * std::abs(xn - x) > stepOld) {
+      if (atNoise) return inside ? xn : x;
+      xn = a + (b - a) / 2;
+      if (!(xn > a && xn < b)) return x;  // adjacent doubles
+    } else {
+      if (atNoise) return xn;
+      // Newton's error after a step of size h is about |p''/(2p')| h^2 (Taylor with
+      // remainder): when that is below the rounding of x the next step could not move x.
+      const T step = std::abs(xn - x);
+      if (step <= tol || std::abs(dd / df) * step * step <= kUnit<T> * std::abs(xn) ||
+          step <= 4 * kUnit<T> * std::abs(xn))
+        return xn;
+    }
+    stepOld = std::abs(xn - x);
+    x = xn;
+  }
+  return x;
+}
+
+// ---- Quadratic, stable --------------------------------------------------------------
+// Discriminant b^2 - 4ac with an FMA-recovered rounding error of both products (Kahan,
+// "On the cost of floating-point computation without extra-precise arithmetic", 2004;
+// Boldo, "Kahan's algorithm for a correct discriminant computation at last formally
+// proven", IEEE TC 2009): accurate to a few ulps even when the two products cancel.
+template <class T>
+inline T discriminant(T a, T b, T c) {
+  const T p = b * b;
+  const T dp = std::fma(b, b, -p);
+  const T q = 4 * a * c;
+  const T dq = std::fma(4 * a, c, -q);
+  return (p - q) + (dp - dq);
+}
+
+// Real roots of a v^2 + b v + c with a != 0, in increasing order; returns 0 or 2 (a
+// double root counts as none here: callers decide tangency with their own rule).
+// Citardauq form: q = -(b + sign(b) sqrt(D)) / 2, roots q / a and c / q, so neither root
+// suffers the cancellation of the textbook formula (Higham, Sec. 1.8; Press et al.,
+// Numerical Recipes Eq. 5.6.4).
+template <class T>
+inline int quadraticRoots(T a, T b, T c, T& r0, T& r1) {
+  const T d = discriminant(a, b, c);
+  if (!(d > 0)) return 0;
+  const T q = -(b + std::copysign(std::sqrt(d), b)) / 2;
+  if (q == 0) return 0;  // b == 0 and d == 0 after rounding: handled above; guard anyway
+  r0 = q / a;
+  r1 = c / q;
+  if (r1 < r0) std::swap(r0, r1);
+  return 2;
+}
+
+// ---- What the solvers return ---------------------------------------------------------
+enum class Query { First, Any, All };
+
+template <class T>
+struct LocalRoot {
+  T v;           // root in the local frame
+  bool tangent;  // decided by the noise rule (an extremum or an endpoint): no polishing
+};
+
+// Each solver writes at most maxOut roots in increasing order and returns their number.
+// Query::First and Query::Any stop after the first; Query::Any may return an unrefined
+// point of the right piece. tol is an absolute tolerance in the local frame (0: full
+// precision), roots.cpp derives it from the caller's relative one.
+template <class T>
+int solveYuksel(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int maxOut);
+template <class T>
+int solveClosedForm(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int maxOut);
+int solveSturm(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
+               int maxOut);
+int solveBernstein(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
+                   int maxOut);
+
+}  // namespace algray::roots_detail

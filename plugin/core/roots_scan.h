@@ -1,0 +1,89 @@
+#pragma once
+// The top-level sweep shared by the critical-point solvers (Yuksel, closed forms): given
+// the sorted critical points x_1 < ... < x_k of G in (lo, hi), G is monotone on each piece
+// of lo = x_0 < x_1 < ... < x_k < x_{k+1} = hi, so a piece whose ends have opposite signs
+// holds exactly one root and any other piece none (Yuksel, "High-Performance Polynomial
+// Solver with Error Bounds", HPG 2022, Sec. 3).
+//
+// Rounding noise is handled at the piece ends. A point x_i is "zero" when
+// |G(x_i)| <= noise(x_i), the bound of LocalPoly (caller's coefficient error + mapping +
+// Horner rounding). Consecutive zero points form a cluster, which is one root:
+//  * a cluster at an interior critical point is the tangent (even-multiplicity) rule: the
+//    data cannot tell whether G touches zero there, so the extremum is reported as a
+//    root. Trade-off: a near miss whose minimum |G| is below the bound (a ray passing
+//    within about sqrt(noise / G'') of the surface) is reported as a grazing hit; a
+//    real tangent hit is never lost. Without the rule, a grazing ray hits or misses by
+//    the sign of rounding errors, which shows as speckle on silhouettes.
+//  * a cluster that contains x_0 = lo is the root at lo (a ray's own origin, or the
+//    previous root when the caller asks for the next one with lo = previous root): it is
+//    NOT reported, so repeated calls never return the same root twice, tangent or not.
+//  * a cluster that contains x_{k+1} = hi but no interior point is a root within noise of
+//    hi: it is reported (at hi), so two intervals sharing an endpoint report a root on it
+//    exactly once (the left one reports it, the right one excludes it as its lo).
+// A sign change between two non-zero points gives a simple root, refined by `piece`.
+#include "roots_detail.h"
+
+namespace algray::roots_detail {
+
+template <class T, class D, class Piece>
+int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, Piece&& piece,
+               LocalRoot<T>* out, int maxOut) {
+  int count = 0;
+  auto emit = [&](T v, bool tangent) {
+    if (count < maxOut) out[count++] = LocalRoot<T>{v, tangent};
+    return q == Query::All && count < maxOut;  // keep going?
+  };
+
+  T xPrev = g.lo;
+  T fPrev = horner(g.c.data(), deg, xPrev);
+  bool zPrev = std::abs(fPrev) <= hornerAbs(g.noise.data(), deg, xPrev);
+  // Open cluster state.
+  bool inCluster = zPrev, clusterAtLo = zPrev, clusterHasInterior = false;
+  T best = xPrev, bestAbs = std::abs(fPrev);
+
+  for (int i = 0; i <= nCrit; ++i) {
+    const bool interior = i < nCrit;
+    const T x = interior ? crit[i] : g.hi;
+    const T f = horner(g.c.data(), deg, x);
+    const bool z = std::abs(f) <= hornerAbs(g.noise.data(), deg, x);
+    if (z) {
+      if (!inCluster) {
+        inCluster = true;
+        clusterAtLo = false;
+        clusterHasInterior = false;
+        bestAbs = std::numeric_limits<T>::infinity();
+      }
+      if (interior && (!clusterHasInterior || std::abs(f) < bestAbs)) {
+        best = x;
+        bestAbs = std::abs(f);
+        clusterHasInterior = true;
+      } else if (!interior && !clusterHasInterior) {
+        best = x;  // only hi itself: a root within noise of hi
+      }
+    } else {
+      if (inCluster) {
+        inCluster = false;
+        if (!clusterAtLo && !emit(best, true)) return count;
+      } else if (!zPrev && signBit(f) != signBit(fPrev)) {
+        const T r = q == Query::Any ? xPrev + (x - xPrev) / 2 : piece(xPrev, x, fPrev, f);
+        if (!emit(r, false)) return count;
+      }
+    }
+    xPrev = x;
+    fPrev = f;
+    zPrev = z;
+  }
+  if (inCluster && !clusterAtLo) emit(best, true);
+  return count;
+}
+
+// True when G(lo) and G(hi) are both clearly non-zero with opposite signs: a root exists
+// and the occlusion query can answer without any critical point.
+template <class T, class D>
+bool endpointsStraddle(const LocalPoly<T>& g, D deg) {
+  const T fa = horner(g.c.data(), deg, g.lo), fb = horner(g.c.data(), deg, g.hi);
+  return signBit(fa) != signBit(fb) && std::abs(fa) > hornerAbs(g.noise.data(), deg, g.lo) &&
+         std::abs(fb) > hornerAbs(g.noise.data(), deg, g.hi);
+}
+
+}  // namespace algray::roots_detail

@@ -1,0 +1,203 @@
+// Yuksel's polynomial solver (C. Yuksel, "High-Performance Polynomial Solver with Error
+// Bounds", HPG 2022): the roots of the derivative split the interval into monotone pieces,
+// and the derivative's roots come recursively from its own derivative, down to a
+// quadratic solved in closed form. Inside a monotone piece with a sign change a
+// safeguarded Newton iteration converges to the unique root (roots_detail.h).
+//
+// Degrees up to kTemplateDegree are instantiated with the degree as a template
+// parameter (the whole derivative chain then has fixed-size arrays and unrolled Horner
+// loops); higher degrees run the same code with a run-time degree. No heap allocation.
+#include "roots_detail.h"
+#include "roots_scan.h"
+
+#include <utility>
+
+namespace algray::roots_detail {
+namespace {
+
+constexpr int kTemplateDegree = 12;
+
+// Sign-change roots of p (degree deg) in (lo, hi), given the sorted roots of p' there.
+// Used below the top level, where a tangent root of a derivative does not matter: G is
+// monotone through a critical point at which G' only touches zero.
+template <class T, class D>
+int pieceRoots(const T* p, D deg, T lo, T hi, const T* crit, int nCrit, T tol, T* out) {
+  const int n = deg;
+  T noise[kMaxDegree + 1];
+  const T gam = gammaT<T>(2 * n + 1);
+  for (int i = 0; i <= n; ++i) noise[i] = gam * std::abs(p[i]);
+  int k = 0;
+  T xa = lo, fa = horner(p, deg, xa);
+  for (int i = 0; i <= nCrit; ++i) {
+    const bool interior = i < nCrit;
+    const T xb = interior ? crit[i] : hi;
+    const T fb = horner(p, deg, xb);
+    if (fb == 0) {
+      if (interior) out[k++] = xb;
+    } else if (fa != 0 && signBit(fa) != signBit(fb)) {
+      out[k++] = newtonInBracket(p, noise, deg, xa, xb, fa, fb, tol);
+    }
+    xa = xb;
+    fa = fb;
+  }
+  return k;
+}
+
+template <class T>
+int linearRoot(const T* p, T lo, T hi, T* out) {
+  if (p[1] == 0) return 0;
+  const T r = -p[0] / p[1];
+  if (!(r > lo && r < hi)) return 0;
+  out[0] = r;
+  return 1;
+}
+
+// All sign-change roots in (lo, hi) of a polynomial of compile-time degree N. A
+// polynomial of degree <= mono is known to be monotone on (lo, hi) (its derivative is
+// root-free there, see rootFreeOrder), so its derivative is not searched.
+template <class T, int N>
+int derivRoots(const T* p, T lo, T hi, T tol, T* out, int mono) {
+  if (N <= mono)
+    return pieceRoots(p, Deg<N>{}, lo, hi, static_cast<const T*>(nullptr), 0, tol, out);
+  if constexpr (N == 1) {
+    return linearRoot(p, lo, hi, out);
+  } else if constexpr (N == 2) {
+    if (p[2] == 0) return linearRoot(p, lo, hi, out);
+    T r0, r1;
+    if (quadraticRoots(p[2], p[1], p[0], r0, r1) == 0) return 0;
+    int k = 0;
+    if (r0 > lo && r0 < hi) out[k++] = r0;
+    if (r1 > lo && r1 < hi && r1 != r0) out[k++] = r1;
+    return k;
+  } else {
+    T d[N];
+    derivative(p, Deg<N>{}, d);
+    T crit[N - 1];
+    const int k = derivRoots<T, N - 1>(d, lo, hi, tol, crit, mono);
+    return pieceRoots(p, Deg<N>{}, lo, hi, crit, k, tol, out);
+  }
+}
+
+template <class T, int... Ns>
+int derivRootsSmall(int n, const T* p, T lo, T hi, T tol, T* out, int mono,
+                    std::integer_sequence<int, Ns...>) {
+  int k = 0;
+  ((n == Ns + 1 ? (k = derivRoots<T, Ns + 1>(p, lo, hi, tol, out, mono), true) : false) || ...);
+  return k;
+}
+
+// Same with a run-time degree (1 <= n <= kMaxDegree).
+template <class T>
+int derivRootsDyn(const T* p, int n, T lo, T hi, T tol, T* out, int mono) {
+  if (n <= kTemplateDegree)
+    return derivRootsSmall(n, p, lo, hi, tol, out, mono,
+                           std::make_integer_sequence<int, kTemplateDegree>{});
+  if (n <= mono) return pieceRoots(p, n, lo, hi, static_cast<const T*>(nullptr), 0, tol, out);
+  T d[kMaxDegree] = {};  // initialized only to silence GCC's -Wmaybe-uninitialized at -O3
+  derivative(p, n, d);
+  T crit[kMaxDegree];
+  const int k = derivRootsDyn(d, n - 1, lo, hi, tol, crit, mono);
+  return pieceRoots(p, n, lo, hi, crit, k, tol, out);
+}
+
+// Binomial coefficients C(i, j), exact in double up to C(40, 20) ~ 1.4e11.
+struct Binomials {
+  double c[kMaxDegree + 1][kMaxDegree + 1] = {};
+  constexpr Binomials() {
+    for (int i = 0; i <= kMaxDegree; ++i) {
+      c[i][0] = 1;
+      for (int j = 1; j <= i; ++j) c[i][j] = c[i - 1][j - 1] + (j < i ? c[i - 1][j] : 0);
+    }
+  }
+};
+constexpr Binomials kBinomials;
+
+// Exclusion test (a cheap, sound shortcut before Yuksel's recursion). With the Taylor
+// coefficients t_j of G at the midpoint m of (lo, hi) and the radius r, the k-th
+// derivative satisfies, for |v - m| <= r,
+//   |G^(k)(v)| / k! >= |t_k| - sum_{j>=1} C(j+k, k) |t_{j+k}| r^j,
+// so it has no zero on the interval when the right side is positive (with the rounding
+// of the shift, gamma(2n+2) times the same sums over the shift of |C|, subtracted).
+// Returns the lowest order k >= 1 whose derivative is root-free, so that the derivative
+// of order k - 1 is monotone and the recursion can start there (k = 1: G itself is
+// monotone, no critical point at all); 0 when G is root-free with a margin of its noise
+// bound (no root, no tangent candidate). Costs two Taylor shifts, O(n^2), against the
+// O(n^2) per derivative level it saves; short intervals (a ray's span inside one cell)
+// typically cut the recursion to a few levels.
+template <class T, class D>
+int rootFreeOrder(const LocalPoly<T>& g, D deg) {
+  const int n = deg;
+  const T m = g.lo + (g.hi - g.lo) / 2;
+  const T r = (g.hi - g.lo) / 2 * (1 + 4 * kUnit<T>);  // covers the rounding of m
+  T t[kMaxDegree + 1], ta[kMaxDegree + 1];
+  for (int i = 0; i <= n; ++i) {
+    t[i] = g.c[i];
+    ta[i] = std::abs(g.c[i]);
+  }
+  const T am = std::abs(m);
+  for (int k = 0; k < n; ++k)
+    for (int i = n - 1; i >= k; --i) {
+      t[i] += m * t[i + 1];
+      ta[i] += am * ta[i + 1];
+    }
+  const T gShift = gammaT<T>(2 * n + 2);
+  for (int k = 0; k <= n; ++k) {
+    T rest = 0, err = 0;
+    for (int j = n - k; j >= 1; --j) {
+      const T b = static_cast<T>(kBinomials.c[j + k][k]);
+      rest = (rest + b * std::abs(t[j + k])) * r;
+      err = (err + b * ta[j + k]) * r;
+    }
+    err = gShift * (err + ta[k]);
+    if (k == 0) err += hornerAbs(g.noise.data(), deg, std::max(std::abs(g.lo), std::abs(g.hi)));
+    if (std::abs(t[k]) > rest + err) return k;
+  }
+  return n;  // not reached: the order-n derivative is the constant n! C_n != 0
+}
+
+template <class T, class D>
+int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, int maxOut) {
+  const int n = deg;
+  if (q == Query::Any && endpointsStraddle(g, deg)) {
+    out[0] = LocalRoot<T>{g.lo + (g.hi - g.lo) / 2, false};
+    return 1;
+  }
+  const int order = n >= 2 ? rootFreeOrder(g, deg) : 1;
+  if (order == 0) return 0;
+  T crit[kMaxDegree];
+  int nCrit = 0;
+  if (order >= 2) {
+    T d[kMaxDegree];
+    derivative(g.c.data(), deg, d);
+    nCrit = derivRootsDyn(d, n - 1, g.lo, g.hi, tol, crit, n - order + 1);
+  }
+  auto piece = [&](T a, T b, T fa, T fb) {
+    return newtonInBracket(g.c.data(), g.noise.data(), deg, a, b, fa, fb, tol);
+  };
+  return scanPieces(g, deg, crit, nCrit, q, piece, out, maxOut);
+}
+
+template <class T, int... Ns>
+int solveTopSmall(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int maxOut,
+                  std::integer_sequence<int, Ns...>) {
+  int k = 0;
+  ((g.n == Ns + 1 ? (k = solveTop(g, Deg<Ns + 1>{}, q, tol, out, maxOut), true) : false) || ...);
+  return k;
+}
+
+}  // namespace
+
+template <class T>
+int solveYuksel(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int maxOut) {
+  if (g.n < 1 || maxOut < 1) return 0;
+  if (g.n <= kTemplateDegree)
+    return solveTopSmall(g, q, tol, out, maxOut,
+                         std::make_integer_sequence<int, kTemplateDegree>{});
+  return solveTop(g, g.n, q, tol, out, maxOut);
+}
+
+template int solveYuksel<double>(const LocalPoly<double>&, Query, double, LocalRoot<double>*,
+                                 int);
+template int solveYuksel<float>(const LocalPoly<float>&, Query, float, LocalRoot<float>*, int);
+
+}  // namespace algray::roots_detail

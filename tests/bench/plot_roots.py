@@ -1,0 +1,68 @@
+#!/usr/bin/env python3
+"""Plot the root-solver report (tests/bench/roots_report.cpp).
+
+Usage: /usr/bin/python3 tests/bench/plot_roots.py docs/roots.csv docs/roots.png
+
+One row per interval family (whole ray, one cell). Left: ns per solve against degree.
+Right: run time against error (p99 of |t - t_ref| in units of u cond(t_ref)), one marker
+series per method (a point per degree), so "faster and as accurate" is down and to the left.
+"""
+import csv
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(src, dst):
+    rows = list(csv.DictReader(open(src)))
+    families = sorted({r["family"] for r in rows}, key=lambda f: f != "ray")
+    fig, axes = plt.subplots(len(families), 2, figsize=(12, 4.5 * len(families)), squeeze=False)
+    for fi, family in enumerate(families):
+        curves = defaultdict(list)
+        for r in rows:
+            if r["family"] != family:
+                continue
+            label = f'{r["method"]} {r["precision"]}' + (" (any)" if r["query"] == "any" else "")
+            curves[label].append(r)
+        ax_t, ax_e = axes[fi]
+        for ci, (label, rs) in enumerate(sorted(curves.items())):
+            color = f"C{ci}"
+            rs.sort(key=lambda r: int(r["degree"]))
+            deg = [int(r["degree"]) for r in rs]
+            ns = [float(r["ns_per_solve"]) for r in rs]
+            style = "--" if "float" in label or "(any)" in label else "-"
+            ax_t.plot(deg, ns, style, marker="o", ms=3, label=label, color=color)
+            if "(any)" in label:
+                continue
+            err = [max(float(r["err_p99_ucond"]), 1e-2) for r in rs]
+            ax_e.scatter(ns, err, s=14, label=label, color=color,
+                         marker="x" if "float" in label else "o")
+            for r, x, y in zip(rs, ns, err):
+                if int(r["degree"]) in (2, 6, 12, 20, 40):
+                    ax_e.annotate(r["degree"], (x, y), fontsize=7, xytext=(2, 2),
+                                  textcoords="offset points")
+        ax_t.set_yscale("log")
+        ax_t.set_xlabel("degree")
+        ax_t.set_ylabel("ns per first-root solve")
+        ax_t.set_title(f"{family} intervals: time per solve")
+        ax_t.grid(True, which="both", alpha=0.3)
+        ax_t.legend(fontsize=8)
+        ax_e.set_xscale("log")
+        ax_e.set_yscale("log")
+        ax_e.set_xlabel("ns per solve")
+        ax_e.set_ylabel("p99 error / (u cond)  (floored at 0.01)")
+        ax_e.set_title(f"{family} intervals: time against error (labels: degree)")
+        ax_e.grid(True, which="both", alpha=0.3)
+        ax_e.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(dst, dpi=110)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit("usage: plot_roots.py roots.csv roots.png")
+    main(sys.argv[1], sys.argv[2])

@@ -1,0 +1,294 @@
+// Speed and accuracy of the first-root solvers side by side (roots.h), on random
+// first-root problems of ray-tracing shape, against MPFR references.
+//
+//   roots_report [--tiny] [--out DIR] [--problems N]
+//
+// Problems: for each degree, g(t) = lead * prod(t - r_i) * prod((t - a)^2 + b^2) expanded
+// in MPFR and rounded (tests/roots_mpfr.h), with a few real roots along the ray
+// (t in [0, 1]), the other roots complex pairs whose real parts are spread over
+// [-0.5, 1.5] and whose imaginary parts are log-uniform in [1e-3, 1] (near misses), any
+// leading scale. Two families of intervals (lo, hi): "ray", a random piece of [0, 1] of
+// length >= 0.1 (a whole ray through the surface's bounds), and "cell", a random piece of
+// length 1% to 20% (the span of a ray inside one cell of the plugin's grid); some
+// intervals hold no root. The reference is the first certified real root of the *rounded*
+// polynomial in (lo, hi) (MPFR Newton from the known roots); problems whose first root is
+// not well separated (1e6 u cond >= distance to a neighbour or an end) are skipped, so
+// every problem has one right answer.
+//
+// Figures per method, precision and degree: ns per solve (median of 5 interleaved
+// repetitions), the error |t - t_ref| in units of u cond(t_ref) (median, p99, max; u of
+// the precision solved), missed roots (a reference root and no answer, or an answer
+// beyond the reference root), and answers where there is no reference root or before it,
+// split by their exact residual |g(t)| / sum|c_i||t|^i (MPFR): "noise hits" are within
+// the solver's rounding bound gamma(2n+1) (grazing hits by the tangent rule, or real
+// roots of the rounded polynomial that Newton from the known roots did not reach: at
+// degree >= 16 rounding turns some complex pairs into close real pairs), "false hits"
+// are beyond it (not a root of the data). Writes DIR/roots.csv, prints a Markdown table.
+#include "algray/roots.h"
+
+#include "../roots_mpfr.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace algray;
+
+struct Problem {
+  std::vector<double> c;
+  std::vector<float> cf;
+  double lo, hi;
+  bool hasRoot;    // reference, double coefficients
+  double root;     // first reference root (double polynomial)
+  double cond;     // its conditioning
+  bool hasRootF;   // the same for the float-rounded polynomial
+  double rootF, condF;
+};
+
+struct Method {
+  const char* name;
+  const char* precision;
+  const char* query;
+  RootMethod method;
+};
+
+const Method kMethods[] = {
+    {"Auto", "double", "first", RootMethod::Auto},
+    {"Yuksel", "double", "first", RootMethod::Yuksel},
+    {"Sturm", "double", "first", RootMethod::Sturm},
+    {"Bernstein", "double", "first", RootMethod::Bernstein},
+    {"Auto", "float", "first", RootMethod::Auto},
+    {"Auto", "double", "any", RootMethod::Auto},
+};
+
+// First certified root of c in (lo, hi) from the given starts; false when there is none
+// or when it is not well separated.
+bool reference(const std::vector<double>& c, const std::vector<double>& starts, double lo,
+               double hi, double u, bool& has, double& root, double& cond) {
+  const auto ref = test::refineAll(c, starts, lo, hi);
+  has = !ref.empty();
+  if (!has) return true;
+  double sep = std::min(ref[0].value - lo, hi - ref[0].value);
+  if (ref.size() > 1) sep = std::min(sep, ref[1].value - ref[0].value);
+  root = ref[0].value;
+  cond = ref[0].conditioning;
+  return 1e6 * u * cond < sep;
+}
+
+std::vector<Problem> makeProblems(int degree, int count, bool cell, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> uni(0, 1);
+  std::vector<Problem> out;
+  int attempts = 0;
+  while (static_cast<int>(out.size()) < count && attempts++ < 20 * count) {
+    const int maxReal = std::min(degree, 6);
+    int nReal = degree % 2 + 2 * static_cast<int>(uni(rng) * (maxReal / 2 + 1));
+    if (nReal > maxReal) nReal -= 2;
+    std::vector<double> roots;
+    for (int i = 0; i < nReal; ++i) roots.push_back(uni(rng));
+    std::vector<std::pair<double, double>> pairs;
+    for (int i = 0; i < (degree - nReal) / 2; ++i)
+      pairs.emplace_back(-0.5 + 2 * uni(rng), std::pow(10.0, -3 + 3 * uni(rng)));
+    const double lead = (uni(rng) < 0.5 ? -1 : 1) * std::pow(10.0, -3 + 6 * uni(rng));
+    Problem p;
+    p.c = test::expand(roots, pairs, lead);
+    p.cf.assign(p.c.begin(), p.c.end());
+    if (cell) {
+      const double len = std::pow(10.0, -2 + 1.3 * uni(rng));
+      p.lo = (1 - len) * uni(rng);
+      p.hi = p.lo + len;
+    } else {
+      p.lo = 0.5 * uni(rng);
+      p.hi = p.lo + 0.1 + (1 - p.lo - 0.1) * uni(rng);
+    }
+    p.lo = static_cast<float>(p.lo);  // the same interval in both precisions
+    p.hi = static_cast<float>(p.hi);
+    std::vector<double> starts = roots;
+    for (auto [a, b] : pairs)
+      if (b < 0.05) starts.push_back(a);  // only near pairs can turn real by rounding
+    const std::vector<double> cfd(p.cf.begin(), p.cf.end());
+    if (!reference(p.c, starts, p.lo, p.hi, 0x1p-53, p.hasRoot, p.root, p.cond)) continue;
+    if (!reference(cfd, starts, p.lo, p.hi, 0x1p-24, p.hasRootF, p.rootF, p.condF)) continue;
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+struct Row {
+  const Method* m;
+  const char* family;
+  int degree = 0, problems = 0, missed = 0, falseHits = 0, noiseHits = 0;
+  double ns = 0, errMedian = 0, errP99 = 0, errMax = 0;
+};
+
+// One pass of a method over all problems; answers[i] < 0 means no root.
+double runPass(const Method& m, const std::vector<Problem>& ps, std::vector<double>& answers) {
+  RootOptions o;
+  o.method = m.method;
+  const bool isFloat = std::strcmp(m.precision, "float") == 0;
+  const bool any = std::strcmp(m.query, "any") == 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Problem& p = ps[i];
+    if (any) {
+      answers[i] = hasRoot(p.c, {}, p.lo, p.hi, o) ? 1 : -1;
+    } else if (isFloat) {
+      const auto r = firstRoot(std::span<const float>(p.cf), {}, static_cast<float>(p.lo),
+                               static_cast<float>(p.hi), o);
+      answers[i] = r ? *r : -1;
+    } else {
+      const auto r = firstRoot(p.c, {}, p.lo, p.hi, o);
+      answers[i] = r ? *r : -1;
+    }
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  return std::chrono::duration<double, std::nano>(t1 - t0).count() / ps.size();
+}
+
+void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& answers) {
+  const bool isFloat = std::strcmp(row.m->precision, "float") == 0;
+  const bool any = std::strcmp(row.m->query, "any") == 0;
+  const double u = isFloat ? 0x1p-24 : 0x1p-53;
+  // An answer with no reference root at or before it: noise or false, by its residual.
+  auto unexpected = [&](const Problem& p, double t) {
+    const int n = static_cast<int>(p.c.size()) - 1;
+    const double bound = (2 * n + 1) * u / (1 - (2 * n + 1) * u);
+    const std::vector<double> cf(p.cf.begin(), p.cf.end());
+    const double resid = test::relativeResidual(isFloat ? cf : p.c, t);
+    (resid <= bound ? row.noiseHits : row.falseHits) += 1;
+  };
+  std::vector<double> errs;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Problem& p = ps[i];
+    const bool has = isFloat ? p.hasRootF : p.hasRoot;
+    const double ref = isFloat ? p.rootF : p.root, cond = isFloat ? p.condF : p.cond;
+    const bool got = answers[i] >= 0;
+    if (any) {
+      row.missed += has && !got;
+      row.noiseHits += !has && got;  // hasRoot gives no position to check
+      continue;
+    }
+    if (!has) {
+      if (got) unexpected(p, answers[i]);
+      continue;
+    }
+    if (!got) {
+      ++row.missed;
+      continue;
+    }
+    const double err = std::abs(answers[i] - ref);
+    // Beyond 1e3 u cond the answer is another root (or none of them): count, not average.
+    if (err > 1e3 * u * cond + 1e-12 * (p.hi - p.lo)) {
+      if (answers[i] > ref)
+        ++row.missed;
+      else
+        unexpected(p, answers[i]);
+      continue;
+    }
+    errs.push_back(err / (u * cond));
+  }
+  if (!errs.empty()) {
+    std::sort(errs.begin(), errs.end());
+    row.errMedian = errs[errs.size() / 2];
+    row.errP99 = errs[std::min(errs.size() - 1, static_cast<size_t>(0.99 * errs.size()))];
+    row.errMax = errs.back();
+  }
+}
+
+std::string cpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool tiny = false;
+  std::string outDir = ".";
+  int problems = 400;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--tiny"))
+      tiny = true;
+    else if (!std::strcmp(argv[i], "--out") && i + 1 < argc)
+      outDir = argv[++i];
+    else if (!std::strcmp(argv[i], "--problems") && i + 1 < argc)
+      problems = std::atoi(argv[++i]);
+    else {
+      std::fprintf(stderr, "usage: %s [--tiny] [--out DIR] [--problems N]\n", argv[0]);
+      return 2;
+    }
+  }
+  std::vector<int> degrees;
+  if (tiny) {
+    degrees = {2, 5, 10};
+    problems = 30;
+  } else {
+    for (int d = 2; d <= 20; ++d) degrees.push_back(d);
+    degrees.push_back(30);
+    degrees.push_back(40);
+  }
+  const int reps = tiny ? 1 : 5;
+  std::mt19937_64 rng(42);
+  std::vector<Row> rows;
+  for (const char* family : {"ray", "cell"})
+  for (int degree : degrees) {
+    const auto ps = makeProblems(degree, problems, std::strcmp(family, "cell") == 0, rng);
+    std::vector<std::vector<double>> times(std::size(kMethods));
+    std::vector<std::vector<double>> answers(std::size(kMethods),
+                                             std::vector<double>(ps.size()));
+    // Interleave the methods in each repetition: machine noise hits all of them alike.
+    for (int r = 0; r < reps; ++r)
+      for (size_t k = 0; k < std::size(kMethods); ++k)
+        times[k].push_back(runPass(kMethods[k], ps, answers[k]));
+    for (size_t k = 0; k < std::size(kMethods); ++k) {
+      Row row;
+      row.m = &kMethods[k];
+      row.family = family;
+      row.degree = degree;
+      row.problems = static_cast<int>(ps.size());
+      std::sort(times[k].begin(), times[k].end());
+      row.ns = times[k][times[k].size() / 2];
+      score(row, ps, answers[k]);
+      rows.push_back(row);
+    }
+    std::fprintf(stderr, "%s degree %d: %zu problems\n", family, degree, ps.size());
+  }
+
+  std::filesystem::create_directories(outDir);
+  const std::string csvPath = outDir + "/roots.csv";
+  std::ofstream csv(csvPath);
+  csv << "family,method,precision,query,degree,problems,ns_per_solve,err_median_ucond,"
+         "err_p99_ucond,err_max_ucond,missed,noise_hits,false_hits\n";
+  for (const Row& r : rows)
+    csv << r.family << ',' << r.m->name << ',' << r.m->precision << ',' << r.m->query << ','
+        << r.degree << ',' << r.problems << ',' << r.ns << ',' << r.errMedian << ','
+        << r.errP99 << ',' << r.errMax << ',' << r.missed << ',' << r.noiseHits << ','
+        << r.falseHits << '\n';
+
+  std::printf("machine: %s\n\n", cpuModel().c_str());
+  std::printf("| family | degree | method | precision | query | ns/solve | err median | "
+              "err p99 | err max | missed | noise hits | false hits | Sturm/this |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    double sturm = 0;
+    for (const Row& s : rows)
+      if (s.family == r.family && s.degree == r.degree && s.m->method == RootMethod::Sturm)
+        sturm = s.ns;
+    std::printf("| %s | %d | %s | %s | %s | %.0f | %.2f | %.2f | %.2f | %d | %d | %d | %.2f |\n",
+                r.family, r.degree, r.m->name, r.m->precision, r.m->query, r.ns, r.errMedian,
+                r.errP99, r.errMax, r.missed, r.noiseHits, r.falseHits, sturm / r.ns);
+  }
+  std::printf("\nerrors in units of u cond(root) (u of the precision solved); wrote %s\n",
+              csvPath.c_str());
+  return 0;
+}

@@ -1,0 +1,457 @@
+// Tests of roots.h against independent references: polynomials built from known roots,
+// expanded in MPFR and rounded to double; the reference roots are those of the rounded
+// polynomial, found and certified in MPFR (tests/roots_mpfr.h). Accuracy is asserted
+// against each root's conditioning: |computed - reference| <= 4 u cond(r).
+#include "algray/roots.h"
+
+#include "roots_mpfr.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace algray {
+namespace {
+
+using test::RefRoot;
+
+constexpr double kU = 0x1p-53;
+constexpr double kAccuracyUlps = 4;  // the target of the issue: 4 u cond(r)
+
+struct Problem {
+  std::string name;
+  std::vector<double> c;
+  double lo, hi;
+  std::vector<double> starts;  // where MPFR Newton starts: known roots, real parts of pairs
+};
+
+std::vector<double> solveAll(const Problem& p, RootMethod m = RootMethod::Auto) {
+  std::vector<double> out(kMaxDegree + 1);
+  RootOptions o;
+  o.method = m;
+  out.resize(allRoots(p.c, {}, p.lo, p.hi, out, o));
+  return out;
+}
+
+double accuracyBound(const RefRoot& r) { return kAccuracyUlps * kU * r.conditioning; }
+
+// Separation of reference root i from its neighbours and the interval ends.
+double separation(const std::vector<RefRoot>& ref, size_t i, double lo, double hi) {
+  double s = std::min(ref[i].value - lo, hi - ref[i].value);
+  if (i > 0) s = std::min(s, ref[i].value - ref[i - 1].value);
+  if (i + 1 < ref.size()) s = std::min(s, ref[i + 1].value - ref[i].value);
+  return s;
+}
+
+// Well conditioned: a perturbation 1e6 times the rounding level cannot move the root
+// to a neighbour or out of the interval.
+bool wellConditioned(const std::vector<RefRoot>& ref, size_t i, double lo, double hi) {
+  return 1e6 * kU * ref[i].conditioning < separation(ref, i, lo, hi);
+}
+
+// Statistics the suites print, so a regression in accuracy shows before it fails.
+struct Tally {
+  int checked = 0;
+  double worstUlps = 0;  // max |err| / (u cond)
+};
+
+void checkAccuracy(const std::vector<RefRoot>& ref, const std::vector<double>& got, double lo,
+                   double hi, Tally* tally) {
+  for (size_t i = 0; i < ref.size(); ++i) {
+    if (!wellConditioned(ref, i, lo, hi)) continue;
+    double best = INFINITY;
+    for (double s : got) best = std::min(best, std::abs(s - ref[i].value));
+    EXPECT_LE(best, accuracyBound(ref[i]))
+        << "reference root " << ref[i].value << " (cond " << ref[i].conditioning << ")";
+    if (tally) {
+      ++tally->checked;
+      tally->worstUlps = std::max(tally->worstUlps, best / (kU * ref[i].conditioning));
+    }
+  }
+}
+
+// The checks every problem gets (see the file comment of roots.h for the contract).
+void checkProblem(const Problem& p, Tally* tally = nullptr) {
+  SCOPED_TRACE(p.name);
+  const int n = static_cast<int>(p.c.size()) - 1;
+  const auto ref = test::refineAll(p.c, p.starts, p.lo, p.hi);
+  const auto all = solveAll(p);
+
+  // (1) No missed well-conditioned root, each within 4 u cond of the reference.
+  checkAccuracy(ref, all, p.lo, p.hi, tally);
+  // (2) Nothing but roots of the data: every reported root has a residual within the
+  // rounding level of evaluating g there (the bound the solver's noise rule uses).
+  for (double s : all) {
+    EXPECT_GT(s, p.lo);
+    EXPECT_LE(s, p.hi);
+    EXPECT_LE(test::relativeResidual(p.c, s), 4 * gamma(2 * n + 1)) << "reported root " << s;
+  }
+  for (size_t i = 1; i < all.size(); ++i) EXPECT_LT(all[i - 1], all[i]);
+
+  // (3) firstRoot and hasRoot agree with allRoots.
+  const auto first = firstRoot(p.c, {}, p.lo, p.hi);
+  EXPECT_EQ(first.has_value(), !all.empty());
+  if (first && !all.empty()) {
+    EXPECT_EQ(*first, all[0]);
+  }
+  EXPECT_EQ(hasRoot(p.c, {}, p.lo, p.hi), !all.empty());
+
+  // (4) Asking again from each root (lo = previous root) walks the same list: no root
+  // is reported twice, tangent or not.
+  std::vector<double> walk;
+  double lo = p.lo;
+  for (int k = 0; k <= n + 1; ++k) {
+    const auto r = firstRoot(p.c, {}, lo, p.hi);
+    if (!r) break;
+    walk.push_back(*r);
+    lo = *r;
+  }
+  // A different lo gives a different bracket, so a root may land on a neighbouring
+  // double: the walk must find the same roots, each as accurate as (1) requires.
+  EXPECT_EQ(walk.size(), all.size());
+  checkAccuracy(ref, walk, p.lo, p.hi, nullptr);
+
+  // (5) The other methods find the first well-conditioned root to the same accuracy.
+  // Bernstein is left out here: its change of basis rounds relative to the interval, so
+  // roots much smaller than the interval (geometric 2^-k on (-3, 7)) are lost; it has
+  // its own, interval-relative test below.
+  if (!ref.empty() && wellConditioned(ref, 0, p.lo, p.hi) && !all.empty() &&
+      std::abs(all[0] - ref[0].value) <= accuracyBound(ref[0])) {
+    for (RootMethod m : {RootMethod::Yuksel, RootMethod::Sturm, RootMethod::ClosedForm}) {
+      RootOptions o;
+      o.method = m;
+      const auto r = firstRoot(p.c, {}, p.lo, p.hi, o);
+      ASSERT_TRUE(r.has_value()) << "method " << static_cast<int>(m);
+      EXPECT_LE(std::abs(*r - ref[0].value), accuracyBound(ref[0]))
+          << "method " << static_cast<int>(m);
+    }
+  }
+}
+
+Problem fromRoots(std::string name, const std::vector<double>& roots,
+                  const std::vector<std::pair<double, double>>& pairs, double lo, double hi,
+                  double lead = 1.0) {
+  Problem p{std::move(name), test::expand(roots, pairs, lead), lo, hi, roots};
+  for (auto [a, b] : pairs) p.starts.push_back(a);
+  return p;
+}
+
+// ---- Known roots --------------------------------------------------------------------
+
+TEST(RootsKnown, RandomRootsAllDegrees) {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> uni(0, 1);
+  std::vector<int> degrees;
+  for (int d = 1; d <= 20; ++d) degrees.push_back(d);
+  degrees.push_back(30);
+  degrees.push_back(40);
+  Tally tally;
+  for (int deg : degrees) {
+    for (int trial = 0; trial < 24; ++trial) {
+      // Ray-tracing shape: few real roots, the rest complex pairs, any scale.
+      const int maxReal = std::min(deg, 8);
+      int nReal = deg % 2 + 2 * static_cast<int>(uni(rng) * (maxReal / 2 + 1));
+      nReal = std::min(nReal, maxReal - (maxReal - deg % 2) % 2);
+      std::vector<double> roots;
+      for (int i = 0; i < nReal; ++i) roots.push_back(-1 + 2 * uni(rng));
+      std::vector<std::pair<double, double>> pairs;
+      for (int i = 0; i < (deg - nReal) / 2; ++i)
+        pairs.emplace_back(-1.5 + 3 * uni(rng), std::pow(10.0, -2 + 2 * uni(rng)));
+      const double lead = (uni(rng) < 0.5 ? -1 : 1) * std::pow(10.0, -3 + 6 * uni(rng));
+      const double lo = -1.2 + 2 * uni(rng);
+      const double hi = lo + 0.2 + 1.8 * uni(rng);
+      checkProblem(fromRoots("random degree " + std::to_string(deg) + " trial " +
+                                 std::to_string(trial),
+                             roots, pairs, lo, hi, lead),
+                   &tally);
+    }
+  }
+  std::printf("random: %d roots checked, worst error %.2f u cond\n", tally.checked,
+              tally.worstUlps);
+  EXPECT_GT(tally.checked, 500);  // the generator really produces checkable roots
+}
+
+TEST(RootsKnown, Wilkinson) {
+  for (int k : {5, 10, 15, 20}) {
+    std::vector<double> roots;
+    for (int i = 1; i <= k; ++i) roots.push_back(i);
+    Tally tally;
+    checkProblem(fromRoots("wilkinson " + std::to_string(k), roots, {}, 0.5, k + 0.5), &tally);
+    checkProblem(fromRoots("wilkinson scaled " + std::to_string(k), roots, {}, 0.0, 2.0 * k,
+                           1.0 / 1024),
+                 &tally);
+    EXPECT_GE(tally.checked, std::min(k, 10));
+  }
+}
+
+TEST(RootsKnown, GeometricRoots) {
+  for (int n : {4, 10, 20}) {
+    std::vector<double> roots;
+    for (int k = 0; k < n; ++k) roots.push_back(std::ldexp(1.0, -k));
+    Tally tally;
+    checkProblem(fromRoots("geometric " + std::to_string(n), roots, {}, 0.0, 1.5), &tally);
+    checkProblem(fromRoots("geometric wide " + std::to_string(n), roots, {}, -3.0, 7.0),
+                 &tally);
+    EXPECT_GE(tally.checked, n);  // all of them are well separated relative to size
+  }
+}
+
+TEST(RootsKnown, ClusterAndSpread) {
+  checkProblem(fromRoots("cluster", {2, 2.001, 2.002, 2.003}, {}, 1, 3));
+  checkProblem(fromRoots("cluster + pairs", {2, 2.001, 2.002, 2.003, -0.5},
+                         {{0.3, 0.2}, {2.5, 1e-3}}, -1, 3));
+  Tally tally;
+  checkProblem(fromRoots("spread", {1e9, 1e6, 1e3, 1}, {}, 0.5, 2e9), &tally);
+  checkProblem(fromRoots("spread from 0", {1e9, 1e6, 1e3, 1}, {}, 0, 2e9), &tally);
+  checkProblem(fromRoots("spread small", {1e-9, 1e-6, 1e-3, 1}, {}, 0, 2), &tally);
+  EXPECT_EQ(tally.checked, 12);
+}
+
+TEST(RootsKnown, HighDegreeFewRealRoots) {
+  // Degree 30 and 40 with a handful of real roots inside and complex pairs elsewhere.
+  for (int deg : {30, 40}) {
+    std::vector<double> roots{-0.7, 0.1, 0.45, 0.9};
+    std::vector<std::pair<double, double>> pairs;
+    for (int i = 0; i < (deg - 4) / 2; ++i)
+      pairs.emplace_back(std::cos(i * 1.7), 0.3 + 0.1 * (i % 5));
+    Tally tally;
+    checkProblem(fromRoots("few real " + std::to_string(deg), roots, pairs, -1, 1), &tally);
+    EXPECT_EQ(tally.checked, 4);
+  }
+}
+
+TEST(RootsKnown, BernsteinRelativeToInterval) {
+  // The comparison solvers on random problems of ray-tracing shape: the first root
+  // within 1e-12 of the interval length (Bernstein) or 4 u cond (Sturm).
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> uni(0, 1);
+  int checked = 0;
+  for (int deg = 2; deg <= 20; ++deg) {
+    for (int trial = 0; trial < 10; ++trial) {
+      std::vector<double> roots{-1 + 2 * uni(rng), -1 + 2 * uni(rng)};
+      if (deg % 2) roots.push_back(-1 + 2 * uni(rng));
+      std::vector<std::pair<double, double>> pairs;
+      for (int i = 0; i < (deg - static_cast<int>(roots.size())) / 2; ++i)
+        pairs.emplace_back(-1.5 + 3 * uni(rng), 0.05 + uni(rng));
+      Problem p = fromRoots("bernstein", roots, pairs, -1, 1);
+      const auto ref = test::refineAll(p.c, p.starts, p.lo, p.hi);
+      if (ref.empty() || !wellConditioned(ref, 0, p.lo, p.hi)) continue;
+      RootOptions o;
+      o.method = RootMethod::Bernstein;
+      const auto rb = firstRoot(p.c, {}, p.lo, p.hi, o);
+      ASSERT_TRUE(rb.has_value()) << deg << " " << trial;
+      EXPECT_LE(std::abs(*rb - ref[0].value), 1e-12 * (p.hi - p.lo) + accuracyBound(ref[0]));
+      o.method = RootMethod::Sturm;
+      const auto rs = firstRoot(p.c, {}, p.lo, p.hi, o);
+      ASSERT_TRUE(rs.has_value());
+      EXPECT_LE(std::abs(*rs - ref[0].value), accuracyBound(ref[0]));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+// ---- Tangent roots ------------------------------------------------------------------
+
+int countNear(const std::vector<double>& v, double x, double tol) {
+  int k = 0;
+  for (double s : v) k += std::abs(s - x) <= tol;
+  return k;
+}
+
+TEST(RootsTangent, DoubleRootIsReportedOnce) {
+  // Rounded coefficients: the double root becomes two close roots or a close complex
+  // pair; either way exactly one root is reported within sqrt-of-rounding of it.
+  for (double scale : {1.0, 1e-150, 1e150}) {
+    Problem p = fromRoots("double", {0.3, 0.3, -0.5, 0.8}, {}, -1, 1, scale);
+    const auto all = solveAll(p);
+    EXPECT_EQ(countNear(all, 0.3, 1e-6), 1) << scale;
+    EXPECT_EQ(countNear(all, -0.5, 1e-14), 1);
+    EXPECT_EQ(countNear(all, 0.8, 1e-14), 1);
+    EXPECT_EQ(all.size(), 3u);
+    checkProblem(p);
+  }
+  // Exact double root: x^2 - x + 1/4 = (x - 1/2)^2 with dyadic coefficients.
+  const std::vector<double> exact{0.25, -1, 1};
+  const auto r = firstRoot(exact, {}, 0.0, 1.0);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(*r, 0.5);
+  EXPECT_FALSE(firstRoot(exact, {}, 0.5, 1.0).has_value());  // the next root: none
+  // Degree 6: (x - 1/4)^2 (x + 1/2)^2 (x - 3/4) (x - 7/8), all dyadic, exact.
+  Problem q = fromRoots("dyadic doubles", {0.25, 0.25, -0.5, -0.5, 0.75, 0.875}, {}, -1, 1);
+  const auto allQ = solveAll(q);
+  ASSERT_EQ(allQ.size(), 4u);
+  EXPECT_NEAR(allQ[0], -0.5, 1e-15);
+  EXPECT_NEAR(allQ[1], 0.25, 1e-15);
+  EXPECT_NEAR(allQ[2], 0.75, 1e-15);
+  EXPECT_NEAR(allQ[3], 0.875, 1e-15);
+  checkProblem(q);
+}
+
+TEST(RootsTangent, QuadrupleRoot) {
+  // (x - 1/4)^4 (x + 3/4) (x - 0.9): exact dyadic quadruple root.
+  Problem p = fromRoots("quadruple", {0.25, 0.25, 0.25, 0.25, -0.75}, {}, -1, 1);
+  auto all = solveAll(p);
+  EXPECT_EQ(countNear(all, 0.25, 1e-3), 1);
+  EXPECT_EQ(countNear(all, -0.75, 1e-14), 1);
+  checkProblem(p);
+  // Not dyadic: the rounded polynomial has its four roots spread by ~u^(1/4).
+  Problem q = fromRoots("quadruple 0.3", {0.3, 0.3, 0.3, 0.3, -0.75}, {}, -1, 1);
+  all = solveAll(q);
+  EXPECT_GE(countNear(all, 0.3, 1e-3), 1);
+  checkProblem(q);
+}
+
+TEST(RootsTangent, ComplexPairNearTheAxis) {
+  // (x - (0.2 +- b i)) (x + 0.6): the minimum of |g| near 0.2 is about 0.8 b^2 while the
+  // rounding bound of g there is about gamma(7) * 0.3. b = 1e-7: 8e-15 > 2e-16, a clear
+  // miss; b = 1e-10: 8e-21, far below the bound, reported as a grazing (tangent) hit.
+  Problem miss = fromRoots("pair 1e-7", {-0.6}, {{0.2, 1e-7}}, -1, 1);
+  auto all = solveAll(miss);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_NEAR(all[0], -0.6, 1e-15);
+  checkProblem(miss);
+  Problem graze = fromRoots("pair 1e-10", {-0.6}, {{0.2, 1e-10}}, -1, 1);
+  all = solveAll(graze);
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_NEAR(all[1], 0.2, 1e-7);
+  checkProblem(graze);
+  // The same rule with the caller's error bound: an error of 1e-13 on c0 turns the miss
+  // into a grazing hit (|g| at the extremum is within what the data can tell).
+  std::vector<double> err(miss.c.size(), 0.0);
+  err[0] = 1e-13;
+  std::vector<double> out(8);
+  out.resize(allRoots(miss.c, err, -1, 1, out));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_NEAR(out[1], 0.2, 1e-6);
+}
+
+// ---- Interval ends, noise, bad input -------------------------------------------------
+
+TEST(RootsContract, IntervalEnds) {
+  const std::vector<double> c{-0.5, 1};  // root 0.5
+  EXPECT_FALSE(firstRoot(c, {}, 0.5, 1.0).has_value());
+  EXPECT_EQ(firstRoot(c, {}, 0.0, 0.5), 0.5);  // (lo, hi]: a root on hi is reported
+  EXPECT_EQ(firstRoot(c, {}, 0.0, 1.0), 0.5);
+  // Cubic with roots 0, 1/2, 1 on (0, 1): only 1/2 and 1.
+  const std::vector<double> cubic{0, 0.5, -1.5, 1};
+  std::vector<double> out(4);
+  out.resize(allRoots(cubic, {}, 0.0, 1.0, out));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_NEAR(out[0], 0.5, 1e-15);
+  EXPECT_EQ(out[1], 1.0);
+}
+
+TEST(RootsContract, NoiseLeadingCoefficientIsDropped) {
+  // x^2 - 1 + 1e-30 x^3: the cubic term is rounding noise on [-2, 2]; its far root
+  // (-1e30) is outside anyway, but a solver that kept it would see a degree-3 problem.
+  const std::vector<double> c{-1, 0, 1, 1e-30};
+  std::vector<double> out(4);
+  out.resize(allRoots(c, {}, -2.0, 2.0, out));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_DOUBLE_EQ(out[0], -1);
+  EXPECT_DOUBLE_EQ(out[1], 1);
+  // With a caller's error bound larger than the leading coefficient it is dropped too.
+  const std::vector<double> d{-1, 0, 1, 1e-10}, err{0, 0, 0, 2e-10};
+  out.assign(4, 0);
+  out.resize(allRoots(d, err, -2.0, 2.0, out));
+  EXPECT_EQ(out.size(), 2u);
+}
+
+TEST(RootsContract, ScaleInvariance) {
+  Problem p = fromRoots("base", {-0.3, 0.1, 0.7}, {{0.5, 0.5}}, -1, 1);
+  const auto base = solveAll(p);
+  for (double s : {0x1p-900, 0x1p900}) {  // exact scalings: bit-identical roots
+    Problem q = p;
+    for (double& x : q.c) x *= s;
+    EXPECT_EQ(solveAll(q), base) << s;
+  }
+  for (double s : {1e-300, 1e300}) {  // rounded scalings: roots move by rounding only
+    Problem q = p;
+    for (double& x : q.c) x *= s;
+    const auto r = solveAll(q);
+    ASSERT_EQ(r.size(), base.size());
+    for (size_t i = 0; i < r.size(); ++i) EXPECT_NEAR(r[i], base[i], 1e-15) << s;
+  }
+  // Long and short intervals in the caller's units: same polynomial scaled in t.
+  for (double t : {1e-12, 1e12}) {
+    Problem q = fromRoots("t-scaled", {-0.3 * t, 0.1 * t, 0.7 * t}, {{0.5 * t, 0.5 * t}}, -t, t);
+    const auto r = solveAll(q);
+    ASSERT_EQ(r.size(), 3u);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i] / t, base[i], 1e-14);
+  }
+}
+
+TEST(RootsContract, BadInput) {
+  const double nan = std::nan(""), inf = INFINITY;
+  const std::vector<double> c{-0.5, 1};
+  EXPECT_FALSE(firstRoot(std::vector<double>{nan, 1}, {}, 0.0, 1.0).has_value());
+  EXPECT_FALSE(firstRoot(std::vector<double>{-0.5, inf}, {}, 0.0, 1.0).has_value());
+  EXPECT_FALSE(firstRoot(c, std::vector<double>{0, nan}, 0.0, 1.0).has_value());
+  EXPECT_FALSE(firstRoot(c, {}, nan, 1.0).has_value());
+  EXPECT_FALSE(firstRoot(c, {}, 0.0, inf).has_value());
+  EXPECT_FALSE(firstRoot(c, {}, 1.0, 0.0).has_value());
+  EXPECT_FALSE(firstRoot(c, {}, 0.25, 0.25).has_value());
+  EXPECT_FALSE(hasRoot(c, {}, -inf, inf));
+  EXPECT_FALSE(firstRoot(std::vector<double>{}, {}, 0.0, 1.0).has_value());
+  EXPECT_FALSE(firstRoot(std::vector<double>{0, 0, 0}, {}, 0.0, 1.0).has_value());
+  EXPECT_FALSE(firstRoot(std::vector<double>{3}, {}, 0.0, 1.0).has_value());
+  EXPECT_THROW(firstRoot(std::vector<double>(kMaxDegree + 2, 1.0), {}, 0.0, 1.0), Error);
+  EXPECT_THROW(firstRoot(c, std::vector<double>{1}, 0.0, 1.0), Error);
+  // Huge but finite values: no hang, no non-finite root.
+  const std::vector<double> huge{-1e308, 1e308, -1e308, 1e308};
+  const auto r = firstRoot(huge, {}, -1e300, 1e300);
+  if (r) {
+    EXPECT_TRUE(std::isfinite(*r));
+  }
+}
+
+// ---- Float variant ------------------------------------------------------------------
+
+TEST(RootsFloat, RandomWithinFloatConditioning) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uni(0, 1);
+  const double uf = 0x1p-24;
+  int checked = 0;
+  for (int deg = 1; deg <= 12; ++deg) {
+    for (int trial = 0; trial < 20; ++trial) {
+      std::vector<double> roots;
+      const int nReal = deg % 2 == 0 ? std::min(deg, 2) : 1;
+      for (int i = 0; i < nReal; ++i) roots.push_back(-1 + 2 * uni(rng));
+      std::vector<std::pair<double, double>> pairs;
+      for (int i = 0; i < (deg - nReal) / 2; ++i)
+        pairs.emplace_back(-1.5 + 3 * uni(rng), 0.1 + uni(rng));
+      const auto cd = test::expand(roots, pairs);
+      std::vector<float> cf(cd.begin(), cd.end());
+      const std::vector<double> cfd(cf.begin(), cf.end());  // exactly the float data
+      const auto ref = test::refineAll(cfd, roots, -1.0, 1.0);
+      std::vector<float> got;
+      float lo = -1;
+      for (int k = 0; k <= deg; ++k) {
+        const auto r = firstRoot(std::span<const float>(cf), {}, lo, 1.0f);
+        if (!r) break;
+        got.push_back(*r);
+        lo = *r;
+      }
+      EXPECT_EQ(hasRoot(std::span<const float>(cf), {}, -1.0f, 1.0f), !got.empty());
+      for (size_t i = 0; i < ref.size(); ++i) {
+        double s = std::min(ref[i].value + 1, 1 - ref[i].value);
+        if (i > 0) s = std::min(s, ref[i].value - ref[i - 1].value);
+        if (i + 1 < ref.size()) s = std::min(s, ref[i + 1].value - ref[i].value);
+        if (1e3 * uf * ref[i].conditioning >= s) continue;
+        double best = INFINITY;
+        for (float g : got) best = std::min(best, std::abs(g - ref[i].value));
+        EXPECT_LE(best, kAccuracyUlps * uf * ref[i].conditioning)
+            << "degree " << deg << " trial " << trial << " root " << ref[i].value;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+}  // namespace
+}  // namespace algray
