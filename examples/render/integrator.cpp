@@ -1,0 +1,188 @@
+#include "integrator.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace algray::render {
+
+namespace {
+
+// Shadow rays stop short of the sampled light point by this fraction of the distance,
+// so that they do not report the emitter itself (pbrt-v4's ShadowEpsilon).
+constexpr double kShadowEpsilon = 1e-4;
+
+struct Shading {
+  Frame frame{glm::dvec3(0, 0, 1)};
+  glm::dvec3 ngFacing{0.0};  // geometric normal flipped towards wo
+  glm::dvec3 woLocal{0.0};
+  bool frontFace = true;
+};
+
+// Two-sided shading: normals are flipped towards wo; when the interpolated shading
+// normal disagrees with the geometric one about wo's side, the geometric frame is used.
+Shading makeShading(const Hit& hit, const glm::dvec3& wo) {
+  Shading s;
+  s.frontFace = glm::dot(hit.ng, wo) > 0;
+  s.ngFacing = s.frontFace ? hit.ng : -hit.ng;
+  glm::dvec3 n = s.frontFace ? hit.ns : -hit.ns;
+  s.frame = Frame(n);
+  s.woLocal = s.frame.toLocal(wo);
+  if (s.woLocal.z <= 0) {
+    s.frame = Frame(s.ngFacing);
+    s.woLocal = s.frame.toLocal(wo);
+  }
+  s.woLocal.z = std::max(s.woLocal.z, 1e-12);  // grazing: keep wo in the upper hemisphere
+  return s;
+}
+
+void fillAov(SampleAov& aov, const Hit& hit, const Shading& sh, const Material& m) {
+  aov.depth = hit.t;
+  aov.normal = sh.frame.n;
+  aov.albedo = m.type == MaterialType::Emissive ? m.emission : m.albedo(hit.uv);
+  aov.id = hit.geomID + 1.0;
+}
+
+bool shadowed(const Scene& scene, const Hit& hit, const LightSample& ls, RayCounter& counter) {
+  glm::dvec3 org = scene.spawnOrigin(hit, ls.wi);
+  double tfar = std::isfinite(ls.distance) ? ls.distance * (1.0 - kShadowEpsilon)
+                                           : std::numeric_limits<double>::infinity();
+  return scene.occluded(org, ls.wi, 0.0, tfar, counter);
+}
+
+// Light sample contribution f * L * |cos| / pdf, MIS-weighted against BSDF sampling.
+glm::dvec3 estimateDirect(const Scene& scene, const Hit& hit, const Shading& sh, const Material& m,
+                          const glm::dvec3& albedo, const LightSample& ls, bool mis,
+                          RayCounter& counter) {
+  if (glm::dot(ls.wi, sh.ngFacing) <= 0) return glm::dvec3(0.0);  // reflection only
+  glm::dvec3 wiL = sh.frame.toLocal(ls.wi);
+  glm::dvec3 f = evalBsdf(m, albedo, sh.woLocal, wiL) * std::abs(wiL.z);
+  if (f == glm::dvec3(0.0) || ls.radiance == glm::dvec3(0.0) || !(ls.pdf > 0)) return glm::dvec3(0.0);
+  if (shadowed(scene, hit, ls, counter)) return glm::dvec3(0.0);
+  double w = 1.0;
+  if (mis && !ls.delta) w = powerHeuristic(ls.pdf, pdfBsdf(m, sh.woLocal, wiL));
+  return f * ls.radiance * (w / ls.pdf);
+}
+
+double maxComponent(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// Firefly clamp for contributions of paths with at least one bounce.
+glm::dvec3 clampPath(const glm::dvec3& c, int depth, double limit) {
+  double m = maxComponent(c);
+  return limit > 0 && depth > 0 && m > limit ? c * (limit / m) : c;
+}
+
+}  // namespace
+
+glm::dvec3 tracePath(const Scene& scene, const CameraRay& cameraRay, Rng& rng, SampleAov& aov,
+                     RayCounter& counter) {
+  const int maxDepth = scene.desc().settings.maxDepth;
+  const double limit = scene.desc().settings.clampIndirect;
+  glm::dvec3 L(0.0), beta(1.0);
+  glm::dvec3 org = cameraRay.org, dir = cameraRay.dir;
+  bool specularBounce = false;
+  double prevPdf = 0;
+  glm::dvec3 prevP(0.0);
+  for (int depth = 0;; ++depth) {
+    std::optional<Hit> hit = scene.intersect(org, dir, 0.0, counter);
+    // ---- Escaped: environment, MIS-weighted against its light sampling -------------
+    if (!hit) {
+      glm::dvec3 le = depth == 0 ? scene.background(dir) : scene.environment(dir);
+      double w = 1.0;
+      if (depth > 0 && !specularBounce && scene.environmentPdf() > 0)
+        w = powerHeuristic(prevPdf, scene.environmentPdf());
+      L += clampPath(beta * le * w, depth, limit);
+      break;
+    }
+    glm::dvec3 wo = -dir;
+    Shading sh = makeShading(*hit, wo);
+    const Material& m = scene.material(*hit, sh.frontFace);
+    if (depth == 0) fillAov(aov, *hit, sh, m);
+    // ---- Emitters: black BSDF, end of the path --------------------------------------
+    if (m.type == MaterialType::Emissive) {
+      double w = 1.0;
+      if (depth > 0 && !specularBounce) {
+        double lp = scene.lightPdf(prevP, *hit);
+        if (lp > 0) w = powerHeuristic(prevPdf, lp);
+      }
+      L += clampPath(beta * m.emission * w, depth, limit);
+      break;
+    }
+    if (depth >= maxDepth) break;
+    glm::dvec3 albedo = m.albedo(hit->uv);
+    // ---- Next-event estimation --------------------------------------------------------
+    if (!m.isSpecular()) {
+      for (int light = 0; light < scene.lightCount(); ++light) {
+        glm::dvec2 u = rng.uniform2();
+        if (auto ls = scene.sampleLight(light, hit->p, u))
+          L += clampPath(beta * estimateDirect(scene, *hit, sh, m, albedo, *ls, true, counter), depth, limit);
+      }
+    }
+    // ---- BSDF sampling for the next vertex ------------------------------------------
+    double u1 = rng.uniform();
+    glm::dvec2 u2 = rng.uniform2();
+    auto bs = sampleBsdf(m, albedo, sh.woLocal, sh.frontFace, u1, u2);
+    if (!bs) break;
+    glm::dvec3 wi = sh.frame.toWorld(bs->wi);
+    // A reflection lobe must leave on wo's side of the true surface (shading normals
+    // may say otherwise near silhouettes).
+    if (!bs->specular && glm::dot(wi, sh.ngFacing) <= 0) break;
+    beta *= bs->weight;
+    specularBounce = bs->specular;
+    prevPdf = bs->pdf;
+    prevP = hit->p;
+    org = scene.spawnOrigin(*hit, wi);
+    dir = wi;
+    // ---- Russian roulette (pbrt-v4 Sec. 13.4.3) --------------------------------------
+    if (depth >= 3) {
+      double q = std::max(0.05, 1.0 - maxComponent(beta));
+      if (rng.uniform() < q) break;
+      beta /= 1.0 - q;
+    }
+    if (!(maxComponent(beta) > 0)) break;
+  }
+  return L;
+}
+
+glm::dvec3 traceDirect(const Scene& scene, const CameraRay& cameraRay, Rng& rng, SampleAov& aov,
+                       RayCounter& counter) {
+  const SceneDesc& desc = scene.desc();
+  glm::dvec3 beta(1.0);
+  glm::dvec3 org = cameraRay.org, dir = cameraRay.dir;
+  for (int depth = 0; depth <= desc.settings.maxDepth; ++depth) {
+    std::optional<Hit> hit = scene.intersect(org, dir, 0.0, counter);
+    if (!hit) return beta * (depth == 0 ? scene.background(dir) : scene.environment(dir));
+    glm::dvec3 wo = -dir;
+    Shading sh = makeShading(*hit, wo);
+    const Material& m = scene.material(*hit, sh.frontFace);
+    if (depth == 0) fillAov(aov, *hit, sh, m);
+    if (m.type == MaterialType::Emissive) return beta * m.emission;
+    glm::dvec3 albedo = m.albedo(hit->uv);
+    if (m.isSpecular()) {  // follow the glass
+      auto bs = sampleBsdf(m, albedo, sh.woLocal, sh.frontFace, rng.uniform(), rng.uniform2());
+      if (!bs) return glm::dvec3(0.0);
+      beta *= bs->weight;
+      dir = sh.frame.toWorld(bs->wi);
+      org = scene.spawnOrigin(*hit, dir);
+      continue;
+    }
+    glm::dvec3 L(0.0);
+    // Every light once (point and directional: hard shadows; area: one sample), except
+    // the environment, which is added below as ambient light.
+    for (int light = 0; light < scene.lightCount(); ++light) {
+      if (scene.isEnvironmentLight(light)) continue;
+      glm::dvec2 u = rng.uniform2();
+      if (auto ls = scene.sampleLight(light, hit->p, u))
+        L += estimateDirect(scene, *hit, sh, m, albedo, *ls, false, counter);
+    }
+    // Ambient: the environment's mean radiance reflected without shadowing; exact for a
+    // constant environment and an unoccluded diffuse surface.
+    L += albedo * desc.environment.color;
+    return beta * L;
+  }
+  return glm::dvec3(0.0);
+}
+
+}  // namespace algray::render

@@ -1,0 +1,27 @@
+#pragma once
+// Light transport for one camera ray.
+//  * path: unidirectional path tracing with next-event estimation and multiple
+//    importance sampling (power heuristic) between light and BSDF sampling, Russian
+//    roulette after three bounces (Veach's thesis, Ch. 9-10; pbrt-v4 Sec. 13.4).
+//  * direct: first hit only, every point/directional light with a hard shadow ray, one
+//    sample per area light, the environment as unshadowed ambient light; specular
+//    (glass) surfaces are followed. Quick previews and the POV-Ray comparison.
+#include "sampling.h"
+#include "scene.h"
+
+namespace algray::render {
+
+// First-hit data for the extra image channels (AOVs).
+struct SampleAov {
+  double depth = 0;  // distance to the first hit, 0 when nothing is hit
+  glm::dvec3 normal{0.0};  // shading normal facing the camera
+  glm::dvec3 albedo{0.0};
+  double id = 0;  // geomID + 1, 0 for the background
+};
+
+glm::dvec3 tracePath(const Scene& scene, const CameraRay& ray, Rng& rng, SampleAov& aov,
+                     RayCounter& counter);
+glm::dvec3 traceDirect(const Scene& scene, const CameraRay& ray, Rng& rng, SampleAov& aov,
+                       RayCounter& counter);
+
+}  // namespace algray::render

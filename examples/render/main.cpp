@@ -1,0 +1,172 @@
+// algray-render: the sample path tracer. See docs/scene-format.md and
+// docs/render-summary.md. Exit codes: 0 done, 2 bad input (scene, file, option),
+// 1 other failures, 130 interrupted (the partial image is still written).
+#include "image_io.h"
+#include "pov_export.h"
+#include "render.h"
+#include "scene.h"
+#include "scene_builders.h"
+#include "scene_json.h"
+
+#include <algray/gallery.h>
+#include <algray/parser.h>
+
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+std::atomic<bool> gCancel{false};
+extern "C" void onInterrupt(int) { gCancel.store(true); }
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace algray::render;
+  CLI::App app{"algray-render: path tracing of algebraic surfaces (algray) and meshes with Embree"};
+  std::string input, output = "algray.png", integrator, aovList, surface, exportPov;
+  std::optional<int> width, height, spp, threads, maxDepth;
+  std::optional<std::uint64_t> seed;
+  std::optional<double> clipSphere, exposure;
+  std::vector<std::string> params;
+  bool quiet = false, listGallery = false, sturm = false;
+  app.add_option("scene", input, "SCENE.json or SURFACE.jsurf (default: the built-in scene)");
+  app.add_option("-o,--output", output, "output image: .png (tone-mapped sRGB) or .exr (linear + AOVs)");
+  app.add_option("--width", width, "image width")->check(CLI::Range(1, 1 << 15));
+  app.add_option("--height", height, "image height")->check(CLI::Range(1, 1 << 15));
+  app.add_option("--spp", spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
+  app.add_option("--threads", threads, "worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  app.add_option("--integrator", integrator, "path (default) or direct")->check(CLI::IsMember({"path", "direct"}));
+  app.add_option("--max-depth", maxDepth, "maximum path length")->check(CLI::Range(0, 1000));
+  app.add_option("--seed", seed, "random seed");
+  app.add_option("--exposure", exposure, "exposure in stops (PNG)");
+  app.add_option("--aov", aovList, "extra EXR channels: depth,normal,albedo,id (any of them: all are written)");
+  app.add_option("--surface", surface, "quick mode: an equation or a gallery name");
+  app.add_option("--param", params, "quick mode: equation parameter NAME=VALUE (repeatable)");
+  app.add_option("--clip-sphere", clipSphere, "quick mode: clip sphere radius");
+  app.add_option("--export-pov", exportPov, "write the scene as a POV-Ray scene to this file and exit");
+  app.add_flag("--sturm", sturm, "with --export-pov: ask POV-Ray for Sturm root isolation");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
+  app.add_flag("--list-gallery", listGallery, "list the gallery surfaces and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  for (size_t start = 0; !aovList.empty() && start <= aovList.size();) {
+    size_t comma = aovList.find(',', start);
+    std::string name = aovList.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (name != "depth" && name != "normal" && name != "albedo" && name != "id") {
+      std::fprintf(stderr, "algray-render: --aov: unknown channel '%s' (depth, normal, albedo, id)\n", name.c_str());
+      return 2;
+    }
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (listGallery) {
+    for (const algray::GallerySurface& g : algray::gallery())
+      std::printf("%-22s degree %2d  clip %.3g  %.*s\n", std::string(g.name).c_str(), g.build().degree(),
+                  g.clipRadius, static_cast<int>(g.description.size()), g.description.data());
+    return 0;
+  }
+
+  // ---- The scene -------------------------------------------------------------------------
+  SceneDesc desc;
+  try {
+    if (!surface.empty()) {
+      if (!input.empty()) throw SceneError("--surface", 0, 0, "give either a scene file or --surface, not both");
+      QuickOptions q;
+      q.surface = surface;
+      for (const std::string& p : params) {
+        auto eq = p.find('=');
+        if (eq == std::string::npos || eq == 0) throw SceneError("--param", 0, 0, "expected NAME=VALUE, got '" + p + "'");
+        try {
+          size_t used = 0;
+          double v = std::stod(p.substr(eq + 1), &used);
+          if (used != p.size() - eq - 1) throw std::invalid_argument(p);
+          q.parameters[p.substr(0, eq)] = v;
+        } catch (const std::logic_error&) {
+          throw SceneError("--param", 0, 0, "not a number in '" + p + "'");
+        }
+      }
+      if (clipSphere) q.clipRadius = *clipSphere;
+      try {
+        desc = quickScene(q);
+      } catch (const algray::ParseError& e) {
+        throw SceneError("--surface", 1, e.column(), e.message());
+      }
+    } else if (input.empty()) {
+      desc = defaultScene();
+    } else if (endsWith(input, ".jsurf")) {
+      desc = jsurfScene(input);
+    } else {
+      desc = loadSceneFile(input);
+    }
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "algray-render: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {  // algray::Error (jsurf, gallery), file errors
+    std::fprintf(stderr, "algray-render: %s\n", e.what());
+    return 2;
+  }
+  RenderSettings& s = desc.settings;
+  if (width) s.width = *width;
+  if (height) s.height = *height;
+  if (spp) s.spp = *spp;
+  if (threads) s.threads = *threads;
+  if (maxDepth) s.maxDepth = *maxDepth;
+  if (seed) s.seed = *seed;
+  if (exposure) s.exposure = *exposure;
+  if (!integrator.empty()) s.integrator = integrator == "direct" ? IntegratorType::Direct : IntegratorType::Path;
+
+  if (!exportPov.empty()) {
+    try {
+      std::ofstream(exportPov) << povrayScene(desc, sturm);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "algray-render: %s\n", e.what());
+      return 2;
+    }
+    return 0;
+  }
+
+  // ---- Build, render, write ------------------------------------------------------------
+  try {
+    Scene scene(desc);
+    Image image;
+    RenderOptions options;
+    options.progress = !quiet && isatty(STDERR_FILENO);
+    options.cancel = &gCancel;
+    std::signal(SIGINT, onInterrupt);
+    RenderStats stats = render(scene, image, options);
+    std::signal(SIGINT, SIG_DFL);
+    writeImage(image, output, s, !aovList.empty());
+    std::printf("algray-render: %s, %dx%d, %d spp, %s: %.2f s, %llu rays, %.2f Mrays/s -> %s%s\n",
+                desc.name.c_str(), s.width, s.height, s.spp,
+                s.integrator == IntegratorType::Path ? "path" : "direct", stats.seconds,
+                static_cast<unsigned long long>(stats.rays),
+                stats.seconds > 0 ? stats.rays / stats.seconds * 1e-6 : 0.0, output.c_str(),
+                stats.interrupted ? " (interrupted: partial image)" : "");
+    return stats.interrupted ? 130 : 0;
+  } catch (const algray::Error& e) {  // the plugin rejected a surface: bad input
+    std::fprintf(stderr, "algray-render: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "algray-render: %s\n", e.what());
+    return 1;
+  }
+}

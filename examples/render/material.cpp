@@ -1,0 +1,206 @@
+#include "material.h"
+
+#include "sampling.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace algray::render {
+
+// ---- Textures -------------------------------------------------------------------------
+
+namespace {
+// sRGB transfer function inverse (IEC 61966-2-1) for 8/16-bit images, which are stored
+// encoded; float formats (EXR, HDR) are already linear.
+float srgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+}  // namespace
+
+std::shared_ptr<const Texture> Texture::load(const std::string& path) {
+  OIIO::ImageBuf buf(path);
+  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+    throw std::runtime_error(path + ": cannot read texture: " + buf.geterror());
+  const OIIO::ImageSpec& spec = buf.spec();
+  int w = spec.width, h = spec.height, nc = spec.nchannels;
+  if (w <= 0 || h <= 0 || nc <= 0) throw std::runtime_error(path + ": empty texture");
+  bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
+                 spec.format.basetype == OIIO::TypeDesc::UINT16;
+  std::vector<float> pixels(static_cast<size_t>(w) * h * nc);
+  buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data());
+  std::vector<glm::vec3> texels(static_cast<size_t>(w) * h);
+  for (size_t i = 0; i < texels.size(); ++i) {
+    const float* p = &pixels[i * nc];
+    glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
+    if (encoded) c = {srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)};
+    texels[i] = c;
+  }
+  return std::make_shared<Texture>(w, h, std::move(texels));
+}
+
+Texture::Texture(int width, int height, std::vector<glm::vec3> texels)
+    : width_(width), height_(height), texels_(std::move(texels)) {}
+
+glm::dvec3 Texture::lookup(glm::dvec2 uv) const {
+  // Image row 0 is the top; v = 0 is the bottom (OBJ convention).
+  double x = (uv.x - std::floor(uv.x)) * width_ - 0.5;
+  double y = (1.0 - (uv.y - std::floor(uv.y))) * height_ - 0.5;
+  if (!std::isfinite(x) || !std::isfinite(y)) return glm::dvec3(texels_[0]);
+  double fx = std::floor(x), fy = std::floor(y);
+  double tx = x - fx, ty = y - fy;
+  auto at = [&](long i, long j) {
+    i = ((i % width_) + width_) % width_;
+    j = ((j % height_) + height_) % height_;
+    return glm::dvec3(texels_[static_cast<size_t>(j) * width_ + i]);
+  };
+  long i = static_cast<long>(fx), j = static_cast<long>(fy);
+  return (1 - tx) * (1 - ty) * at(i, j) + tx * (1 - ty) * at(i + 1, j) +
+         (1 - tx) * ty * at(i, j + 1) + tx * ty * at(i + 1, j + 1);
+}
+
+glm::dvec3 Texture::average() const {
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& t : texels_) sum += glm::dvec3(t);
+  return sum / static_cast<double>(texels_.size());
+}
+
+// ---- Microfacet helpers (GGX) ---------------------------------------------------------
+
+namespace {
+
+double ggxAlpha(const Material& m) { return std::max(m.roughness * m.roughness, 1e-4); }
+
+// Trowbridge-Reitz normal distribution D(h), Walter et al. Eq. 33.
+double ggxD(double cosH, double alpha) {
+  double a2 = alpha * alpha;
+  double d = cosH * cosH * (a2 - 1.0) + 1.0;
+  return a2 / (kPi * d * d);
+}
+
+// Smith's G1 for GGX, Walter et al. Eq. 34 in terms of cos(theta).
+double ggxG1(double cosV, double alpha) {
+  double c = std::abs(cosV);
+  double a2 = alpha * alpha;
+  return 2.0 * c / (c + std::sqrt(a2 + (1.0 - a2) * c * c));
+}
+
+glm::dvec3 schlick(const glm::dvec3& f0, double cosTheta) {
+  double m = std::clamp(1.0 - cosTheta, 0.0, 1.0);
+  double m5 = (m * m) * (m * m) * m;
+  return f0 + (1.0 - f0) * m5;
+}
+
+// Unpolarised Fresnel reflectance of a smooth dielectric interface (pbrt-v4 Eq. 9.6),
+// eta = transmitted / incident index, cosI >= 0.
+double fresnelDielectric(double cosI, double eta) {
+  double sin2T = (1.0 - cosI * cosI) / (eta * eta);
+  if (sin2T >= 1.0) return 1.0;  // total internal reflection
+  double cosT = std::sqrt(1.0 - sin2T);
+  double rPar = (eta * cosI - cosT) / (eta * cosI + cosT);
+  double rPerp = (cosI - eta * cosT) / (cosI + eta * cosT);
+  return 0.5 * (rPar * rPar + rPerp * rPerp);
+}
+
+}  // namespace
+
+// ---- BSDF -----------------------------------------------------------------------------
+
+glm::dvec3 evalBsdf(const Material& m, const glm::dvec3& albedo, const glm::dvec3& wo,
+                    const glm::dvec3& wi) {
+  if (wi.z <= 0 || wo.z <= 0) return glm::dvec3(0.0);  // reflection only
+  switch (m.type) {
+    case MaterialType::Diffuse:
+      return albedo * kInvPi;
+    case MaterialType::Conductor: {
+      glm::dvec3 h = wo + wi;
+      double len = std::sqrt(h.x * h.x + h.y * h.y + h.z * h.z);
+      if (!(len > 0)) return glm::dvec3(0.0);
+      h /= len;
+      double alpha = ggxAlpha(m);
+      double d = ggxD(h.z, alpha);
+      double g = ggxG1(wo.z, alpha) * ggxG1(wi.z, alpha);
+      return schlick(albedo, std::abs(wi.x * h.x + wi.y * h.y + wi.z * h.z)) * (d * g) /
+             (4.0 * wo.z * wi.z);
+    }
+    default:
+      return glm::dvec3(0.0);
+  }
+}
+
+double pdfBsdf(const Material& m, const glm::dvec3& wo, const glm::dvec3& wi) {
+  if (wi.z <= 0 || wo.z <= 0) return 0.0;
+  switch (m.type) {
+    case MaterialType::Diffuse:
+      return wi.z * kInvPi;
+    case MaterialType::Conductor: {
+      glm::dvec3 h = wo + wi;
+      double len = std::sqrt(h.x * h.x + h.y * h.y + h.z * h.z);
+      if (!(len > 0)) return 0.0;
+      h /= len;
+      double woh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
+      // Half-vector density D(h) cos(theta_h), changed to wi: Walter et al. Eq. 14.
+      return ggxD(h.z, ggxAlpha(m)) * h.z / (4.0 * std::abs(woh));
+    }
+    default:
+      return 0.0;
+  }
+}
+
+std::optional<BsdfSample> sampleBsdf(const Material& m, const glm::dvec3& albedo,
+                                     const glm::dvec3& wo, bool frontFace, double u1,
+                                     glm::dvec2 u2) {
+  BsdfSample s;
+  switch (m.type) {
+    case MaterialType::Diffuse: {
+      s.wi = sampleCosineHemisphere(u2);
+      if (s.wi.z <= 0) return std::nullopt;
+      s.pdf = s.wi.z * kInvPi;
+      s.weight = albedo;  // (albedo/pi) cos / (cos/pi)
+      return s;
+    }
+    case MaterialType::Conductor: {
+      // Sample h from D(h) cos(theta_h): tan^2 theta = alpha^2 u / (1 - u) (Walter Eq. 35).
+      double alpha = ggxAlpha(m);
+      double cos2 = (1.0 - u2.x) / (1.0 + (alpha * alpha - 1.0) * u2.x);
+      double cosH = std::sqrt(std::max(0.0, cos2));
+      double sinH = std::sqrt(std::max(0.0, 1.0 - cos2));
+      double phi = 2.0 * kPi * u2.y;
+      glm::dvec3 h(sinH * std::cos(phi), sinH * std::sin(phi), cosH);
+      double woh = glm::dot(wo, h);
+      if (woh <= 0) return std::nullopt;
+      s.wi = 2.0 * woh * h - wo;
+      if (s.wi.z <= 0) return std::nullopt;
+      s.pdf = pdfBsdf(m, wo, s.wi);
+      if (!(s.pdf > 0)) return std::nullopt;
+      s.weight = evalBsdf(m, albedo, wo, s.wi) * s.wi.z / s.pdf;
+      return s;
+    }
+    case MaterialType::Dielectric: {
+      // eta: index on the far side over index on wo's side.
+      double eta = frontFace ? m.ior : 1.0 / m.ior;
+      double f = fresnelDielectric(wo.z, eta);
+      s.specular = true;
+      s.pdf = 1.0;
+      if (u1 < f) {
+        s.wi = {-wo.x, -wo.y, wo.z};
+        s.weight = glm::dvec3(1.0);  // (F / cos) cos / F
+        return s;
+      }
+      double sin2T = (1.0 - wo.z * wo.z) / (eta * eta);
+      double cosT = std::sqrt(std::max(0.0, 1.0 - sin2T));
+      s.wi = -wo / eta + (wo.z / eta - cosT) * glm::dvec3(0, 0, 1);
+      // Radiance is scaled by 1/eta^2 across the interface (pbrt-v4 Sec. 9.5.2).
+      s.weight = albedo / (eta * eta);
+      return s;
+    }
+    case MaterialType::Emissive:
+      return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+}  // namespace algray::render

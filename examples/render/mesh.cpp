@@ -1,0 +1,188 @@
+#include "mesh.h"
+
+#include "sampling.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <utility>
+
+namespace algray::render {
+
+void MeshData::validate(const std::string& what) const {
+  auto finite = [](const glm::dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  for (const glm::dvec3& p : positions)
+    if (!finite(p)) throw std::runtime_error(what + ": non-finite vertex position");
+  if (!normals.empty() && normals.size() != positions.size())
+    throw std::runtime_error(what + ": normal count differs from vertex count");
+  if (!uvs.empty() && uvs.size() != positions.size())
+    throw std::runtime_error(what + ": uv count differs from vertex count");
+  for (const auto& t : triangles)
+    for (unsigned i : t)
+      if (i >= positions.size()) throw std::runtime_error(what + ": vertex index out of range");
+  if (triangles.empty()) throw std::runtime_error(what + ": no triangles");
+}
+
+void MeshData::transform(const glm::dmat4& m) {
+  glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(m)));
+  for (glm::dvec3& p : positions) p = glm::dvec3(m * glm::dvec4(p, 1.0));
+  for (glm::dvec3& n : normals) {
+    glm::dvec3 t = normalMatrix * n;
+    double len = glm::length(t);
+    n = len > 0 ? t / len : t;
+  }
+  if (glm::determinant(glm::dmat3(m)) < 0)  // keep the winding consistent with normals
+    for (auto& t : triangles) std::swap(t[1], t[2]);
+}
+
+MeshData makePlane(double half, double uvScale) {
+  MeshData m;
+  m.positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
+  m.normals.assign(4, {0, 0, 1});
+  for (const glm::dvec3& p : m.positions) m.uvs.push_back(glm::dvec2(p) / uvScale);
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+MeshData makeQuad(glm::dvec3 corner, glm::dvec3 edge1, glm::dvec3 edge2) {
+  MeshData m;
+  m.positions = {corner, corner + edge1, corner + edge1 + edge2, corner + edge2};
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+MeshData makeBox(glm::dvec3 half) {
+  MeshData m;
+  // Six faces, four vertices each so that normals stay flat.
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2) {
+      glm::dvec3 n(0.0);
+      n[axis] = sign;
+      int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      auto base = static_cast<unsigned>(m.positions.size());
+      const double corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+      for (const auto& c : corners) {
+        glm::dvec3 p(0.0);
+        p[axis] = sign * half[axis];
+        p[a] = c[0] * half[a];
+        p[b] = c[1] * half[b];
+        m.positions.push_back(p);
+        m.normals.push_back(n);
+        m.uvs.push_back({0.5 * (c[0] + 1), 0.5 * (c[1] + 1)});
+      }
+      if (sign > 0)
+        m.triangles.push_back({base, base + 1, base + 2}), m.triangles.push_back({base, base + 2, base + 3});
+      else
+        m.triangles.push_back({base, base + 2, base + 1}), m.triangles.push_back({base, base + 3, base + 2});
+    }
+  return m;
+}
+
+MeshData makeIcosphere(int subdivisions) {
+  // Icosahedron from the three orthogonal golden rectangles.
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<glm::dvec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                               {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                               {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (glm::dvec3& p : v) p = glm::normalize(p);
+  std::vector<std::array<unsigned, 3>> f = {
+      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+      {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<unsigned, unsigned>, unsigned> mid;
+    auto midpoint = [&](unsigned a, unsigned b) {
+      auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back(glm::normalize(v[a] + v[b]));
+      auto idx = static_cast<unsigned>(v.size() - 1);
+      mid.emplace(key, idx);
+      return idx;
+    };
+    std::vector<std::array<unsigned, 3>> next;
+    for (const auto& tri : f) {
+      unsigned a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]),
+               c = midpoint(tri[2], tri[0]);
+      next.push_back({tri[0], a, c});
+      next.push_back({tri[1], b, a});
+      next.push_back({tri[2], c, b});
+      next.push_back({a, b, c});
+    }
+    f = std::move(next);
+  }
+  MeshData m;
+  m.positions = v;
+  m.normals = v;
+  for (const glm::dvec3& p : v)
+    m.uvs.push_back({0.5 + std::atan2(p.y, p.x) / (2 * kPi), std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi});
+  m.triangles = std::move(f);
+  return m;
+}
+
+MeshData loadObj(const std::string& path) {
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config)) {
+    std::string err = reader.Error();
+    while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+    throw std::runtime_error(path + ": cannot read OBJ" + (err.empty() ? "" : ": " + err));
+  }
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  MeshData m;
+  // OBJ indexes positions, normals and uvs separately; make one vertex per distinct
+  // (position, normal, uv) triple.
+  std::map<std::array<int, 3>, unsigned> remap;
+  bool allNormals = true, allUvs = true;
+  for (const tinyobj::shape_t& shape : reader.GetShapes())
+    for (const tinyobj::index_t& idx : shape.mesh.indices) {
+      allNormals = allNormals && idx.normal_index >= 0;
+      allUvs = allUvs && idx.texcoord_index >= 0;
+    }
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    const auto& indices = shape.mesh.indices;
+    for (size_t i = 0; i + 2 < indices.size(); i += 3) {
+      std::array<unsigned, 3> tri{};
+      for (int k = 0; k < 3; ++k) {
+        const tinyobj::index_t& idx = indices[i + k];
+        std::array<int, 3> key{idx.vertex_index, allNormals ? idx.normal_index : -1,
+                               allUvs ? idx.texcoord_index : -1};
+        auto it = remap.find(key);
+        if (it == remap.end()) {
+          if (idx.vertex_index < 0 || 3 * static_cast<size_t>(idx.vertex_index) + 2 >= attrib.vertices.size())
+            throw std::runtime_error(path + ": vertex index out of range");
+          const float* p = &attrib.vertices[3 * static_cast<size_t>(idx.vertex_index)];
+          m.positions.push_back({p[0], p[1], p[2]});
+          if (allNormals) {
+            const float* n = &attrib.normals[3 * static_cast<size_t>(idx.normal_index)];
+            glm::dvec3 nn(n[0], n[1], n[2]);
+            double len = glm::length(nn);
+            m.normals.push_back(len > 0 ? nn / len : nn);
+          }
+          if (allUvs) {
+            const float* t = &attrib.texcoords[2 * static_cast<size_t>(idx.texcoord_index)];
+            m.uvs.push_back({t[0], t[1]});
+          }
+          it = remap.emplace(key, static_cast<unsigned>(m.positions.size() - 1)).first;
+        }
+        tri[k] = it->second;
+      }
+      m.triangles.push_back(tri);
+    }
+  }
+  m.validate(path);
+  return m;
+}
+
+}  // namespace algray::render

@@ -1,0 +1,92 @@
+#include "pov_export.h"
+
+#include "sampling.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+namespace algray::render {
+
+namespace {
+
+std::string vec(const glm::dvec3& v) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "<%.17g, %.17g, %.17g>", v.x, v.y, v.z);
+  return buf;
+}
+
+std::string rgb(const glm::dvec3& c) { return "rgb " + vec(c); }
+
+std::string finish(double ambient) {
+  std::ostringstream s;
+  s << "finish { ambient " << ambient << " diffuse 1 brilliance 1 specular 0 phong 0 }";
+  return s.str();
+}
+
+}  // namespace
+
+std::string povrayScene(const SceneDesc& scene, bool sturm) {
+  std::ostringstream out;
+  out.precision(17);
+  const RenderSettings& s = scene.settings;
+  const CameraDesc& cam = scene.camera;
+  if (cam.type != CameraDesc::Type::Perspective || cam.aperture > 0)
+    throw std::runtime_error("POV-Ray export: only pinhole perspective cameras");
+  glm::dvec3 env = scene.environment.color;
+  if (env.r != env.g || env.g != env.b) throw std::runtime_error("POV-Ray export: grey environments only");
+  double aspect = static_cast<double>(s.width) / s.height;
+  double hfov = 2.0 * std::atan(aspect * std::tan(0.5 * cam.fovY * kPi / 180.0)) * 180.0 / kPi;
+  out << "// Written by algray-render --export-pov: the same scene as algray's direct integrator.\n";
+  out << "#version 3.7;\n";
+  out << "global_settings { assumed_gamma 1.0 ambient_light rgb <1, 1, 1> max_trace_level 5 }\n";
+  // POV-Ray is left-handed; a negative `right` makes the picture right-handed like ours.
+  out << "camera { perspective location " << vec(cam.position) << " sky " << vec(cam.up)
+      << " up " << vec(cam.up) << " right <" << -aspect << ", 0, 0> angle " << hfov << " look_at "
+      << vec(cam.lookAt) << " }\n";
+  out << "background { color " << rgb(scene.hasBackground ? scene.background : env) << " }\n";
+  double far = 1e3 * std::max(1.0, glm::length(cam.position - cam.lookAt));
+  for (const DirectionalLight& l : scene.directionalLights)
+    out << "light_source { " << vec(far * glm::normalize(l.direction)) << " color "
+        << rgb(l.irradiance / kPi) << " parallel point_at <0, 0, 0> }\n";
+  if (!scene.pointLights.empty()) throw std::runtime_error("POV-Ray export: point lights are not exported");
+  auto texture = [&](int m) {
+    const Material& mat = scene.materials.at(m);
+    if (mat.type != MaterialType::Diffuse || mat.texture)
+      throw std::runtime_error("POV-Ray export: untextured diffuse materials only");
+    return "pigment { color " + rgb(mat.color) + " } " + finish(env.r);
+  };
+  for (const SurfaceItem& item : scene.surfaces) {
+    const auto* clip = std::get_if<ClipSphere>(&item.clip);
+    if (!clip || item.transform != glm::dmat4(1.0))
+      throw std::runtime_error("POV-Ray export: surfaces need a clip sphere and no transform");
+    const Polynomial& p = item.polynomial;
+    int n = p.degree();
+    out << "polynomial { " << n;
+    for (int d = n; d >= 0; --d)
+      for (int i = d; i >= 0; --i)
+        for (int j = d - i; j >= 0; --j) {
+          int k = d - i - j;
+          double c = p.coeff(i, j, k);
+          if (c != 0) out << ",\n  xyz(" << i << ", " << j << ", " << k << "): " << c;
+        }
+    out << "\n  " << (sturm ? "sturm\n  " : "") << "clipped_by { sphere { " << vec(clip->center) << ", "
+        << clip->radius << " } }\n  bounded_by { clipped_by }\n";
+    out << "  texture { " << texture(item.material) << " }\n";
+    if (item.backMaterial >= 0) out << "  interior_texture { " << texture(item.backMaterial) << " }\n";
+    out << "}\n";
+  }
+  for (const MeshItem& m : scene.meshes) {
+    // Only flat floors (planes from makePlane) are exported, as infinite planes.
+    glm::dvec3 n = glm::normalize(glm::dvec3(m.transform * glm::dvec4(0, 0, 1, 0)));
+    glm::dvec3 o(m.transform * glm::dvec4(0, 0, 0, 1));
+    if (m.mesh.triangles.size() != 2) throw std::runtime_error("POV-Ray export: meshes other than planes");
+    out << "plane { " << vec(n) << ", " << glm::dot(n, o) << " texture { " << texture(m.material) << " } }\n";
+  }
+  return out.str();
+}
+
+}  // namespace algray::render

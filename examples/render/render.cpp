@@ -1,0 +1,157 @@
+#include "render.h"
+
+#include "integrator.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace algray::render {
+
+void Image::resize(int w, int h) {
+  width = w;
+  height = h;
+  auto n = static_cast<size_t>(w) * h;
+  color.assign(n, glm::vec3(0.0f));
+  depth.assign(n, 0.0f);
+  normal.assign(n, glm::vec3(0.0f));
+  albedo.assign(n, glm::vec3(0.0f));
+  id.assign(n, 0.0f);
+}
+
+namespace {
+
+constexpr int kTile = 16;
+
+void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, int y,
+                 RayCounter& counter) {
+  const RenderSettings& s = scene.desc().settings;
+  auto pixel = static_cast<size_t>(y) * image.width + x;
+  Rng rng(pixel, s.seed);
+  glm::dvec3 sum(0.0), normal(0.0), albedo(0.0);
+  double depth = 0, id = 0;
+  for (int i = 0; i < s.spp; ++i) {
+    // One sample per pixel looks through the pixel centre (comparable with POV-Ray).
+    glm::dvec2 jitter = rng.uniform2();
+    if (s.spp == 1) jitter = {0.5, 0.5};
+    glm::dvec2 lens = rng.uniform2();
+    CameraRay ray = camera.generateRay({x + jitter.x, y + jitter.y}, lens);
+    SampleAov aov;
+    glm::dvec3 L = s.integrator == IntegratorType::Path ? tracePath(scene, ray, rng, aov, counter)
+                                                         : traceDirect(scene, ray, rng, aov, counter);
+    // A non-finite sample (should not happen) must not poison the pixel.
+    if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) sum += L;
+    depth += aov.depth;
+    normal += aov.normal;
+    albedo += aov.albedo;
+    if (i == 0) id = aov.id;
+  }
+  double inv = 1.0 / s.spp;
+  image.color[pixel] = glm::vec3(sum * inv);
+  image.depth[pixel] = static_cast<float>(depth * inv);
+  double nl = std::sqrt(normal.x * normal.x + normal.y * normal.y + normal.z * normal.z);
+  image.normal[pixel] = nl > 0 ? glm::vec3(normal / nl) : glm::vec3(0.0f);
+  image.albedo[pixel] = glm::vec3(albedo * inv);
+  image.id[pixel] = static_cast<float>(id);
+}
+
+// "[#####.....]  42%  1.2 Mrays/s  ETA 3s" on one terminal line.
+void drawProgress(int done, int total, double seconds, std::uint64_t rays) {
+  const int width = 30;
+  int filled = total > 0 ? done * width / total : width;
+  char bar[width + 1];
+  for (int i = 0; i < width; ++i) bar[i] = i < filled ? '#' : '.';
+  bar[width] = 0;
+  double rate = seconds > 0 ? rays / seconds : 0;
+  double eta = done > 0 ? seconds * (total - done) / done : 0;
+  std::fprintf(stderr, "\r[%s] %3d%%  %6.2f Mrays/s  ETA %4.0fs ", bar, total ? 100 * done / total : 100,
+               rate * 1e-6, eta);
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+RenderStats render(const Scene& scene, Image& image, const RenderOptions& options) {
+  const RenderSettings& s = scene.desc().settings;
+  image.resize(s.width, s.height);
+  Camera camera(scene.desc().camera, s.width, s.height);
+  int tilesX = (s.width + kTile - 1) / kTile, tilesY = (s.height + kTile - 1) / kTile;
+  RenderStats stats;
+  stats.tilesTotal = tilesX * tilesY;
+
+  std::unique_ptr<tbb::global_control> limit;
+  if (s.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  static_cast<size_t>(s.threads));
+  tbb::enumerable_thread_specific<RayCounter> counters;
+  std::atomic<int> tilesDone{0};
+  std::atomic<bool> interrupted{false};
+  auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+
+  // ---- Progress monitor: a thread that redraws the bar five times a second ----------
+  std::mutex mutex;
+  std::condition_variable wake;
+  bool finished = false;
+  std::thread monitor;
+  if (options.progress) {
+    monitor = std::thread([&] {
+      std::unique_lock lock(mutex);
+      while (!wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished; })) {
+        std::uint64_t rays = 0;
+        for (const RayCounter& c : counters) rays += c.rays;  // racy read, display only
+        drawProgress(tilesDone.load(), stats.tilesTotal, elapsed(), rays);
+      }
+    });
+  }
+
+  // ---- Tiles ---------------------------------------------------------------------------
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, stats.tilesTotal, 1),
+      [&](const tbb::blocked_range<int>& range) {
+        RayCounter& counter = counters.local();
+        for (int tile = range.begin(); tile != range.end(); ++tile) {
+          if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+            interrupted = true;
+            return;
+          }
+          int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
+          for (int y = y0; y < std::min(y0 + kTile, s.height); ++y)
+            for (int x = x0; x < std::min(x0 + kTile, s.width); ++x)
+              renderPixel(scene, camera, image, x, y, counter);
+          ++tilesDone;
+        }
+      },
+      tbb::simple_partitioner());
+
+  if (monitor.joinable()) {
+    {
+      std::lock_guard lock(mutex);
+      finished = true;
+    }
+    wake.notify_all();
+    monitor.join();
+  }
+  stats.seconds = elapsed();
+  for (const RayCounter& c : counters) stats.rays += c.rays;
+  stats.tilesDone = tilesDone.load();
+  stats.interrupted = interrupted.load();
+  if (options.progress) {
+    drawProgress(stats.tilesDone, stats.tilesTotal, stats.seconds, stats.rays);
+    std::fputc('\n', stderr);
+  }
+  return stats;
+}
+
+}  // namespace algray::render

@@ -1,0 +1,461 @@
+#include "scene_json.h"
+
+#include "json_locate.h"
+
+#include <algray/gallery.h>
+#include <algray/parser.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace algray::render {
+
+SceneError::SceneError(const std::string& file, int line, int column, const std::string& message)
+    : std::runtime_error(line > 0 ? file + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                                        ": " + message
+                                  : file + ": " + message),
+      file_(file),
+      line_(line),
+      column_(column),
+      message_(message) {}
+
+namespace {
+
+using nlohmann::json;
+
+// Walks the parsed document; every accessor knows the JSON pointer of its value so that
+// errors point into the text.
+class Loader {
+ public:
+  Loader(std::string_view text, std::string name, std::filesystem::path baseDir)
+      : text_(text), name_(std::move(name)), baseDir_(std::move(baseDir)) {}
+
+  SceneDesc load() {
+    try {
+      root_ = json::parse(text_.begin(), text_.end());
+    } catch (const json::parse_error& e) {
+      // e.byte is the 1-based index of the character where parsing failed.
+      TextLocation loc = locateOffset(text_, e.byte > 0 ? e.byte - 1 : 0);
+      std::string what = e.what();
+      auto colon = what.find(": ", what.find("parse error"));
+      throw SceneError(name_, loc.line, loc.column,
+                       colon == std::string::npos ? what : what.substr(colon + 2));
+    }
+    offsets_ = locateJsonValues(text_);
+    SceneDesc scene;
+    scene.name = name_;
+    if (!root_.is_object()) fail("", "a scene is a JSON object");
+    allowKeys(root_, "", {"render", "camera", "materials", "environment", "background", "surfaces",
+                          "meshes", "lights", "description"});
+    if (root_.contains("render")) readRender(root_["render"], "/render", scene.settings);
+    if (root_.contains("camera")) readCamera(root_["camera"], "/camera", scene.camera);
+    if (root_.contains("materials")) {
+      const json& ms = root_["materials"];
+      if (!ms.is_object()) fail("/materials", "materials is an object of named materials");
+      for (auto it = ms.begin(); it != ms.end(); ++it)
+        named_[it.key()] = scene.addMaterial(readMaterial(it.value(), "/materials/" + it.key()));
+    }
+    if (root_.contains("environment")) readEnvironment(root_["environment"], "/environment", scene);
+    if (root_.contains("background")) {
+      scene.hasBackground = true;
+      scene.background = color(root_["background"], "/background");
+    }
+    if (root_.contains("surfaces")) {
+      const json& list = array(root_["surfaces"], "/surfaces");
+      for (size_t i = 0; i < list.size(); ++i) readSurface(list[i], "/surfaces/" + std::to_string(i), scene);
+    }
+    if (root_.contains("meshes")) {
+      const json& list = array(root_["meshes"], "/meshes");
+      for (size_t i = 0; i < list.size(); ++i) readMesh(list[i], "/meshes/" + std::to_string(i), scene);
+    }
+    if (root_.contains("lights")) {
+      const json& list = array(root_["lights"], "/lights");
+      for (size_t i = 0; i < list.size(); ++i) readLight(list[i], "/lights/" + std::to_string(i), scene);
+    }
+    return scene;
+  }
+
+ private:
+  // ---- Errors with positions ---------------------------------------------------------
+  [[noreturn]] void fail(const std::string& pointer, const std::string& message, int extraColumns = 0) const {
+    auto it = offsets_.find(pointer);
+    if (it == offsets_.end()) throw SceneError(name_, 0, 0, (pointer.empty() ? "" : pointer + ": ") + message);
+    TextLocation loc = locateOffset(text_, it->second);
+    throw SceneError(name_, loc.line, loc.column + extraColumns, message);
+  }
+  void allowKeys(const json& j, const std::string& p, std::initializer_list<const char*> keys) const {
+    std::set<std::string> allowed(keys.begin(), keys.end());
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!allowed.count(it.key())) fail(p + "/" + it.key(), "unknown key '" + it.key() + "'");
+  }
+  const json& object(const json& j, const std::string& p) const {
+    if (!j.is_object()) fail(p, "expected an object");
+    return j;
+  }
+  const json& array(const json& j, const std::string& p) const {
+    if (!j.is_array()) fail(p, "expected an array");
+    return j;
+  }
+  double number(const json& j, const std::string& p) const {
+    if (!j.is_number()) fail(p, "expected a number");
+    double v = j.get<double>();
+    if (!std::isfinite(v)) fail(p, "expected a finite number");
+    return v;
+  }
+  double positive(const json& j, const std::string& p) const {
+    double v = number(j, p);
+    if (!(v > 0)) fail(p, "expected a positive number");
+    return v;
+  }
+  int integer(const json& j, const std::string& p, int lo, int hi) const {
+    if (!j.is_number_integer()) fail(p, "expected an integer");
+    auto v = j.get<long long>();
+    if (v < lo || v > hi) fail(p, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return static_cast<int>(v);
+  }
+  std::string string(const json& j, const std::string& p) const {
+    if (!j.is_string()) fail(p, "expected a string");
+    return j.get<std::string>();
+  }
+  glm::dvec3 vec3(const json& j, const std::string& p) const {
+    if (!j.is_array() || j.size() != 3) fail(p, "expected an array of 3 numbers");
+    return {number(j[0], p + "/0"), number(j[1], p + "/1"), number(j[2], p + "/2")};
+  }
+  // A colour: [r, g, b] or one number for grey; never negative.
+  glm::dvec3 color(const json& j, const std::string& p) const {
+    glm::dvec3 c = j.is_number() ? glm::dvec3(number(j, p)) : vec3(j, p);
+    if (c.r < 0 || c.g < 0 || c.b < 0) fail(p, "colour components must not be negative");
+    return c;
+  }
+  std::string path(const json& j, const std::string& p) const {
+    std::filesystem::path file = string(j, p);
+    if (file.is_relative()) file = baseDir_ / file;
+    if (!std::filesystem::exists(file)) fail(p, "no such file '" + file.string() + "'");
+    return file.string();
+  }
+
+  // ---- Sections ----------------------------------------------------------------------
+  void readRender(const json& j, const std::string& p, RenderSettings& s) const {
+    object(j, p);
+    allowKeys(j, p, {"width", "height", "spp", "max_depth", "integrator", "seed", "exposure", "tone_map", "threads", "clamp"});
+    if (j.contains("width")) s.width = integer(j["width"], p + "/width", 1, 1 << 15);
+    if (j.contains("height")) s.height = integer(j["height"], p + "/height", 1, 1 << 15);
+    if (j.contains("spp")) s.spp = integer(j["spp"], p + "/spp", 1, 1 << 20);
+    if (j.contains("max_depth")) s.maxDepth = integer(j["max_depth"], p + "/max_depth", 0, 1000);
+    if (j.contains("threads")) s.threads = integer(j["threads"], p + "/threads", 0, 1024);
+    if (j.contains("seed")) s.seed = static_cast<std::uint64_t>(integer(j["seed"], p + "/seed", 0, 1 << 30));
+    if (j.contains("exposure")) s.exposure = number(j["exposure"], p + "/exposure");
+    if (j.contains("clamp")) {
+      s.clampIndirect = number(j["clamp"], p + "/clamp");
+      if (s.clampIndirect < 0) fail(p + "/clamp", "clamp must not be negative (0 = off)");
+    }
+    if (j.contains("integrator")) {
+      std::string v = string(j["integrator"], p + "/integrator");
+      if (v == "path") s.integrator = IntegratorType::Path;
+      else if (v == "direct") s.integrator = IntegratorType::Direct;
+      else fail(p + "/integrator", "integrator must be \"path\" or \"direct\"");
+    }
+    if (j.contains("tone_map")) {
+      std::string v = string(j["tone_map"], p + "/tone_map");
+      if (v == "aces") s.toneMap = ToneMap::Aces;
+      else if (v == "clamp") s.toneMap = ToneMap::Clamp;
+      else fail(p + "/tone_map", "tone_map must be \"aces\" or \"clamp\"");
+    }
+  }
+
+  void readCamera(const json& j, const std::string& p, CameraDesc& c) const {
+    object(j, p);
+    allowKeys(j, p, {"type", "position", "look_at", "up", "fov", "height", "aperture", "focus_distance"});
+    if (j.contains("type")) {
+      std::string v = string(j["type"], p + "/type");
+      if (v == "perspective") c.type = CameraDesc::Type::Perspective;
+      else if (v == "orthographic") c.type = CameraDesc::Type::Orthographic;
+      else fail(p + "/type", "camera type must be \"perspective\" or \"orthographic\"");
+    }
+    if (j.contains("position")) c.position = vec3(j["position"], p + "/position");
+    if (j.contains("look_at")) c.lookAt = vec3(j["look_at"], p + "/look_at");
+    if (j.contains("up")) c.up = vec3(j["up"], p + "/up");
+    if (j.contains("fov")) {
+      c.fovY = number(j["fov"], p + "/fov");
+      if (!(c.fovY > 0 && c.fovY < 180)) fail(p + "/fov", "fov must be in (0, 180) degrees");
+    }
+    if (j.contains("height")) c.height = positive(j["height"], p + "/height");
+    if (j.contains("aperture")) c.aperture = number(j["aperture"], p + "/aperture");
+    if (j.contains("focus_distance")) c.focusDistance = positive(j["focus_distance"], p + "/focus_distance");
+    if (c.aperture < 0) fail(p + "/aperture", "aperture must not be negative");
+    if (c.position == c.lookAt) fail(p, "camera position and look_at coincide");
+  }
+
+  Material readMaterial(const json& j, const std::string& p) const {
+    object(j, p);
+    allowKeys(j, p, {"type", "color", "roughness", "ior", "emission", "texture"});
+    Material m;
+    std::string type = j.contains("type") ? string(j["type"], p + "/type") : "diffuse";
+    if (type == "diffuse") m.type = MaterialType::Diffuse;
+    else if (type == "conductor") m.type = MaterialType::Conductor;
+    else if (type == "dielectric") m.type = MaterialType::Dielectric, m.color = glm::dvec3(1.0);
+    else if (type == "emissive") m.type = MaterialType::Emissive;
+    else fail(p + "/type", "material type must be diffuse, conductor, dielectric or emissive");
+    if (j.contains("color")) m.color = color(j["color"], p + "/color");
+    if (j.contains("roughness")) {
+      m.roughness = number(j["roughness"], p + "/roughness");
+      if (m.roughness < 0 || m.roughness > 1) fail(p + "/roughness", "roughness must be in [0, 1]");
+    }
+    if (j.contains("ior")) m.ior = positive(j["ior"], p + "/ior");
+    if (j.contains("emission")) m.emission = color(j["emission"], p + "/emission");
+    if (m.type == MaterialType::Emissive && !j.contains("emission")) fail(p, "an emissive material needs \"emission\"");
+    if (j.contains("texture")) {
+      std::string file = path(j["texture"], p + "/texture");
+      try {
+        m.texture = Texture::load(file);
+      } catch (const std::exception& e) {
+        fail(p + "/texture", e.what());
+      }
+    }
+    return m;
+  }
+
+  // "material": a name from "materials" or an inline material object.
+  int materialRef(const json& j, const std::string& p, SceneDesc& scene) const {
+    if (j.is_string()) {
+      auto it = named_.find(j.get<std::string>());
+      if (it == named_.end()) fail(p, "unknown material '" + j.get<std::string>() + "'");
+      return it->second;
+    }
+    return scene.addMaterial(readMaterial(j, p));
+  }
+
+  void readEnvironment(const json& j, const std::string& p, SceneDesc& scene) const {
+    object(j, p);
+    allowKeys(j, p, {"color", "image", "rotation"});
+    scene.environment.color = j.contains("color") ? color(j["color"], p + "/color") : glm::dvec3(1.0);
+    if (j.contains("image")) {
+      scene.environment.image = path(j["image"], p + "/image");
+      try {
+        Texture::load(scene.environment.image);  // fail here, with a position
+      } catch (const std::exception& e) {
+        fail(p + "/image", e.what());
+      }
+    }
+    if (j.contains("rotation")) scene.environment.rotation = number(j["rotation"], p + "/rotation");
+  }
+
+  // transform: {"translate": [..], "rotate": [x, y, z] degrees (about x, then y, then z),
+  // "scale": s or [sx, sy, sz], "matrix": 16 numbers row-major}; M = T R S or the matrix.
+  glm::dmat4 readTransform(const json& j, const std::string& p) const {
+    object(j, p);
+    allowKeys(j, p, {"translate", "rotate", "scale", "matrix"});
+    if (j.contains("matrix")) {
+      const json& m = j["matrix"];
+      if (!m.is_array() || m.size() != 16) fail(p + "/matrix", "expected 16 numbers (row-major 4x4)");
+      if (j.size() > 1) fail(p + "/matrix", "\"matrix\" excludes translate/rotate/scale");
+      glm::dmat4 r(1.0);
+      for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) r[col][row] = number(m[row * 4 + col], p + "/matrix/" + std::to_string(row * 4 + col));
+      if (r[0][3] != 0 || r[1][3] != 0 || r[2][3] != 0 || r[3][3] != 1) fail(p + "/matrix", "the matrix must be affine (last row 0 0 0 1)");
+      if (glm::determinant(glm::dmat3(r)) == 0) fail(p + "/matrix", "the matrix is singular");
+      return r;
+    }
+    glm::dmat4 m(1.0);
+    if (j.contains("translate")) m = glm::translate(m, vec3(j["translate"], p + "/translate"));
+    if (j.contains("rotate")) {
+      glm::dvec3 r = glm::radians(vec3(j["rotate"], p + "/rotate"));
+      m = glm::rotate(m, r.z, glm::dvec3(0, 0, 1));
+      m = glm::rotate(m, r.y, glm::dvec3(0, 1, 0));
+      m = glm::rotate(m, r.x, glm::dvec3(1, 0, 0));
+    }
+    if (j.contains("scale")) {
+      const json& s = j["scale"];
+      glm::dvec3 v = s.is_number() ? glm::dvec3(number(s, p + "/scale")) : vec3(s, p + "/scale");
+      if (v.x == 0 || v.y == 0 || v.z == 0) fail(p + "/scale", "scale must not be zero");
+      m = glm::scale(m, v);
+    }
+    return m;
+  }
+
+  ClipRegion readClip(const json& j, const std::string& p) const {
+    object(j, p);
+    allowKeys(j, p, {"sphere", "box"});
+    if (j.contains("sphere")) {
+      const json& s = object(j["sphere"], p + "/sphere");
+      allowKeys(s, p + "/sphere", {"center", "radius"});
+      ClipSphere c;
+      if (s.contains("center")) c.center = vec3(s["center"], p + "/sphere/center");
+      if (!s.contains("radius")) fail(p + "/sphere", "a clip sphere needs \"radius\"");
+      c.radius = positive(s["radius"], p + "/sphere/radius");
+      return c;
+    }
+    if (j.contains("box")) {
+      const json& b = object(j["box"], p + "/box");
+      allowKeys(b, p + "/box", {"min", "max"});
+      if (!b.contains("min") || !b.contains("max")) fail(p + "/box", "a clip box needs \"min\" and \"max\"");
+      ClipBox c{vec3(b["min"], p + "/box/min"), vec3(b["max"], p + "/box/max")};
+      if (!(c.lo.x < c.hi.x && c.lo.y < c.hi.y && c.lo.z < c.hi.z)) fail(p + "/box", "clip box min must be below max");
+      return c;
+    }
+    fail(p, "clip needs \"sphere\" or \"box\"");
+  }
+
+  void readSurface(const json& j, const std::string& p, SceneDesc& scene) const {
+    object(j, p);
+    allowKeys(j, p, {"equation", "gallery", "parameters", "clip", "transform", "material", "back_material", "name"});
+    SurfaceItem item;
+    bool hasClip = false;
+    if (j.contains("gallery") == j.contains("equation")) fail(p, "a surface needs exactly one of \"equation\" and \"gallery\"");
+    if (j.contains("gallery")) {
+      std::string name = string(j["gallery"], p + "/gallery");
+      const GallerySurface* g = findGallerySurface(name);
+      if (!g) {
+        std::string known;
+        for (const GallerySurface& s : gallery()) known += (known.empty() ? "" : ", ") + std::string(s.name);
+        fail(p + "/gallery", "no gallery surface '" + name + "' (known: " + known + ")");
+      }
+      if (j.contains("parameters")) fail(p + "/parameters", "gallery surfaces take no parameters");
+      item.polynomial = g->build();
+      item.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
+      hasClip = true;
+      item.label = name_ + ": gallery surface '" + name + "'";
+    } else {
+      ParseOptions options;
+      if (j.contains("parameters")) {
+        const json& params = object(j["parameters"], p + "/parameters");
+        for (auto it = params.begin(); it != params.end(); ++it)
+          options.parameters[it.key()] = number(it.value(), p + "/parameters/" + it.key());
+      }
+      std::string text = string(j["equation"], p + "/equation");
+      try {
+        item.polynomial = parsePolynomial(text, options);
+      } catch (const ParseError& e) {
+        // +1 for the opening quote; exact when the string has no escapes.
+        fail(p + "/equation", e.message(), e.column());
+      } catch (const std::exception& e) {
+        fail(p + "/equation", e.what());
+      }
+      item.label = name_ + ": surface " + text;
+    }
+    if (j.contains("name")) item.label = name_ + ": surface '" + string(j["name"], p + "/name") + "'";
+    if (j.contains("clip")) {
+      item.clip = readClip(j["clip"], p + "/clip");
+      hasClip = true;
+    }
+    if (!hasClip) fail(p, "an equation surface needs a \"clip\" region (algebraic surfaces are often unbounded)");
+    if (j.contains("transform")) item.transform = readTransform(j["transform"], p + "/transform");
+    item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene) : defaultMaterial(scene);
+    if (j.contains("back_material")) item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
+    scene.surfaces.push_back(std::move(item));
+  }
+
+  void readMesh(const json& j, const std::string& p, SceneDesc& scene) const {
+    object(j, p);
+    allowKeys(j, p, {"obj", "shape", "size", "subdivisions", "transform", "material", "back_material", "name", "uv_scale"});
+    MeshItem item;
+    if (j.contains("obj") == j.contains("shape")) fail(p, "a mesh needs exactly one of \"obj\" and \"shape\"");
+    if (j.contains("obj")) {
+      std::string file = path(j["obj"], p + "/obj");
+      try {
+        item.mesh = loadObj(file);
+      } catch (const std::exception& e) {
+        fail(p + "/obj", e.what());
+      }
+      item.label = name_ + ": mesh " + file;
+    } else {
+      std::string shape = string(j["shape"], p + "/shape");
+      double size = j.contains("size") ? positive(j["size"], p + "/size") : 1.0;
+      if (shape == "plane") {
+        double uvScale = j.contains("uv_scale") ? positive(j["uv_scale"], p + "/uv_scale") : 1.0;
+        item.mesh = makePlane(size, uvScale);
+      } else if (shape == "box") {
+        item.mesh = makeBox(glm::dvec3(size));
+      } else if (shape == "icosphere") {
+        int sub = j.contains("subdivisions") ? integer(j["subdivisions"], p + "/subdivisions", 0, 7) : 4;
+        item.mesh = makeIcosphere(sub);
+        for (glm::dvec3& v : item.mesh.positions) v *= size;
+      } else {
+        fail(p + "/shape", "shape must be plane, box or icosphere");
+      }
+      item.label = name_ + ": mesh " + shape;
+    }
+    if (j.contains("name")) item.label = name_ + ": mesh '" + string(j["name"], p + "/name") + "'";
+    if (j.contains("transform")) item.transform = readTransform(j["transform"], p + "/transform");
+    item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene) : defaultMaterial(scene);
+    if (j.contains("back_material")) item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
+    scene.meshes.push_back(std::move(item));
+  }
+
+  void readLight(const json& j, const std::string& p, SceneDesc& scene) const {
+    object(j, p);
+    if (!j.contains("type")) fail(p, "a light needs \"type\" (point, directional, quad, sphere)");
+    std::string type = string(j["type"], p + "/type");
+    if (type == "point") {
+      allowKeys(j, p, {"type", "position", "intensity"});
+      if (!j.contains("position")) fail(p, "a point light needs \"position\"");
+      scene.pointLights.push_back({vec3(j["position"], p + "/position"),
+                                   j.contains("intensity") ? color(j["intensity"], p + "/intensity") : glm::dvec3(1.0)});
+    } else if (type == "directional") {
+      allowKeys(j, p, {"type", "direction", "irradiance"});
+      if (!j.contains("direction")) fail(p, "a directional light needs \"direction\" (towards the light)");
+      glm::dvec3 d = vec3(j["direction"], p + "/direction");
+      if (d == glm::dvec3(0.0)) fail(p + "/direction", "direction must not be zero");
+      scene.directionalLights.push_back({d, j.contains("irradiance") ? color(j["irradiance"], p + "/irradiance") : glm::dvec3(1.0)});
+    } else if (type == "quad" || type == "sphere") {
+      // Area lights are emissive meshes: found by light sampling and by BSDF rays.
+      Material m;
+      m.type = MaterialType::Emissive;
+      if (!j.contains("radiance")) fail(p, "an area light needs \"radiance\"");
+      MeshItem item;
+      if (type == "quad") {
+        allowKeys(j, p, {"type", "corner", "edge1", "edge2", "radiance"});
+        for (const char* k : {"corner", "edge1", "edge2"})
+          if (!j.contains(k)) fail(p, std::string("a quad light needs \"") + k + "\"");
+        item.mesh = makeQuad(vec3(j["corner"], p + "/corner"), vec3(j["edge1"], p + "/edge1"), vec3(j["edge2"], p + "/edge2"));
+      } else {
+        allowKeys(j, p, {"type", "center", "radius", "radiance"});
+        if (!j.contains("center") || !j.contains("radius")) fail(p, "a sphere light needs \"center\" and \"radius\"");
+        item.mesh = makeIcosphere(3);
+        item.transform = glm::scale(glm::translate(glm::dmat4(1.0), vec3(j["center"], p + "/center")),
+                                    glm::dvec3(positive(j["radius"], p + "/radius")));
+      }
+      m.emission = color(j["radiance"], p + "/radiance");
+      item.material = scene.addMaterial(m);
+      item.label = name_ + ": " + type + " light";
+      scene.meshes.push_back(std::move(item));
+    } else {
+      fail(p + "/type", "light type must be point, directional, quad or sphere");
+    }
+  }
+
+  int defaultMaterial(SceneDesc& scene) const {
+    if (defaultMaterial_ < 0) defaultMaterial_ = scene.addMaterial(Material{});
+    return defaultMaterial_;
+  }
+
+  std::string_view text_;
+  std::string name_;
+  std::filesystem::path baseDir_;
+  json root_;
+  std::map<std::string, size_t> offsets_;
+  std::map<std::string, int> named_;
+  mutable int defaultMaterial_ = -1;
+};
+
+}  // namespace
+
+SceneDesc loadSceneText(std::string_view text, const std::string& name,
+                        const std::filesystem::path& baseDir) {
+  return Loader(text, name, baseDir).load();
+}
+
+SceneDesc loadSceneFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path.string(), 0, 0, "cannot open the scene file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return loadSceneText(buffer.str(), path.string(), path.parent_path());
+}
+
+}  // namespace algray::render

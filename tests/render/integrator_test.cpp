@@ -1,0 +1,136 @@
+// Light transport checks against closed forms:
+//  * white furnace: a surface of albedo 1 inside a uniform environment of radiance Le
+//    reflects exactly Le, whatever its shape (all light is eventually reflected out);
+//    with albedo a < 1 a convex surface reflects a * Le (one bounce, nothing else seen);
+//  * the same image for 1 and 2 threads (per-pixel random streams).
+#include "render.h"
+#include "scene.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algray/gallery.h>
+
+#include <cmath>
+
+namespace algray::render {
+namespace {
+
+SceneDesc furnace(double albedo) {
+  SceneDesc s;
+  s.settings.width = 24;
+  s.settings.height = 24;
+  s.settings.spp = 48;
+  s.settings.maxDepth = 200;
+  s.camera.position = {0, -5, 0.5};
+  s.camera.lookAt = {0, 0, 0};
+  s.camera.fovY = 30;
+  s.environment.color = glm::dvec3(0.7);
+  Material m;
+  m.color = glm::dvec3(albedo);
+  s.addMaterial(m);
+  return s;
+}
+
+// Mean radiance over the pixels whose camera rays hit something, and how many. Pixels
+// next to the outline are left out: some of their samples see the background.
+std::pair<glm::dvec3, int> meanOverHits(const SceneDesc& desc) {
+  Scene scene(desc);
+  Image image;
+  render(scene, image);
+  glm::dvec3 sum(0.0);
+  int n = 0;
+  const int w = image.width, h = image.height;
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      auto at = [&](int dx, int dy) { return image.id[(y + dy) * w + x + dx] > 0; };
+      if (at(0, 0) && at(1, 0) && at(-1, 0) && at(0, 1) && at(0, -1))
+        sum += glm::dvec3(image.color[y * w + x]), ++n;
+    }
+  return {n ? sum / static_cast<double>(n) : sum, n};
+}
+
+void addSurface(SceneDesc& s, const char* name) {
+  const GallerySurface* g = findGallerySurface(name);
+  ASSERT_NE(g, nullptr) << name;
+  SurfaceItem item;
+  item.label = name;
+  item.polynomial = g->build();
+  item.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
+  item.transform = glm::scale(glm::rotate(glm::dmat4(1.0), 0.6, glm::dvec3(1, 0, 0)), glm::dvec3(1.0 / g->clipRadius));
+  s.surfaces.push_back(item);
+}
+
+TEST(WhiteFurnace, AlgebraicTorusReturnsTheEnvironment) {
+  SceneDesc s = furnace(1.0);
+  addSurface(s, "torus");  // not convex: inter-reflections must add up to Le
+  auto [mean, hits] = meanOverHits(s);
+  ASSERT_GT(hits, 50);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], 0.7, 0.7 * 0.02);
+}
+
+TEST(WhiteFurnace, AlgebraicSurfaceOfHigherDegree) {
+  SceneDesc s = furnace(1.0);
+  addSurface(s, "heart");  // degree 6, closed
+  s.settings.spp = 24;
+  auto [mean, hits] = meanOverHits(s);
+  ASSERT_GT(hits, 50);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], 0.7, 0.7 * 0.03);
+}
+
+TEST(WhiteFurnace, MeshIcosphereReturnsTheEnvironment) {
+  SceneDesc s = furnace(1.0);
+  s.meshes.push_back({"icosphere", makeIcosphere(3), glm::dmat4(1.0), 0, -1});
+  auto [mean, hits] = meanOverHits(s);
+  ASSERT_GT(hits, 50);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], 0.7, 0.7 * 0.02);
+}
+
+TEST(WhiteFurnace, GreyConvexSurfaceReflectsAlbedoTimesEnvironment) {
+  for (IntegratorType type : {IntegratorType::Path, IntegratorType::Direct}) {
+    SceneDesc s = furnace(0.5);
+    s.settings.integrator = type;
+    addSurface(s, "sphere");
+    auto [mean, hits] = meanOverHits(s);
+    ASSERT_GT(hits, 50);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], 0.35, 0.35 * 0.02);
+  }
+}
+
+TEST(Determinism, SameImageForOneAndTwoThreads) {
+  SceneDesc s = furnace(0.8);
+  addSurface(s, "torus");
+  s.meshes.push_back({"floor", makePlane(5.0), glm::translate(glm::dmat4(1.0), {0, 0, -0.6}), 0, -1});
+  s.pointLights.push_back({{1, -2, 3}, glm::dvec3(10.0)});
+  s.settings.spp = 4;
+  s.settings.maxDepth = 5;
+  Image images[2];
+  for (int t = 0; t < 2; ++t) {
+    s.settings.threads = t + 1;
+    Scene scene(s);
+    render(scene, images[t]);
+  }
+  ASSERT_EQ(images[0].color.size(), images[1].color.size());
+  int differing = 0;
+  for (size_t i = 0; i < images[0].color.size(); ++i) differing += images[0].color[i] != images[1].color[i];
+  EXPECT_EQ(differing, 0);
+  // And the picture is not trivially constant (the test could fail).
+  EXPECT_NE(images[0].color.front(), images[0].color[images[0].color.size() / 2]);
+}
+
+TEST(Cancel, StopsAndReportsInterruption) {
+  SceneDesc s = furnace(0.8);
+  addSurface(s, "sphere");
+  std::atomic<bool> cancel{true};
+  Scene scene(s);
+  Image image;
+  RenderOptions options;
+  options.cancel = &cancel;
+  RenderStats stats = render(scene, image, options);
+  EXPECT_TRUE(stats.interrupted);
+  EXPECT_LT(stats.tilesDone, stats.tilesTotal);
+}
+
+}  // namespace
+}  // namespace algray::render
