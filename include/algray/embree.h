@@ -25,7 +25,11 @@
 // Double precision: Embree rays are float. A host that wants double-precision rays and
 // hits (algray-query, the accuracy benchmarks) passes an algray::IntersectContext to
 // rtcIntersect1/rtcOccluded1; the callbacks then read the double ray and write the double
-// hit. A plain RTCIntersectContext works as usual.
+// hit. A plain RTCIntersectContext works as usual. The context is recognised by its
+// filter pointer; Embree 3.13 calls (and asserts the scene flag for) a non-null context
+// filter on its own geometry types, so a scene that mixes algray surfaces with
+// triangles, curves, ... and is traced with an algray::IntersectContext must have
+// RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION set (scenes of algray surfaces only need not).
 #include "algray/polynomial.h"
 #include "algray/roots.h"
 
@@ -51,10 +55,12 @@ using ClipRegion = std::variant<ClipSphere, ClipBox>;
 struct SurfaceOptions {
   RootOptions roots;
   bool useCells = true;       // split the clip region into cells the surface may cross
-  int cellDepth = -1;         // -1: chosen automatically per surface
+  int cellDepth = -1;         // -1: chosen automatically per surface (cells.h), at most
+                              // 4096 cells (the adapter's cap)
   bool originCache = true;    // per-thread expansion about the last ray origin
   bool recentre = true;       // expand far rays about their closest point to the clip
-  bool singlePrecision = false;  // float restriction and solver (comparison only)
+  bool singlePrecision = false;  // float solver for the first root (comparison only; the
+                                 // restriction and later roots stay double)
 };
 
 struct SurfaceDesc {
@@ -120,6 +126,11 @@ struct IntersectContext {
   const RayD* ray = nullptr;
   HitD* hit = nullptr;
   RTCFilterFunctionN hostFilter = nullptr;  // the host's context filter, chained
+  // The float ray of makeRayHit is the double ray re-parametrised when its origin or
+  // direction is beyond what Embree accepts (|component| > 1e17): t = floatShift +
+  // floatScale * t_float. Set by initIntersectContext from the same ray.
+  double floatShift = 0;
+  double floatScale = 1;
 };
 // Initialises base (rtcInitIntersectContext) and marks the context as algray's.
 void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit);

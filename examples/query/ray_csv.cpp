@@ -1,0 +1,112 @@
+#include "ray_csv.h"
+
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <istream>
+#include <ostream>
+#include <string_view>
+
+namespace algray::query {
+
+namespace {
+
+constexpr std::array<std::string_view, 8> kColumns = {"ox", "oy", "oz", "dx", "dy", "dz", "tnear", "tfar"};
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> fields;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = line.find(',', start);
+    fields.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+[[noreturn]] void fail(const std::string& name, long line, const std::string& message) {
+  throw CsvError(name + ":" + std::to_string(line) + ": " + message);
+}
+
+}  // namespace
+
+std::vector<RayD> readRays(std::istream& in, const std::string& name) {
+  std::string text;
+  long lineNo = 0;
+  // ---- Header: map each required column to its field index --------------------------
+  std::array<int, kColumns.size()> where;
+  where.fill(-1);
+  size_t fieldCount = 0;
+  while (std::getline(in, text)) {
+    ++lineNo;
+    if (trim(text).empty()) continue;
+    const auto fields = split(text);
+    fieldCount = fields.size();
+    for (size_t f = 0; f < fields.size(); ++f)
+      for (size_t c = 0; c < kColumns.size(); ++c)
+        if (fields[f] == kColumns[c]) {
+          if (where[c] >= 0) fail(name, lineNo, "column '" + std::string(kColumns[c]) + "' appears twice");
+          where[c] = static_cast<int>(f);
+        }
+    break;
+  }
+  if (fieldCount == 0) fail(name, lineNo, "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
+  for (size_t c = 0; c < kColumns.size(); ++c)
+    if (where[c] < 0)
+      fail(name, lineNo, "the header has no column '" + std::string(kColumns[c]) +
+                             "' (need ox,oy,oz,dx,dy,dz,tnear,tfar in any order)");
+
+  // ---- Rows ----------------------------------------------------------------------------
+  std::vector<RayD> rays;
+  while (std::getline(in, text)) {
+    ++lineNo;
+    if (trim(text).empty()) continue;
+    const auto fields = split(text);
+    if (fields.size() != fieldCount)
+      fail(name, lineNo, "expected " + std::to_string(fieldCount) + " fields, found " + std::to_string(fields.size()));
+    double v[kColumns.size()];
+    for (size_t c = 0; c < kColumns.size(); ++c) {
+      const std::string field(fields[where[c]]);
+      const std::string at = "column '" + std::string(kColumns[c]) + "' (field " + std::to_string(where[c] + 1) + ")";
+      char* end = nullptr;
+      errno = 0;
+      v[c] = field.empty() ? 0.0 : std::strtod(field.c_str(), &end);
+      if (field.empty() || end != field.c_str() + field.size())
+        fail(name, lineNo, at + ": not a number: '" + field + "'");
+      if (std::isnan(v[c])) fail(name, lineNo, at + ": NaN is not a valid value");
+      const bool isTfar = kColumns[c] == "tfar";
+      if (std::isinf(v[c]) && !(isTfar && v[c] > 0)) fail(name, lineNo, at + ": must be finite: '" + field + "'");
+    }
+    RayD ray;
+    ray.org = {v[0], v[1], v[2]};
+    ray.dir = {v[3], v[4], v[5]};
+    ray.tnear = v[6];
+    ray.tfar = v[7];
+    if (ray.tnear < 0.0) fail(name, lineNo, "column 'tnear': must be >= 0");
+    rays.push_back(ray);
+  }
+  return rays;
+}
+
+void writeHits(std::ostream& out, const std::vector<QueryHit>& hits) {
+  out << "hit,t,nx,ny,nz\n";
+  char buf[160];
+  for (const QueryHit& h : hits) {
+    if (!h.hit) {
+      out << "0,0,0,0,0\n";
+      continue;
+    }
+    std::snprintf(buf, sizeof buf, "1,%.17g,%.17g,%.17g,%.17g\n", h.t, h.normal.x, h.normal.y, h.normal.z);
+    out << buf;
+  }
+}
+
+}  // namespace algray::query

@@ -1,0 +1,32 @@
+#pragma once
+// Ray and hit tables of algray-query as CSV.
+//   rays: header naming ox,oy,oz,dx,dy,dz,tnear,tfar in any order (other columns are
+//         ignored), then one ray per line; numbers as strtod reads them ("inf" allowed
+//         for tfar only).
+//   hits: hit,t,nx,ny,nz, one row per ray in input order; zeros on a miss.
+#include "algray/embree.h"
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace algray::query {
+
+// A rejected input: "NAME:LINE: message" (LINE 1-based; the column is named in the
+// message).
+class CsvError : public Error {
+ public:
+  using Error::Error;
+};
+
+std::vector<RayD> readRays(std::istream& in, const std::string& name);
+
+struct QueryHit {
+  bool hit = false;
+  double t = 0;
+  glm::dvec3 normal{0.0};  // unit length, or zero at a singular point of the surface
+};
+
+void writeHits(std::ostream& out, const std::vector<QueryHit>& hits);
+
+}  // namespace algray::query

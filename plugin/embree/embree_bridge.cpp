@@ -1,0 +1,395 @@
+// The only file that knows Embree 3's callback ABI: bounds, intersect and occluded for
+// N = 1, 4, 8, 16 (one lane at a time, honouring the valid mask), the host filter calls,
+// the double-precision side channel (IntersectContext) and the exception barrier.
+// An Embree 4 port rewrites this file; surface_intersect.cpp stays.
+#include "surface_data.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+namespace algray {
+
+namespace {
+
+constexpr float kFloatRoundoff = 0x1p-24f;
+constexpr unsigned kMaxN = 16;
+constexpr unsigned kHitFields = 7 + RTC_MAX_INSTANCE_LEVEL_COUNT;  // Ng(3) u v primID geomID instID[]
+
+// ---- Double channel ----------------------------------------------------------------
+// The marker: initIntersectContext installs this as the context filter. For Embree's own
+// geometries Embree calls it only when the host's scene has
+// RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION; it then forwards to the host's context filter.
+// For algray geometries the bridge never lets rtcFilterIntersection see it (Embree 3
+// asserts the scene flag there): see runFilters().
+void markerFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* context = reinterpret_cast<const IntersectContext*>(args->context);
+  if (context->hostFilter) context->hostFilter(args);
+}
+
+// The algray context of a single ray outside any instance, or nullptr. Inside an instance
+// Embree has transformed the float ray; the world-space double ray no longer applies.
+IntersectContext* doubleContext(RTCIntersectContext* context, unsigned n) {
+  if (n != 1 || context->filter != &markerFilter) return nullptr;
+  if (context->instID[0] != RTC_INVALID_GEOMETRY_ID) return nullptr;
+  auto* ic = reinterpret_cast<IntersectContext*>(context);
+  return ic->ray && ic->hit ? ic : nullptr;
+}
+
+// ---- Rays into object space ------------------------------------------------------------
+KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                    double tfar, double roundoff, double orgError) {
+  KernelRay r;
+  r.tnear = tnear;
+  r.tfar = tfar;
+  r.orgRoundoff = roundoff;
+  r.org = o;
+  r.dir = d;
+  r.orgError = orgError;
+  if (!data.identity) {
+    // t is invariant under the affine map. The origin's uncertainty maps through A^-1
+    // (Frobenius norm bounds the spectral one), plus the rounding of the map itself.
+    const double inv = std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
+                                 glm::dot(data.aInv[2], data.aInv[2]));
+    r.org = data.aInv * (o - data.b);
+    r.dir = data.aInv * d;
+    r.orgError = inv * (orgError + 4.0 * roundoff * (glm::length(o) + glm::length(data.b)));
+  }
+  // A float ray carries no error bound, and a float host computes a leaving ray's origin
+  // as o + t d in float from a ray that started anywhere in the scene: its error is
+  // gamma_3 (|o| + |t d|) in float units (pbrt-v4 Sec. 6.8.6) with |o| unknown here. The
+  // adapter assumes that ray started within a few object sizes: 16 u_float (|o| + R), R
+  // the clip radius. Hosts needing better pass double rays with RayD::orgError.
+  if (roundoff > kUnitRoundoff) r.orgError += 16.0 * roundoff * (glm::length(r.org - data.centre) + data.radius);
+  return r;
+}
+
+glm::dvec3 lanePoint(float x, float y, float z) { return {x, y, z}; }
+
+// ---- Candidate hits ----------------------------------------------------------------------
+struct HitBuffer {
+  float storage[kHitFields * kMaxN];
+  RTCHitN* hitN() { return reinterpret_cast<RTCHitN*>(storage); }
+};
+
+void writeCandidate(RTCHitN* hit, unsigned n, unsigned lane, const glm::vec3& ng, float u, float v,
+                    unsigned primID, unsigned geomID, const RTCIntersectContext* context) {
+  RTCHitN_Ng_x(hit, n, lane) = ng.x;
+  RTCHitN_Ng_y(hit, n, lane) = ng.y;
+  RTCHitN_Ng_z(hit, n, lane) = ng.z;
+  RTCHitN_u(hit, n, lane) = u;
+  RTCHitN_v(hit, n, lane) = v;
+  RTCHitN_primID(hit, n, lane) = primID;
+  RTCHitN_geomID(hit, n, lane) = geomID;
+  for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) RTCHitN_instID(hit, n, lane, l) = context->instID[l];
+}
+
+void copyLane(RTCHitN* to, const RTCHitN* from, unsigned n, unsigned lane) {
+  auto* t = reinterpret_cast<float*>(to);
+  const auto* f = reinterpret_cast<const float*>(from);
+  for (unsigned field = 0; field < kHitFields; ++field) t[field * n + lane] = f[field * n + lane];
+}
+
+// The float tfar Embree keeps must not be below the double hit (it culls the traversal of
+// farther boxes); round up.
+float roundUp(double t) {
+  const float f = static_cast<float>(t);
+  return static_cast<double>(f) < t ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+struct Lane {
+  const void* args;  // RTCIntersectFunctionNArguments or RTCOccludedFunctionNArguments
+  const SurfaceData* data;
+  unsigned lane;
+  IntersectContext* dctx;
+  double tfarD;  // the double channel's current far end
+};
+
+// The host's filters for one candidate: the geometry filter through Embree, then the
+// context filter. With an algray context, the marker is hidden from Embree during the
+// call (Embree 3.13 runs, and asserts on, any non-null context filter from
+// rtcFilterIntersection whatever the scene flags) and the host's chained context filter,
+// if any, is called here instead.
+template <class Args, class Filter>
+void runFilters(const Args* args, RTCFilterFunctionNArguments* fargs, IntersectContext* marked,
+                Filter filter) {
+  RTCIntersectContext* context = args->context;
+  if (context->filter != &markerFilter) {
+    filter(args, fargs);
+    return;
+  }
+  context->filter = nullptr;
+  filter(args, fargs);
+  context->filter = &markerFilter;
+  if (!marked || !marked->hostFilter) return;
+  for (unsigned i = 0; i < fargs->N; ++i)
+    if (fargs->valid[i] != 0) {
+      marked->hostFilter(fargs);
+      return;
+    }
+}
+
+// Any algray context (also inside instances, where its double ray is not used).
+IntersectContext* markedContext(RTCIntersectContext* context) {
+  return context->filter == &markerFilter ? reinterpret_cast<IntersectContext*>(context) : nullptr;
+}
+
+bool acceptIntersection(void* user, const KernelHit& h) {
+  Lane& L = *static_cast<Lane*>(user);
+  const auto* args = static_cast<const RTCIntersectFunctionNArguments*>(L.args);
+  const unsigned n = args->N, lane = L.lane;
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
+  float tf;
+  if (L.dctx) {
+    if (!(h.t < L.tfarD)) return false;
+    tf = roundUp((h.t - L.dctx->floatShift) / L.dctx->floatScale);
+  } else {
+    tf = static_cast<float>(h.t);
+    if (!(tf > RTCRayN_tnear(ray, n, lane) && tf < RTCRayN_tfar(ray, n, lane))) return false;
+  }
+  // ---- The candidate, as Embree would write it ---------------------------------------
+  const glm::dvec3 ng = L.data->identity ? h.gradient : L.data->aInvT * h.gradient;
+  double u, v;
+  surfaceUV(*L.data, h.point, u, v);
+  HitBuffer candidate;
+  writeCandidate(candidate.hitN(), n, lane, glm::vec3(ng), static_cast<float>(u), static_cast<float>(v),
+                 args->primID, args->geomID, args->context);
+  // ---- Host filter (geometry filter, then context filter): the filter sees the
+  // candidate t as the ray's tfar and may reject it by clearing valid[lane] -------------
+  int valid[kMaxN] = {};
+  valid[lane] = -1;
+  const float oldTfar = RTCRayN_tfar(ray, n, lane);
+  RTCRayN_tfar(ray, n, lane) = tf;
+  RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context,
+                                    reinterpret_cast<RTCRayN*>(args->rayhit), candidate.hitN(), n};
+  runFilters(args, &fargs, markedContext(args->context),
+             [](const RTCIntersectFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
+               rtcFilterIntersection(a, f);
+             });
+  if (valid[lane] == 0) {
+    RTCRayN_tfar(ray, n, lane) = oldTfar;
+    return false;
+  }
+  copyLane(RTCRayHitN_HitN(args->rayhit, n), candidate.hitN(), n, lane);
+  if (L.dctx) {
+    HitD& hit = *L.dctx->hit;
+    hit.hit = true;
+    hit.t = h.t;
+    hit.Ng = ng;
+    hit.u = u;
+    hit.v = v;
+    hit.geomID = args->geomID;
+    hit.primID = args->primID;
+    L.tfarD = h.t;
+  }
+  return true;
+}
+
+bool acceptOcclusion(void* user, const KernelHit& h) {
+  Lane& L = *static_cast<Lane*>(user);
+  const auto* args = static_cast<const RTCOccludedFunctionNArguments*>(L.args);
+  const unsigned n = args->N, lane = L.lane;
+  RTCRayN* ray = args->ray;
+  float tf;
+  if (L.dctx) {
+    if (!(h.t < L.tfarD)) return false;
+    tf = roundUp((h.t - L.dctx->floatShift) / L.dctx->floatScale);
+  } else {
+    tf = static_cast<float>(h.t);
+    if (!(tf > RTCRayN_tnear(ray, n, lane) && tf < RTCRayN_tfar(ray, n, lane))) return false;
+  }
+  // Occlusion computes no normal: Ng, u, v are zero for the filter.
+  HitBuffer candidate;
+  writeCandidate(candidate.hitN(), n, lane, glm::vec3(0.0f), 0.0f, 0.0f, args->primID, args->geomID,
+                 args->context);
+  int valid[kMaxN] = {};
+  valid[lane] = -1;
+  const float oldTfar = RTCRayN_tfar(ray, n, lane);
+  RTCRayN_tfar(ray, n, lane) = tf;
+  RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context, ray, candidate.hitN(), n};
+  runFilters(args, &fargs, markedContext(args->context),
+             [](const RTCOccludedFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
+               rtcFilterOcclusion(a, f);
+             });
+  if (valid[lane] == 0) {
+    RTCRayN_tfar(ray, n, lane) = oldTfar;
+    return false;
+  }
+  RTCRayN_tfar(ray, n, lane) = -std::numeric_limits<float>::infinity();
+  if (L.dctx) {
+    HitD& hit = *L.dctx->hit;
+    hit.hit = true;
+    hit.t = h.t;
+    hit.geomID = args->geomID;
+    hit.primID = args->primID;
+  }
+  return true;
+}
+
+// One lane's ray: the double ray of an algray context, else the float ray.
+template <class Args>
+bool traceLane(const Args* args, RTCRayN* ray, unsigned lane, bool occlusion, AcceptFn accept) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  const unsigned n = args->N;
+  Lane L{args, data, lane, doubleContext(args->context, n), 0.0};
+  KernelRay kr;
+  if (L.dctx) {
+    const RayD& r = *L.dctx->ray;
+    L.tfarD = std::min(r.tfar, L.dctx->floatShift + L.dctx->floatScale * RTCRayN_tfar(ray, n, lane));
+    if (L.dctx->hit->hit) L.tfarD = std::min(L.tfarD, L.dctx->hit->t);
+    kr = objectRay(*data, r.org, r.dir, r.tnear, L.tfarD, kUnitRoundoff, r.orgError);
+    kr.hasTraversalRay = true;
+    kr.travOrg = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane), RTCRayN_org_z(ray, n, lane));
+    kr.travDir = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
+  } else {
+    const glm::dvec3 o = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane),
+                                   RTCRayN_org_z(ray, n, lane));
+    const glm::dvec3 d = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane),
+                                   RTCRayN_dir_z(ray, n, lane));
+    kr = objectRay(*data, o, d, RTCRayN_tnear(ray, n, lane), RTCRayN_tfar(ray, n, lane),
+                   kFloatRoundoff, 0.0);
+  }
+  return walkRoots(*data, args->primID, kr, occlusion, accept, &L);
+}
+
+// ---- Embree callbacks (no exception may leave them) ---------------------------------
+void boundsCallback(const RTCBoundsFunctionArguments* args) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  *args->bounds_o = data->cells[args->primID].bounds;
+}
+
+void intersectCallback(const RTCIntersectFunctionNArguments* args) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  for (unsigned lane = 0; lane < args->N; ++lane) {
+    if (args->valid[lane] == 0) continue;
+    try {
+      traceLane(args, ray, lane, false, &acceptIntersection);
+    } catch (...) {
+      data->errors.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+void occludedCallback(const RTCOccludedFunctionNArguments* args) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  for (unsigned lane = 0; lane < args->N; ++lane) {
+    if (args->valid[lane] == 0) continue;
+    // Already occluded by an earlier primitive of this packet.
+    if (RTCRayN_tfar(args->ray, args->N, lane) < 0.0f) continue;
+    try {
+      traceLane(args, args->ray, lane, true, &acceptOcclusion);
+    } catch (...) {
+      data->errors.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+}  // namespace
+
+RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  if (!g) {
+    const RTCError e = rtcGetDeviceError(device);
+    throw Error("algray::SurfaceGeometry: rtcNewGeometry failed (RTCError " + std::to_string(static_cast<int>(e)) +
+                ")");
+  }
+  rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(data->cells.size()));
+  // Embree 3 ignores the userPtr of rtcSetGeometryBoundsFunction: the bounds callback
+  // reads the geometry user data like the other callbacks.
+  rtcSetGeometryUserData(g, data);
+  rtcSetGeometryBoundsFunction(g, &boundsCallback, nullptr);
+  rtcSetGeometryIntersectFunction(g, &intersectCallback);
+  rtcSetGeometryOccludedFunction(g, &occludedCallback);
+  rtcCommitGeometry(g);
+  return g;
+}
+
+namespace {
+// Embree's ray.valid() requires |org|, |dir| <= FLT_LARGE (1.8e18) per component. A double
+// ray beyond 1e17 is handed to Embree re-parametrised: origin moved along the line to
+// 1e15 before the point closest to the world origin (never before tnear), direction
+// normalised, t = shift + scale * t_float.
+struct FloatMap {
+  double shift = 0, scale = 1;
+  bool empty = false;
+};
+FloatMap floatMap(const RayD& r) {
+  constexpr double kBig = 1e17;
+  FloatMap m;
+  bool big = false;
+  for (int i = 0; i < 3; ++i) big = big || std::abs(r.org[i]) > kBig || std::abs(r.dir[i]) > kBig;
+  if (!big) return m;
+  const double len = glm::length(r.dir);
+  if (!(len > 0.0 && std::isfinite(len)) || !std::isfinite(r.org.x + r.org.y + r.org.z)) {
+    m.empty = true;
+    return m;
+  }
+  const glm::dvec3 u = r.dir / len;
+  const double sc = -glm::dot(r.org, u);  // arc length of the closest point
+  const double s0 = std::max(r.tnear * len, sc - 1e15);
+  const glm::dvec3 o = r.org + s0 * u;
+  if (!(std::abs(o.x) <= kBig && std::abs(o.y) <= kBig && std::abs(o.z) <= kBig)) m.empty = true;
+  m.shift = s0 / len;
+  m.scale = 1.0 / len;
+  return m;
+}
+}  // namespace
+
+void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit) {
+  rtcInitIntersectContext(&context->base);
+  context->base.filter = &markerFilter;
+  context->ray = ray;
+  context->hit = hit;
+  context->hostFilter = nullptr;
+  const FloatMap m = ray ? floatMap(*ray) : FloatMap{};
+  context->floatShift = m.shift;
+  context->floatScale = m.scale;
+  if (hit) *hit = HitD{};
+}
+
+RTCRayHit makeRayHit(const RayD& r) {
+  constexpr float kInfF = std::numeric_limits<float>::infinity();
+  RTCRayHit rh{};
+  const FloatMap m = floatMap(r);
+  const glm::dvec3 o = m.shift == 0.0 ? r.org : r.org + m.shift * r.dir;
+  const glm::dvec3 d = m.scale == 1.0 ? r.dir : r.dir * m.scale;
+  rh.ray.org_x = static_cast<float>(o.x);
+  rh.ray.org_y = static_cast<float>(o.y);
+  rh.ray.org_z = static_cast<float>(o.z);
+  rh.ray.dir_x = static_cast<float>(d.x);
+  rh.ray.dir_y = static_cast<float>(d.y);
+  rh.ray.dir_z = static_cast<float>(d.z);
+  const double tnear = (r.tnear - m.shift) / m.scale, tfar = (r.tfar - m.shift) / m.scale;
+  float tn = static_cast<float>(tnear);
+  if (static_cast<double>(tn) > tnear) tn = std::nextafter(tn, -kInfF);
+  rh.ray.tnear = std::max(tn, 0.0f);  // Embree requires tnear >= 0
+  rh.ray.tfar = roundUp(tfar);
+  rh.ray.mask = ~0u;
+  rh.ray.time = 0.0f;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) rh.hit.instID[l] = RTC_INVALID_GEOMETRY_ID;
+  // Embree 3 rejects (asserts on) non-finite or huge origins and directions and NaN spans:
+  // such a ray becomes a valid one with an empty span, which hits nothing. (Known limit:
+  // a finite double ray beyond 1.8e18 is therefore a miss in the double channel too.)
+  // Embree's ray.valid() also requires |org|, |dir| <= FLT_LARGE (1.8e18) per component.
+  constexpr float kLarge = 1.8e18f;
+  auto ok = [](float v) { return std::abs(v) <= kLarge; };
+  const bool finiteRay = ok(rh.ray.org_x) && ok(rh.ray.org_y) && ok(rh.ray.org_z) && ok(rh.ray.dir_x) &&
+                         ok(rh.ray.dir_y) && ok(rh.ray.dir_z) && !std::isnan(rh.ray.tnear) && !std::isnan(rh.ray.tfar);
+  if (!finiteRay || m.empty) {
+    rh.ray.org_x = rh.ray.org_y = rh.ray.org_z = 0.0f;
+    rh.ray.dir_x = rh.ray.dir_y = 0.0f;
+    rh.ray.dir_z = 1.0f;
+    rh.ray.tnear = 1.0f;
+    rh.ray.tfar = 0.0f;
+  }
+  return rh;
+}
+
+}  // namespace algray

@@ -1,0 +1,220 @@
+// SurfaceGeometry: validates a SurfaceDesc, lays out the cells (Embree primitives) and
+// their padded bounds, and creates the Embree user geometry (embree_bridge.cpp).
+#include "surface_data.h"
+
+#include "algray/cells.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include <cmath>
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace algray {
+
+// Defined in embree_bridge.cpp: the only place that knows the callback ABI.
+RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data);
+
+namespace {
+
+std::string str(const glm::dvec3& v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+  return s.str();
+}
+
+bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+[[noreturn]] void fail(const std::string& what) { throw Error("algray::SurfaceGeometry: " + what); }
+
+// ---- Validation ------------------------------------------------------------------------
+void validate(const SurfaceDesc& desc) {
+  const Polynomial& f = desc.polynomial;
+  if (f.isZero()) fail("the polynomial is zero (every point would be on the surface)");
+  if (!f.isFinite()) fail("the polynomial has a non-finite coefficient");
+  if (f.degree() < 1) fail("the polynomial is a non-zero constant (the surface is empty)");
+  if (const auto* s = std::get_if<ClipSphere>(&desc.clip)) {
+    if (!finite(s->center)) fail("clip sphere centre is not finite: " + str(s->center));
+    if (!(std::isfinite(s->radius) && s->radius > 0.0))
+      fail("clip sphere radius must be finite and > 0, got " + std::to_string(s->radius));
+  } else {
+    const auto& b = std::get<ClipBox>(desc.clip);
+    if (!finite(b.lo) || !finite(b.hi)) fail("clip box is not finite: " + str(b.lo) + " " + str(b.hi));
+    if (!(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z))
+      fail("clip box is empty (need lo < hi on every axis): " + str(b.lo) + " " + str(b.hi));
+  }
+  const glm::dmat4& m = desc.transform;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) fail("the transform has a non-finite entry");
+  if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+    fail("the transform is not affine (last row must be 0 0 0 1)");
+  // Singular relative to its own scale: |det A| against the product of the column
+  // lengths (Hadamard's bound), so that a uniformly tiny but well-shaped transform passes.
+  const glm::dmat3 a(m);
+  const double hadamard = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
+  if (!(std::abs(glm::determinant(a)) > 64.0 * kUnitRoundoff * hadamard))
+    fail("the transform is singular");
+}
+
+// ---- Bounds ----------------------------------------------------------------------------
+// World-space box of an object-space box (its 8 corners through the affine map), tightened
+// by the exact box of the transformed clip sphere (an ellipsoid: half-extent along world
+// axis i is R |row_i(A)|), then padded by a relative 2^-16 of its magnitude and rounded
+// outward to float. Embree's non-robust float traversal and the conversion to float
+// must never cull a ray that the double kernel would hit (and the cell ownership rule
+// counts on a ray inside a face reaching the cells on both sides).
+RTCBounds worldBounds(const SurfaceData& data, const glm::dvec3& lo, const glm::dvec3& hi) {
+  glm::dvec3 wlo(std::numeric_limits<double>::infinity()), whi(-std::numeric_limits<double>::infinity());
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z};
+    const glm::dvec3 w = data.a * p + data.b;
+    wlo = glm::min(wlo, w);
+    whi = glm::max(whi, w);
+  }
+  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) {
+    const glm::dvec3 c = data.a * s->center + data.b;
+    const glm::dmat3 at = glm::transpose(data.a);
+    for (int i = 0; i < 3; ++i) {
+      const double e = s->radius * glm::length(at[i]);
+      wlo[i] = std::max(wlo[i], c[i] - e);
+      whi[i] = std::min(whi[i], c[i] + e);
+    }
+  }
+  const double scale = std::max(glm::length(glm::abs(wlo)), glm::length(glm::abs(whi)));
+  const double pad = 0x1p-16 * scale;
+  RTCBounds b{};
+  auto down = [](double v) {
+    float f = static_cast<float>(v);
+    return static_cast<double>(f) > v ? std::nextafter(f, -INFINITY) : f;
+  };
+  auto up = [](double v) {
+    float f = static_cast<float>(v);
+    return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
+  };
+  b.lower_x = down(wlo.x - pad);
+  b.lower_y = down(wlo.y - pad);
+  b.lower_z = down(wlo.z - pad);
+  b.upper_x = up(whi.x + pad);
+  b.upper_y = up(whi.y + pad);
+  b.upper_z = up(whi.z + pad);
+  return b;
+}
+
+// The cells are one level of a regular subdivision of [boxLo, boxHi] (rounded outward by
+// a few ulps): recover each cell's integer grid position, so that the kernel can give
+// every root exactly one owning cell (surface_intersect.cpp, "Cell ownership"). If the
+// cells do not form a regular grid, the map stays empty (a root near a face may then be
+// offered once per cell that holds it).
+void indexGrid(SurfaceData& data, const glm::dvec3& boxLo, const glm::dvec3& boxHi) {
+  data.cellOfKey.clear();
+  if (data.cells.size() < 2) return;
+  data.gridLo = boxLo;
+  data.gridSize = boxHi - boxLo;
+  const SurfaceCell& first = data.cells.front();
+  for (int a = 0; a < 3; ++a) data.gridN[a] = std::round(data.gridSize[a] / (first.hi[a] - first.lo[a]));
+  for (int a = 0; a < 3; ++a)
+    if (!(data.gridN[a] >= 1 && data.gridN[a] <= 65535)) return;
+  for (unsigned i = 0; i < data.cells.size(); ++i) {
+    const SurfaceCell& c = data.cells[i];
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double size = (c.hi[a] - c.lo[a]) * data.gridN[a] / data.gridSize[a];
+      const double pos = (0.5 * (c.lo[a] + c.hi[a]) - data.gridLo[a]) * data.gridN[a] / data.gridSize[a] - 0.5;
+      const double k = std::round(pos);
+      if (std::abs(size - 1.0) > 1e-6 || std::abs(pos - k) > 1e-6 || k < 0 || k >= data.gridN[a]) {
+        data.cellOfKey.clear();
+        return;
+      }
+      key = key * 65536u + static_cast<std::uint64_t>(k);
+    }
+    if (!data.cellOfKey.emplace(key, i).second) {
+      data.cellOfKey.clear();
+      return;
+    }
+  }
+}
+
+std::atomic<std::uint64_t> nextSurfaceId{1};
+constexpr int kMaxAutoCells = 4096;
+
+}  // namespace
+
+SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
+  if (!device) fail("the RTCDevice is null");
+  validate(desc);
+  auto data = std::make_unique<SurfaceData>();
+  data->desc = std::move(desc);
+  data->id = nextSurfaceId.fetch_add(1);
+
+  // ---- Transform ----------------------------------------------------------------------
+  const glm::dmat4& m = data->desc.transform;
+  data->a = glm::dmat3(m);
+  data->b = glm::dvec3(m[3]);
+  data->aInv = glm::inverse(data->a);
+  data->aInvT = glm::transpose(data->aInv);
+  data->identity = m == glm::dmat4(1.0);
+
+  // ---- Clip ball and cells ------------------------------------------------------------
+  // One Embree primitive per cell the surface may cross (cells.h), so that the BVH skips
+  // empty space and the solver searches short spans; or one for the whole clip region.
+  glm::dvec3 boxLo, boxHi;
+  std::optional<CellSphere> sphere;
+  if (const auto* s = std::get_if<ClipSphere>(&data->desc.clip)) {
+    data->centre = s->center;
+    data->radius = s->radius;
+    boxLo = s->center - glm::dvec3(s->radius);
+    boxHi = s->center + glm::dvec3(s->radius);
+    sphere = CellSphere{s->center, s->radius};
+  } else {
+    const auto& b = std::get<ClipBox>(data->desc.clip);
+    data->centre = 0.5 * (b.lo + b.hi);
+    data->radius = 0.5 * glm::length(b.hi - b.lo);
+    boxLo = b.lo;
+    boxHi = b.hi;
+  }
+  const SurfaceOptions& opt = data->desc.options;
+  if (opt.useCells) {
+    CellOptions cellOptions;
+    cellOptions.depth = opt.cellDepth;
+    // The adapter caps the automatic choice: beyond a few thousand cells a ray visits
+    // many primitives (one solve each) for little extra culling, and the build time of
+    // tens of thousands of cells (seconds) is paid per surface.
+    if (opt.cellDepth < 0) cellOptions.maxCells = kMaxAutoCells;
+    for (const Cell& c : buildCells(data->desc.polynomial, boxLo, boxHi, sphere, cellOptions))
+      data->cells.push_back(SurfaceCell{c.lo, c.hi, worldBounds(*data, c.lo, c.hi)});
+  } else {
+    data->cells.push_back(SurfaceCell{boxLo, boxHi, worldBounds(*data, boxLo, boxHi)});
+  }
+  indexGrid(*data, boxLo, boxHi);
+
+  data->geometry = createUserGeometry(device, data.get());
+  data_ = std::move(data);
+}
+
+SurfaceGeometry::~SurfaceGeometry() {
+  if (data_ && data_->geometry) rtcReleaseGeometry(data_->geometry);
+}
+SurfaceGeometry::SurfaceGeometry(SurfaceGeometry&&) noexcept = default;
+SurfaceGeometry& SurfaceGeometry::operator=(SurfaceGeometry&& other) noexcept {
+  if (this != &other) {
+    if (data_ && data_->geometry) rtcReleaseGeometry(data_->geometry);
+    data_ = std::move(other.data_);
+  }
+  return *this;
+}
+
+RTCGeometry SurfaceGeometry::geometry() const { return data_ ? data_->geometry : nullptr; }
+unsigned SurfaceGeometry::primitiveCount() const {
+  return data_ ? static_cast<unsigned>(data_->cells.size()) : 0u;
+}
+const SurfaceDesc& SurfaceGeometry::desc() const { return data_->desc; }
+unsigned long long SurfaceGeometry::callbackErrors() const { return data_ ? data_->errors.load() : 0ull; }
+
+}  // namespace algray

@@ -1,0 +1,390 @@
+// The kernel of the adapter: one ray, one cell, the roots of f along the ray in order.
+// No Embree types here (the bridge converts), so an Embree 4 port reuses it unchanged.
+//
+// The way of one ray (see ../shared/DESIGN.md):
+//   1. clip the ray to the clip region and the cell: span (lo, hi);
+//   2. restrict f to the ray, g(s) = f(o + (tShift + s) d) with a rounding bound, from
+//      the per-thread origin cache, about the origin itself (self-root rule), or about
+//      the point of the span closest to the clip centre (re-centring); once per ray for
+//      the whole clip region, shared by the cells the ray visits, with its roots: the
+//      first one, all of them only when a cell beyond it or a host filter needs them;
+//   3. the roots in the cell's span that the cell owns, in order, offered to the host
+//      filter until one is accepted;
+//   4. Newton polish on f itself and the gradient at the hit point.
+#include "surface_data.h"
+
+#include "algray/roots.h"
+#include "algray/taylor.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace algray {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// ---- Clipping ----------------------------------------------------------------------
+// Slab test (Kay & Kajiya), written so that a zero direction component keeps the ray
+// inside or outside the slab instead of producing 0 * inf = NaN. With widen = true both
+// ends of each slab are widened by 2 gamma(3) of their magnitude (the subtraction and the
+// product round once each; pbrt-v4 Sec. 6.8.7 widens the far end): adjacent cells then
+// overlap by rounding, so a root on a shared face is never lost between them.
+bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& o,
+               const glm::dvec3& d, double& t0, double& t1, bool widen = false) {
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0.0) {
+      if (o[i] < lo[i] || o[i] > hi[i]) return false;
+      continue;
+    }
+    const double inv = 1.0 / d[i];
+    double ta = (lo[i] - o[i]) * inv, tb = (hi[i] - o[i]) * inv;
+    if (ta > tb) std::swap(ta, tb);
+    if (widen) {
+      ta -= 2.0 * gamma(3) * std::abs(ta);
+      tb += 2.0 * gamma(3) * std::abs(tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+// Sphere by the closest point of the line to the centre (pbrt-v4, Sec. 6.8.1: the chord
+// half-length from R^2 - |q|^2 avoids the cancellation of the textbook quadratic when
+// the origin is far away).
+bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                  double& t1) {
+  const double dd = glm::dot(d, d);
+  if (!(dd > 0.0)) return false;
+  const glm::dvec3 oc = o - s.center;
+  const double tc = -glm::dot(oc, d) / dd;
+  const glm::dvec3 q = oc + tc * d;
+  const double h2 = s.radius * s.radius - glm::dot(q, q);
+  if (!(h2 >= 0.0)) return false;
+  const double dt = std::sqrt(h2 / dd);
+  t0 = std::max(t0, tc - dt);
+  t1 = std::min(t1, tc + dt);
+  return t0 <= t1;
+}
+
+// The ray's span inside the clip region alone (all cells share it).
+bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                    double& t1) {
+  t0 = -kInf;
+  t1 = kInf;
+  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) return clipToSphere(*s, o, d, t0, t1);
+  const auto& b = std::get<ClipBox>(data.desc.clip);
+  return clipToBox(b.lo, b.hi, o, d, t0, t1);
+}
+
+// ---- Per-thread origin cache ---------------------------------------------------------
+// Rays sharing an origin (a pinhole camera's primary rays) restrict f from one
+// OriginExpansion: one shift per origin, then O(#terms) per ray (taylor.h, path 1).
+// An expansion is built the second time an origin is seen in a row, so rays with
+// distinct origins (shadow and bounce rays) never pay for a shift they cannot reuse.
+// Keyed by the surface id (unique per process, never reused), not the pointer.
+struct CacheEntry {
+  std::uint64_t id = 0;
+  glm::dvec3 origin{0.0};
+  OriginExpansion expansion;
+};
+struct OriginCache {
+  std::array<CacheEntry, 4> entries;
+  unsigned next = 0;
+  std::uint64_t pendingId = 0;
+  glm::dvec3 pendingOrigin{0.0};
+};
+thread_local OriginCache tlsCache;
+
+const OriginExpansion* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
+  OriginCache& cache = tlsCache;
+  for (const CacheEntry& e : cache.entries)
+    if (e.id == data.id && e.origin == o) return &e.expansion;
+  // Only origins near the clip region: from far away the expansion about o loses the
+  // digits that re-centring keeps (|o|^m-sized terms cancelling near the surface).
+  if (glm::length(o - data.centre) > 2.0 * data.radius) return nullptr;
+  if (cache.pendingId != data.id || cache.pendingOrigin != o) {
+    cache.pendingId = data.id;
+    cache.pendingOrigin = o;
+    return nullptr;
+  }
+  CacheEntry& e = cache.entries[cache.next++ % cache.entries.size()];
+  e.id = 0;  // invalid until the expansion is complete (it may throw bad_alloc)
+  e.expansion = OriginExpansion(data.desc.polynomial, o);
+  e.origin = o;
+  e.id = data.id;
+  return &e.expansion;
+}
+
+// ---- Self-root rule ------------------------------------------------------------------
+// A ray leaving the surface starts at a point p that is on the surface only up to
+// rounding: f(p) = O(u). Its polynomial g(s) = f(p + s d) then has a root at |s| tiny,
+// which an epsilon-free solver reports as a hit at the origin (shadow acne). When f(p)
+// is zero within the bound of its evaluation plus the effect of p's own uncertainty
+// (|grad f| times the coordinate rounding or the host's orgError, pbrt-v4 Sec. 6.8.6),
+// the origin is on the surface: expand about p itself (tShift = 0), set g(0) = 0 and
+// divide by s. The quotient has exactly the other intersections. Repeat while the new
+// constant term is zero within its bound: a ray tangent at its origin, or an origin at a
+// singular point (cone apex, Sarti's nodes) where the root at 0 is multiple.
+bool originOnSurface(const Polynomial& f, const KernelRay& ray) {
+  const Polynomial::Evaluation e = f.evaluateWithBound(ray.org);
+  const glm::dvec3 g = glm::abs(e.gradient), o = glm::abs(ray.org);
+  const double move = ray.orgRoundoff * glm::dot(g, o) + glm::length(e.gradient) * ray.orgError;
+  return std::abs(e.value) <= 4.0 * e.valueError + 2.0 * move;
+}
+
+void deflateAtZero(RayPolynomial& g) {
+  do {
+    for (int i = 0; i < g.degree; ++i) {
+      g.coeff[i] = g.coeff[i + 1];
+      g.error[i] = g.error[i + 1];
+    }
+    g.coeff[g.degree] = g.error[g.degree] = 0.0;
+    --g.degree;
+  } while (g.degree > 0 && std::abs(g.coeff[0]) <= 4.0 * g.error[0]);
+}
+
+// ---- Polish --------------------------------------------------------------------------
+// Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
+// (at most 8; quadratic convergence needs 3-4 from a cached expansion's root, which for
+// the Barth decic seen from 3 clip radii is off by 1e-4): repairs digits a cached or
+// far-centred expansion lost. A step is kept only if it stays a small move inside the
+// span and lowers |f| (so an ill-conditioned root never jumps to a neighbour).
+void polish(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
+            double regionSpan, KernelHit& hit) {
+  double t = hit.t;
+  Polynomial::Evaluation e = f.evaluateWithBound(o + t * d);
+  const double maxMove = 1e-4 * regionSpan;
+  for (int it = 0; it < 8 && std::abs(e.value) > e.valueError; ++it) {
+    const double slope = glm::dot(e.gradient, d);
+    if (!(std::abs(slope) > 0.0)) break;
+    const double tn = t - e.value / slope;
+    if (!(tn > lo && tn < hi && std::abs(tn - t) <= maxMove)) break;
+    const Polynomial::Evaluation en = f.evaluateWithBound(o + tn * d);
+    if (!(std::abs(en.value) < std::abs(e.value))) break;
+    t = tn;
+    e = en;
+  }
+  hit.t = t;
+  hit.point = o + t * d;
+  hit.gradient = e.gradient;
+}
+
+bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// ---- Restriction and roots, once per ray -------------------------------------------------
+// g(s) = f(o + (tShift + s) d) for the whole clip-region span [r0, r1], and its roots
+// there, shared by every cell the ray visits (the per-thread last ray): about the origin
+// when it lies on the surface (self-root rule), from a cached origin expansion, or about
+// the point of the span closest to the clip centre. The roots are found lazily: the
+// first one (all a closest-hit query without a filter needs), then all of them when a
+// cell beyond the first root asks. Every cell sees the same root values, which is what
+// makes the ownership rule below exact.
+struct RayRoots {
+  std::uint64_t id = 0;
+  glm::dvec3 org{0.0}, dir{0.0};
+  double orgRoundoff = 0, orgError = 0;
+  RayPolynomial g;
+  double slo = 0, shi = 0;                // the region span in s
+  std::array<double, kMaxDegree> roots{};  // in s, increasing
+  int count = 0;
+  bool complete = false;
+};
+thread_local RayRoots tlsRayRoots;
+
+void restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
+  const Polynomial& f = data.desc.polynomial;
+  const SurfaceOptions& opt = data.desc.options;
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  if (originOnSurface(f, ray)) {
+    g = restrictToRay(f, o, d, 0.0);
+    if (g.degree > 0) deflateAtZero(g);
+  } else if (const OriginExpansion* ex = opt.originCache ? cachedExpansion(data, o) : nullptr) {
+    g = ex->restrict(d);
+  } else {
+    const double tShift = opt.recentre ? std::clamp(closestParameter(o, d, data.centre), r0, r1) : 0.0;
+    g = restrictToRay(f, o, d, tShift);
+  }
+}
+
+std::optional<double> firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions& options,
+                                  bool singlePrecision) {
+  const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
+  if (!singlePrecision) return firstRoot(c, err, lo, hi, options);
+  // The float solver, kept for comparison (SurfaceOptions::singlePrecision).
+  std::array<float, kMaxDegree + 1> cf{}, ef{};
+  for (int i = 0; i <= g.degree; ++i) {
+    cf[i] = static_cast<float>(g.coeff[i]);
+    ef[i] = static_cast<float>(g.error[i]);
+  }
+  const auto r = firstRoot(std::span<const float>(cf.data(), g.degree + 1),
+                           std::span<const float>(ef.data(), g.degree + 1), static_cast<float>(lo),
+                           static_cast<float>(hi), options);
+  return r ? std::optional<double>(*r) : std::nullopt;
+}
+
+RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1) {
+  RayRoots& rr = tlsRayRoots;
+  if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir && rr.orgRoundoff == ray.orgRoundoff &&
+      rr.orgError == ray.orgError)
+    return rr;
+  rr.id = 0;  // invalid until complete (restriction may throw)
+  restrict(data, ray, r0, r1, rr.g);
+  rr.slo = r0 - rr.g.tShift;
+  rr.shi = r1 - rr.g.tShift;
+  rr.count = 0;
+  rr.complete = true;
+  // A constant g has no isolated root: either no intersection or the whole line lies in
+  // the surface (a ruling), which has no first point to report.
+  if (rr.g.degree >= 1) {
+    const SurfaceOptions& opt = data.desc.options;
+    if (const auto s = firstRootOf(rr.g, rr.slo, rr.shi, opt.roots, opt.singlePrecision)) {
+      rr.roots[0] = *s;
+      rr.count = 1;
+      rr.complete = false;
+    }
+  }
+  rr.org = ray.org;
+  rr.dir = ray.dir;
+  rr.orgRoundoff = ray.orgRoundoff;
+  rr.orgError = ray.orgError;
+  rr.id = data.id;
+  return rr;
+}
+
+// All roots, keeping the first one's value (cells may already have judged it).
+void completeRoots(const SurfaceData& data, RayRoots& rr) {
+  const RayPolynomial& g = rr.g;
+  const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
+  std::array<double, kMaxDegree> all{};
+  const int n = allRoots(c, err, rr.slo, rr.shi, all, data.desc.options.roots);
+  const double first = rr.roots[0];
+  int closest = -1;
+  for (int i = 0; i < n; ++i)
+    if (closest < 0 || std::abs(all[i] - first) < std::abs(all[closest] - first)) closest = i;
+  rr.count = 0;
+  rr.roots[rr.count++] = first;
+  for (int i = closest + 1; i < n; ++i)
+    if (all[i] > first) rr.roots[rr.count++] = all[i];
+  rr.complete = true;
+}
+
+// ---- Cell ownership ------------------------------------------------------------------------
+// Cells are closed boxes rounded outward, so neighbours overlap and a root near a shared
+// face lies in several. The host filter must see each root once (an any-hit filter
+// accumulating transparency would count it twice), so exactly one cell owns it: the one
+// whose nominal grid box contains the root point (half-open, computed from the same root
+// value in every cell). A root whose grid box holds no cell (possible only by rounding
+// at a face) is owned by every cell that reaches it: a duplicate rather than a loss.
+// With the double channel Embree traverses with the float ray, which for a far origin can
+// pass beside the owner cell's (padded) box: the owner then never sees the root. So the
+// owner keeps a root only if the float ray surely crosses its padded box (shrunk by the
+// rounding of Embree's float slab test); otherwise every cell that reaches the root takes
+// it (a duplicate in that rare band rather than a loss).
+bool surelyReached(const RTCBounds& b, const glm::dvec3& o, const glm::dvec3& d) {
+  const glm::dvec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
+  // Embree's own float slab test is off by about u_float (|o| + |box|): beyond the margin.
+  const double slack = 16.0 * 0x1p-24 * (glm::length(o) + glm::length(glm::max(glm::abs(lo), glm::abs(hi))));
+  const glm::dvec3 margin(slack);
+  double t0 = 0.0, t1 = kInf;
+  return clipToBox(lo + margin, hi - margin, o, d, t0, t1) && t0 < t1;
+}
+
+// Whether `cell` takes the root at p. inSpan: p is in the cell's span of the ray. A root
+// outside the span is taken only in the double channel, as an orphan: its owner cell is
+// not surely reached by the float ray Embree traverses with (origins ~1e6 clip radii
+// away), so the first cell Embree does visit reports it.
+bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray, bool inSpan) {
+  if (data.cells.size() == 1 || data.cellOfKey.empty()) return inSpan;
+  std::uint64_t key = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double x = (p[a] - data.gridLo[a]) / data.gridSize[a] * data.gridN[a];
+    const long k = std::clamp(static_cast<long>(std::floor(x)), 0L, static_cast<long>(data.gridN[a] - 1));
+    key = key * 65536u + static_cast<std::uint64_t>(k);
+  }
+  const auto it = data.cellOfKey.find(key);
+  if (it == data.cellOfKey.end() || it->second == cell) return inSpan;
+  return ray.hasTraversalRay && !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir);
+}
+
+}  // namespace
+
+void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v) {
+  constexpr double kPi = 3.14159265358979323846;
+  const glm::dvec3 r = point - data.centre;
+  const double len = glm::length(r);
+  if (!(len > 0.0)) {
+    u = v = 0.0;
+    return;
+  }
+  double phi = std::atan2(r.y, r.x);
+  if (phi < 0.0) phi += 2.0 * kPi;
+  u = std::min(phi / (2.0 * kPi), std::nextafter(1.0, 0.0));
+  v = std::acos(std::clamp(r.z / len, -1.0, 1.0)) / kPi;
+}
+
+bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
+               AcceptFn accept, void* user) {
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  // ---- Input: non-finite or degenerate rays have no hit (and must not hang) ----------
+  if (!finite(o) || !finite(d) || std::isnan(ray.tnear) || std::isnan(ray.tfar) || !(ray.orgError >= 0.0))
+    return false;
+  if (!(glm::dot(d, d) > 0.0) || !(ray.tnear < ray.tfar)) return false;
+
+  // ---- 1. Span: clip region, then the cell (closed, widened for rounding) -------------
+  double r0, r1;
+  if (!clipRegionSpan(data, o, d, r0, r1)) return false;
+  const SurfaceCell& box = data.cells[cell];
+  double c0 = r0, c1 = r1;
+  if (!clipToBox(box.lo, box.hi, o, d, c0, c1, true)) return false;
+  const double lo = std::max(c0, ray.tnear), hi = std::min(c1, ray.tfar);
+  if (!(lo < hi)) return false;
+
+  // ---- 2. Restriction and roots (shared by all cells the ray visits) -------------------
+  // A copy: the host filter called below may trace rays of its own on this thread.
+  RayRoots rr = rayRoots(data, ray, r0, r1);
+  const RayPolynomial& g = rr.g;
+  const double slo = lo - g.tShift, shi = hi - g.tShift;
+
+  // ---- 3. The cell's roots in order, offered to the host filter -------------------------
+  const Polynomial& f = data.desc.polynomial;
+  for (int i = 0;; ++i) {
+    if (i == rr.count) {
+      if (rr.complete || !(rr.roots[i - 1] < shi)) break;
+      completeRoots(data, rr);
+      RayRoots& shared = tlsRayRoots;  // hand the full list to the next cells of this ray
+      if (shared.id == rr.id && shared.org == rr.org && shared.dir == rr.dir &&
+          shared.orgRoundoff == rr.orgRoundoff && shared.orgError == rr.orgError && !shared.complete)
+        shared = rr;
+      if (i == rr.count) break;
+    }
+    const double s = rr.roots[i];
+    const bool inSpan = s > slo && s < shi;
+    if (!inSpan && !ray.hasTraversalRay) {
+      if (s >= shi) break;
+      continue;
+    }
+    KernelHit hit;
+    hit.t = g.tShift + s;
+    hit.point = o + hit.t * d;
+    if (!claimsRoot(data, cell, hit.point, ray, inSpan)) {
+      if (s >= shi && !ray.hasTraversalRay) break;
+      continue;
+    }
+    // Polish within the whole span (a root near a cell face may move across it; the
+    // owner was decided on the unpolished value).
+    if (!occlusion) polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), r1 - r0, hit);
+    if (hit.t > ray.tnear && hit.t < ray.tfar && accept(user, hit)) return true;
+  }
+  return false;
+}
+
+}  // namespace algray

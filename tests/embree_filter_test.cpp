@@ -1,0 +1,319 @@
+// Host-facing behaviour through Embree: filters (geometry and context), instancing,
+// packets (rtcIntersect4/8/16 and rtcOccluded4/8/16 against rtcIntersect1).
+#include "embree_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <random>
+#include <thread>
+
+namespace algray::test {
+namespace {
+
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+
+// Rejects the first `rejectCount` candidates it sees (a counter in the geometry's or the
+// context's user data), records the t of every candidate.
+struct FilterLog {
+  int rejectCount = 1;
+  int calls = 0;
+  std::vector<float> seenT;
+};
+FilterLog* gLog = nullptr;
+
+void rejectingFilter(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    gLog->seenT.push_back(RTCRayN_tfar(args->ray, args->N, i));
+    if (gLog->calls++ < gLog->rejectCount) args->valid[i] = 0;
+  }
+}
+
+class EmbreeFilter : public ::testing::Test {
+ protected:
+  Device device;
+  FilterLog log;
+  void SetUp() override { gLog = &log; }
+  void TearDown() override { gLog = nullptr; }
+};
+
+class EmbreeFilterCells : public EmbreeFilter, public ::testing::WithParamInterface<bool> {};
+
+// With cells (the default) the two roots come from different primitives and the axis
+// ray runs inside cell faces, where four cells touch it: each root must still be offered
+// exactly once. Without cells both come from one callback.
+TEST_P(EmbreeFilterCells, GeometryFilterRejectingFirstHitGetsSecondRoot) {
+  SurfaceDesc desc = sphereDesc(1.0, 1.5);
+  desc.options.useCells = GetParam();
+  SurfaceGeometry sphere(device, desc);
+  rtcSetGeometryIntersectFilterFunction(sphere.geometry(), &rejectingFilter);
+  rtcSetGeometryOccludedFilterFunction(sphere.geometry(), &rejectingFilter);
+  rtcCommitGeometry(sphere.geometry());
+  Scene scene(device);
+  scene.attach(sphere.geometry());
+  scene.commit();
+  RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
+  ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 6.0f);  // far side
+  EXPECT_GT(rh.hit.Ng_z, 0.0f);
+  ASSERT_EQ(log.seenT.size(), 2u);
+  EXPECT_FLOAT_EQ(log.seenT[0], 4.0f);  // candidates offered in order
+  EXPECT_FLOAT_EQ(log.seenT[1], 6.0f);
+  // Rejecting both: miss, tfar untouched.
+  log = FilterLog{2, 0, {}};
+  rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
+  EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_EQ(rh.ray.tfar, kInfF);
+  // Occlusion: the first candidate rejected, the second accepted.
+  log = FilterLog{1, 0, {}};
+  EXPECT_TRUE(occluded1(scene, makeRay({0, 0, -5}, {0, 0, 1}).ray));
+  EXPECT_EQ(log.calls, 2);
+  log = FilterLog{2, 0, {}};
+  EXPECT_FALSE(occluded1(scene, makeRay({0, 0, -5}, {0, 0, 1}).ray));
+  EXPECT_EQ(log.calls, 2);
+  // A ray off the faces, oblique: still each root once.
+  log = FilterLog{5, 0, {}};
+  rh = intersect1(scene, makeRay({0.1f, 0.2f, -5}, {0.01f, -0.02f, 1}));
+  EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_EQ(log.calls, 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cells, EmbreeFilterCells, ::testing::Bool());
+
+// A filter rejecting everything sees every root along the ray exactly once, with or
+// without cells (cells overlap by rounding; each root has one owner). Rays are aimed at
+// cell faces and edges (coordinates on the dyadic grid) as well as at random points.
+TEST_F(EmbreeFilter, EveryRootOfferedOnceAcrossCells) {
+  std::vector<std::vector<float>> seen[2];
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.5f, 1.5f);
+  std::vector<RTCRayHit> rays;
+  for (int i = 0; i < 300; ++i) {
+    const bool onGrid = i % 3 == 0;
+    const float x = onGrid ? 0.25f * std::round(4 * u(rng)) : u(rng);
+    const float y = onGrid ? 0.125f * std::round(8 * u(rng)) : u(rng);
+    rays.push_back(onGrid ? makeRay({x, y, -4}, {0, 0, 1}) : makeRay({x, y, -4}, {0.2f * u(rng), 0.1f * u(rng), 1}));
+    rays.push_back(makeRay({-4, x, y}, {1, 0, 0}));
+  }
+  for (int cells = 0; cells < 2; ++cells) {
+    SurfaceDesc desc;
+    desc.polynomial = torusPolynomial(1.0, 0.4);
+    desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    desc.options.useCells = cells == 1;
+    SurfaceGeometry torus(device, desc);
+    rtcSetGeometryIntersectFilterFunction(torus.geometry(), &rejectingFilter);
+    rtcCommitGeometry(torus.geometry());
+    Scene scene(device);
+    scene.attach(torus.geometry());
+    scene.commit();
+    for (const RTCRayHit& r : rays) {
+      log = FilterLog{1 << 30, 0, {}};
+      intersect1(scene, r);
+      std::sort(log.seenT.begin(), log.seenT.end());
+      seen[cells].push_back(log.seenT);
+    }
+  }
+  int total = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(seen[0][i].size(), seen[1][i].size()) << "ray " << i << " " << rays[i].ray.org_x << " " << rays[i].ray.org_y << " " << rays[i].ray.org_z << " d " << rays[i].ray.dir_x << " " << rays[i].ray.dir_y << " " << rays[i].ray.dir_z << " t " << (seen[1][i].empty() ? 0.f : seen[1][i][0]) << " " << (seen[1][i].size() > 1 ? seen[1][i][1] : 0.f);
+    for (size_t k = 0; k < seen[0][i].size(); ++k) EXPECT_NEAR(seen[0][i][k], seen[1][i][k], 1e-5f) << i;
+    total += static_cast<int>(seen[0][i].size());
+  }
+  EXPECT_GT(total, 500);
+}
+
+TEST_F(EmbreeFilter, TorusFilterWalksAllFourRoots) {
+  SurfaceDesc desc;
+  desc.polynomial = torusPolynomial(1.0, 0.4);
+  desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+  desc.options.useCells = false;
+  SurfaceGeometry torus(device, desc);
+  rtcSetGeometryIntersectFilterFunction(torus.geometry(), &rejectingFilter);
+  rtcCommitGeometry(torus.geometry());
+  Scene scene(device);
+  scene.attach(torus.geometry());
+  scene.commit();
+  log = FilterLog{3, 0, {}};
+  RTCRayHit rh = intersect1(scene, makeRay({-5, 0, 0}, {1, 0, 0}));
+  ASSERT_EQ(log.seenT.size(), 4u);
+  const float expected[4] = {3.6f, 4.4f, 5.6f, 6.4f};
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(log.seenT[i], expected[i], 1e-6f);
+  EXPECT_NEAR(rh.ray.tfar, 6.4f, 1e-6f);
+}
+
+TEST_F(EmbreeFilter, ContextFilterIsChainedThroughAlgrayContext) {
+  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  Scene scene(device);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  scene.attach(sphere.geometry());
+  scene.commit();
+  RayD ray{{0, 0, -5}, {0, 0, 1}, 0, 100, 0};
+  HitD hit;
+  IntersectContext context;
+  initIntersectContext(&context, &ray, &hit);
+  context.hostFilter = &rejectingFilter;
+  RTCRayHit rh = makeRayHit(ray);
+  log = FilterLog{1, 0, {}};
+  rtcIntersect1(scene, &context.base, &rh);
+  EXPECT_EQ(log.calls, 2);  // the host's context filter ran once per root, rejected the first
+  ASSERT_TRUE(hit.hit);
+  EXPECT_DOUBLE_EQ(hit.t, 6.0);
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 6.0f);
+  // A plain context on the same scene: no chaining needed, no crash.
+  rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 4.0f);
+}
+
+TEST_F(EmbreeFilter, InstancesWithTransforms) {
+  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  Scene inner(device);
+  const unsigned innerId = inner.attach(sphere.geometry());
+  inner.commit();
+  Scene top(device);
+  // Two instances: scaled by 2 at x = -10, and translated to x = +10.
+  std::vector<unsigned> instIds;
+  const float xfms[2][12] = {{2, 0, 0, 0, 2, 0, 0, 0, 2, -10, 0, 0}, {1, 0, 0, 0, 1, 0, 0, 0, 1, 10, 0, 0}};
+  for (const auto& xfm : xfms) {
+    RTCGeometry inst = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(inst, inner);
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(inst);
+    instIds.push_back(top.attach(inst));
+    rtcReleaseGeometry(inst);
+  }
+  top.commit();
+  RTCRayHit rh = intersect1(top, makeRay({-10, 0, -10}, {0, 0, 1}));
+  EXPECT_EQ(rh.hit.instID[0], instIds[0]);
+  EXPECT_EQ(rh.hit.geomID, innerId);
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 8.0f);  // radius 2 after scaling
+  EXPECT_NEAR(hitNormal(rh).z, -1.0f, 1e-6f);
+  // Oblique: Ng is in the instanced scene's (object) space: the unit-sphere normal.
+  rh = intersect1(top, makeRay({10.6f, 0, -10}, {0, 0, 1}));
+  EXPECT_EQ(rh.hit.instID[0], instIds[1]);
+  const float z = -std::sqrt(1.0f - 0.36f);
+  EXPECT_NEAR(rh.ray.tfar, 10.0f + z, 1e-5f);
+  const glm::vec3 n = hitNormal(rh);
+  EXPECT_NEAR(n.x, 0.6f, 1e-5f);
+  EXPECT_NEAR(n.z, z, 1e-5f);
+  RTCRay shadow = makeRay({-10, 0, -10}, {0, 0, 1}).ray;
+  EXPECT_TRUE(occluded1(top, shadow));
+  shadow = makeRay({0, 0, -10}, {0, 0, 1}).ray;
+  EXPECT_FALSE(occluded1(top, shadow));
+  // The double context inside an instance falls back to the float ray (still correct).
+  RayD ray{{-10, 0, -10}, {0, 0, 1}, 0, 100, 0};
+  RTCRayHit out;
+  intersectD(top, ray, &out);
+  EXPECT_FLOAT_EQ(out.ray.tfar, 8.0f);
+  EXPECT_EQ(out.hit.instID[0], instIds[0]);
+}
+
+// Packets: rtcIntersectN / rtcOccludedN against rtcIntersect1 on the same rays, with
+// some lanes switched off by the valid mask.
+template <int N, class RayHitN, class RayN>
+void checkPackets(RTCScene scene, std::mt19937& rng) {
+  std::normal_distribution<float> g;
+  std::uniform_real_distribution<float> u(-1.4f, 1.4f);
+  for (int round = 0; round < 20; ++round) {
+    alignas(64) RayHitN packet{};
+    alignas(64) RayN shadow{};
+    alignas(64) int valid[N];
+    std::vector<RTCRayHit> singles;
+    for (int i = 0; i < N; ++i) {
+      const glm::vec3 o = 4.0f * glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+      const glm::vec3 d = glm::vec3(u(rng), u(rng), u(rng)) - o;
+      const RTCRayHit one = makeRay(o, d, 0.0f, i % 3 == 0 ? 3.5f : kInfF);
+      singles.push_back(one);
+      valid[i] = (i % 5 == 4) ? 0 : -1;
+      packet.ray.org_x[i] = shadow.org_x[i] = o.x;
+      packet.ray.org_y[i] = shadow.org_y[i] = o.y;
+      packet.ray.org_z[i] = shadow.org_z[i] = o.z;
+      packet.ray.dir_x[i] = shadow.dir_x[i] = d.x;
+      packet.ray.dir_y[i] = shadow.dir_y[i] = d.y;
+      packet.ray.dir_z[i] = shadow.dir_z[i] = d.z;
+      packet.ray.tnear[i] = shadow.tnear[i] = 0.0f;
+      packet.ray.tfar[i] = shadow.tfar[i] = one.ray.tfar;
+      packet.ray.mask[i] = shadow.mask[i] = ~0u;
+      packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    if constexpr (N == 4) {
+      rtcIntersect4(valid, scene, &context, &packet);
+      rtcOccluded4(valid, scene, &context, &shadow);
+    } else if constexpr (N == 8) {
+      rtcIntersect8(valid, scene, &context, &packet);
+      rtcOccluded8(valid, scene, &context, &shadow);
+    } else {
+      rtcIntersect16(valid, scene, &context, &packet);
+      rtcOccluded16(valid, scene, &context, &shadow);
+    }
+    for (int i = 0; i < N; ++i) {
+      if (!valid[i]) {
+        EXPECT_EQ(packet.hit.geomID[i], RTC_INVALID_GEOMETRY_ID);
+        continue;
+      }
+      const RTCRayHit one = intersect1(scene, singles[i]);
+      EXPECT_EQ(packet.hit.geomID[i], one.hit.geomID) << N << " lane " << i;
+      EXPECT_EQ(packet.ray.tfar[i], one.ray.tfar) << N << " lane " << i;
+      if (one.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+        EXPECT_EQ(packet.hit.Ng_x[i], one.hit.Ng_x);
+        EXPECT_EQ(packet.hit.u[i], one.hit.u);
+        EXPECT_EQ(packet.hit.primID[i], one.hit.primID);
+      }
+      EXPECT_EQ(shadow.tfar[i] == -kInfF, occluded1(scene, singles[i].ray)) << N << " lane " << i;
+    }
+  }
+}
+
+TEST_F(EmbreeFilter, PacketsAgreeWithSingleRays) {
+  SurfaceDesc desc;
+  desc.polynomial = torusPolynomial(1.0, 0.4);
+  desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+  SurfaceGeometry torus(device, desc);
+  SurfaceGeometry sphere(device, sphereDesc(0.3, 0.5));
+  Scene scene(device);
+  scene.attach(torus.geometry());
+  scene.attach(sphere.geometry());
+  scene.commit();
+  std::mt19937 rng(7);
+  checkPackets<4, RTCRayHit4, RTCRay4>(scene, rng);
+  checkPackets<8, RTCRayHit8, RTCRay8>(scene, rng);
+  checkPackets<16, RTCRayHit16, RTCRay16>(scene, rng);
+  EXPECT_EQ(torus.callbackErrors(), 0u);
+}
+
+TEST_F(EmbreeFilter, ThreadsShareOneSurface) {
+  SurfaceDesc desc;
+  desc.polynomial = torusPolynomial(1.0, 0.4);
+  desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+  SurfaceGeometry torus(device, desc);
+  Scene scene(device);
+  scene.attach(torus.geometry());
+  scene.commit();
+  // Reference single-threaded, then 4 threads over the same rays (the per-thread caches
+  // must not leak between threads).
+  std::vector<RTCRayHit> rays;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.4f, 1.4f);
+  for (int i = 0; i < 400; ++i)
+    rays.push_back(makeRay({0.1f * (i % 4), 0, -4}, glm::vec3(u(rng), u(rng), 4.0f)));
+  std::vector<float> ref;
+  for (const auto& r : rays) ref.push_back(intersect1(scene, r).ray.tfar);
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> threads;
+  for (int k = 0; k < 4; ++k)
+    threads.emplace_back([&, k] {
+      for (size_t i = k; i < rays.size() * 4; i += 4) {
+        const size_t j = (i * 7) % rays.size();
+        if (intersect1(scene, rays[j]).ray.tfar != ref[j]) ++mismatches;
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(mismatches.load(), 0);
+}
+
+}  // namespace
+}  // namespace algray::test

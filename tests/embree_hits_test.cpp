@@ -1,0 +1,462 @@
+// Hit records of algray surfaces through Embree (rtcIntersect1 / rtcOccluded1), against
+// closed forms and brute-force references computed independently of the library.
+#include "embree_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <random>
+
+namespace algray::test {
+namespace {
+
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+
+// First root of |o + t d|^2 = r^2 with t > tnear, in long double (closed form, stable
+// variant of the quadratic formula, Press et al., "Numerical Recipes", Sec. 5.6).
+std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long double r, long double tnear) {
+  const long double a = (long double)d.x * d.x + (long double)d.y * d.y + (long double)d.z * d.z;
+  const long double b = 2 * ((long double)o.x * d.x + (long double)o.y * d.y + (long double)o.z * d.z);
+  const long double c = (long double)o.x * o.x + (long double)o.y * o.y + (long double)o.z * o.z - r * r;
+  const long double disc = b * b - 4 * a * c;
+  if (disc < 0) return std::nullopt;
+  const long double q = -0.5L * (b + (b < 0 ? -1 : 1) * std::sqrt(disc));
+  long double t0 = q / a, t1 = c / q;
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 > tnear) return t0;
+  if (t1 > tnear) return t1;
+  return std::nullopt;
+}
+
+// Torus (x^2+y^2+z^2+R^2-r^2)^2 - 4R^2(x^2+y^2) evaluated directly (no Polynomial).
+long double torusValue(long double x, long double y, long double z, long double R, long double r) {
+  const long double s = x * x + y * y + z * z + R * R - r * r;
+  return s * s - 4 * R * R * (x * x + y * y);
+}
+glm::dvec3 torusGradient(glm::dvec3 p, double R, double r) {
+  const double s = glm::dot(p, p) + R * R - r * r;
+  return {4 * p.x * s - 8 * R * R * p.x, 4 * p.y * s - 8 * R * R * p.y, 4 * p.z * s};
+}
+// Brute force: dense sign scan of the torus function along the ray inside |p| < clip,
+// then bisection. Independent of the library's restriction and solver.
+std::optional<long double> torusRoot(glm::dvec3 o, glm::dvec3 d, double R, double r, double clip) {
+  const double dd = glm::dot(d, d);
+  const double tc = -glm::dot(o, d) / dd;
+  const double h2 = clip * clip - glm::dot(o + tc * d, o + tc * d);
+  if (h2 <= 0) return std::nullopt;
+  const double dt = std::sqrt(h2 / dd);
+  const long double t0 = std::max(0.0, tc - dt), t1 = tc + dt;
+  auto g = [&](long double t) { return torusValue(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z, R, r); };
+  const int n = 20000;
+  long double prev = g(t0);
+  for (int i = 1; i <= n; ++i) {
+    long double a = t0 + (t1 - t0) * (i - 1) / n, b = t0 + (t1 - t0) * i / n;
+    const long double gb = g(b);
+    if ((prev < 0) != (gb < 0)) {
+      for (int k = 0; k < 200; ++k) {
+        const long double m = 0.5L * (a + b);
+        if ((g(m) < 0) == (prev < 0)) a = m; else b = m;
+      }
+      return 0.5L * (a + b);
+    }
+    prev = gb;
+  }
+  return std::nullopt;
+}
+
+glm::dvec3 asD(const RTCRayHit& rh, bool org) {
+  return org ? glm::dvec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z)
+             : glm::dvec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+}
+
+class EmbreeHits : public ::testing::Test {
+ protected:
+  Device device;
+  std::mt19937 rng{12345};
+  glm::vec3 randomDir() {
+    std::normal_distribution<float> n;
+    return glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
+  }
+};
+
+TEST_F(EmbreeHits, SphereMatchesClosedForm) {
+  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  Scene scene(device);
+  const unsigned id = scene.attach(sphere.geometry());
+  scene.commit();
+  std::uniform_real_distribution<float> u(-0.9f, 0.9f);
+  int hits = 0;
+  for (int i = 0; i < 500; ++i) {
+    const glm::vec3 o = 4.0f * randomDir();
+    const glm::vec3 target(u(rng), u(rng), u(rng));
+    const glm::vec3 d = (target - o) * (0.5f + 0.01f * i);  // not unit length
+    const RTCRayHit rh = intersect1(scene, makeRay(o, d));
+    const auto ref = sphereRoot(asD(rh, true), asD(rh, false), 1.0L, 0.0L);
+    ASSERT_EQ(ref.has_value(), rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) << i;
+    if (!ref) continue;
+    ++hits;
+    EXPECT_EQ(rh.hit.geomID, id);
+    EXPECT_EQ(rh.hit.instID[0], RTC_INVALID_GEOMETRY_ID);
+    EXPECT_LT(rh.hit.primID, sphere.primitiveCount());
+    // The double root rounded to float: within one float ulp of the reference.
+    EXPECT_NEAR(rh.ray.tfar, (double)*ref, 2e-7 * (double)*ref) << i;
+    const glm::dvec3 p = asD(rh, true) + (double)*ref * asD(rh, false);
+    const glm::vec3 n = hitNormal(rh);
+    EXPECT_NEAR(glm::dot(glm::dvec3(n), glm::normalize(p)), 1.0, 1e-6);
+    // u, v: spherical angles of the hit point about the clip centre.
+    const double phi = std::atan2(p.y, p.x);
+    EXPECT_NEAR(rh.hit.u, (phi < 0 ? phi + 2 * M_PI : phi) / (2 * M_PI), 1e-5);
+    EXPECT_NEAR(rh.hit.v, std::acos(p.z / glm::length(p)) / M_PI, 1e-5);
+  }
+  EXPECT_GT(hits, 300);
+  EXPECT_EQ(sphere.callbackErrors(), 0u);
+}
+
+TEST_F(EmbreeHits, SphereInsideHitsFarSide) {
+  SurfaceGeometry sphere(device, sphereDesc(2.0, 3.0));
+  Scene scene(device);
+  scene.attach(sphere.geometry());
+  scene.commit();
+  const RTCRayHit rh = intersect1(scene, makeRay({0.5f, 0, 0}, {1, 0, 0}));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 1.5f);
+  EXPECT_GT(rh.hit.Ng_x, 0.0f);  // gradient points outward, whichever side the ray came from
+}
+
+TEST_F(EmbreeHits, TorusMatchesBruteForce) {
+  const double R = 1.0, r = 0.4, clip = 1.6;
+  SurfaceDesc desc;
+  desc.polynomial = torusPolynomial(R, r);
+  desc.clip = ClipSphere{{0, 0, 0}, clip};
+  SurfaceGeometry torus(device, desc);
+  Scene scene(device);
+  scene.attach(torus.geometry());
+  scene.commit();
+  // Axis ray in closed form: the x axis crosses the tube at x = -(R+r), -(R-r), R-r, R+r.
+  RTCRayHit rh = intersect1(scene, makeRay({-5, 0, 0}, {1, 0, 0}));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, (float)(5 - (R + r)));
+  EXPECT_NEAR(hitNormal(rh).x, -1.0f, 1e-6f);
+  rh = intersect1(scene, makeRay({0, 0, 0}, {1, 0, 0}));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, (float)(R - r));
+  EXPECT_NEAR(hitNormal(rh).x, -1.0f, 1e-6f);  // inner equator: gradient points to the axis
+  int hits = 0;
+  std::uniform_real_distribution<float> u(-1.3f, 1.3f);
+  for (int i = 0; i < 300; ++i) {
+    const glm::vec3 o = 3.0f * randomDir();
+    const glm::vec3 d = glm::vec3(u(rng), u(rng), 0.3f * u(rng)) - o;
+    rh = intersect1(scene, makeRay(o, d));
+    const auto ref = torusRoot(asD(rh, true), asD(rh, false), R, r, clip);
+    ASSERT_EQ(ref.has_value(), rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) << i;
+    if (!ref) continue;
+    ++hits;
+    EXPECT_NEAR(rh.ray.tfar, (double)*ref, 4e-7 * (double)*ref) << i;
+    const glm::dvec3 p = asD(rh, true) + (double)*ref * asD(rh, false);
+    EXPECT_GT(glm::dot(glm::dvec3(hitNormal(rh)), glm::normalize(torusGradient(p, R, r))), 1 - 1e-5) << i;
+  }
+  EXPECT_GT(hits, 100);
+}
+
+TEST_F(EmbreeHits, DoubleChannelIsAccurate) {
+  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  Scene scene(device);
+  const unsigned id = scene.attach(sphere.geometry());
+  scene.commit();
+  std::uniform_real_distribution<double> u(-0.9, 0.9);
+  for (double dist : {3.0, 3000.0}) {
+    for (int i = 0; i < 200; ++i) {
+      RayD ray;
+      ray.org = dist * glm::dvec3(randomDir());
+      ray.dir = glm::dvec3(u(rng), u(rng), u(rng)) - ray.org;
+      ray.tfar = std::numeric_limits<double>::infinity();
+      RTCRayHit rh;
+      const HitD hit = intersectD(scene, ray, &rh);
+      const auto ref = sphereRoot(ray.org, ray.dir, 1.0L, 0.0L);
+      ASSERT_EQ(ref.has_value(), hit.hit);
+      if (!ref) continue;
+      EXPECT_EQ(hit.geomID, id);
+      EXPECT_EQ(rh.hit.geomID, id);
+      // Hit point within 1e-12 of the clip radius (position error, not t error: t of a
+      // far ray is only known to u |o| / |d|).
+      const double err = glm::length(ray.dir) * std::abs(hit.t - (double)*ref);
+      EXPECT_LT(err, 1e-12 + 16 * kUnitRoundoff * dist) << dist << " " << i;
+      const glm::dvec3 p = ray.org + hit.t * ray.dir;
+      EXPECT_NEAR(glm::dot(glm::normalize(hit.Ng), glm::normalize(p)), 1.0, 1e-12);
+    }
+  }
+}
+
+TEST_F(EmbreeHits, SurfaceTransformMovesHitsAndNormals) {
+  // Unit sphere scaled by (2, 1, 1) and moved by (0, 0, 5): the ellipsoid
+  // (x/2)^2 + y^2 + (z-5)^2 = 1. Ng = A^-T grad f_object, proportional to
+  // (x/4, y, z-5) at the hit.
+  SurfaceDesc desc = sphereDesc(1.0, 1.2);
+  desc.transform = glm::dmat4(1.0);
+  desc.transform[0][0] = 2.0;
+  desc.transform[3] = glm::dvec4(0, 0, 5, 1);
+  SurfaceGeometry ellipsoid(device, desc);
+  Scene scene(device);
+  scene.attach(ellipsoid.geometry());
+  scene.commit();
+  RTCRayHit rh = intersect1(scene, makeRay({-10, 0, 5}, {1, 0, 0}));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 8.0f);
+  EXPECT_NEAR(hitNormal(rh).x, -1.0f, 1e-6f);
+  const glm::vec3 o(-3, 0.2f, 5.3f), d(1, 0.05f, -0.02f);
+  rh = intersect1(scene, makeRay(o, d));
+  ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  // Reference: the object-space ray against the unit sphere.
+  const glm::dvec3 oo(o.x / 2.0, o.y, o.z - 5.0), od(d.x / 2.0, d.y, d.z);
+  const auto ref = sphereRoot(oo, od, 1.0L, 0.0L);
+  ASSERT_TRUE(ref);
+  EXPECT_NEAR(rh.ray.tfar, (double)*ref, 1e-6);
+  const glm::dvec3 p = glm::dvec3(o) + (double)*ref * glm::dvec3(d);
+  const glm::dvec3 n = glm::normalize(glm::dvec3(p.x / 4, p.y, p.z - 5));
+  EXPECT_GT(glm::dot(glm::dvec3(hitNormal(rh)), n), 1 - 1e-6);
+}
+
+TEST_F(EmbreeHits, MixedSceneClosestHitEitherOrder) {
+  for (bool surfaceFirst : {true, false}) {
+    SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+    RTCGeometry quad = makeQuad(device, 0.5f, 3.0f);  // cuts the sphere at z = 0.5
+    Scene scene(device);
+    // Required for the double channel in scenes holding Embree's own geometry types.
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    unsigned sid, qid;
+    if (surfaceFirst) {
+      sid = scene.attach(sphere.geometry());
+      qid = scene.attach(quad);
+    } else {
+      qid = scene.attach(quad);
+      sid = scene.attach(sphere.geometry());
+    }
+    rtcReleaseGeometry(quad);
+    scene.commit();
+    // From above: the sphere (z = 1) is in front of the quad (z = 0.5).
+    RTCRayHit rh = intersect1(scene, makeRay({0, 0, 5}, {0, 0, -1}));
+    EXPECT_EQ(rh.hit.geomID, sid);
+    EXPECT_FLOAT_EQ(rh.ray.tfar, 4.0f);
+    // From below, aimed past the sphere's silhouette: only the quad.
+    rh = intersect1(scene, makeRay({2, 2, -5}, {0, 0, 1}));
+    EXPECT_EQ(rh.hit.geomID, qid);
+    EXPECT_FLOAT_EQ(rh.ray.tfar, 5.5f);
+    // From inside the sphere upwards: the quad at z = 0.5 comes before the sphere at 1.
+    rh = intersect1(scene, makeRay({0, 0, 0}, {0, 0, 1}));
+    EXPECT_EQ(rh.hit.geomID, qid);
+    EXPECT_FLOAT_EQ(rh.ray.tfar, 0.5f);
+    // Double channel: the HitD is the surface's, the float record says the quad won.
+    RayD ray{{0, 0, 0}, {0, 0, 1}, 0, 10, 0};
+    RTCRayHit out;
+    const HitD hit = intersectD(scene, ray, &out);
+    EXPECT_EQ(out.hit.geomID, qid);
+    EXPECT_NE(hit.hit && hit.geomID == out.hit.geomID, true);
+  }
+}
+
+TEST_F(EmbreeHits, OcclusionAndSpan) {
+  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  Scene scene(device);
+  scene.attach(sphere.geometry());
+  scene.commit();
+  RTCRay ray = makeRay({0, 0, -5}, {0, 0, 1}).ray;
+  EXPECT_TRUE(occluded1(scene, ray));
+  ray.tfar = 3.9f;  // stops before the sphere (t = 4)
+  EXPECT_FALSE(occluded1(scene, ray));
+  ray = makeRay({3, 0, -5}, {0, 0, 1}).ray;  // passes beside
+  EXPECT_FALSE(occluded1(scene, ray));
+  // tnear beyond the first root gives the second one; tfar before the first: miss.
+  RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}, 4.5f));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 6.0f);
+  rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}, 0.0f, 3.99f));
+  EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 3.99f);
+  rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}, 6.01f));
+  EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+}
+
+TEST_F(EmbreeHits, RayMaskRespected) {
+  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  rtcSetGeometryMask(sphere.geometry(), 0x2);
+  rtcCommitGeometry(sphere.geometry());
+  Scene scene(device);
+  scene.attach(sphere.geometry());
+  scene.commit();
+  RTCRayHit rh = makeRay({0, 0, -5}, {0, 0, 1});
+  rh.ray.mask = 0x1;
+  EXPECT_EQ(intersect1(scene, rh).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_FALSE(occluded1(scene, rh.ray));
+  rh.ray.mask = 0x3;
+  EXPECT_NE(intersect1(scene, rh).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_TRUE(occluded1(scene, rh.ray));
+}
+
+TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
+  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  Scene scene(device);
+  scene.attach(sphere.geometry());
+  scene.commit();
+  // Float rays Embree accepts (Embree 3 itself asserts on NaN/inf origins or directions,
+  // so those never reach a user geometry): zero direction, inverted or empty span.
+  const std::vector<RTCRayHit> rays = {makeRay({0, 0, -5}, {0, 0, 0}), makeRay({0, 0, 0}, {0, 0, 0}),
+                                       makeRay({0, 0, -5}, {0, 0, 1}, 5.0f, 3.0f),
+                                       makeRay({0, 0, -5}, {0, 0, 1}, 3.0f, 3.0f)};
+  for (size_t i = 0; i < rays.size(); ++i) {
+    EXPECT_EQ(intersect1(scene, rays[i]).hit.geomID, RTC_INVALID_GEOMETRY_ID) << i;
+    EXPECT_FALSE(occluded1(scene, rays[i].ray)) << i;
+  }
+  // A tiny but non-zero direction is a legitimate ray: it hits at t = 4e10.
+  const RTCRayHit tiny = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1e-10f}));
+  EXPECT_NEAR(tiny.ray.tfar, 4e10f, 1e4f);
+  // Denormal directions: whatever Embree's float traversal does, no crash, no error.
+  intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1e-40f}));
+  // Non-finite double rays reach the kernel through the double channel (the float ray
+  // Embree sees is valid): no hit, no error, no hang.
+  const double dnan = std::nan(""), dinf = std::numeric_limits<double>::infinity();
+  const std::vector<RayD> bad = {{{0, 0, dnan}, {0, 0, 1}, 0, 10, 0},    {{0, 0, -5}, {dnan, 0, 1}, 0, 10, 0},
+                                 {{0, 0, -5}, {0, 0, dinf}, 0, 10, 0},   {{-dinf, 0, 0}, {1, 0, 0}, 0, 10, 0},
+                                 {{0, 0, -5}, {0, 0, 1}, dnan, 10, 0},   {{0, 0, -5}, {0, 0, 1}, 0, dnan, 0},
+                                 {{0, 0, -5}, {0, 0, 0}, 0, 10, 0},      {{0, 0, -5}, {0, 0, 1}, 0, 10, dnan}};
+  for (size_t i = 0; i < bad.size(); ++i) {
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &bad[i], &hit);
+    RTCRayHit rh = makeRay({0, 0, -5}, {0, 0, 1}, 0.0f, 10.0f);
+    rtcIntersect1(scene, &context.base, &rh);
+    EXPECT_FALSE(hit.hit) << i;
+    EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << i;
+    RTCRay ray = makeRay({0, 0, -5}, {0, 0, 1}, 0.0f, 10.0f).ray;
+    rtcOccluded1(scene, &context.base, &ray);
+    EXPECT_FALSE(hit.hit) << i;
+  }
+  // makeRayHit of a non-finite double ray gives a float ray Embree accepts and that
+  // hits nothing.
+  for (const RayD& r : bad) {
+    bool finiteRay = true;
+    for (int k = 0; k < 3; ++k) finiteRay = finiteRay && std::isfinite(r.org[k]) && std::isfinite(r.dir[k]);
+    if (finiteRay) continue;
+    EXPECT_FALSE(intersectD(scene, r).hit);
+  }
+  EXPECT_EQ(sphere.callbackErrors(), 0u);
+}
+
+TEST_F(EmbreeHits, SeveralSurfacesInOneScene) {
+  std::vector<SurfaceGeometry> surfaces;
+  Scene scene(device);
+  std::vector<unsigned> ids;
+  for (int i = 0; i < 5; ++i) {
+    surfaces.emplace_back(device, sphereDesc(0.5, 0.75, {3.0 * i, 0, 0}));
+  }
+  // The polynomial above is centred at the origin: place the spheres by transform.
+  surfaces.clear();
+  for (int i = 0; i < 5; ++i) {
+    SurfaceDesc desc = sphereDesc(0.5, 0.75);
+    desc.transform[3] = glm::dvec4(3.0 * i, 0, 0, 1);
+    surfaces.emplace_back(device, desc);
+    ids.push_back(scene.attach(surfaces.back().geometry()));
+  }
+  scene.commit();
+  for (int i = 0; i < 5; ++i) {
+    RTCRayHit rh = intersect1(scene, makeRay({3.0f * i, 0, -5}, {0, 0, 1}));
+    EXPECT_EQ(rh.hit.geomID, ids[i]);
+    EXPECT_FLOAT_EQ(rh.ray.tfar, 4.5f);
+  }
+  // Along the row: the first sphere's near side.
+  RTCRayHit rh = intersect1(scene, makeRay({-5, 0, 0}, {1, 0, 0}));
+  EXPECT_EQ(rh.hit.geomID, ids[0]);
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 4.5f);
+  rh = intersect1(scene, makeRay({20, 0, 0}, {-1, 0, 0}));
+  EXPECT_EQ(rh.hit.geomID, ids[4]);
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 7.5f);
+}
+
+TEST_F(EmbreeHits, BadDescriptionsThrow) {
+  auto make = [&](SurfaceDesc desc) { SurfaceGeometry g(device, std::move(desc)); };
+  SurfaceDesc desc = sphereDesc(1.0, 1.5);
+  EXPECT_NO_THROW(make(desc));
+  SurfaceDesc zero = desc;
+  zero.polynomial = Polynomial();
+  EXPECT_THROW(make(zero), Error);
+  SurfaceDesc constant = desc;
+  constant.polynomial = Polynomial(2.0);
+  EXPECT_THROW(make(constant), Error);
+  SurfaceDesc nanCoeff = desc;
+  nanCoeff.polynomial.setCoeff(1, 0, 0, std::nan(""));
+  EXPECT_THROW(make(nanCoeff), Error);
+  SurfaceDesc badRadius = desc;
+  badRadius.clip = ClipSphere{{0, 0, 0}, -1.0};
+  EXPECT_THROW(make(badRadius), Error);
+  SurfaceDesc infRadius = desc;
+  infRadius.clip = ClipSphere{{0, 0, 0}, std::numeric_limits<double>::infinity()};
+  EXPECT_THROW(make(infRadius), Error);
+  SurfaceDesc emptyBox = desc;
+  emptyBox.clip = ClipBox{{0, 0, 0}, {1, -1, 1}};
+  EXPECT_THROW(make(emptyBox), Error);
+  SurfaceDesc singular = desc;
+  singular.transform[2][2] = 0.0;
+  EXPECT_THROW(make(singular), Error);
+  SurfaceDesc projective = desc;
+  projective.transform[0][3] = 0.5;
+  EXPECT_THROW(make(projective), Error);
+  EXPECT_THROW(SurfaceGeometry(nullptr, desc), Error);
+}
+
+// The measurement switches of SurfaceOptions change the path, not the answer: every
+// configuration finds the same hits (to double precision; the float solver to float).
+TEST_F(EmbreeHits, OptionsGiveTheSameHits) {
+  std::vector<SurfaceOptions> configs(6);
+  configs[1].originCache = false;
+  configs[2].recentre = false;
+  configs[3].useCells = false;
+  configs[4].cellDepth = 2;
+  configs[5].singlePrecision = true;
+  std::vector<RayD> rays;
+  std::uniform_real_distribution<double> u(-1.3, 1.3);
+  for (int i = 0; i < 200; ++i) {
+    // Half from one camera position (the origin cache path), half from random origins.
+    const glm::dvec3 o = i % 2 ? glm::dvec3(0.3, -0.2, -4.0) : 4.0 * glm::dvec3(randomDir());
+    rays.push_back(RayD{o, glm::dvec3(u(rng), u(rng), 0.3 * u(rng)) - o, 0.0, 1e30, 0.0});
+  }
+  std::vector<HitD> reference;
+  int floatDisagreements = 0;
+  for (size_t c = 0; c < configs.size(); ++c) {
+    SurfaceDesc desc;
+    desc.polynomial = torusPolynomial(1.0, 0.4);
+    desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    desc.options = configs[c];
+    SurfaceGeometry torus(device, desc);
+    Scene scene(device);
+    scene.attach(torus.geometry());
+    scene.commit();
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const HitD hit = intersectD(scene, rays[i]);
+      if (c == 0) {
+        reference.push_back(hit);
+        continue;
+      }
+      if (c == 5 && hit.hit != reference[i].hit) {
+        ++floatDisagreements;  // the float solver decides near-tangent rays differently
+        continue;
+      }
+      ASSERT_EQ(hit.hit, reference[i].hit) << "config " << c << " ray " << i;
+      if (!hit.hit) continue;
+      const double tol = c == 5 ? 1e-3 : 1e-12;
+      EXPECT_NEAR(hit.t, reference[i].t, tol * reference[i].t) << "config " << c << " ray " << i;
+    }
+  }
+  EXPECT_LE(floatDisagreements, 4);
+}
+
+TEST_F(EmbreeHits, ClipBoxCutsTheSurface) {
+  SurfaceDesc desc = sphereDesc(1.0, 1.0);
+  desc.clip = ClipBox{{-2, -2, -2}, {2, 2, 0.5}};  // cap z > 0.5 removed
+  SurfaceGeometry cut(device, desc);
+  Scene scene(device);
+  scene.attach(cut.geometry());
+  scene.commit();
+  // Downwards through the removed cap: enters at the far (bottom) side z = -1.
+  RTCRayHit rh = intersect1(scene, makeRay({0, 0, 5}, {0, 0, -1}));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 6.0f);
+  EXPECT_LT(rh.hit.Ng_z, 0.0f);
+  rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 4.0f);
+}
+
+}  // namespace
+}  // namespace algray::test

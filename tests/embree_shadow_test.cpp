@@ -1,0 +1,121 @@
+// Rays leaving a surface must not find their own origin again (no shadow acne, no
+// speckles), on every gallery surface, without any epsilon: shadow and bounce rays start
+// at hit points computed as o + t d, with tnear = 0, through the float and the double
+// channel.
+#include "embree_test_util.h"
+
+#include "algray/gallery.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace algray::test {
+namespace {
+
+struct Counts {
+  int primary = 0;      // primary hits (each gives the origin of leaving rays)
+  int leaving = 0;      // leaving rays traced
+  int selfHits = 0;     // leaving rays that hit within selfDistance of their origin
+  double closest = 1e300;  // closest accepted hit distance seen, relative to the clip radius
+};
+
+// A hit closer than this (relative to the clip radius) to the ray's origin counts as the
+// origin found again: orders of magnitude below any feature of the gallery surfaces and
+// far above the rounding of the hit points.
+constexpr double kSelfDistance = 1e-6;
+
+class EmbreeShadow : public ::testing::TestWithParam<std::string_view> {};
+
+TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
+  const GallerySurface* g = findGallerySurface(GetParam());
+  ASSERT_NE(g, nullptr);
+  Device device;
+  SurfaceDesc desc;
+  desc.polynomial = g->build();
+  desc.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
+  SurfaceGeometry surface(device, desc);
+  Scene scene(device);
+  const unsigned id = scene.attach(surface.geometry());
+  scene.commit();
+  const double R = g->clipRadius;
+
+  std::mt19937 rng(2024);
+  std::normal_distribution<double> n;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto randomUnit = [&] { return glm::normalize(glm::dvec3(n(rng), n(rng), n(rng))); };
+  Counts dbl, flt;
+  for (int i = 0; i < 150; ++i) {
+    // ---- Primary ray from a camera 3 clip radii away ---------------------------------
+    const glm::dvec3 cam = 3.0 * R * randomUnit();
+    const glm::dvec3 target = 0.8 * R * glm::dvec3(u(rng), u(rng), u(rng));
+    RayD primary{cam, target - cam, 0.0, std::numeric_limits<double>::infinity(), 0.0};
+    const HitD hit = intersectD(scene, primary);
+    const RTCRayHit fhit = intersect1(scene, makeRay(glm::vec3(cam), glm::vec3(target - cam)));
+    for (int leave = 0; leave < 8; ++leave) {
+      // Half the rays leave on the side the primary ray came from (shadow rays towards a
+      // light), half go through the surface (refraction): both must skip the origin.
+      glm::dvec3 dir = randomUnit();
+      // ---- Double channel: p = o + t d and its pbrt-style error bound ----------------
+      if (hit.hit) {
+        const glm::dvec3 p = primary.org + hit.t * primary.dir;
+        const double pError = gamma(3) * (glm::length(primary.org) + glm::length(hit.t * primary.dir));
+        RayD ray{p, dir, 0.0, std::numeric_limits<double>::infinity(), pError};
+        const HitD h = intersectD(scene, ray);
+        ++dbl.leaving;
+        if (h.hit) {
+          const double dist = h.t * glm::length(dir) / R;
+          dbl.closest = std::min(dbl.closest, dist);
+          if (dist < kSelfDistance) ++dbl.selfHits;
+        }
+        // Occlusion takes the same path.
+        RTCRay shadow = makeRayHit(ray).ray;
+        IntersectContext ctx;
+        HitD occ;
+        initIntersectContext(&ctx, &ray, &occ);
+        rtcOccluded1(scene, &ctx.base, &shadow);
+        if (occ.hit && occ.t * glm::length(dir) / R < kSelfDistance) ++dbl.selfHits;
+      }
+      // ---- Float channel: the host's float hit point, tnear = 0 ------------------------
+      if (fhit.hit.geomID == id) {
+        const glm::vec3 o(fhit.ray.org_x, fhit.ray.org_y, fhit.ray.org_z);
+        const glm::vec3 d(fhit.ray.dir_x, fhit.ray.dir_y, fhit.ray.dir_z);
+        const glm::vec3 p = o + fhit.ray.tfar * d;
+        const RTCRayHit s = intersect1(scene, makeRay(p, glm::vec3(dir)));
+        ++flt.leaving;
+        if (s.hit.geomID == id) {
+          const double dist = s.ray.tfar / R;
+          flt.closest = std::min(flt.closest, dist);
+          if (dist < kSelfDistance) ++flt.selfHits;
+        }
+      }
+    }
+    dbl.primary += hit.hit;
+    flt.primary += fhit.hit.geomID == id;
+  }
+  RecordProperty("primary_hits", dbl.primary);
+  EXPECT_GT(dbl.primary, 10) << "too few primary hits to test " << g->name;
+  EXPECT_EQ(dbl.selfHits, 0) << g->name << " double channel, closest " << dbl.closest;
+  EXPECT_EQ(flt.selfHits, 0) << g->name << " float channel, closest " << flt.closest;
+  EXPECT_EQ(surface.callbackErrors(), 0u);
+  std::printf("%-16s primary %3d/%3d  leaving %4d/%4d  closest leaving hit %.3g / %.3g R\n",
+              std::string(g->name).c_str(), dbl.primary, flt.primary, dbl.leaving, flt.leaving, dbl.closest,
+              flt.closest);
+}
+
+std::vector<std::string_view> galleryNames() {
+  std::vector<std::string_view> names;
+  for (const GallerySurface& s : gallery()) names.push_back(s.name);
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Gallery, EmbreeShadow, ::testing::ValuesIn(galleryNames()),
+                         [](const ::testing::TestParamInfo<std::string_view>& param) {
+                           std::string name(param.param);
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace algray::test

@@ -1,0 +1,110 @@
+#pragma once
+// Small RAII helpers shared by the tests/embree_*_test.cpp suites.
+#include "algray/embree.h"
+
+#include <embree3/rtcore.h>
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace algray::test {
+
+inline Polynomial X() { return Polynomial::variable(0); }
+inline Polynomial Y() { return Polynomial::variable(1); }
+inline Polynomial Z() { return Polynomial::variable(2); }
+
+// x^2 + y^2 + z^2 - r^2
+inline Polynomial spherePolynomial(double r) { return X() * X() + Y() * Y() + Z() * Z() - Polynomial(r * r); }
+// (x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4 R^2 (x^2 + y^2): torus about the z axis.
+inline Polynomial torusPolynomial(double R, double r) {
+  const Polynomial s = X() * X() + Y() * Y() + Z() * Z() + Polynomial(R * R - r * r);
+  return s * s - 4.0 * R * R * (X() * X() + Y() * Y());
+}
+
+struct Device {
+  RTCDevice device = rtcNewDevice(nullptr);
+  ~Device() { rtcReleaseDevice(device); }
+  operator RTCDevice() const { return device; }  // NOLINT
+};
+
+struct Scene {
+  RTCScene scene;
+  explicit Scene(RTCDevice device) : scene(rtcNewScene(device)) {}
+  ~Scene() { rtcReleaseScene(scene); }
+  unsigned attach(RTCGeometry g) { return rtcAttachGeometry(scene, g); }
+  void commit() { rtcCommitScene(scene); }
+  operator RTCScene() const { return scene; }  // NOLINT
+};
+
+inline SurfaceDesc sphereDesc(double r, double clip, glm::dvec3 centre = glm::dvec3(0.0)) {
+  SurfaceDesc desc;
+  desc.polynomial = spherePolynomial(r);
+  desc.clip = ClipSphere{centre, clip};
+  return desc;
+}
+
+inline RTCRayHit makeRay(glm::vec3 o, glm::vec3 d, float tnear = 0.0f,
+                         float tfar = std::numeric_limits<float>::infinity()) {
+  RTCRayHit rh{};
+  rh.ray.org_x = o.x;
+  rh.ray.org_y = o.y;
+  rh.ray.org_z = o.z;
+  rh.ray.dir_x = d.x;
+  rh.ray.dir_y = d.y;
+  rh.ray.dir_z = d.z;
+  rh.ray.tnear = tnear;
+  rh.ray.tfar = tfar;
+  rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
+inline RTCRayHit intersect1(RTCScene scene, RTCRayHit rh) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(scene, &context, &rh);
+  return rh;
+}
+
+inline bool occluded1(RTCScene scene, RTCRay ray) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcOccluded1(scene, &context, &ray);
+  return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+// Double-precision query through the algray context.
+inline HitD intersectD(RTCScene scene, const RayD& ray, RTCRayHit* out = nullptr) {
+  HitD hit;
+  IntersectContext context;
+  initIntersectContext(&context, &ray, &hit);
+  RTCRayHit rh = makeRayHit(ray);
+  rtcIntersect1(scene, &context.base, &rh);
+  if (out) *out = rh;
+  return hit;
+}
+
+inline glm::vec3 hitNormal(const RTCRayHit& rh) {
+  return glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+}
+
+// A quad (two triangles) in the plane z = zPlane covering [-s, s]^2.
+inline RTCGeometry makeQuad(RTCDevice device, float zPlane, float s) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
+  const float verts[12] = {-s, -s, zPlane, s, -s, zPlane, s, s, zPlane, -s, s, zPlane};
+  for (int i = 0; i < 12; ++i) v[i] = verts[i];
+  auto* idx = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2));
+  const unsigned tris[6] = {0, 1, 2, 0, 2, 3};
+  for (int i = 0; i < 6; ++i) idx[i] = tris[i];
+  rtcCommitGeometry(g);
+  return g;
+}
+
+}  // namespace algray::test

@@ -1,0 +1,248 @@
+// algray-query end to end: run the binary on small CSV files and check the output
+// against closed forms, and every kind of bad input against exit code 2.
+#include "ray_csv.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exitCode = -1;
+  std::string err;
+  std::vector<std::vector<double>> rows;  // OUT.csv without its header
+  std::string header;
+};
+
+class QueryTool : public ::testing::Test {
+ protected:
+  fs::path dir;
+  void SetUp() override {
+    dir = fs::path(ALGRAY_BINARY_DIR) / "query-test" /
+          ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::create_directories(dir);
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return dir / name;
+  }
+  // Runs algray-query with `args` (the output goes to dir/out.csv unless args name one).
+  RunResult run(const std::string& args) {
+    const fs::path out = dir / "out.csv", err = dir / "err.txt";
+    fs::remove(out);
+    const std::string cmd = std::string(ALGRAY_QUERY_EXE) + " " + args + " 2> " + err.string();
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream e(err);
+    r.err.assign(std::istreambuf_iterator<char>(e), {});
+    std::ifstream o(out);
+    std::getline(o, r.header);
+    std::string line;
+    while (std::getline(o, line)) {
+      std::vector<double> row;
+      std::stringstream s(line);
+      std::string field;
+      while (std::getline(s, field, ',')) row.push_back(std::stod(field));
+      r.rows.push_back(row);
+    }
+    return r;
+  }
+  std::string common(const fs::path& rays) {
+    return "--rays " + rays.string() + " --out " + (dir / "out.csv").string();
+  }
+};
+
+// First root of |o + t d|^2 = r^2 beyond tnear (closed form, long double).
+double sphereT(const double o[3], const double d[3], double r, double tnear) {
+  long double a = 0, b = 0, c = -(long double)r * r;
+  for (int i = 0; i < 3; ++i) {
+    a += (long double)d[i] * d[i];
+    b += 2.0L * o[i] * d[i];
+    c += (long double)o[i] * o[i];
+  }
+  const long double disc = b * b - 4 * a * c;
+  if (disc < 0) return -1;
+  const long double q = -0.5L * (b + (b < 0 ? -1 : 1) * std::sqrt(disc));
+  long double t0 = q / a, t1 = c / q;
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 > tnear) return (double)t0;
+  if (t1 > tnear) return (double)t1;
+  return -1;
+}
+
+TEST_F(QueryTool, SphereMatchesClosedFormInAnyColumnOrder) {
+  // Columns shuffled, an extra column, a direction that is not unit length.
+  const double rays[][8] = {{0, 0, -5, 0, 0, 1, 0, 1e30},     {0.3, -0.2, -4, 0, 0, 2.5, 0, 100},
+                            {3, 0, 0, -1, 0.1, 0.05, 0, 100}, {5, 5, 5, 1, 0, 0, 0, 100},
+                            {0, 0, 0, 0.2, 0.3, 0.1, 0, 100}, {0, 0, -5, 0, 0, 1, 4.5, 100},
+                            {0, 0, -5, 0, 0, 1, 0, 3.9}};
+  std::string csv = "id,tfar,dz,dy,dx,oz,oy,ox,tnear\n";
+  char buf[512];
+  for (int i = 0; i < 7; ++i) {
+    const double* r = rays[i];
+    std::snprintf(buf, sizeof buf, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i, r[7], r[5], r[4],
+                  r[3], r[2], r[1], r[0], r[6]);
+    csv += buf;
+  }
+  const RunResult r = run("--surface \"x^2 + y^2 + z^2 - 1\" --clip-sphere 1.5 " + common(write("rays.csv", csv)));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.header, "hit,t,nx,ny,nz");
+  EXPECT_NE(r.err.find("rays/s"), std::string::npos) << r.err;
+  ASSERT_EQ(r.rows.size(), 7u);
+  for (int i = 0; i < 7; ++i) {
+    const double t = sphereT(rays[i], rays[i] + 3, 1.0, rays[i][6]);
+    const bool expectHit = t > 0 && t < rays[i][7];
+    ASSERT_EQ(r.rows[i].size(), 5u);
+    EXPECT_EQ(r.rows[i][0], expectHit ? 1.0 : 0.0) << i;
+    if (!expectHit) {
+      for (int k = 1; k < 5; ++k) EXPECT_EQ(r.rows[i][k], 0.0);
+      continue;
+    }
+    EXPECT_NEAR(r.rows[i][1], t, 1e-14 * t) << i;
+    double p[3], len = 0;
+    for (int k = 0; k < 3; ++k) p[k] = rays[i][k] + t * rays[i][3 + k];
+    for (int k = 0; k < 3; ++k) len += r.rows[i][2 + k] * r.rows[i][2 + k];
+    EXPECT_NEAR(len, 1.0, 1e-14);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.rows[i][2 + k], p[k], 1e-12) << i;
+  }
+}
+
+TEST_F(QueryTool, HitPointsAsOriginsDoNotHitThemselves) {
+  // First pass: hits on a torus from outside. Second pass: rays from those hit points
+  // (o + t d, as a user computes them from OUT.csv) with tnear = 0, towards the centre
+  // and away from it.
+  const std::string surface = "--surface \"(x^2+y^2+z^2+R^2-r^2)^2 - 4*R^2*(x^2+y^2)\" --param R=1 --param r=0.4 "
+                              "--clip-sphere 1.6 ";
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  std::vector<std::array<double, 6>> rays;
+  for (int i = 0; i < 40; ++i) {
+    const double a = 0.37 * i, z = 0.05 * (i % 7) - 0.15;
+    std::array<double, 6> ray = {4 * std::cos(a), 4 * std::sin(a), 1.0, -std::cos(a) + 0.1 * std::sin(a),
+                                 -std::sin(a), z - 0.25};
+    rays.push_back(ray);
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", ray[0], ray[1], ray[2], ray[3],
+                  ray[4], ray[5]);
+    csv += buf;
+  }
+  const RunResult first = run(surface + common(write("rays.csv", csv)));
+  ASSERT_EQ(first.exitCode, 0) << first.err;
+  std::string second = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  int hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (first.rows[i][0] != 1.0) continue;
+    ++hits;
+    const double t = first.rows[i][1];
+    const double p[3] = {rays[i][0] + t * rays[i][3], rays[i][1] + t * rays[i][4], rays[i][2] + t * rays[i][5]};
+    for (double sign : {-1.0, 1.0}) {  // into the tube and back out along the normal
+      char buf[256];
+      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", p[0], p[1], p[2],
+                    sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]);
+      second += buf;
+    }
+  }
+  ASSERT_GT(hits, 20);
+  const RunResult r = run(surface + common(write("second.csv", second)));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (size_t i = 0; i < r.rows.size(); ++i) {
+    if (r.rows[i][0] == 1.0) {
+      EXPECT_GT(r.rows[i][1], 1e-3) << "ray " << i << " found its own origin";
+    }
+    // Into the tube (even rows): the ray must reach the tube's other wall.
+    if (i % 2 == 0) {
+      EXPECT_EQ(r.rows[i][0], 1.0) << i;
+    }
+  }
+}
+
+TEST_F(QueryTool, FloatThreadsAndClipBox) {
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  for (int i = 0; i < 200; ++i) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%g,%g,-5,0,0,1,0,inf\n", -1.2 + 0.012 * i, 0.3);
+    csv += buf;
+  }
+  const fs::path rays = write("rays.csv", csv);
+  // The clip box removes x > 0.5: those rays miss.
+  const std::string base = "--surface \"x^2+y^2+z^2-1\" --clip-box -2,-2,-2,0.5,2,2 ";
+  const RunResult one = run(base + common(rays) + " --threads 1");
+  ASSERT_EQ(one.exitCode, 0) << one.err;
+  const RunResult two = run(base + common(rays) + " --threads 2");
+  ASSERT_EQ(two.exitCode, 0) << two.err;
+  EXPECT_EQ(one.rows, two.rows);
+  const RunResult flt = run(base + common(rays) + " --float");
+  ASSERT_EQ(flt.exitCode, 0) << flt.err;
+  for (int i = 0; i < 200; ++i) {
+    const double x = -1.2 + 0.012 * i, y = 0.3;
+    const bool hit = x * x + y * y < 1.0 && x <= 0.5;
+    if (std::abs(x * x + y * y - 1.0) < 1e-6 || std::abs(x - 0.5) < 1e-6) continue;
+    EXPECT_EQ(one.rows[i][0], hit ? 1.0 : 0.0) << x;
+    EXPECT_EQ(flt.rows[i][0], hit ? 1.0 : 0.0) << x;
+    if (!hit) continue;
+    const double t = 5.0 - std::sqrt(1.0 - x * x - y * y);
+    EXPECT_NEAR(one.rows[i][1], t, 1e-13);
+    EXPECT_NEAR(flt.rows[i][1], t, 1e-6);
+  }
+}
+
+TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
+  const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
+  const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
+  struct Case {
+    std::string args, expect;
+  };
+  const std::vector<Case> cases = {
+      {sphere + common(write("a.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,x5,0,0,1,0,inf\n")),
+       "a.csv:3: column 'oz'"},
+      {sphere + common(write("b.csv", "ox,oy,oz,dx,dy,tnear,tfar\n0,0,-5,0,0,0,inf\n")), "b.csv:1: the header has no column 'dz'"},
+      {sphere + common(write("c.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0\n")), "c.csv:2: expected 8 fields"},
+      {sphere + common(write("d.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,nan,0,0,1,0,inf\n")), "d.csv:2: column 'oz'"},
+      {sphere + common(write("e.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,inf,0,1,0,inf\n")), "e.csv:2: column 'dx'"},
+      {sphere + common(write("f.csv", "")), "f.csv"},
+      {"--surface \"x^2+y^2+*z\" --clip-sphere 2 " + common(good), "column 9"},
+      {"--surface \"x^2+y^2+z^2-a\" --clip-sphere 2 " + common(good), "column"},
+      {"--surface \"x^2-a\" --param a --clip-sphere 2 " + common(good), "--param"},
+      {"--surface \"x^2-a\" --param a=zz --clip-sphere 2 " + common(good), "--param"},
+      {"--surface \"x^2+y^2+z^2-1\" " + common(good), "--clip-sphere"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere -1 " + common(good), "--clip-sphere"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box 1,2,3 " + common(good), "--clip-box"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box 1,1,1,0,2,2 " + common(good), "--clip-box"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1 --clip-box -1,-1,-1,1,1,1 " + common(good), "clip"},
+      {sphere + common(good) + " --threads 0", "--threads"},
+      {sphere + common(good) + " --bogus", "bogus"},
+      {sphere + "--rays /nonexistent/rays.csv --out " + (dir / "out.csv").string(), "cannot open"},
+      {"--surface \"7\" --clip-sphere 2 " + common(good), "constant"},
+  };
+  for (const Case& c : cases) {
+    const RunResult r = run(c.args);
+    EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << "\nstderr: " << r.err;
+  }
+  // And the good file works.
+  EXPECT_EQ(run(sphere + common(good)).exitCode, 0);
+}
+
+TEST(RayCsv, ReaderParsesAndRejects) {
+  std::istringstream ok("tnear , tfar,ox,oy,oz,dx,dy,dz\r\n0,inf,1,2,3,4,5,6\r\n\n");
+  const auto rays = algray::query::readRays(ok, "ok.csv");
+  ASSERT_EQ(rays.size(), 1u);
+  EXPECT_EQ(rays[0].org, glm::dvec3(1, 2, 3));
+  EXPECT_EQ(rays[0].dir, glm::dvec3(4, 5, 6));
+  EXPECT_TRUE(std::isinf(rays[0].tfar));
+  std::istringstream dup("ox,ox,oy,oz,dx,dy,dz,tnear,tfar\n");
+  EXPECT_THROW(algray::query::readRays(dup, "dup.csv"), algray::query::CsvError);
+  std::istringstream neg("ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,0,1,0,0,-1,1\n");
+  EXPECT_THROW(algray::query::readRays(neg, "neg.csv"), algray::query::CsvError);
+}
+
+}  // namespace
