@@ -108,6 +108,18 @@ struct Lane {
   double tfarD;  // the double channel's current far end
 };
 
+// The candidate's float tfar, and whether it lies inside the ray's current interval: in
+// the double channel against the double far end (the float ray is only Embree's
+// traversal proxy), otherwise against the float ray's own (tnear, tfar).
+bool candidateTfar(const Lane& L, RTCRayN* ray, unsigned n, unsigned lane, double t, float& tf) {
+  if (L.dctx) {
+    tf = roundUp((t - L.dctx->floatShift) / L.dctx->floatScale);
+    return t < L.tfarD;
+  }
+  tf = static_cast<float>(t);
+  return tf > RTCRayN_tnear(ray, n, lane) && tf < RTCRayN_tfar(ray, n, lane);
+}
+
 // The host's filters for one candidate: the geometry filter through Embree, then the
 // context filter. With an algray context, the marker is hidden from Embree during the
 // call (Embree 3.13 runs, and asserts on, any non-null context filter from
@@ -143,13 +155,7 @@ bool acceptIntersection(void* user, const KernelHit& h) {
   const unsigned n = args->N, lane = L.lane;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
   float tf;
-  if (L.dctx) {
-    if (!(h.t < L.tfarD)) return false;
-    tf = roundUp((h.t - L.dctx->floatShift) / L.dctx->floatScale);
-  } else {
-    tf = static_cast<float>(h.t);
-    if (!(tf > RTCRayN_tnear(ray, n, lane) && tf < RTCRayN_tfar(ray, n, lane))) return false;
-  }
+  if (!candidateTfar(L, ray, n, lane, h.t, tf)) return false;
   // ---- The candidate, as Embree would write it ---------------------------------------
   const glm::dvec3 ng = L.data->identity ? h.gradient : L.data->aInvT * h.gradient;
   double u, v;
@@ -194,13 +200,7 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   const unsigned n = args->N, lane = L.lane;
   RTCRayN* ray = args->ray;
   float tf;
-  if (L.dctx) {
-    if (!(h.t < L.tfarD)) return false;
-    tf = roundUp((h.t - L.dctx->floatShift) / L.dctx->floatScale);
-  } else {
-    tf = static_cast<float>(h.t);
-    if (!(tf > RTCRayN_tnear(ray, n, lane) && tf < RTCRayN_tfar(ray, n, lane))) return false;
-  }
+  if (!candidateTfar(L, ray, n, lane, h.t, tf)) return false;
   // Occlusion computes no normal: Ng, u, v are zero for the filter.
   HitBuffer candidate;
   writeCandidate(candidate.hitN(), n, lane, glm::vec3(0.0f), 0.0f, 0.0f, args->primID, args->geomID,
