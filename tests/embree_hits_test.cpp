@@ -112,6 +112,27 @@ TEST_F(EmbreeHits, SphereMatchesClosedForm) {
   EXPECT_EQ(sphere.callbackErrors(), 0u);
 }
 
+TEST_F(EmbreeHits, FromAnEquationString) {
+  // The torus of radii R = 1, r = 0.4 from text with parameters; a ray down the z axis
+  // through x = 1 hits the tube's top at z = 0.4: t = 3 - 0.4 from z = 3.
+  SurfaceGeometry torus(device, "(x^2+y^2+z^2+R^2-r^2)^2 = 4*R^2*(x^2+y^2)",
+                        ClipSphere{{0, 0, 0}, 1.6}, {.parameters = {{"R", 1.0}, {"r", 0.4}}});
+  Scene scene(device);
+  scene.attach(torus.geometry());
+  scene.commit();
+  const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(1, 0, 3), glm::vec3(0, 0, -1)));
+  ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_NEAR(rh.ray.tfar, 2.6, 1e-6);
+  EXPECT_NEAR(hitNormal(rh).z, 1.0, 1e-6);
+  // A malformed equation reports its column.
+  try {
+    SurfaceGeometry bad(device, "x^2 + y^^2", ClipSphere{});
+    FAIL() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.column(), 9);
+  }
+}
+
 TEST_F(EmbreeHits, SphereInsideHitsFarSide) {
   SurfaceGeometry sphere(device, sphereDesc(2.0, 3.0));
   Scene scene(device);

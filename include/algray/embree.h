@@ -30,6 +30,7 @@
 // filter on its own geometry types, so a scene that mixes algray surfaces with
 // triangles, curves, ... and is traced with an algray::IntersectContext must have
 // RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION set (scenes of algray surfaces only need not).
+#include "algray/parser.h"
 #include "algray/polynomial.h"
 #include "algray/roots.h"
 
@@ -37,6 +38,7 @@
 #include <glm/mat4x4.hpp>
 
 #include <memory>
+#include <string_view>
 #include <variant>
 
 namespace algray {
@@ -77,6 +79,11 @@ class SurfaceGeometry {
   // Throws algray::Error on invalid input (zero or non-finite polynomial, empty or
   // non-finite clip region, singular transform).
   SurfaceGeometry(RTCDevice device, SurfaceDesc desc);
+  // From an equation string (parser.h syntax, e.g. "x^2 + y^2 + z^2 = r^2" with r in
+  // parse.parameters): throws algray::ParseError with the column on a malformed equation.
+  SurfaceGeometry(RTCDevice device, std::string_view equation, ClipRegion clip,
+                  const ParseOptions& parse = {}, const glm::dmat4& transform = glm::dmat4(1.0),
+                  const SurfaceOptions& options = {});
   ~SurfaceGeometry();
   SurfaceGeometry(SurfaceGeometry&&) noexcept;
   SurfaceGeometry& operator=(SurfaceGeometry&&) noexcept;

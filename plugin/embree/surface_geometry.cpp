@@ -201,6 +201,11 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
 SurfaceGeometry::~SurfaceGeometry() {
   if (data_ && data_->geometry) rtcReleaseGeometry(data_->geometry);
 }
+SurfaceGeometry::SurfaceGeometry(RTCDevice device, std::string_view equation, ClipRegion clip,
+                                 const ParseOptions& parse, const glm::dmat4& transform,
+                                 const SurfaceOptions& options)
+    : SurfaceGeometry(device, SurfaceDesc{parsePolynomial(equation, parse), clip, transform, options}) {}
+
 SurfaceGeometry::SurfaceGeometry(SurfaceGeometry&&) noexcept = default;
 SurfaceGeometry& SurfaceGeometry::operator=(SurfaceGeometry&& other) noexcept {
   if (this != &other) {
