@@ -35,11 +35,7 @@ configure_and_build() {  # dir, extra cmake args...
 case "${1:-}" in
   render)
     configure_and_build build -DCMAKE_BUILD_TYPE=Release
-    if [[ -x build/examples/render/algray-render ]]; then
-      build/examples/render/algray-render -o algray.png "${@:2}"
-    else
-      build/examples/core-demo "${@:2}"
-    fi
+    build/examples/render/algray-render -o algray.png "${@:2}"
     ;;
   test)
     # Release build: unit tests, stress tests and one smoke run of every benchmark.
