@@ -9,7 +9,9 @@
 // loops); higher degrees run the same code with a run-time degree. No heap allocation.
 #include "roots_detail.h"
 #include "roots_scan.h"
+#include "roots_subdivide.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace algray::roots_detail {
@@ -155,15 +157,11 @@ int rootFreeOrder(const LocalPoly<T>& g, D deg) {
   return n;  // not reached: the order-n derivative is the constant n! C_n != 0
 }
 
+// Yuksel's sweep on (g.lo, g.hi), given rootFreeOrder(g) = order >= 1.
 template <class T, class D>
-int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, int maxOut) {
+int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRoot<T>* out,
+                int maxOut) {
   const int n = deg;
-  if (q == Query::Any && endpointsStraddle(g, deg)) {
-    out[0] = LocalRoot<T>{g.lo + (g.hi - g.lo) / 2, false};
-    return 1;
-  }
-  const int order = n >= 2 ? rootFreeOrder(g, deg) : 1;
-  if (order == 0) return 0;
   T crit[kMaxDegree];
   int nCrit = 0;
   if (order >= 2) {
@@ -174,7 +172,43 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   auto piece = [&](T a, T b, T fa, T fb) {
     return newtonInBracket(g.c.data(), g.noise.data(), deg, a, b, fa, fb, tol);
   };
-  return scanPieces(g, deg, crit, nCrit, q, piece, out, maxOut);
+  return scanPieces(g, deg, nCrit > 0 ? crit : static_cast<const T*>(nullptr), nCrit, q, piece, out,
+                    maxOut);
+}
+
+// Where the subdivision of roots_subdivide.h pays (tests/bench/roots_report.cpp, same run,
+// ns per first root on whole-ray intervals, before -> after: degree 6 481 -> 498 (even),
+// 8 1137 -> 700, 10 2005 -> 804, 12 3952 -> 851, 16 7783 -> 2753, 20 14258 -> 5158,
+// 30 35884 -> 30561, 40 61956 -> 109705; on cell intervals degree 30 loses 5x): degrees
+// 3 to 24. On a short interval (a ray's
+// span in one cell) the exclusion test of rootFreeOrder usually proves a low derivative
+// root-free at once, and then the recursion is cheaper than any subdivision (cell
+// intervals, degree 6-12: 229-676 ns with it first, 342-695 ns without).
+constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 24;
+constexpr int kShortOrder = 3;
+
+template <class T, class D>
+int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, int maxOut) {
+  const int n = deg;
+  if (q == Query::Any && endpointsStraddle(g, deg)) {
+    out[0] = LocalRoot<T>{g.lo + (g.hi - g.lo) / 2, false};
+    return 1;
+  }
+  auto direct = [&](const LocalPoly<T>& piece, LocalRoot<T>* o, int m) {
+    const int order = n >= 2 ? rootFreeOrder(piece, deg) : 1;
+    return order == 0 ? 0 : solveDirect(piece, deg, order, q, tol, o, m);
+  };
+  if (n < kSubdivideMinDegree || n > kSubdivideMaxDegree) return direct(g, out, maxOut);
+  // Short: at most a quarter of the frame's scale (max(|lo|, |hi|) is in [1/2, 1]).
+  if (4 * (g.hi - g.lo) <= std::max(std::abs(g.lo), std::abs(g.hi))) {
+    const int order = rootFreeOrder(g, deg);
+    if (order == 0) return 0;
+    if (order <= kShortOrder) return solveDirect(g, deg, order, q, tol, out, maxOut);
+  }
+  LocalPoly<T> work = g;
+  T b[kMaxDegree + 1];
+  SubdivideState<T> st{work, g.lo, g.hi - g.lo, toBernsteinWithBound(g, deg, b), q, tol};
+  return subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
 }
 
 template <class T, int... Ns>

@@ -1,0 +1,190 @@
+#pragma once
+// Subdivision before Yuksel's recursion (roots_yuksel.cpp), for long intervals.
+//
+// Why: on a whole ray's span the recursion finds every critical point of every derivative
+// over all of it, O(n^3) Newton work, although a closest-hit query needs only the pieces
+// up to the first root, and a missing ray none. Bernstein coefficients answer the two
+// questions that let most of the interval go without any root finding, in O(n) each:
+//  * exclusion: on a node [va, vb], G(v) is a convex combination of its Bernstein
+//    coefficients b_i, so if all of them exceed the error bound E of their computation
+//    plus the noise bound of G on the node (roots_detail.h), G has no root and no
+//    tangent candidate there (the same verdict the sweep would reach);
+//  * monotonicity: G' has the Bernstein coefficients n (b_{i+1} - b_i); if all
+//    differences have one sign beyond 2E the node is one monotone piece, and the sweep of
+//    roots_scan.h runs on it with no critical point (Newton on the power form G itself).
+// Anything else is split by de Casteljau's algorithm, left half first, so the first node
+// with a root ends a First/Any query (Lane and Riesenfeld, "Bounds on a polynomial", BIT
+// 21, 1981; Farin, "Curves and Surfaces for CAGD", Sec. 4.2). A node still undecided at
+// the depth cap, or too short, goes to Yuksel's recursion (`direct`), which on a short
+// interval is cut by its own exclusion test to a few levels.
+//
+// The Bernstein data only decide where to look; every root comes from G in power form,
+// so the accuracy and the noise rules are those of the sweep. Nodes share their end
+// points, and the sweep's end rules report a root at a shared point once (by the left
+// node). A split point where G is within its noise would turn a simple root near it into
+// an end-point root at the split point, so the split moves off such points.
+//
+// Error bound E (absolute, uniform over the nodes; u = unit roundoff, n = degree):
+// the Taylor shift to lo errs by at most gamma(2n) times the shift of |C| by |lo|, the
+// scaling by w^j by gamma(n+1) relative, the change of basis (weights in [0, 1]) by
+// gamma(n+2) sum|a_j| plus the propagated errors; each de Casteljau level, a convex
+// combination with dyadic weights, adds at most 3u max|b| <= 3u A. With A = sum_j of the
+// scaled shift of |C|: E = gamma(4n + 4 + 3 depth) A. The node ends va = lo + w u0 are
+// rounded (the u ends are exact, see below), which moves a node by up to 2u (|v| <= 1) and
+// G by |G'| 2u <= 2n u sum|C_j| |v|^j, less than the noise bound of G at v; so nodes are
+// excluded only beyond E plus twice that noise bound.
+#include "roots_detail.h"
+#include "roots_scan.h"
+
+#include <algorithm>
+
+namespace algray::roots_detail {
+
+// Split ratios are dyadic with 4 bits (1/2, 7/16, 9/16, 3/8, 5/8), so the node ends u0, u1
+// are exact for up to 53/4 (double) or 24/4 (float) levels and coincide with the de
+// Casteljau parameters.
+template <class T>
+inline constexpr int kSubdivideDepth = std::is_same_v<T, double> ? 10 : 5;
+// Nodes examined before the rest of the interval goes to the recursion as it is: a
+// polynomial whose Bernstein bound E is large against its values (high degree, much
+// cancellation) would otherwise split to the full depth.
+inline constexpr int kSubdivideNodes = 48;
+
+template <class T>
+struct SubdivideState {
+  LocalPoly<T>& g;  // working copy: lo, hi are moved to each node
+  T lo, w;          // the root node: v = lo + w u
+  T err;            // E above
+  Query q;
+  T tol;
+  int nodes = 0;
+};
+
+// Bernstein coefficients of G on [g.lo, g.hi] into b; returns E for depth kSubdivideDepth.
+template <class T, class D>
+T toBernsteinWithBound(const LocalPoly<T>& g, D deg, T* b) {
+  const int n = deg;
+  const T lo = g.lo, w = g.hi - g.lo, alo = std::abs(lo);
+  T a[kMaxDegree + 1], aa[kMaxDegree + 1];
+  for (int j = 0; j <= n; ++j) {
+    a[j] = g.c[j];
+    aa[j] = std::abs(g.c[j]);
+  }
+  for (int k = 0; k < n; ++k)
+    for (int i = n - 1; i >= k; --i) {
+      a[i] += lo * a[i + 1];
+      aa[i] += alo * aa[i + 1];
+    }
+  T p = 1, sumA = 0;
+  for (int j = 0; j <= n; ++j, p *= w) {
+    a[j] *= p;
+    aa[j] *= p;
+    sumA += aa[j];
+  }
+  // b_i = sum_{j <= i} C(i, j) / C(n, j) a_j, the rows of C(i, .) built in place.
+  T cn[kMaxDegree + 1], row[kMaxDegree + 1];
+  cn[0] = 1;
+  for (int j = 1; j <= n; ++j) cn[j] = cn[j - 1] * T(n - j + 1) / T(j);
+  for (int i = 0; i <= n; ++i) {
+    row[i] = 1;
+    for (int j = i - 1; j >= 1; --j) row[j] += row[j - 1];
+    row[0] = 1;
+    T s = 0;
+    for (int j = 0; j <= i; ++j) s += row[j] / cn[j] * a[j];
+    b[i] = s;
+  }
+  return gammaT<T>(4 * n + 4 + 3 * kSubdivideDepth<T>) * sumA;
+}
+
+// de Casteljau at the dyadic ratio t: left into l, right into r (may alias b).
+template <class T, class D>
+void splitBernstein(const T* b, D deg, T t, T* l, T* r) {
+  const int n = deg;
+  T x[kMaxDegree + 1];
+  std::copy(b, b + n + 1, x);
+  const T s = 1 - t;  // exact for the dyadic ratios used
+  l[0] = x[0];
+  r[n] = x[n];
+  for (int k = 1; k <= n; ++k) {
+    for (int i = 0; i <= n - k; ++i) x[i] = s * x[i] + t * x[i + 1];
+    l[k] = x[0];
+    r[n - k] = x[n - k];
+  }
+}
+
+// Whether every b_i is beyond m on one side.
+template <class T, class D>
+bool oneSign(const T* b, D deg, T m) {
+  const int n = deg;
+  if (b[0] > m) {
+    for (int i = 1; i <= n; ++i)
+      if (!(b[i] > m)) return false;
+    return true;
+  }
+  if (b[0] < -m) {
+    for (int i = 1; i <= n; ++i)
+      if (!(b[i] < -m)) return false;
+    return true;
+  }
+  return false;
+}
+
+template <class T, class D>
+bool monotone(const T* b, D deg, T e) {
+  const int n = deg;
+  const T m = 2 * e / (1 - 2 * kUnit<T>);
+  const T d0 = b[1] - b[0];
+  if (!(std::abs(d0) > m)) return false;
+  for (int i = 1; i < n; ++i) {
+    const T di = b[i + 1] - b[i];
+    if (!(std::abs(di) > m) || signBit(di) != signBit(d0)) return false;
+  }
+  return true;
+}
+
+// Roots of G on the node u in [u0, u1] with Bernstein coefficients b; `direct(g)` runs
+// Yuksel's recursion on [g.lo, g.hi].
+template <class T, class D, class Direct>
+int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, Direct&& direct,
+              LocalRoot<T>* out, int maxOut) {
+  LocalPoly<T>& g = st.g;
+  const T va = st.lo + st.w * u0, vb = u1 == 1 ? g.hi : st.lo + st.w * u1;
+  const T noise = hornerAbs(g.noise.data(), deg, std::max(std::abs(va), std::abs(vb)));
+  if (oneSign(b, deg, st.err + 2 * noise)) return 0;
+  const T saveLo = g.lo, saveHi = g.hi;
+  g.lo = va;
+  g.hi = vb;
+  int k = 0;
+  const bool small = vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
+  if (monotone(b, deg, st.err)) {
+    auto piece = [&](T a, T c, T fa, T fc) {
+      return newtonInBracket(g.c.data(), g.noise.data(), deg, a, c, fa, fc, st.tol);
+    };
+    k = scanPieces(g, deg, static_cast<const T*>(nullptr), 0, st.q, piece, out, maxOut);
+  } else if (depth >= kSubdivideDepth<T> || small || ++st.nodes > kSubdivideNodes) {
+    k = direct(g, out, maxOut);
+  } else {
+    // Split at the middle unless G is within its noise there (see above).
+    T t = T(0.5), mid = u0 + (u1 - u0) / 2;
+    for (const T f : {T(0.5), T(0.4375), T(0.5625), T(0.375), T(0.625)}) {
+      const T um = u0 + (u1 - u0) * f, vm = st.lo + st.w * um;
+      if (std::abs(horner(g.c.data(), deg, vm)) > hornerAbs(g.noise.data(), deg, vm)) {
+        t = f;
+        mid = um;
+        break;
+      }
+    }
+    T l[kMaxDegree + 1], r[kMaxDegree + 1];
+    splitBernstein(b, deg, t, l, r);
+    g.lo = saveLo;
+    g.hi = saveHi;
+    k = subdivide(st, deg, l, u0, mid, depth + 1, direct, out, maxOut);
+    if (k > 0 && (st.q != Query::All || k >= maxOut)) return k;
+    return k + subdivide(st, deg, r, mid, u1, depth + 1, direct, out + k, maxOut - k);
+  }
+  g.lo = saveLo;
+  g.hi = saveHi;
+  return k;
+}
+
+}  // namespace algray::roots_detail
