@@ -4,10 +4,14 @@
 // Independent of Embree; no heap allocation. See plugin/core/roots*.cpp for the methods
 // and their references: the quadratic formula for degree <= 2, Yuksel's HPG 2022
 // critical-point splitting above (with a Taylor exclusion test that cuts its recursion
-// on short intervals), and a Sturm-sequence and a Bernstein subdivision solver kept for
-// comparison (tests/bench/roots_report.cpp, docs/roots-summary.md).
+// on short intervals); closed-form cubic and quartic solvers (in the manner of Flocke's
+// TOMS 954 and Orellana and De Michele's TOMS 1010, each root polished by Newton), which
+// measured as accurate as Yuksel at degrees 3-4 and no faster; and a Sturm-sequence and a
+// Bernstein subdivision solver kept for comparison (tests/bench/roots_report.cpp,
+// tests/bench/roots_bench.cpp, docs/roots-summary.md).
 //
-// The contract (Auto, ClosedForm, Yuksel; roots_scan.h has the derivation):
+// The contract (Auto, ClosedForm, Yuksel; the interval rules also Sturm and Bernstein;
+// roots_scan.h has the derivation):
 //  * Interval (lo, hi]: a root within the rounding noise of lo is taken to be lo and is not
 //    reported, so calling again with lo = the previous root gives the next root (never the
 //    same one twice, tangent or not); a root within noise of hi is reported as hi, so two
@@ -18,8 +22,10 @@
 //  * Accuracy: a simple root to within a few u cond(r), cond(r) = sum|c_i||r|^i / |g'(r)|
 //    (measured worst case 1.74 u cond over 781 roots in tests/roots_test.cpp).
 //  * Cost: bounded; non-finite coefficients, error bounds or interval ends give "no root".
-// Sturm and Bernstein find sign-change roots in (lo, hi) without the noise rules at the
-// ends; they exist to be measured against.
+// Sturm and Bernstein exist to be measured against: they follow the interval rules (a
+// noise-level end is moved inwards past its noise region first, roots_scan.h), report
+// even-multiplicity roots only where they isolate them, and are accurate only relative to
+// the interval (Bernstein) or for roots not far below its length (Sturm).
 #include "algray/polynomial.h"  // kMaxDegree, Error
 
 #include <optional>
@@ -28,8 +34,9 @@
 namespace algray {
 
 enum class RootMethod {
-  Auto,        // the measured winner per degree (closed forms <= 4, else Yuksel)
-  ClosedForm,  // degrees 1..4 only; others fall back to Auto
+  Auto,        // the measured winner per degree: closed form <= 2, else Yuksel (at 3-4
+               // a near tie, see roots.cpp)
+  ClosedForm,  // degrees 1..4 in closed form always; higher degrees use Yuksel
   Yuksel,      // recursive critical points + safeguarded Newton
   Sturm,       // Sturm sequence isolation + bisection/Newton (POV-Ray style); double only
   Bernstein,   // Bernstein/Descartes subdivision; double only

@@ -159,12 +159,25 @@ int solveLocal(const LocalPoly<T>& g, Query q, const RootOptions& o, LocalRoot<T
       break;
     case RootMethod::Yuksel:
       return roots_detail::solveYuksel(g, q, tol, out, maxOut);
-    case RootMethod::ClosedForm:
+    case RootMethod::ClosedForm:  // closed forms at degrees 1-4 always, Yuksel above
+      return roots_detail::solveClosedForm(g, q, tol, out, maxOut);
     case RootMethod::Auto:
       break;
   }
-  // Auto: closed forms where they exist (degrees 1, 2), Yuksel above (measured, see
-  // docs/roots-summary.md). Float has no Sturm/Bernstein variant and lands here too.
+  // Auto: the closed forms at degrees 1-2, Yuksel's recursion from degree 3 on. At 3 and 4
+  // both are equally accurate and about equally fast, Yuksel by a hair (measured: double
+  // firstRoot, 2-core 2 GHz Xeon shared with other builds; roots_report --degrees 3,4
+  // --problems 3000, three runs, ns ClosedForm vs Yuksel):
+  //   ray  degree 3: 249, 245, 243 vs 242, 235, 235   degree 4: 338, 355, 360 vs 326, 335, 348
+  //   cell degree 3: 138, 124, 139 vs 140, 123, 134   degree 4: 169, 164, 116 vs 166, 167, 108
+  // errors p99 / max in u cond: ray 1.43 / 1.94 vs 1.32 / 1.87 (degree 3), 1.30 / 1.38 vs
+  // 1.25 / 1.38 (degree 4), cell <= 1.16 either; no misses, no false hits. The full run
+  // (400 problems per degree): ray 206 vs 191, 244 vs 219; cell 148 vs 146, 161 vs 155.
+  // roots_bench (5 interleaved repetitions x 3, median): ray 235 vs 208, 382 vs 353; cell
+  // 149 vs 137, 190 vs 176. The closed forms' transcendentals (acos + sin + cos, or cbrt)
+  // cost about what the 3-4 Newton steps they save do, and both share the exclusion test
+  // that ends most cell-sized calls. Float has no Sturm/Bernstein variant and lands here.
+  if (g.n == 3 || g.n == 4) return roots_detail::solveYuksel(g, q, tol, out, maxOut);
   return roots_detail::solveClosedForm(g, q, tol, out, maxOut);
 }
 

@@ -8,8 +8,9 @@
 // same safeguarded Newton as the other solvers; an interval that keeps several
 // variations down to the depth cap or to the tolerance is a cluster or a multiple root
 // and its midpoint is reported as a tangent root.
-// Comparison solver: the endpoint noise rule of roots_scan.h is not applied.
+// The endpoint noise rules of roots_scan.h are applied by withEndRules around it.
 #include "roots_detail.h"
+#include "roots_scan.h"
 
 #include <algorithm>
 
@@ -78,10 +79,8 @@ void split(const double* b, int n, double* l, double* r) {
   }
 }
 
-}  // namespace
-
-int solveBernstein(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
-                   int maxOut) {
+int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
+              int maxOut) {
   if (g.n < 1 || maxOut < 1) return 0;
   const int n = g.n;
   Node stack[kMaxDepth + 2];
@@ -140,6 +139,16 @@ int solveBernstein(const LocalPoly<double>& g, Query q, double tol, LocalRoot<do
     ++top;
   }
   return count;
+}
+
+}  // namespace
+
+int solveBernstein(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
+                   int maxOut) {
+  if (g.n < 1 || maxOut < 1) return 0;
+  return withEndRules(g, q, out, maxOut,
+                      [&](const LocalPoly<double>& inner, Query qq, LocalRoot<double>* o,
+                          int m) { return solveOpen(inner, qq, tol, o, m); });
 }
 
 }  // namespace algray::roots_detail

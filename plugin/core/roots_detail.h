@@ -113,12 +113,10 @@ inline bool signBit(float x) { return std::signbit(x); }
 // [-1, 1] at normal magnitudes.
 inline constexpr int kMaxNewton = 96;
 
+// The iteration from a given start x in (a, b) (newtonFrom: a closed form's value,
+// polished on the original polynomial; newtonInBracket: the secant point).
 template <class T, class D>
-T newtonInBracket(const T* p, const T* noise, D deg, T a, T b, T fa, T fb, T tol) {
-  // Start at the secant (regula falsi) point: for a monotone piece it is inside the
-  // bracket and usually much closer to the root than the midpoint.
-  T x = (a * fb - b * fa) / (fb - fa);
-  if (!(x > a && x < b)) x = a + (b - a) / 2;
+T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
   const bool negA = signBit(fa);
   T stepOld = b - a;
   for (int it = 0; it < kMaxNewton; ++it) {
@@ -153,6 +151,15 @@ T newtonInBracket(const T* p, const T* noise, D deg, T a, T b, T fa, T fb, T tol
     x = xn;
   }
   return x;
+}
+
+template <class T, class D>
+T newtonInBracket(const T* p, const T* noise, D deg, T a, T b, T fa, T fb, T tol) {
+  // Start at the secant (regula falsi) point: for a monotone piece it is inside the
+  // bracket and usually much closer to the root than the midpoint.
+  T x = (a * fb - b * fa) / (fb - fa);
+  if (!(x > a && x < b)) x = a + (b - a) / 2;
+  return newtonFrom(p, noise, deg, a, b, fa, x, tol);
 }
 
 // ---- Quadratic, stable --------------------------------------------------------------

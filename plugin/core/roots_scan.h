@@ -87,3 +87,48 @@ bool endpointsStraddle(const LocalPoly<T>& g, D deg) {
 }
 
 }  // namespace algray::roots_detail
+
+namespace algray::roots_detail {
+
+// The endpoint rules above for the comparison solvers (Sturm, Bernstein), which find the
+// roots in the open interval without critical points and, near a root on an end, would
+// count it by the sign of rounding errors. They run unchanged unless G(lo) or G(hi) is
+// within noise; then that end is first moved inwards to the nearest point where G is
+// clearly non-zero (steps doubling from 2 ulp: the noise region of a simple root is a
+// few ulps wide), the solver runs on what is left, and the cut-off part is the root at lo
+// (not reported) or within noise of hi (reported as hi), as in scanPieces. Approximation:
+// a separate root within twice the noise region's width of a noise-level end merges with
+// it (scanPieces tells them apart by the extremum between them).
+template <class T>
+T leaveNoise(const LocalPoly<T>& g, T x, T to) {
+  const T dir = to > x ? T(1) : T(-1);
+  T step = std::max(2 * kUnit<T> * std::abs(x), std::numeric_limits<T>::min());
+  for (int i = 0; i < 2 * std::numeric_limits<T>::max_exponent + 8; ++i, step *= 2) {
+    const T y = x + dir * step;
+    if (!(dir * (to - y) > 0)) return to;
+    if (std::abs(horner(g.c.data(), g.n, y)) > hornerAbs(g.noise.data(), g.n, y)) return y;
+  }
+  return to;
+}
+
+template <class T, class Solve>
+int withEndRules(const LocalPoly<T>& g, Query q, LocalRoot<T>* out, int maxOut, Solve&& solve) {
+  auto isZero = [&](T x) {
+    return std::abs(horner(g.c.data(), g.n, x)) <= hornerAbs(g.noise.data(), g.n, x);
+  };
+  const bool zLo = isZero(g.lo), zHi = isZero(g.hi);
+  if (!zLo && !zHi) return solve(g, q, out, maxOut);
+  LocalPoly<T> inner = g;
+  if (zLo) inner.lo = leaveNoise(g, g.lo, g.hi);
+  if (zHi) inner.hi = leaveNoise(g, g.hi, inner.lo);
+  if (!(inner.lo < inner.hi)) {  // G within noise all the way: one cluster
+    if (zLo) return 0;           // ... containing lo
+    out[0] = LocalRoot<T>{g.hi, true};
+    return 1;
+  }
+  int count = solve(inner, q, out, maxOut);
+  if (zHi && count < (q == Query::All ? maxOut : 1)) out[count++] = LocalRoot<T>{g.hi, true};
+  return count;
+}
+
+}  // namespace algray::roots_detail

@@ -12,8 +12,9 @@
 // interval is refined by the same safeguarded Newton as Yuksel's solver, and an
 // isolating interval without sign change (even multiplicity) is bisected on counts to
 // the tolerance and reported as a tangent root. Depth and iterations are capped.
-// Comparison solver: the endpoint noise rule of roots_scan.h is not applied.
+// The endpoint noise rules of roots_scan.h are applied by withEndRules around it.
 #include "roots_detail.h"
+#include "roots_scan.h"
 
 #include <algorithm>
 
@@ -90,10 +91,8 @@ struct Interval {
   int va, vb, depth;
 };
 
-}  // namespace
-
-int solveSturm(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
-               int maxOut) {
+int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
+              int maxOut) {
   if (g.n < 1 || maxOut < 1) return 0;
   SturmSequence s;
   build(g, s);
@@ -131,6 +130,16 @@ int solveSturm(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double
     if (q == Query::First || count >= maxOut) return count;
   }
   return count;
+}
+
+}  // namespace
+
+int solveSturm(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
+               int maxOut) {
+  if (g.n < 1 || maxOut < 1) return 0;
+  return withEndRules(g, q, out, maxOut,
+                      [&](const LocalPoly<double>& inner, Query qq, LocalRoot<double>* o,
+                          int m) { return solveOpen(inner, qq, tol, o, m); });
 }
 
 }  // namespace algray::roots_detail

@@ -1,7 +1,7 @@
 // Speed and accuracy of the first-root solvers side by side (roots.h), on random
 // first-root problems of ray-tracing shape, against MPFR references.
 //
-//   roots_report [--tiny] [--out DIR] [--problems N]
+//   roots_report [--tiny] [--out DIR] [--problems N] [--degrees 3,4]
 //
 // Problems: for each degree, g(t) = lead * prod(t - r_i) * prod((t - a)^2 + b^2) expanded
 // in MPFR and rounded (tests/roots_mpfr.h), with a few real roots along the ray
@@ -35,6 +35,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -62,12 +63,18 @@ struct Method {
 
 const Method kMethods[] = {
     {"Auto", "double", "first", RootMethod::Auto},
+    {"ClosedForm", "double", "first", RootMethod::ClosedForm},
     {"Yuksel", "double", "first", RootMethod::Yuksel},
     {"Sturm", "double", "first", RootMethod::Sturm},
     {"Bernstein", "double", "first", RootMethod::Bernstein},
     {"Auto", "float", "first", RootMethod::Auto},
     {"Auto", "double", "any", RootMethod::Auto},
 };
+
+// ClosedForm is Yuksel's recursion above degree 4 (roots.h): no rows of its own there.
+bool applies(const Method& m, int degree) {
+  return m.method != RootMethod::ClosedForm || degree <= 4;
+}
 
 // First certified root of c in (lo, hi) from the given starts; false when there is none
 // or when it is not well separated.
@@ -216,6 +223,7 @@ int main(int argc, char** argv) {
   bool tiny = false;
   std::string outDir = ".";
   int problems = 400;
+  std::vector<int> degrees;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tiny"))
       tiny = true;
@@ -223,16 +231,19 @@ int main(int argc, char** argv) {
       outDir = argv[++i];
     else if (!std::strcmp(argv[i], "--problems") && i + 1 < argc)
       problems = std::atoi(argv[++i]);
-    else {
-      std::fprintf(stderr, "usage: %s [--tiny] [--out DIR] [--problems N]\n", argv[0]);
+    else if (!std::strcmp(argv[i], "--degrees") && i + 1 < argc) {
+      std::istringstream list(argv[++i]);  // comma-separated
+      for (std::string d; std::getline(list, d, ',');) degrees.push_back(std::atoi(d.c_str()));
+    } else {
+      std::fprintf(stderr, "usage: %s [--tiny] [--out DIR] [--problems N] [--degrees 3,4]\n",
+                   argv[0]);
       return 2;
     }
   }
-  std::vector<int> degrees;
   if (tiny) {
-    degrees = {2, 5, 10};
+    if (degrees.empty()) degrees = {2, 5, 10};
     problems = 30;
-  } else {
+  } else if (degrees.empty()) {
     for (int d = 2; d <= 20; ++d) degrees.push_back(d);
     degrees.push_back(30);
     degrees.push_back(40);
@@ -249,8 +260,9 @@ int main(int argc, char** argv) {
     // Interleave the methods in each repetition: machine noise hits all of them alike.
     for (int r = 0; r < reps; ++r)
       for (size_t k = 0; k < std::size(kMethods); ++k)
-        times[k].push_back(runPass(kMethods[k], ps, answers[k]));
+        if (applies(kMethods[k], degree)) times[k].push_back(runPass(kMethods[k], ps, answers[k]));
     for (size_t k = 0; k < std::size(kMethods); ++k) {
+      if (!applies(kMethods[k], degree)) continue;
       Row row;
       row.m = &kMethods[k];
       row.family = family;

@@ -1,0 +1,133 @@
+// Cost of one firstRoot call (roots.h) per method and degree, on random first-root
+// problems of ray-tracing shape: g(t) = lead * prod(t - r_i) * prod((t - a)^2 + b^2) with
+// a few real roots r_i in [0, 1] and the rest complex pairs (real parts in [-0.5, 1.5],
+// imaginary parts log-uniform in [1e-3, 1]: near misses), on a "ray" interval (a random
+// piece of [0, 1] of length >= 0.1) or a "cell" interval (length 1% to 20%: a ray's span
+// in one cell of the plugin's grid). The problems are expanded in double (this measures
+// speed; tests/bench/roots_report.cpp measures accuracy against MPFR) and generated once
+// per benchmark with a fixed seed, outside the timing loop; each iteration solves the
+// next problem of a pool of kPool.
+//
+// Run: build/tests/bench/roots_bench --benchmark_filter='degree:(3|4)/'
+//        --benchmark_counters_tabular=true
+// ClosedForm is registered for degrees 2-4 only: above it is Yuksel's recursion (roots.h).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "algray/roots.h"
+
+namespace {
+
+using algray::RootMethod;
+
+constexpr int kPool = 256;
+
+struct Problem {
+  std::vector<double> c;
+  std::vector<float> cf;
+  double lo, hi;
+};
+
+// Coefficients (lowest first) of lead * prod(t - r) * prod((t - a)^2 + b^2), in double.
+std::vector<double> expand(const std::vector<double>& roots,
+                           const std::vector<std::pair<double, double>>& pairs, double lead) {
+  std::vector<double> p{lead};
+  auto mul = [&](std::initializer_list<double> f) {  // f lowest first
+    std::vector<double> q(p.size() + f.size() - 1, 0.0);
+    for (size_t i = 0; i < p.size(); ++i) {
+      size_t j = 0;
+      for (double fj : f) q[i + j++] += p[i] * fj;
+    }
+    p.swap(q);
+  };
+  for (double r : roots) mul({-r, 1.0});
+  for (auto [a, b] : pairs) mul({a * a + b * b, -2 * a, 1.0});
+  return p;
+}
+
+std::vector<Problem> makeProblems(int degree, bool cell) {
+  std::mt19937_64 rng(1000 * degree + cell);  // fixed seed per benchmark
+  std::uniform_real_distribution<double> uni(0, 1);
+  std::vector<Problem> out(kPool);
+  for (Problem& p : out) {
+    const int maxReal = std::min(degree, 6);
+    int nReal = degree % 2 + 2 * static_cast<int>(uni(rng) * (maxReal / 2 + 1));
+    if (nReal > maxReal) nReal -= 2;
+    std::vector<double> roots;
+    for (int i = 0; i < nReal; ++i) roots.push_back(uni(rng));
+    std::vector<std::pair<double, double>> pairs;
+    for (int i = 0; i < (degree - nReal) / 2; ++i)
+      pairs.emplace_back(-0.5 + 2 * uni(rng), std::pow(10.0, -3 + 3 * uni(rng)));
+    const double lead = (uni(rng) < 0.5 ? -1 : 1) * std::pow(10.0, -3 + 6 * uni(rng));
+    p.c = expand(roots, pairs, lead);
+    p.cf.assign(p.c.begin(), p.c.end());
+    if (cell) {
+      const double len = std::pow(10.0, -2 + 1.3 * uni(rng));
+      p.lo = (1 - len) * uni(rng);
+      p.hi = p.lo + len;
+    } else {
+      p.lo = 0.5 * uni(rng);
+      p.hi = p.lo + 0.1 + (1 - p.lo - 0.1) * uni(rng);
+    }
+    p.lo = static_cast<float>(p.lo);  // the same interval in both precisions
+    p.hi = static_cast<float>(p.hi);
+  }
+  return out;
+}
+
+// range(0): degree, range(1): 0 ray / 1 cell.
+template <RootMethod M, bool Float>
+void BM_FirstRoot(benchmark::State& state) {
+  const auto problems = makeProblems(static_cast<int>(state.range(0)), state.range(1) != 0);
+  algray::RootOptions o;
+  o.method = M;
+  size_t i = 0;
+  int found = 0;
+  for (auto _ : state) {
+    const Problem& p = problems[i++ % kPool];
+    if constexpr (Float) {
+      auto r = algray::firstRoot(std::span<const float>(p.cf), {}, static_cast<float>(p.lo),
+                                 static_cast<float>(p.hi), o);
+      benchmark::DoNotOptimize(r);
+      found += r.has_value();
+    } else {
+      auto r = algray::firstRoot(p.c, {}, p.lo, p.hi, o);
+      benchmark::DoNotOptimize(r);
+      found += r.has_value();
+    }
+  }
+  // Share of problems with a root: the same for every method up to tangent decisions.
+  state.counters["hit"] = benchmark::Counter(found, benchmark::Counter::kAvgIterations);
+}
+
+void degrees(benchmark::internal::Benchmark* b) {
+  for (int family : {0, 1}) {
+    for (int d = 2; d <= 20; ++d) b->Args({d, family});
+    b->Args({30, family});
+    b->Args({40, family});
+  }
+}
+
+void closedFormDegrees(benchmark::internal::Benchmark* b) {
+  for (int family : {0, 1})
+    for (int d = 2; d <= 4; ++d) b->Args({d, family});
+}
+
+}  // namespace
+
+BENCHMARK(BM_FirstRoot<RootMethod::Auto, false>)->Apply(degrees)->ArgNames({"degree", "cell"});
+BENCHMARK(BM_FirstRoot<RootMethod::ClosedForm, false>)
+    ->Apply(closedFormDegrees)
+    ->ArgNames({"degree", "cell"});
+BENCHMARK(BM_FirstRoot<RootMethod::Yuksel, false>)->Apply(degrees)->ArgNames({"degree", "cell"});
+BENCHMARK(BM_FirstRoot<RootMethod::Sturm, false>)->Apply(degrees)->ArgNames({"degree", "cell"});
+BENCHMARK(BM_FirstRoot<RootMethod::Bernstein, false>)
+    ->Apply(degrees)
+    ->ArgNames({"degree", "cell"});
+BENCHMARK(BM_FirstRoot<RootMethod::Auto, true>)->Apply(degrees)->ArgNames({"degree", "cell"});
+
+BENCHMARK_MAIN();
