@@ -61,6 +61,7 @@ struct SurfaceOptions {
                               // 4096 cells (the adapter's cap)
   bool originCache = true;    // per-thread expansion about the last ray origin
   bool recentre = true;       // expand far rays about their closest point to the clip
+  bool quadricPath = true;    // degree 2: restriction and normal in closed form
   bool singlePrecision = false;  // float solver for the first root (comparison only; the
                                  // restriction and later roots stay double)
 };

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -18,8 +19,20 @@ struct SurfaceCell {
   RTCBounds bounds{};
 };
 
+// A degree-2 surface as f(x) = x^T A x + b . x + c (A symmetric), for the quadric path of
+// surface_intersect.cpp: restriction, self-root test and normal in closed form.
+struct QuadricForm {
+  glm::dmat3 a{0.0};
+  glm::dvec3 b{0.0};
+  double c = 0;
+  glm::dmat3 absA{0.0};  // |A|, |b| entrywise, for the error bounds
+  glm::dvec3 absB{0.0};
+  static QuadricForm fromPolynomial(const Polynomial& f);
+};
+
 struct SurfaceData {
   SurfaceDesc desc;
+  std::optional<QuadricForm> quadric;  // set when desc.polynomial has degree 2 exactly
   // desc.transform = [a | b]: world p = a x + b; x = aInv (p - b); normals by aInvT.
   glm::dmat3 a{1.0}, aInv{1.0}, aInvT{1.0};
   glm::dvec3 b{0.0};

@@ -146,12 +146,31 @@ constexpr int kMaxAutoCells = 4096;
 
 }  // namespace
 
+QuadricForm QuadricForm::fromPolynomial(const Polynomial& f) {
+  QuadricForm q;
+  auto e = [](int axis) { return glm::ivec3(axis == 0, axis == 1, axis == 2); };
+  for (int r = 0; r < 3; ++r) {
+    for (int s = 0; s < 3; ++s) {
+      const glm::ivec3 m = e(r) + e(s);
+      // x_r x_s appears once in f for r != s and is split over A_rs and A_sr (exact halving).
+      q.a[s][r] = f.coeff(m.x, m.y, m.z) * (r == s ? 1.0 : 0.5);
+    }
+    q.b[r] = f.coeff(e(r).x, e(r).y, e(r).z);
+  }
+  q.c = f.coeff(0, 0, 0);
+  for (int r = 0; r < 3; ++r) q.absA[r] = glm::abs(q.a[r]);
+  q.absB = glm::abs(q.b);
+  return q;
+}
+
 SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   if (!device) fail("the RTCDevice is null");
   validate(desc);
   auto data = std::make_unique<SurfaceData>();
   data->desc = std::move(desc);
   data->id = nextSurfaceId.fetch_add(1);
+  if (data->desc.polynomial.degree() == 2 && data->desc.options.quadricPath)
+    data->quadric = QuadricForm::fromPolynomial(data->desc.polynomial);
 
   // ---- Transform ----------------------------------------------------------------------
   const glm::dmat4& m = data->desc.transform;

@@ -188,6 +188,61 @@ bool finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// ---- Quadrics --------------------------------------------------------------------------
+// Degree 2 in closed form (SurfaceData::quadric): about p = o + tShift d,
+//   g(s) = f(p) + (grad f(p) . d) s + (d^T A d) s^2,   grad f(p) = 2 A p + b,
+// with no expansion, no cache and no polish (the stable quadratic formula is accurate to
+// the conditioning of g, and the normal is 2 A x + b at the hit). Error bounds by the
+// running sums of Higham, Sec. 3.1: f(p) = p . (A p) + b . p + c is at most 8 roundings
+// deep per term, the slope 7, d^T A d 5.
+struct QuadricValue {
+  double value, error;
+  glm::dvec3 gradient;
+};
+
+QuadricValue evalQuadric(const QuadricForm& q, const glm::dvec3& p) {
+  const glm::dvec3 ap = q.a * p, absP = glm::abs(p);
+  const double sumAbs = glm::dot(absP, q.absA * absP) + glm::dot(q.absB, absP) + std::abs(q.c);
+  return {glm::dot(p, ap) + glm::dot(q.b, p) + q.c, gamma(8) * sumAbs, 2.0 * ap + q.b};
+}
+
+void deflateAtZero(RayPolynomial& g);
+
+void restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
+  const QuadricForm& q = *data.quadric;
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  const glm::dvec3 absD = glm::abs(d);
+  QuadricValue at = evalQuadric(q, o);
+  // The self-root rule of originOnSurface, on the closed-form value.
+  const double move =
+      ray.orgRoundoff * glm::dot(glm::abs(at.gradient), glm::abs(o)) + glm::length(at.gradient) * ray.orgError;
+  const bool onSurface = std::abs(at.value) <= 4.0 * at.error + 2.0 * move;
+  double tShift = 0.0;
+  glm::dvec3 p = o;
+  double shiftError0 = 0.0, shiftError1 = 0.0;
+  if (!onSurface && data.desc.options.recentre) {
+    tShift = std::clamp(closestParameter(o, d, data.centre), r0, r1);
+    p = o + tShift * d;
+    at = evalQuadric(q, p);
+    // p is rounded, off the line by up to gamma(2) (|p| + |tShift d|) per coordinate:
+    // its effect on f(p) and on the slope (first order; the second is below u^2).
+    const glm::dvec3 off = gamma(2) * (glm::abs(p) + std::abs(tShift) * absD);
+    shiftError0 = glm::dot(glm::abs(at.gradient), off);
+    shiftError1 = 2.0 * glm::dot(q.absA * off, absD);
+  }
+  const glm::dvec3 absP = glm::abs(p);
+  g.degree = 2;
+  g.tShift = tShift;
+  g.coeff[0] = at.value;
+  g.coeff[1] = glm::dot(at.gradient, d);
+  g.coeff[2] = glm::dot(d, q.a * d);
+  g.error[0] = at.error + shiftError0;
+  g.error[1] = gamma(7) * glm::dot(2.0 * (q.absA * absP) + q.absB, absD) + shiftError1;
+  g.error[2] = gamma(5) * glm::dot(absD, q.absA * absD);
+  if (onSurface) deflateAtZero(g);
+}
+
 // ---- Restriction and roots, once per ray -------------------------------------------------
 // g(s) = f(o + (tShift + s) d) for the whole clip-region span [r0, r1], and its roots
 // there, shared by every cell the ray visits (the per-thread last ray): about the origin
@@ -226,6 +281,10 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
   const Polynomial& f = data.desc.polynomial;
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
+  if (data.quadric) {
+    restrictQuadric(data, ray, r0, r1, g);
+    return nullptr;
+  }
   if (originOnSurface(f, ray)) {
     g = restrictToRay(f, o, d, 0.0);
     if (g.degree > 0) deflateAtZero(g);
@@ -444,6 +503,8 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     // owner was decided on the unpolished value). A cache root was polished already.
     if (i == 0 && rr.firstPolished)
       hit.gradient = rr.firstGradient;
+    else if (data.quadric)
+      hit.gradient = occlusion ? glm::dvec3(0.0) : evalQuadric(*data.quadric, hit.point).gradient;
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), r1 - r0, hit);
     if (hit.t > ray.tnear && hit.t < ray.tfar && accept(user, hit)) return true;

@@ -27,7 +27,8 @@
 // Switches (algray::SurfaceOptions, one off at a time, primary and shadow on one thread):
 // no-cells (one primitive for the whole clip region), cells-depth4 (cells forced to a
 // depth-4 octree, in case the automatic depth chooses few cells), no-origin-cache, no-recentre,
-// no-closed-forms (RootMethod::Yuksel for degrees <= 4; above, Auto is Yuksel already).
+// no-closed-forms (RootMethod::Yuksel for degrees <= 4; above, Auto is Yuksel already),
+// no-quadric-path (degree 2 through the general restriction, cache and polish).
 //
 // Writes DIR/speed.csv and DIR/speed.md and prints the tables.
 //
@@ -243,7 +244,8 @@ int run(const Args& args) {
     return 1;
   }
   const std::vector<std::string> configs = {"default",     "no-cells",        "cells-depth4",
-                                            "no-origin-cache", "no-recentre", "no-closed-forms"};
+                                            "no-origin-cache", "no-recentre", "no-closed-forms",
+                                            "no-quadric-path"};
   std::vector<Entry> done;
   unsigned long long callbackErrors = 0;
   for (const GallerySurface& s : gallery()) {
@@ -262,6 +264,10 @@ int run(const Args& args) {
       if (c == "cells-depth4") o.cellDepth = 4;  // an octree of depth 4, whatever the automatic rule says
       if (c == "no-origin-cache") o.originCache = false;
       if (c == "no-recentre") o.recentre = false;
+      if (c == "no-quadric-path") {
+        if (f.degree() != 2) continue;
+        o.quadricPath = false;
+      }
       if (c == "no-closed-forms") {
         if (f.degree() > 4) continue;
         o.roots.method = RootMethod::Yuksel;
