@@ -113,6 +113,22 @@ inline bool signBit(float x) { return std::signbit(x); }
 // [-1, 1] at normal magnitudes.
 inline constexpr int kMaxNewton = 96;
 
+// The bisection point of (a, b). Halving the value needs ~ log2(|b| / |root|) steps,
+// which for a root near 1e-40 in (-1, 1) is more than the cap (the iterate stopped near
+// 2^-86, not a root). When the bracket spans more than a factor 4 in magnitude the
+// split is in the exponent instead (the geometric mean, computed as sqrt |a| sqrt |b|
+// so that it neither overflows nor underflows; 0 as an end counts as the smallest normal
+// number), and a bracket around 0 is split at 0 first: ~11 such steps bring any bracket
+// to one binade, then halving finishes within the cap.
+template <class T>
+T bisectionPoint(T a, T b) {
+  if (a < 0 && b > 0) return T(0);
+  const T lo = std::min(std::abs(a), std::abs(b)), hi = std::max(std::abs(a), std::abs(b));
+  if (!(hi > 4 * lo)) return a + (b - a) / 2;
+  const T g = std::sqrt(std::max(lo, std::numeric_limits<T>::min())) * std::sqrt(hi);
+  return b > 0 ? g : -g;
+}
+
 // The iteration from a given start x in (a, b) (newtonFrom: a closed form's value,
 // polished on the original polynomial; newtonInBracket: the secant point).
 template <class T, class D>
@@ -136,7 +152,8 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
     const bool inside = xn > a && xn < b;
     if (!inside || 2 * std::abs(xn - x) > stepOld) {
       if (atNoise) return inside ? xn : x;
-      xn = a + (b - a) / 2;
+      xn = bisectionPoint(a, b);
+      if (!(xn > a && xn < b)) xn = a + (b - a) / 2;
       if (!(xn > a && xn < b)) return x;  // adjacent doubles
     } else {
       if (atNoise) return xn;

@@ -13,6 +13,9 @@
 // isolating interval without sign change (even multiplicity) is bisected on counts to
 // the tolerance and reported as a tangent root. Depth and iterations are capped.
 // The endpoint noise rules of roots_scan.h are applied by withEndRules around it.
+// Known limit (tests/roots_test.cpp, TinyRootsRescale): the zero rule for remainders is
+// relative to the interval's scale, so roots far below it (1e-40 in (-1, 1)) are lost
+// with the remainder coefficients that carry them.
 #include "roots_detail.h"
 #include "roots_scan.h"
 
@@ -120,7 +123,8 @@ int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>
     } else if (iv.depth >= kMaxDepth || small) {
       out[count++] = LocalRoot<double>{iv.a + width / 2, true};
     } else {
-      const double mid = iv.a + width / 2;
+      double mid = bisectionPoint(iv.a, iv.b);  // in the exponent across binades
+      if (!(mid > iv.a && mid < iv.b)) mid = iv.a + width / 2;
       const int vm = s.variations(mid);
       // Right half first onto the stack so that the left half is processed first.
       stack[top++] = Interval{mid, iv.b, vm, iv.vb, iv.depth + 1};
