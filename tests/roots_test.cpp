@@ -578,6 +578,47 @@ TEST(RootsContract, ScaleInvariance) {
   }
 }
 
+TEST(RootsContract, QuadraticFastPathIsFirstRoot) {
+  // firstRootQuadratic promises firstRoot's answer bit for bit (the frame scaling it
+  // skips is exact). Random quadratics of every shape the quadric path produces: two
+  // roots, tangent (double root within noise), no root, roots on or near the ends,
+  // noise-level leading coefficients, caller error bounds, and huge/tiny scales that
+  // take its fallback.
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> uni(-1, 1);
+  int compared = 0, found = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double scale = std::ldexp(1.0, static_cast<int>(uni(rng) * (i % 10 == 0 ? 400 : 30)));
+    const double r0 = uni(rng) * 2, r1 = (i % 7 == 0) ? r0 * (1 + 1e-9 * uni(rng)) : uni(rng) * 2;
+    const double lead = (i % 13 == 0 ? 1e-17 : 1.0) * uni(rng);
+    std::array<double, 3> c{lead * r0 * r1 * scale, -lead * (r0 + r1) * scale, lead * scale};
+    if (i % 11 == 0) {
+      // A double root lifted by 0 to 12 rounding units of g at the vertex: the tangent
+      // rule's verdict flips inside this range, so both paths must use the same bound.
+      c = {lead * r0 * r0 * scale, -2 * lead * r0 * scale, lead * scale};
+      const double v = r0, mag = std::abs(c[0]) + std::abs(c[1] * v) + std::abs(c[2] * v * v);
+      c[0] += std::copysign(std::abs(uni(rng)) * 12 * kU * mag, lead);
+    }
+    std::array<double, 3> err{0, 0, 0};
+    if (i % 3 == 0)
+      for (int k = 0; k < 3; ++k) err[k] = 1e-14 * std::abs(c[k]) * std::abs(uni(rng));
+    double lo = uni(rng) * 2, hi = lo + std::abs(uni(rng)) * 3;
+    if (i % 5 == 0) lo = r0;  // the previous root as lo
+    if (i % 17 == 0) hi = r1;
+    if (!(lo < hi)) continue;
+    const auto general = firstRoot(c, err, lo, hi);
+    const auto fast = firstRootQuadratic(c, err, lo, hi);
+    ASSERT_EQ(general.has_value(), fast.has_value()) << i;
+    if (general) {
+      EXPECT_EQ(*general, *fast) << i;
+      ++found;
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 15000);
+  EXPECT_GT(found, 5000);
+}
+
 TEST(RootsContract, BadInput) {
   const double nan = std::nan(""), inf = INFINITY;
   const std::vector<double> c{-0.5, 1};

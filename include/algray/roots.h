@@ -63,6 +63,12 @@ bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, 
 int allRoots(std::span<const double> c, std::span<const double> err, double lo, double hi,
              std::span<double> out, const RootOptions& options = {});
 
+// The same as firstRoot for a quadratic (c[2] != 0) in the caller's frame, for hot
+// loops (the plugin's quadric path): bitwise the same answer, without the frame mapping;
+// coefficients, bounds or interval ends outside a safe range go to firstRoot.
+std::optional<double> firstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err,
+                                         double lo, double hi);
+
 // Float variants, kept for the speed/error comparison (same algorithms in float; Sturm and
 // Bernstein fall back to Auto). Measured: float's rounding bound is so wide above degree
 // ~4 that the tangent rule reports many near misses as hits; see docs/roots-summary.md.

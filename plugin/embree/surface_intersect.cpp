@@ -325,7 +325,12 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
   // the surface (a ruling), which has no first point to report.
   if (rr.g.degree < 1) return;
   const SurfaceOptions& opt = data.desc.options;
-  if (const auto s = firstRootOf(rr.g, rr.slo, rr.shi, opt.roots, opt.singlePrecision)) {
+  const bool quadratic = data.quadric && rr.g.degree == 2 && rr.g.coeff[2] != 0.0 && !opt.singlePrecision &&
+                         opt.roots.method == RootMethod::Auto && opt.roots.relTolerance == 0.0;
+  const auto s = quadratic ? firstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
+                                                std::span<const double, 3>(rr.g.error.data(), 3), rr.slo, rr.shi)
+                           : firstRootOf(rr.g, rr.slo, rr.shi, opt.roots, opt.singlePrecision);
+  if (s) {
     rr.roots[0] = *s;
     rr.count = 1;
     rr.complete = false;
