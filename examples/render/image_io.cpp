@@ -1,8 +1,11 @@
 #include "image_io.h"
 
-#include <OpenImageIO/imageio.h>
+#include "image_backend.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -17,6 +20,7 @@ namespace {
 // Curve", 2015): keeps highlights from clipping abruptly.
 double aces(double x) {
   x = std::max(0.0, x);
+  if (x > 1e100) return 1.0;  // the limit (2.51 / 2.43, clamped); x * x would overflow
   return std::clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
 }
 
@@ -31,6 +35,43 @@ bool isFloatFormat(const std::string& ext) {
   return ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff";
 }
 
+// lround(255 * srgbEncode(v)) without std::pow per call (~25 ms of a 512x512 PNG write,
+// perf): thresholds[k] is the least double whose byte is > k, so the byte is the number
+// of thresholds <= v (the byte does not decrease with v). Exact: the same bytes.
+class EncodeTable {
+ public:
+  static const EncodeTable& instance() {
+    static const EncodeTable table;
+    return table;
+  }
+  std::uint8_t operator()(double v) const {  // NaN: 0
+    return static_cast<std::uint8_t>(std::upper_bound(thresholds_.begin(), thresholds_.end(), v) -
+                                     thresholds_.begin());
+  }
+
+ private:
+  // Bisection on the bit patterns of [0, 1] (ordered like the values for non-negative
+  // doubles): 255 x 62 curve evaluations, well under a millisecond.
+  EncodeTable() {
+    for (long k = 1; k <= 255; ++k) {
+      std::uint64_t lo = std::bit_cast<std::uint64_t>(0.0), hi = std::bit_cast<std::uint64_t>(1.0);
+      while (lo < hi) {
+        const std::uint64_t mid = lo + (hi - lo) / 2;
+        if (std::lround(255.0 * srgbEncode(std::bit_cast<double>(mid))) >= k) hi = mid;
+        else lo = mid + 1;
+      }
+      thresholds_[k - 1] = std::bit_cast<double>(lo);
+    }
+  }
+  std::array<double, 255> thresholds_{};
+};
+
+// One channel of toDisplay, 8 bits, from the exposed linear value.
+std::uint8_t encodeByte(double exposed, ToneMap toneMap) {
+  const double v = std::isfinite(exposed) ? exposed : 0.0;
+  return EncodeTable::instance()(toneMap == ToneMap::Aces ? aces(v) : v);
+}
+
 }  // namespace
 
 glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap) {
@@ -43,30 +84,33 @@ glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap)
   return out;
 }
 
+std::uint8_t toDisplayByte(double linear, double exposure, ToneMap toneMap) {
+  return encodeByte(linear * std::exp2(exposure), toneMap);
+}
+
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,
                 bool aovs) {
   namespace fs = std::filesystem;
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
-  bool floating = isFloatFormat(ext);
-  std::string tmp = path + ".tmp";
-  // The format comes from the final name; the bytes go to the temporary one.
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw std::runtime_error(path + ": unsupported image format '" + ext + "'");
+  const ImageBackend& backend = imageBackend();
+  RasterDesc desc;
+  desc.width = image.width;
+  desc.height = image.height;
+  desc.floating = isFloatFormat(ext);
+  desc.channels = {"R", "G", "B"};
   size_t n = static_cast<size_t>(image.width) * image.height;
-  bool ok = false;
-  if (floating) {
-    std::vector<std::string> names = {"R", "G", "B"};
-    if (aovs)
-      names.insert(names.end(), {"Z", "N.X", "N.Y", "N.Z", "albedo.R", "albedo.G", "albedo.B", "id"});
-    auto nc = static_cast<int>(names.size());
-    OIIO::ImageSpec spec(image.width, image.height, nc, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    spec.alpha_channel = -1;
-    if (aovs) spec.z_channel = 3;
-    std::vector<float> data(n * nc);
+  std::vector<float> floats;
+  std::vector<unsigned char> bytes;
+  if (desc.floating) {
+    if (aovs) {
+      desc.channels.insert(desc.channels.end(), {"Z", "N.X", "N.Y", "N.Z", "albedo.R", "albedo.G", "albedo.B", "id"});
+      desc.zChannel = 3;
+    }
+    size_t nc = desc.channels.size();
+    floats.resize(n * nc);
     for (size_t i = 0; i < n; ++i) {
-      float* d = &data[i * nc];
+      float* d = &floats[i * nc];
       d[0] = image.color[i].r, d[1] = image.color[i].g, d[2] = image.color[i].b;
       if (aovs) {
         d[3] = image.depth[i];
@@ -75,23 +119,23 @@ void writeImage(const Image& image, const std::string& path, const RenderSetting
         d[10] = image.id[i];
       }
     }
-    ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, data.data()) && out->close();
   } else {
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    std::vector<unsigned char> data(n * 3);
-    for (size_t i = 0; i < n; ++i) {
-      glm::dvec3 c = toDisplay(glm::dvec3(image.color[i]), settings.exposure, settings.toneMap);
+    const double scale = std::exp2(settings.exposure);
+    bytes.resize(n * 3);
+    for (size_t i = 0; i < n; ++i)
       for (int k = 0; k < 3; ++k)
-        data[3 * i + k] = static_cast<unsigned char>(std::lround(255.0 * c[k]));
-    }
-    ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::UINT8, data.data()) && out->close();
+        bytes[3 * i + k] = encodeByte(static_cast<double>(image.color[i][k]) * scale, settings.toneMap);
   }
-  if (!ok) {
-    std::string err = out->geterror();
+  // The format comes from the final name; the bytes go to the temporary one.
+  std::string tmp = path + ".tmp", error;
+  const void* pixels = desc.floating ? static_cast<const void*>(floats.data()) : bytes.data();
+  const WriteStatus status = backend.write(path, tmp, desc, pixels, error);
+  if (status == WriteStatus::UnsupportedFormat)
+    throw std::runtime_error(path + ": unsupported image format '" + ext + "'");
+  if (status != WriteStatus::Ok) {
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write image: " + err);
+    throw std::runtime_error(path + ": cannot write image: " + error);
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);

@@ -8,12 +8,17 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
 #include <string>
 
 namespace algray::render {
 
 // Display value in [0,1] of a linear radiance: exposure (stops), the tone curve, sRGB.
 glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap);
+
+// One channel of toDisplay in 8 bits, exactly lround(255 * toDisplay(...)), by a table
+// search instead of std::pow: what PNG files get.
+std::uint8_t toDisplayByte(double linear, double exposure, ToneMap toneMap);
 
 // aovs: also write depth/normal/albedo/id (float formats only). Throws
 // std::runtime_error naming the file on failure.

@@ -1,9 +1,7 @@
 #include "material.h"
 
+#include "image_backend.h"
 #include "sampling.h"
-
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,21 +20,18 @@ float srgbToLinear(float c) {
 }  // namespace
 
 std::shared_ptr<const Texture> Texture::load(const std::string& path) {
-  OIIO::ImageBuf buf(path);
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT))
-    throw std::runtime_error(path + ": cannot read texture: " + buf.geterror());
-  const OIIO::ImageSpec& spec = buf.spec();
-  int w = spec.width, h = spec.height, nc = spec.nchannels;
+  Raster raster;
+  std::string error;
+  if (!imageBackend().read(path, raster, error))
+    throw std::runtime_error(path + ": cannot read texture: " + error);
+  int w = raster.width, h = raster.height, nc = raster.channels;
   if (w <= 0 || h <= 0 || nc <= 0) throw std::runtime_error(path + ": empty texture");
-  bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
-                 spec.format.basetype == OIIO::TypeDesc::UINT16;
-  std::vector<float> pixels(static_cast<size_t>(w) * h * nc);
-  buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data());
+  const std::vector<float>& pixels = raster.pixels;
   std::vector<glm::vec3> texels(static_cast<size_t>(w) * h);
   for (size_t i = 0; i < texels.size(); ++i) {
     const float* p = &pixels[i * nc];
     glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
-    if (encoded) c = {srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)};
+    if (raster.encoded) c = {srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)};
     texels[i] = c;
   }
   return std::make_shared<Texture>(w, h, std::move(texels));

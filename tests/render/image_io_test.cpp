@@ -7,7 +7,9 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 namespace algray::render {
 namespace {
@@ -30,6 +32,36 @@ TEST(Display, SrgbAndClampClosedForms) {
   EXPECT_EQ(toDisplay(glm::dvec3(0.0), 0.0, ToneMap::Aces).r, 0.0);
   // Non-finite input does not leak into the file.
   EXPECT_EQ(toDisplay(glm::dvec3(NAN), 0.0, ToneMap::Aces).r, 0.0);
+}
+
+TEST(Display, ByteIsRoundedDisplayValue) {
+  // PNG bytes come from a threshold table (image_io.cpp); they must equal
+  // lround(255 * toDisplay) for every input: dense near each rounding step of both
+  // tone curves, plus random values over many magnitudes and the special values.
+  std::vector<double> xs = {0.0, -0.0, -1.0, 1e-300, 0.0031308, 1.0, 1e300, INFINITY, -INFINITY, NAN};
+  std::uint64_t state = 12345;
+  for (int i = 0; i < 200000; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    double u = static_cast<double>(state >> 11) * 0x1p-53;
+    xs.push_back(std::exp2(-20.0 + 24.0 * u));
+  }
+  for (ToneMap toneMap : {ToneMap::Clamp, ToneMap::Aces})
+    for (double exposure : {0.0, 1.5})
+      for (double x : xs) {
+        const auto expected = std::lround(255.0 * toDisplay(glm::dvec3(x), exposure, toneMap).r);
+        ASSERT_EQ(toDisplayByte(x, exposure, toneMap), expected) << x << " exposure " << exposure;
+      }
+  // Exactly at the steps: the table's thresholds are the least values of each byte.
+  for (int k = 0; k < 256; ++k) {
+    double lo = 0, hi = 1;
+    for (int it = 0; it < 80; ++it) {
+      double mid = 0.5 * (lo + hi);
+      (std::lround(255.0 * toDisplay(glm::dvec3(mid), 0.0, ToneMap::Clamp).r) >= k ? hi : lo) = mid;
+    }
+    for (double x : {std::nextafter(hi, 0.0), hi, std::nextafter(hi, 2.0)})
+      ASSERT_EQ(toDisplayByte(x, 0.0, ToneMap::Clamp),
+                std::lround(255.0 * toDisplay(glm::dvec3(x), 0.0, ToneMap::Clamp).r)) << x;
+  }
 }
 
 Image gradient() {

@@ -1,0 +1,63 @@
+// libalgray_render_oiio.so: every OpenImageIO call of algray-render (image_backend.h).
+#include "image_backend.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+
+#include <memory>
+
+namespace algray::render {
+
+namespace {
+
+constexpr int kPngFilterNone = 0x08;  // libpng's PNG_FILTER_NONE (png.h)
+
+WriteStatus writeRaster(const std::string& formatPath, const std::string& filePath, const RasterDesc& desc,
+                        const void* pixels, std::string& error) {
+  auto out = OIIO::ImageOutput::create(formatPath);
+  if (!out) return WriteStatus::UnsupportedFormat;
+  const OIIO::TypeDesc type = desc.floating ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+  OIIO::ImageSpec spec(desc.width, desc.height, static_cast<int>(desc.channels.size()), type);
+  spec.channelnames = desc.channels;
+  spec.alpha_channel = -1;
+  spec.z_channel = desc.zChannel;
+  if (!desc.floating) {
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    // No PNG row filter (libpng's default tries all five per row): measured on the
+    // 512x512 benchmark renders (sphere, Sarti), the write took 9-11 ms instead of
+    // 23-26 ms and the files came out 4-22% smaller (flat shading compresses well as is).
+    spec.attribute("png:filter", kPngFilterNone);
+  }
+  if (out->open(filePath, spec) && out->write_image(type, pixels) && out->close()) return WriteStatus::Ok;
+  error = out->geterror();
+  return WriteStatus::Failed;
+}
+
+bool readRaster(const std::string& path, Raster& out, std::string& error) {
+  OIIO::ImageBuf buf(path);
+  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+    error = buf.geterror();
+    return false;
+  }
+  const OIIO::ImageSpec& spec = buf.spec();
+  out.width = spec.width;
+  out.height = spec.height;
+  out.channels = spec.nchannels;
+  out.encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
+                spec.format.basetype == OIIO::TypeDesc::UINT16;
+  if (out.width <= 0 || out.height <= 0 || out.channels <= 0) return true;
+  out.pixels.resize(static_cast<size_t>(out.width) * out.height * out.channels);
+  if (buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.pixels.data())) return true;
+  error = buf.geterror();
+  return false;
+}
+
+constexpr ImageBackend kBackend{writeRaster, readRaster};
+
+}  // namespace
+
+}  // namespace algray::render
+
+extern "C" const algray::render::ImageBackend* algrayRenderImageBackend() {
+  return &algray::render::kBackend;
+}
