@@ -176,15 +176,19 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
                     maxOut);
 }
 
-// Where the subdivision of roots_subdivide.h pays (tests/bench/roots_report.cpp, same run,
+// Where the subdivision of roots_subdivide.h pays. tests/bench/roots_report.cpp, same run,
 // ns per first root on whole-ray intervals, before -> after: degree 6 481 -> 498 (even),
 // 8 1137 -> 700, 10 2005 -> 804, 12 3952 -> 851, 16 7783 -> 2753, 20 14258 -> 5158,
-// 30 35884 -> 30561, 40 61956 -> 109705; on cell intervals degree 30 loses 5x): degrees
-// 3 to 24. On a short interval (a ray's
-// span in one cell) the exclusion test of rootFreeOrder usually proves a low derivative
-// root-free at once, and then the recursion is cheaper than any subdivision (cell
-// intervals, degree 6-12: 229-676 ns with it first, 342-695 ns without).
-constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 24;
+// 30 35884 -> 30561, 40 61956 -> 109705. But on real rays through Chmutov's degree-16
+// surface (Chebyshev coefficients, |g| small against sum|c_i| along most of the span, so
+// the rounding bound excludes little) algray-render's direct integrator was 1.4x slower
+// with it (1.6 s against 1.1-1.2 s, 256^2, alternating runs), while Sarti and Chmutov-12
+// (degree 12) were 1.2x faster and the degree 4-6 surfaces even within noise: degrees 3
+// to 12. On a short interval (a ray's span in one cell) the exclusion test of
+// rootFreeOrder usually proves a low derivative root-free at once, and then the recursion
+// is cheaper than any subdivision (cell intervals, degree 6-12: 229-676 ns with it first,
+// 342-695 ns without).
+constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 12;
 constexpr int kShortOrder = 3;
 
 template <class T, class D>
@@ -208,7 +212,15 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   LocalPoly<T> work = g;
   T b[kMaxDegree + 1];
   SubdivideState<T> st{work, g.lo, g.hi - g.lo, toBernsteinWithBound(g, deg, b), q, tol};
-  return subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
+  int k = subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
+  if (st.exhausted && (k == 0 || (q == Query::All && k < maxOut))) {
+    // The budget ran out: the recursion takes the rest, [resumeAt, hi], in one piece
+    // (a cluster at resumeAt was reported by the node before it, see roots_scan.h).
+    work.lo = st.resumeAt;
+    work.hi = g.hi;
+    k += direct(work, out + k, maxOut - k);
+  }
+  return k;
 }
 
 template <class T, int... Ns>
