@@ -396,6 +396,15 @@ TEST(CellsTest, CoverWithClipSphereAndAutomaticDepth) {
   ASSERT_EQ(one.size(), 1u);
   EXPECT_EQ(tightStats.depth, 0);
   EXPECT_GT(tightStats.rayCoverage, 0.3);
+  // Decided by the probe lines, without building a level, and the probe measures the
+  // torus's own crossing fraction. Closed form over the disk of radius 1.5 (area
+  // 2.25 pi): lines along z cross the annulus R - r <= rho <= R + r, area 4 pi R r; lines
+  // along x (or y) cross where |z| <= r and |y| <= R + sqrt(r^2 - z^2), area
+  // 4 R r + pi r^2. Mean over the axes: 0.435.
+  EXPECT_EQ(tightStats.boxesTested, 0);
+  const double kPi = 3.14159265358979323846, R = 1.0, r = 0.4, disk = 2.25 * kPi;
+  const double expected = (4 * kPi * R * r / disk + 2 * (4 * R * r + kPi * r * r) / disk) / 3;
+  EXPECT_NEAR(tightStats.rayCoverage, expected, 0.02);
   EXPECT_EQ(one[0].lo, glm::dvec3(-1.5));
   EXPECT_EQ(one[0].hi, glm::dvec3(1.5));
 }

@@ -4,6 +4,8 @@
 
 #include "algray/interval.h"
 #include "algray/range_bound.h"
+#include "algray/roots.h"
+#include "algray/taylor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -270,6 +272,55 @@ void validate(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
     throw Error("buildCells: maxCells must be >= 1, got " + std::to_string(options.maxCells));
 }
 
+// ---- Skipping a build that cannot pay ----------------------------------------------------
+// The automatic choice falls back to one cell when the finest affordable level still
+// meets more than kMaxCoverage of the axis-parallel rays (see "Automatic depth"), and it
+// only learns that after building every level: 4-171 ms on the gallery, all of which
+// fell back (profile of algray-render, session 2). Every ray that meets the surface meets
+// the cells of any level, so the fraction of axis-parallel lines through the clip region
+// that cross f = 0 estimates that coverage from below (up to sampling): kProbeLines^2
+// lines per axis through the centres of a grid over the clip box, each a univariate
+// root query (restriction + hasRoot, a few us). A surface whose lines already cross it
+// more than kSkipCoverage of the time is given its one cell without any build. A
+// performance decision only: one cell is always correct.
+constexpr int kProbeLines = 24;
+constexpr double kSkipCoverage = 0.33;  // kMaxCoverage plus 3 standard errors of the sample
+
+double probedCoverage(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+                      const std::optional<CellSphere>& sphere) {
+  double sum = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const int u = (a + 1) % 3, v = (a + 2) % 3;
+    long inside = 0, crossing = 0;
+    for (int i = 0; i < kProbeLines; ++i)
+      for (int j = 0; j < kProbeLines; ++j) {
+        glm::dvec3 o(0.0), d(0.0);
+        o[u] = lo[u] + (hi[u] - lo[u]) * (i + 0.5) / kProbeLines;
+        o[v] = lo[v] + (hi[v] - lo[v]) * (j + 0.5) / kProbeLines;
+        o[a] = lo[a];
+        d[a] = 1.0;
+        double t0 = 0.0, t1 = hi[a] - lo[a];
+        if (sphere) {
+          const double du = o[u] - sphere->center[u], dv = o[v] - sphere->center[v];
+          const double h2 = sphere->radius * sphere->radius - du * du - dv * dv;
+          if (!(h2 > 0.0)) continue;
+          const double h = std::sqrt(h2), c = sphere->center[a] - lo[a];
+          t0 = std::max(t0, c - h);
+          t1 = std::min(t1, c + h);
+          if (!(t0 < t1)) continue;
+        }
+        ++inside;
+        const double mid = 0.5 * (t0 + t1);
+        const RayPolynomial g = restrictToRay(f, o, d, mid);
+        if (g.degree < 1) continue;
+        const std::span<const double> c(g.coeff.data(), g.degree + 1), e(g.error.data(), g.degree + 1);
+        crossing += hasRoot(c, e, t0 - mid, t1 - mid);
+      }
+    sum += inside > 0 ? static_cast<double>(crossing) / static_cast<double>(inside) : 0.0;
+  }
+  return sum / 3.0;
+}
+
 }  // namespace
 
 std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
@@ -287,6 +338,16 @@ std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const gl
   if (builder.flat()) maxLevel = 0;  // a point: nothing to split
   const long budget = automatic ? autoBudget(builder.tables(), options.maxCells, options.bound)
                                 : static_cast<long>(options.maxCells);
+  if (automatic && maxLevel > 0) {
+    const double probed = probedCoverage(f, lo, hi, sphere);
+    if (probed > kSkipCoverage) {
+      const std::vector<Node> root = builder.rootLevel();
+      if (!root.empty()) {
+        if (stats) stats->rayCoverage = probed;
+        return {builder.worldBox(root.front())};
+      }
+    }
+  }
 
   // ---- Level by level, until the depth, the budget or (automatic) diminishing returns.
   const std::vector<Node> root = builder.rootLevel();
