@@ -296,19 +296,8 @@ int quadraticIn(const T* p, T lo, T hi, T* out) {
 template <class T, class D>
 int rootFree(const LocalPoly<T>& g, D deg) {
   const int n = deg;
-  const T m = g.lo + (g.hi - g.lo) / 2;
-  const T r = (g.hi - g.lo) / 2 * (1 + 4 * kUnit<T>);  // covers the rounding of m
   T t[kMaxDegree + 1], ta[kMaxDegree + 1];
-  for (int i = 0; i <= n; ++i) {
-    t[i] = g.c[i];
-    ta[i] = std::abs(g.c[i]);
-  }
-  const T am = std::abs(m);
-  for (int k = 0; k < n; ++k)
-    for (int i = n - 1; i >= k; --i) {
-      t[i] += m * t[i + 1];
-      ta[i] += am * ta[i + 1];
-    }
+  const T r = midpointTaylor(g, deg, t, ta);
   const T gShift = gammaT<T>(2 * n + 2);
   T rest0 = 0, err0 = 0, rest1 = 0, err1 = 0;
   for (int j = n; j >= 1; --j) {

@@ -96,6 +96,28 @@ inline void derivative(const T* c, D deg, T* d) {
 inline bool signBit(double x) { return std::signbit(x); }
 inline bool signBit(float x) { return std::signbit(x); }
 
+// ---- Taylor coefficients at the midpoint (the exclusion tests) ----------------------
+// t_j of G at the midpoint m of (lo, hi) and ta_j, the same shift applied to |C| and |m|
+// (gamma(2n+2) ta_j bounds the rounding of t_j); returns the radius r of the interval
+// about m, enlarged to cover the rounding of m. Shared by the exclusion tests of
+// Yuksel's solver (rootFreeOrder) and of the closed forms (rootFree).
+template <class T, class D>
+T midpointTaylor(const LocalPoly<T>& g, D deg, T* t, T* ta) {
+  const int n = deg;
+  const T m = g.lo + (g.hi - g.lo) / 2;
+  for (int i = 0; i <= n; ++i) {
+    t[i] = g.c[i];
+    ta[i] = std::abs(g.c[i]);
+  }
+  const T am = std::abs(m);
+  for (int k = 0; k < n; ++k)
+    for (int i = n - 1; i >= k; --i) {
+      t[i] += m * t[i + 1];
+      ta[i] += am * ta[i + 1];
+    }
+  return (g.hi - g.lo) / 2 * (1 + 4 * kUnit<T>);
+}
+
 // ---- Safeguarded Newton in a monotone bracket -------------------------------------
 // p is monotone on [a, b] and p(a), p(b) have opposite signs (neither zero), so the
 // bracket always holds exactly one simple root. Newton steps that leave the bracket are

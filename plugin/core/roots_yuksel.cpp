@@ -129,19 +129,8 @@ constexpr Binomials kBinomials;
 template <class T, class D>
 int rootFreeOrder(const LocalPoly<T>& g, D deg) {
   const int n = deg;
-  const T m = g.lo + (g.hi - g.lo) / 2;
-  const T r = (g.hi - g.lo) / 2 * (1 + 4 * kUnit<T>);  // covers the rounding of m
   T t[kMaxDegree + 1], ta[kMaxDegree + 1];
-  for (int i = 0; i <= n; ++i) {
-    t[i] = g.c[i];
-    ta[i] = std::abs(g.c[i]);
-  }
-  const T am = std::abs(m);
-  for (int k = 0; k < n; ++k)
-    for (int i = n - 1; i >= k; --i) {
-      t[i] += m * t[i + 1];
-      ta[i] += am * ta[i + 1];
-    }
+  const T r = midpointTaylor(g, deg, t, ta);
   const T gShift = gammaT<T>(2 * n + 2);
   for (int k = 0; k <= n; ++k) {
     T rest = 0, err = 0;

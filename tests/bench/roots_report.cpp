@@ -27,6 +27,7 @@
 #include "algray/roots.h"
 
 #include "../roots_mpfr.h"
+#include "roots_problems.h"
 
 #include <algorithm>
 #include <chrono>
@@ -91,32 +92,17 @@ bool reference(const std::vector<double>& c, const std::vector<double>& starts, 
 }
 
 std::vector<Problem> makeProblems(int degree, int count, bool cell, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> uni(0, 1);
   std::vector<Problem> out;
   int attempts = 0;
   while (static_cast<int>(out.size()) < count && attempts++ < 20 * count) {
-    const int maxReal = std::min(degree, 6);
-    int nReal = degree % 2 + 2 * static_cast<int>(uni(rng) * (maxReal / 2 + 1));
-    if (nReal > maxReal) nReal -= 2;
-    std::vector<double> roots;
-    for (int i = 0; i < nReal; ++i) roots.push_back(uni(rng));
-    std::vector<std::pair<double, double>> pairs;
-    for (int i = 0; i < (degree - nReal) / 2; ++i)
-      pairs.emplace_back(-0.5 + 2 * uni(rng), std::pow(10.0, -3 + 3 * uni(rng)));
-    const double lead = (uni(rng) < 0.5 ? -1 : 1) * std::pow(10.0, -3 + 6 * uni(rng));
+    const bench::ProblemShape shape = bench::randomProblemShape(degree, cell, rng);
+    const std::vector<double>& roots = shape.roots;
+    const auto& pairs = shape.pairs;
     Problem p;
-    p.c = test::expand(roots, pairs, lead);
+    p.c = test::expand(roots, pairs, shape.lead);
     p.cf.assign(p.c.begin(), p.c.end());
-    if (cell) {
-      const double len = std::pow(10.0, -2 + 1.3 * uni(rng));
-      p.lo = (1 - len) * uni(rng);
-      p.hi = p.lo + len;
-    } else {
-      p.lo = 0.5 * uni(rng);
-      p.hi = p.lo + 0.1 + (1 - p.lo - 0.1) * uni(rng);
-    }
-    p.lo = static_cast<float>(p.lo);  // the same interval in both precisions
-    p.hi = static_cast<float>(p.hi);
+    p.lo = shape.lo;
+    p.hi = shape.hi;
     std::vector<double> starts = roots;
     for (auto [a, b] : pairs)
       if (b < 0.05) starts.push_back(a);  // only near pairs can turn real by rounding
