@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "support/nodes.h"
 #include "support/stress.h"
 
 namespace algray::test {
@@ -107,8 +108,10 @@ TEST(StressNodes, CayleyCubicFourNodes) {
 // Kummer's quartic (x^2+y^2+z^2-mu^2)^2 - lambda p q r s with the SURFER tetrahedron
 // planes. Along an edge of the tetrahedron two planes vanish, so p q r s and its gradient
 // vanish there; where the edge meets the sphere r^2 = mu^2 the first term and its
-// gradient vanish too: 12 of the 16 nodes (2 on each of the 6 edges).
-TEST(StressNodes, KummerQuarticTwelveEdgeNodes) {
+// gradient vanish too: 12 of the 16 nodes (2 on each of the 6 edges), constructed here;
+// all 16 come from the independent node finder (tests/support/nodes.h), which must find
+// the constructed 12 among them, and every one of the 16 is traced.
+TEST(StressNodes, KummerQuarticSixteenNodes) {
   const double mu2 = 1.69, lambda = (3.0 * mu2 - 1.0) / (3.0 - mu2), s2 = std::numbers::sqrt2;
   const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
   const Polynomial p = one - z - s2 * x, q = one - z + s2 * x, r = one + z + s2 * y, t = one + z - s2 * y;
@@ -131,14 +134,24 @@ TEST(StressNodes, KummerQuarticTwelveEdgeNodes) {
     EXPECT_LE(std::abs(f.evaluate(v)), 1e-13 * absTermSum(f, v));
     EXPECT_LE(glm::length(f.gradient(v)), 1e-12 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
   }
+  const std::vector<glm::dvec3> all = findNodes(f, glm::dvec3(0.0), 2.5);
+  ASSERT_EQ(all.size(), 16u);
+  for (const glm::dvec3& v : nodes) {
+    bool found = false;
+    for (const glm::dvec3& w : all) found = found || glm::length(v - w) < 1e-9;
+    EXPECT_TRUE(found) << "edge node (" << v.x << ", " << v.y << ", " << v.z << ")";
+  }
   OneSurface s(describe(f, 2.5));
-  expectNodeHits(s, nodes, 2.5, "kummer");
+  expectNodeHits(s, all, 2.5, "kummer");
 }
 
 // Barth's sextic 4(phi^2x^2-y^2)(phi^2y^2-z^2)(phi^2z^2-x^2) - (1+2phi)(x^2+y^2+z^2-1)^2:
 // on the unit sphere, wherever two factors vanish (or one vanishes to second order, on
-// the axes), the product and its gradient vanish: 6 + 3 * 8 = 30 of the 65 nodes.
-TEST(StressNodes, BarthSexticThirtyNodes) {
+// the axes), the product and its gradient vanish: 6 + 3 * 8 = 30 of the 65 nodes,
+// constructed here. Of the 65, 15 lie at infinity in this affine chart; the node finder
+// (tests/support/nodes.h) must find the other 50 (the 30 among them), and all 50 are
+// traced.
+TEST(StressNodes, BarthSexticFiftyFiniteNodes) {
   const double phi = std::numbers::phi, p2 = phi * phi;
   const Polynomial x = X(), y = Y(), z = Z();
   const Polynomial f = 4.0 * (p2 * x * x - y * y) * (p2 * y * y - z * z) * (p2 * z * z - x * x) -
@@ -158,8 +171,15 @@ TEST(StressNodes, BarthSexticThirtyNodes) {
     EXPECT_LE(std::abs(f.evaluate(v)), 1e-13 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
     EXPECT_LE(glm::length(f.gradient(v)), 1e-12 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
   }
+  const std::vector<glm::dvec3> all = findNodes(f, glm::dvec3(0.0), 2.0);
+  ASSERT_EQ(all.size(), 50u);
+  for (const glm::dvec3& v : nodes) {
+    bool found = false;
+    for (const glm::dvec3& w : all) found = found || glm::length(v - w) < 1e-9;
+    EXPECT_TRUE(found) << "sphere node (" << v.x << ", " << v.y << ", " << v.z << ")";
+  }
   OneSurface s(describe(f, 2.0));
-  expectNodeHits(s, nodes, 2.0, "barth");
+  expectNodeHits(s, all, 2.0, "barth");
 }
 
 // Steiner's Roman surface x^2y^2 + y^2z^2 + z^2x^2 = xyz contains the three axes as double
