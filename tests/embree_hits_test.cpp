@@ -550,5 +550,31 @@ TEST_F(EmbreeHits, QuadricPathMatchesGeneralPath) {
   EXPECT_GT(compared, 600);
 }
 
+TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
+  // The unit sphere times 1e200 and 1e-200: the same hits, and Embree's float Ng keeps
+  // the direction of a gradient beyond float's range (closed form: Ng parallel to p).
+  for (double scale : {1e200, 1e-200, 1.0}) {
+    SurfaceDesc desc = sphereDesc(1.0, 1.5);
+    desc.polynomial *= scale;
+    SurfaceGeometry sphere(device, desc);
+    Scene scene(device);
+    scene.attach(sphere.geometry());
+    scene.commit();
+    for (int i = 0; i < 50; ++i) {
+      const glm::vec3 o = 3.0f * randomDir();
+      const glm::vec3 d = 0.5f * randomDir() - o;
+      const RTCRayHit rh = intersect1(scene, makeRay(o, d));
+      const auto ref = sphereRoot(asD(rh, true), asD(rh, false), 1.0L, 0.0L);
+      ASSERT_EQ(ref.has_value(), rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) << scale;
+      if (!ref) continue;
+      EXPECT_NEAR(rh.ray.tfar, (double)*ref, 2e-7 * (double)*ref) << scale;
+      const glm::vec3 n = hitNormal(rh);
+      ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z)) << scale;
+      const glm::dvec3 p = asD(rh, true) + (double)*ref * asD(rh, false);
+      EXPECT_NEAR(glm::dot(glm::dvec3(n), glm::normalize(p)), 1.0, 1e-6) << scale;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace algray::test

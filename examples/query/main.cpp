@@ -14,7 +14,9 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -80,8 +82,10 @@ query::QueryHit trace(RTCScene scene, unsigned geomID, const RayD& ray, bool use
     out.t = hit.t;
     ng = hit.Ng;
   }
-  const double len = glm::length(ng);
-  if (len > 0.0 && std::isfinite(len)) out.normal = ng / len;
+  // Scaled first: the gradient of a surface with coefficients like 1e200 has no finite
+  // square.
+  const double m = std::max({std::abs(ng.x), std::abs(ng.y), std::abs(ng.z)});
+  if (m > 0.0 && std::isfinite(m)) out.normal = glm::normalize(ng / m);
   return out;
 }
 

@@ -10,7 +10,9 @@
 // The SurfaceGeometry must outlive every scene it is attached to (like a host's shared
 // vertex buffers). Hits (written only for tnear < t < tfar, after the host's filters):
 //   tfar    the ray parameter of the first accepted root;
-//   Ng      grad f at the hit, not normalised, in the space the geometry lives in
+//   Ng      grad f at the hit, not normalised, in the space the geometry lives in (scaled
+//           by a power of two when its size is outside 1e-30..1e30, so that the float
+//           keeps its direction)
 //           (desc.transform applied: A^-T grad f_object). Inside an Embree instance this is
 //           the instanced scene's space, as for every Embree geometry;
 //   u, v    spherical coordinates of the object-space hit point about the clip centre,

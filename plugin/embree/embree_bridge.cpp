@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -149,6 +150,17 @@ IntersectContext* markedContext(RTCIntersectContext* context) {
   return context->filter == &markerFilter ? reinterpret_cast<IntersectContext*>(context) : nullptr;
 }
 
+// Embree's Ng is float: a gradient beyond float's range (coefficients like 1e200, or
+// 1e-200) would become inf or 0 and lose its direction, so it is scaled by a power of
+// two (exact, direction kept) to a largest component in [0.5, 1) in that case.
+glm::vec3 floatNormal(const glm::dvec3& g) {
+  const double m = std::max({std::abs(g.x), std::abs(g.y), std::abs(g.z)});
+  if (!(m > 0.0) || !std::isfinite(m) || (m >= 1e-30 && m <= 1e30)) return glm::vec3(g);
+  int e = 0;
+  std::frexp(m, &e);
+  return glm::vec3(std::ldexp(g.x, -e), std::ldexp(g.y, -e), std::ldexp(g.z, -e));
+}
+
 bool acceptIntersection(void* user, const KernelHit& h) {
   Lane& L = *static_cast<Lane*>(user);
   const auto* args = static_cast<const RTCIntersectFunctionNArguments*>(L.args);
@@ -161,7 +173,7 @@ bool acceptIntersection(void* user, const KernelHit& h) {
   double u, v;
   surfaceUV(*L.data, h.point, u, v);
   HitBuffer candidate;
-  writeCandidate(candidate.hitN(), n, lane, glm::vec3(ng), static_cast<float>(u), static_cast<float>(v),
+  writeCandidate(candidate.hitN(), n, lane, floatNormal(ng), static_cast<float>(u), static_cast<float>(v),
                  args->primID, args->geomID, args->context);
   // ---- Host filter (geometry filter, then context filter): the filter sees the
   // candidate t as the ray's tfar and may reject it by clearing valid[lane] -------------

@@ -128,6 +128,14 @@ CacheEntry* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
   return &e;
 }
 
+// |v| without overflow or underflow of the squares (a gradient of a surface with
+// coefficients like 1e200 is ~1e200; its square is not a double).
+double safeLength(const glm::dvec3& v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(m > 0.0) || !std::isfinite(m)) return m;
+  return m * glm::length(v / m);
+}
+
 // ---- Self-root rule ------------------------------------------------------------------
 // A ray leaving the surface starts at a point p that is on the surface only up to
 // rounding: f(p) = O(u). Its polynomial g(s) = f(p + s d) then has a root at |s| tiny,
@@ -141,7 +149,7 @@ CacheEntry* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
 bool originOnSurface(const Polynomial& f, const KernelRay& ray) {
   const Polynomial::Evaluation e = f.evaluateWithBound(ray.org);
   const glm::dvec3 g = glm::abs(e.gradient), o = glm::abs(ray.org);
-  const double move = ray.orgRoundoff * glm::dot(g, o) + glm::length(e.gradient) * ray.orgError;
+  const double move = ray.orgRoundoff * glm::dot(g, o) + safeLength(e.gradient) * ray.orgError;
   return std::abs(e.value) <= 4.0 * e.valueError + 2.0 * move;
 }
 
@@ -216,7 +224,7 @@ void restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, d
   QuadricValue at = evalQuadric(q, o);
   // The self-root rule of originOnSurface, on the closed-form value.
   const double move =
-      ray.orgRoundoff * glm::dot(glm::abs(at.gradient), glm::abs(o)) + glm::length(at.gradient) * ray.orgError;
+      ray.orgRoundoff * glm::dot(glm::abs(at.gradient), glm::abs(o)) + safeLength(at.gradient) * ray.orgError;
   const bool onSurface = std::abs(at.value) <= 4.0 * at.error + 2.0 * move;
   double tShift = 0.0;
   glm::dvec3 p = o;
