@@ -93,6 +93,16 @@ void expectNodeHits(OneSurface& s, const std::vector<glm::dvec3>& nodes, double 
     }
 }
 
+// Every node constructed in closed form is among those the node finder found.
+void expectAmong(const std::vector<glm::dvec3>& constructed, const std::vector<glm::dvec3>& found,
+                 const char* what) {
+  for (const glm::dvec3& v : constructed) {
+    bool match = false;
+    for (const glm::dvec3& w : found) match = match || glm::length(v - w) < 1e-9;
+    EXPECT_TRUE(match) << what << " (" << v.x << ", " << v.y << ", " << v.z << ")";
+  }
+}
+
 Polynomial X3(int axis, int power) { return Polynomial::variable(axis).pow(power); }
 
 // Cayley's cubic 4(x^3 + y^3 + z^3 + 1) = (x + y + z + 1)^3: the gradient 12 x_i^2 =
@@ -136,11 +146,7 @@ TEST(StressNodes, KummerQuarticSixteenNodes) {
   }
   const std::vector<glm::dvec3> all = findNodes(f, glm::dvec3(0.0), 2.5);
   ASSERT_EQ(all.size(), 16u);
-  for (const glm::dvec3& v : nodes) {
-    bool found = false;
-    for (const glm::dvec3& w : all) found = found || glm::length(v - w) < 1e-9;
-    EXPECT_TRUE(found) << "edge node (" << v.x << ", " << v.y << ", " << v.z << ")";
-  }
+  expectAmong(nodes, all, "edge node");
   OneSurface s(describe(f, 2.5));
   expectNodeHits(s, all, 2.5, "kummer");
 }
@@ -173,11 +179,7 @@ TEST(StressNodes, BarthSexticFiftyFiniteNodes) {
   }
   const std::vector<glm::dvec3> all = findNodes(f, glm::dvec3(0.0), 2.0);
   ASSERT_EQ(all.size(), 50u);
-  for (const glm::dvec3& v : nodes) {
-    bool found = false;
-    for (const glm::dvec3& w : all) found = found || glm::length(v - w) < 1e-9;
-    EXPECT_TRUE(found) << "sphere node (" << v.x << ", " << v.y << ", " << v.z << ")";
-  }
+  expectAmong(nodes, all, "sphere node");
   OneSurface s(describe(f, 2.0));
   expectNodeHits(s, all, 2.0, "barth");
 }
