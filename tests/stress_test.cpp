@@ -93,14 +93,20 @@ void expectNodeHits(OneSurface& s, const std::vector<glm::dvec3>& nodes, double 
     }
 }
 
-// Every node constructed in closed form is among those the node finder found.
-void expectAmong(const std::vector<glm::dvec3>& constructed, const std::vector<glm::dvec3>& found,
-                 const char* what) {
+// All nodes inside the clip ball from the independent node finder (tests/support/nodes.h):
+// as many as the literature gives, the ones constructed in closed form among them, and a
+// hit at each.
+void traceAllNodes(const Polynomial& f, const std::vector<glm::dvec3>& constructed, double radius,
+                   size_t count, const char* name) {
+  const std::vector<glm::dvec3> all = findNodes(f, glm::dvec3(0.0), radius);
+  ASSERT_EQ(all.size(), count) << name;
   for (const glm::dvec3& v : constructed) {
     bool match = false;
-    for (const glm::dvec3& w : found) match = match || glm::length(v - w) < 1e-9;
-    EXPECT_TRUE(match) << what << " (" << v.x << ", " << v.y << ", " << v.z << ")";
+    for (const glm::dvec3& w : all) match = match || glm::length(v - w) < 1e-9;
+    EXPECT_TRUE(match) << name << " constructed node (" << v.x << ", " << v.y << ", " << v.z << ")";
   }
+  OneSurface s(describe(f, radius));
+  expectNodeHits(s, all, radius, name);
 }
 
 Polynomial X3(int axis, int power) { return Polynomial::variable(axis).pow(power); }
@@ -144,11 +150,7 @@ TEST(StressNodes, KummerQuarticSixteenNodes) {
     EXPECT_LE(std::abs(f.evaluate(v)), 1e-13 * absTermSum(f, v));
     EXPECT_LE(glm::length(f.gradient(v)), 1e-12 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
   }
-  const std::vector<glm::dvec3> all = findNodes(f, glm::dvec3(0.0), 2.5);
-  ASSERT_EQ(all.size(), 16u);
-  expectAmong(nodes, all, "edge node");
-  OneSurface s(describe(f, 2.5));
-  expectNodeHits(s, all, 2.5, "kummer");
+  traceAllNodes(f, nodes, 2.5, 16, "kummer");
 }
 
 // Barth's sextic 4(phi^2x^2-y^2)(phi^2y^2-z^2)(phi^2z^2-x^2) - (1+2phi)(x^2+y^2+z^2-1)^2:
@@ -177,11 +179,7 @@ TEST(StressNodes, BarthSexticFiftyFiniteNodes) {
     EXPECT_LE(std::abs(f.evaluate(v)), 1e-13 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
     EXPECT_LE(glm::length(f.gradient(v)), 1e-12 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
   }
-  const std::vector<glm::dvec3> all = findNodes(f, glm::dvec3(0.0), 2.0);
-  ASSERT_EQ(all.size(), 50u);
-  expectAmong(nodes, all, "sphere node");
-  OneSurface s(describe(f, 2.0));
-  expectNodeHits(s, all, 2.0, "barth");
+  traceAllNodes(f, nodes, 2.0, 50, "barth");
 }
 
 // Steiner's Roman surface x^2y^2 + y^2z^2 + z^2x^2 = xyz contains the three axes as double

@@ -160,12 +160,7 @@ glm::dvec3 randomUnit(Rng& rng) {
 
 inline RayD makeRay(const glm::dvec3& o, const glm::dvec3& d, double tnear = 0.0,
                     double tfar = std::numeric_limits<double>::infinity()) {
-  RayD r;
-  r.org = o;
-  r.dir = d;
-  r.tnear = tnear;
-  r.tfar = tfar;
-  return r;
+  return RayD{o, d, tnear, tfar};
 }
 
 // Computes the primary rays' references first (shadow and grazing rays start from their

@@ -19,12 +19,7 @@ namespace algray::test {
 inline constexpr double kInfD = std::numeric_limits<double>::infinity();
 
 inline RayD rayD(glm::dvec3 o, glm::dvec3 d, double tnear = 0.0, double tfar = kInfD) {
-  RayD r;
-  r.org = o;
-  r.dir = d;
-  r.tnear = tnear;
-  r.tfar = tfar;
-  return r;
+  return RayD{o, d, tnear, tfar};
 }
 
 inline bool finiteVec(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
