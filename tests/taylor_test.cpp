@@ -94,6 +94,11 @@ TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
   std::mt19937_64 rng(99);
   std::normal_distribution<double> normal;
   for (const Case& cs : cases()) {
+    const HornerForm box(cs.f);
+    RayPolynomial reused;  // restrict(d, g) into a record holding an earlier ray's data
+    reused.degree = kMaxDegree;
+    reused.coeff.fill(7.0);
+    reused.error.fill(7.0);
     const OriginExpansion* cached = nullptr;
     for (double distance : {0.5, 3.0, 1e3, 1e6}) {
       // An origin at `distance` clip radii, aimed at a random point of the clip ball.
@@ -109,13 +114,30 @@ TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
         const std::string what = cs.name + " at distance " + std::to_string(distance);
 
         // Path (1): shared origin.
-        checkAgainstReference(cached->restrict(d), cs.f, o, d, what + " (origin expansion)");
+        const RayPolynomial g1 = cached->restrict(d);
+        checkAgainstReference(g1, cs.f, o, d, what + " (origin expansion)");
+        cached->restrict(d, reused);
+        ASSERT_EQ(reused.degree, g1.degree) << what;
+        for (int n = 0; n <= g1.degree; ++n) {
+          EXPECT_EQ(reused.coeff[n], g1.coeff[n]) << what << " in place, coefficient " << n;
+          EXPECT_EQ(reused.error[n], g1.error[n]) << what << " in place, bound " << n;
+        }
 
         // Path (2): direct, re-centred at the closest point to the clip centre.
         const double tShift = closestParameter(o, d, glm::dvec3(0.0));
         const RayPolynomial g = restrictToRay(cs.f, o, d, tShift);
         EXPECT_EQ(g.tShift, tShift);
         checkAgainstReference(g, cs.f, o + tShift * d, d, what + " (direct)");
+
+        // The same over the precompiled Horner box: the same operations on the same
+        // non-zero data, so the same bits.
+        const RayPolynomial gb = restrictToRay(box, o, d, tShift);
+        ASSERT_EQ(gb.degree, g.degree) << what;
+        EXPECT_EQ(gb.tShift, tShift);
+        for (int n = 0; n <= g.degree; ++n) {
+          EXPECT_EQ(gb.coeff[n], g.coeff[n]) << what << " box, coefficient " << n;
+          EXPECT_EQ(gb.error[n], g.error[n]) << what << " box, bound " << n;
+        }
       }
     }
   }

@@ -64,6 +64,10 @@ struct SurfaceOptions {
   bool originCache = true;    // per-thread expansion about the last ray origin
   bool recentre = true;       // expand far rays about their closest point to the clip
   bool quadricPath = true;    // degree 2: restriction and normal in closed form
+  bool quadricCallbacks = true;  // degree 2 with one cell: dedicated Embree callbacks
+                                 // (no per-ray record, cell walk or generic solver frame)
+  bool quadricBounds = true;     // an ellipsoid with one cell: the cell and Embree bounds
+                                 // are its own padded box, not the clip region's
   bool singlePrecision = false;  // float solver for the first root (comparison only; the
                                  // restriction and later roots stay double)
 };

@@ -91,8 +91,8 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
   if (n < 1) return false;
 
   // ---- Frame: 2^e >= max(|lo|, |hi|) ------------------------------------------------
-  int e = 0;
-  std::frexp(std::max(std::abs(lo), std::abs(hi)), &e);  // max = f 2^e, f in [0.5, 1)
+  // max = f 2^e with f in [0.5, 1), as std::frexp (max > 0: lo < hi)
+  const int e = exponentOf(std::max(std::abs(lo), std::abs(hi))) + 1;
   fr = Frame<T>{lo, hi, e};
   g.lo = scale2(lo, -e);
   g.hi = scale2(hi, -e);
@@ -124,7 +124,7 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
     T maxLower = 0;
     for (int j = 0; j < n; ++j) maxLower = std::max(maxLower, std::abs(g.c[j]));
     const T lead = std::abs(g.c[n]);
-    const T leadErr = err.empty() ? T(0) : std::ldexp(std::abs(err[n]), n * e - eMax);
+    const T leadErr = err.empty() ? T(0) : scale2(std::abs(err[n]), n * e - eMax);
     if (lead > roots_detail::kUnit<T> * maxLower && lead > leadErr) break;
     g.noise[n - 1] += lead + g.noise[n];
     g.c[n] = 0;

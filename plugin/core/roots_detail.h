@@ -32,12 +32,14 @@ using Coeffs = std::array<T, kMaxDegree + 1>;
 //   |computed G(v) - exact G(v)| <= sum_j noise[j] |v|^j
 // covers the caller's coefficient error, the mapping to the local frame and the Horner
 // rounding of one evaluation (so one Horner pass over noise[] bounds the noise at v).
+// Entries above n are left uninitialised (no solver reads them): zeroing 2 x 41 values
+// on every call was a measurable part of a degree-6 solve.
 template <class T>
 struct LocalPoly {
   int n = -1;
   T lo = -1, hi = 1;  // the open interval searched, -1 <= lo < hi <= 1
-  Coeffs<T> c{};
-  Coeffs<T> noise{};
+  Coeffs<T> c;
+  Coeffs<T> noise;
 };
 
 // A degree given at compile time (std::integral_constant) or at run time (int): loops

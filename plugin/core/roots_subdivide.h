@@ -65,6 +65,22 @@ struct SubdivideState {
   T resumeAt = 0;
 };
 
+// 1 / C(n, j) for n <= kMaxDegree, rounded (C(40, 20) ~ 1.4e11 is exact in double).
+template <class T>
+struct InverseBinomials {
+  T v[(kMaxDegree + 1) * (kMaxDegree + 2) / 2] = {};
+  constexpr InverseBinomials() {
+    double c[kMaxDegree + 1] = {1};
+    for (int n = 0, idx = 0; n <= kMaxDegree; ++n) {
+      for (int j = n; j >= 1; --j) c[j] += c[j - 1];  // row n of Pascal's triangle
+      for (int j = 0; j <= n; ++j) v[idx++] = static_cast<T>(1.0 / c[j]);
+    }
+  }
+  constexpr const T* row(int n) const { return v + n * (n + 1) / 2; }
+};
+template <class T>
+inline constexpr InverseBinomials<T> kInverseBinomials{};
+
 // Bernstein coefficients of G on [g.lo, g.hi] into b; returns E for depth kSubdivideDepth.
 template <class T, class D>
 T toBernsteinWithBound(const LocalPoly<T>& g, D deg, T* b) {
@@ -86,18 +102,14 @@ T toBernsteinWithBound(const LocalPoly<T>& g, D deg, T* b) {
     aa[j] *= p;
     sumA += aa[j];
   }
-  // b_i = sum_{j <= i} C(i, j) / C(n, j) a_j, the rows of C(i, .) built in place.
-  T cn[kMaxDegree + 1], row[kMaxDegree + 1];
-  cn[0] = 1;
-  for (int j = 1; j <= n; ++j) cn[j] = cn[j - 1] * T(n - j + 1) / T(j);
-  for (int i = 0; i <= n; ++i) {
-    row[i] = 1;
-    for (int j = i - 1; j >= 1; --j) row[j] += row[j - 1];
-    row[0] = 1;
-    T s = 0;
-    for (int j = 0; j <= i; ++j) s += row[j] / cn[j] * a[j];
-    b[i] = s;
-  }
+  // b_i = sum_{j <= i} C(i, j) a_j / C(n, j): divide by C(n, j) (a table of reciprocals,
+  // two roundings), then n passes of b_i += b_{i-1} (i from n down to k in pass k) form
+  // the binomial sums with additions only (Pascal's rule), each of which rounds relative
+  // to a partial sum of |a_j| / C(n, j) C(i, j) <= sum_j |a_j|.
+  const T* inv = kInverseBinomials<T>.row(n);
+  for (int j = 0; j <= n; ++j) b[j] = a[j] * inv[j];
+  for (int k = 1; k <= n; ++k)
+    for (int i = n; i >= k; --i) b[i] += b[i - 1];
   return gammaT<T>(4 * n + 4 + 3 * kSubdivideDepth<T>) * sumA;
 }
 
@@ -134,6 +146,25 @@ bool oneSign(const T* b, D deg, T m) {
   return false;
 }
 
+// Descartes' rule of signs in the Bernstein basis (Lane and Riesenfeld 1981): the number
+// of roots of G in the open node is at most the number of sign variations of b and of
+// the same parity. With every |b_i| beyond m the signs are those of the exact
+// coefficients, so one variation means exactly one root, a simple one, and opposite signs
+// at the node's ends: a bracket for the safeguarded Newton, without the monotonicity the
+// derivative's test asks for (which oscillating polynomials, Chebyshev-like ones as on
+// Chmutov's surfaces, reach only after many more splits).
+template <class T, class D>
+bool oneVariation(const T* b, D deg, T m) {
+  const int n = deg;
+  int changes = 0;
+  if (!(std::abs(b[0]) > m)) return false;
+  for (int i = 1; i <= n; ++i) {
+    if (!(std::abs(b[i]) > m)) return false;
+    changes += signBit(b[i]) != signBit(b[i - 1]);
+  }
+  return changes == 1;
+}
+
 template <class T, class D>
 bool monotone(const T* b, D deg, T e) {
   const int n = deg;
@@ -167,7 +198,7 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
   g.hi = vb;
   int k = 0;
   const bool small = vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
-  if (monotone(b, deg, st.err)) {
+  if (monotone(b, deg, st.err) || oneVariation(b, deg, st.err + 2 * noise)) {
     auto piece = [&](T a, T c, T fa, T fc) {
       return newtonInBracket(g.c.data(), g.noise.data(), deg, a, c, fa, fc, st.tol);
     };
@@ -175,18 +206,23 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
   } else if (depth >= kSubdivideDepth<T> || small) {
     k = direct(g, out, maxOut);
   } else {
-    // Split at the middle unless G is within its noise there (see above).
+    // Split at the middle unless G is within its noise there (see above). The halves'
+    // shared coefficient is G at the middle within E, so a value beyond E plus twice
+    // the noise bound settles the common case without evaluating G.
     T t = T(0.5), mid = u0 + (u1 - u0) / 2;
-    for (const T f : {T(0.5), T(0.4375), T(0.5625), T(0.375), T(0.625)}) {
-      const T um = u0 + (u1 - u0) * f, vm = st.lo + st.w * um;
-      if (std::abs(horner(g.c.data(), deg, vm)) > hornerAbs(g.noise.data(), deg, vm)) {
-        t = f;
-        mid = um;
-        break;
-      }
-    }
     T l[kMaxDegree + 1], r[kMaxDegree + 1];
     splitBernstein(b, deg, t, l, r);
+    if (!(std::abs(r[0]) > st.err + 2 * noise)) {
+      for (const T f : {T(0.5), T(0.4375), T(0.5625), T(0.375), T(0.625)}) {
+        const T um = u0 + (u1 - u0) * f, vm = st.lo + st.w * um;
+        if (std::abs(horner(g.c.data(), deg, vm)) > hornerAbs(g.noise.data(), deg, vm)) {
+          t = f;
+          mid = um;
+          break;
+        }
+      }
+      if (t != T(0.5)) splitBernstein(b, deg, t, l, r);
+    }
     g.lo = saveLo;
     g.hi = saveHi;
     k = subdivide(st, deg, l, u0, mid, depth + 1, direct, out, maxOut);

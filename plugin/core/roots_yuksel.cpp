@@ -177,7 +177,7 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
 // rootFreeOrder usually proves a low derivative root-free at once, and then the recursion
 // is cheaper than any subdivision (cell intervals, degree 6-12: 229-676 ns with it first,
 // 342-695 ns without).
-constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 12;
+constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 20;
 constexpr int kShortOrder = 3;
 
 template <class T, class D>
@@ -198,7 +198,13 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
     if (order == 0) return 0;
     if (order <= kShortOrder) return solveDirect(g, deg, order, q, tol, out, maxOut);
   }
-  LocalPoly<T> work = g;
+  // The subdivision's working copy (node ends move); only the n + 1 live coefficients.
+  LocalPoly<T> work;
+  work.n = g.n;
+  work.lo = g.lo;
+  work.hi = g.hi;
+  std::copy(g.c.begin(), g.c.begin() + n + 1, work.c.begin());
+  std::copy(g.noise.begin(), g.noise.begin() + n + 1, work.noise.begin());
   T b[kMaxDegree + 1];
   SubdivideState<T> st{work, g.lo, g.hi - g.lo, toBernsteinWithBound(g, deg, b), q, tol};
   int k = subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);

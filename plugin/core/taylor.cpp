@@ -40,14 +40,19 @@ void nestedHorner(const double* c, int mRuntime, const glm::dvec3& p, const glm:
   const Pair px = {p.x, std::abs(p.x)}, py = {p.y, std::abs(p.y)}, pz = {p.z, std::abs(p.z)};
   const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
   Pair gx[kMaxDegree + 2], fy[kMaxDegree + 2], fz[kMaxDegree + 2];
-  gx[0] = Pair{0.0, 0.0};
+  for (int r = 0; r <= m; ++r) gx[r] = Pair{0.0, 0.0};
+  // While G (or F) is still zero its product with X (or Y) is zero too and is skipped:
+  // the Horner chain then starts at the highest non-zero power, so a sparse f costs far
+  // less than m^4 / 24 (a separable f = p(x) + q(y) + r(z), like Chmutov's, O(m^2)).
+  bool gxZero = true;
   for (int i = m; i >= 0; --i) {
     // G <- G * X (degree m - i - 1 -> m - i).
-    if (i < m) mulLinear(gx, m - i - 1, px, dx);
+    if (i < m && !gxZero) mulLinear(gx, m - i - 1, px, dx);
     for (int r = 0; r <= m - i; ++r) fy[r] = Pair{0.0, 0.0};
+    bool fyZero = true;
     for (int j = m - i; j >= 0; --j) {
       // F <- F * Y (degree m - i - j - 1 -> m - i - j).
-      if (j < m - i) mulLinear(fy, m - i - j - 1, py, dy);
+      if (j < m - i && !fyZero) mulLinear(fy, m - i - j - 1, py, dy);
       // H = sum_k c_ijk Z^k by Horner; leading zero coefficients are skipped, so sparse
       // columns cost nothing.
       int degH = -1;
@@ -64,12 +69,59 @@ void nestedHorner(const double* c, int mRuntime, const glm::dvec3& p, const glm:
         ++degH;
       }
       for (int r = 0; r <= degH; ++r) fy[r] += fz[r];
+      fyZero = fyZero && degH < 0;
     }
+    if (fyZero) continue;
     for (int r = 0; r <= m - i; ++r) gx[r] += fy[r];
+    gxZero = false;
   }
   for (int r = 0; r <= m; ++r) {
     g[r] = gx[r][0];
     mag[r] = gx[r][1];
+  }
+}
+
+// The same scheme over a HornerForm's box (its layout in horner_form.h): the same
+// operations on the same non-zero data as nestedHorner, which also skips products of a
+// still-zero G or F, so the result is the same; zero rows inside the box add exact zeros.
+void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, double* g, double* mag) {
+  const Pair px = {p.x, std::abs(p.x)}, py = {p.y, std::abs(p.y)}, pz = {p.z, std::abs(p.z)};
+  const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
+  Pair gx[kMaxDegree + 2], fy[kMaxDegree + 2], fz[kMaxDegree + 2];
+  int degG = -1;  // -1: still zero
+  const HornerForm::Slot* s = f.slots().data();
+  const std::uint8_t* len = f.rowLengths().data();
+  // Adds q (degree dq) into acc (degree da, -1 = zero); returns the new degree.
+  auto accumulate = [](Pair* acc, int da, const Pair* q, int dq) {
+    for (int r = da + 1; r <= dq; ++r) acc[r] = Pair{0.0, 0.0};
+    for (int r = 0; r <= dq; ++r) acc[r] += q[r];
+    return std::max(da, dq);
+  };
+  for (const std::uint8_t rows : f.blockRows()) {
+    if (degG >= 0) mulLinear(gx, degG++, px, dx);
+    int degF = -1;
+    for (int r = 0; r < rows; ++r) {
+      if (degF >= 0) mulLinear(fy, degF++, py, dy);
+      int degH = -1;
+      for (const HornerForm::Slot* end = s + *len++; s != end; ++s) {
+        if (degH < 0 && s->c == 0.0) continue;
+        const Pair term = {s->c, std::abs(s->c)};
+        if (degH < 0) {
+          fz[0] = term;
+        } else {
+          mulLinear(fz, degH, pz, dz);
+          fz[0] += term;
+        }
+        ++degH;
+      }
+      if (degH >= 0) degF = accumulate(fy, degF, fz, degH);
+    }
+    if (degF >= 0) degG = accumulate(gx, degG, fy, degF);
+  }
+  const int m = f.degree();
+  for (int r = 0; r <= m; ++r) {
+    g[r] = r <= degG ? gx[r][0] : 0.0;
+    mag[r] = r <= degG ? gx[r][1] : 0.0;
   }
 }
 
@@ -166,6 +218,21 @@ RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm:
   return g;
 }
 
+RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift) {
+  RayPolynomial g;
+  g.tShift = tShift;
+  const int m = f.degree();
+  if (m < 0) return g;
+  const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
+  double mag[kMaxDegree + 1];
+  boxHorner(f, p, d, g.coeff.data(), mag);
+  // The bound of restrictToRay(const Polynomial&, ...): the same operations.
+  const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
+  g.degree = m;
+  for (int i = 0; i <= m; ++i) g.error[i] = factor * mag[i];
+  return g;
+}
+
 OriginExpansion::OriginExpansion(const Polynomial& f, const glm::dvec3& o)
     : origin_(o), shifted_(f.translate(o)) {
   // Error of the shift: three univariate Taylor shifts by synthetic division, each
@@ -214,8 +281,15 @@ OriginExpansion::OriginExpansion(const Polynomial& f, const glm::dvec3& o)
 
 RayPolynomial OriginExpansion::restrict(const glm::dvec3& d, bool withError) const {
   RayPolynomial g;
+  restrict(d, g, withError);
+  return g;
+}
+
+void OriginExpansion::restrict(const glm::dvec3& d, RayPolynomial& g, bool withError) const {
   g.degree = shifted_.degree();
-  if (g.degree < 0) return g;
+  g.tShift = 0.0;
+  if (g.degree < 0) return;
+  std::fill_n(g.error.begin(), g.degree + 1, 0.0);
   if (sparseTerms_.empty()) {
     evaluateHomogeneousParts(shifted_, d, g.coeff.data());
   } else {
@@ -226,6 +300,7 @@ RayPolynomial OriginExpansion::restrict(const glm::dvec3& d, bool withError) con
       py[i] = py[i - 1] * d.y;
       pz[i] = pz[i - 1] * d.z;
     }
+    std::fill_n(g.coeff.begin(), g.degree + 1, 0.0);
     for (const SparseTerm& t : sparseTerms_) g.coeff[t.n] += t.c * px[t.i] * (py[t.j] * pz[t.k]);
   }
   if (withError) {
@@ -235,7 +310,6 @@ RayPolynomial OriginExpansion::restrict(const glm::dvec3& d, bool withError) con
       g.error[n] = blockErrorWeight_[n] * dn * (1.0 + gamma(n + 2));
   }
   while (g.degree > 0 && g.coeff[g.degree] == 0.0 && g.error[g.degree] == 0.0) --g.degree;
-  return g;
 }
 
 }  // namespace algray

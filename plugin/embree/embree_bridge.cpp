@@ -170,11 +170,18 @@ bool acceptIntersection(void* user, const KernelHit& h) {
   if (!candidateTfar(L, ray, n, lane, h.t, tf)) return false;
   // ---- The candidate, as Embree would write it ---------------------------------------
   const glm::dvec3 ng = L.data->identity ? h.gradient : L.data->aInvT * h.gradient;
-  double u, v;
-  surfaceUV(*L.data, h.point, u, v);
+  // u, v in double for the double channel, else to float accuracy (surfaceUVFloat).
+  double u = 0, v = 0;
+  float uf, vf;
+  if (L.dctx) {
+    surfaceUV(*L.data, h.point, u, v);
+    uf = static_cast<float>(u);
+    vf = static_cast<float>(v);
+  } else {
+    surfaceUVFloat(*L.data, h.point, uf, vf);
+  }
   HitBuffer candidate;
-  writeCandidate(candidate.hitN(), n, lane, floatNormal(ng), static_cast<float>(u), static_cast<float>(v),
-                 args->primID, args->geomID, args->context);
+  writeCandidate(candidate.hitN(), n, lane, floatNormal(ng), uf, vf, args->primID, args->geomID, args->context);
   // ---- Host filter (geometry filter, then context filter): the filter sees the
   // candidate t as the ray's tfar and may reject it by clearing valid[lane] -------------
   int valid[kMaxN] = {};
@@ -241,18 +248,17 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   return true;
 }
 
-// One lane's ray: the double ray of an algray context, else the float ray.
+// One lane's ray in object space: the double ray of an algray context, else the float ray.
 template <class Args>
-bool traceLane(const Args* args, RTCRayN* ray, unsigned lane, bool occlusion, AcceptFn accept) {
-  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L) {
+  const SurfaceData& data = *L.data;
   const unsigned n = args->N;
-  Lane L{args, data, lane, doubleContext(args->context, n), 0.0};
   KernelRay kr;
   if (L.dctx) {
     const RayD& r = *L.dctx->ray;
     L.tfarD = std::min(r.tfar, L.dctx->floatShift + L.dctx->floatScale * RTCRayN_tfar(ray, n, lane));
     if (L.dctx->hit->hit) L.tfarD = std::min(L.tfarD, L.dctx->hit->t);
-    kr = objectRay(*data, r.org, r.dir, r.tnear, L.tfarD, kUnitRoundoff, r.orgError);
+    kr = objectRay(data, r.org, r.dir, r.tnear, L.tfarD, kUnitRoundoff, r.orgError);
     kr.hasTraversalRay = true;
     kr.travOrg = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane), RTCRayN_org_z(ray, n, lane));
     kr.travDir = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
@@ -261,10 +267,47 @@ bool traceLane(const Args* args, RTCRayN* ray, unsigned lane, bool occlusion, Ac
                                    RTCRayN_org_z(ray, n, lane));
     const glm::dvec3 d = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane),
                                    RTCRayN_dir_z(ray, n, lane));
-    kr = objectRay(*data, o, d, RTCRayN_tnear(ray, n, lane), RTCRayN_tfar(ray, n, lane),
-                   kFloatRoundoff, 0.0);
+    kr = objectRay(data, o, d, RTCRayN_tnear(ray, n, lane), RTCRayN_tfar(ray, n, lane), kFloatRoundoff, 0.0);
   }
+  return kr;
+}
+
+template <class Args>
+bool traceLane(const Args* args, RTCRayN* ray, unsigned lane, bool occlusion, AcceptFn accept) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  Lane L{args, data, lane, doubleContext(args->context, args->N), 0.0};
+  const KernelRay kr = laneRay(args, ray, lane, L);
   return walkRoots(*data, args->primID, kr, occlusion, accept, &L);
+}
+
+// The quadric path (quadric_path.cpp): the roots of the closed-form restriction in
+// order, offered to the same accept functions as the generic walk's (host filters, the
+// double channel, the float tfar), so a rejected root moves on to the next one.
+template <bool kOcclusion, class Args>
+void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  Lane L{args, data, lane, doubleContext(args->context, args->N), 0.0};
+  const KernelRay kr = laneRay(args, ray, lane, L);
+  QuadricSpan q;
+  if (!quadricSpan(*data, kr, q)) return;
+  double s, slo = q.slo;
+  // The span is open at its far end, as the generic walk's cell span: a root within
+  // noise of it (reported there by the solver) is no hit.
+  while (quadricRoot(q, slo, s) && s < q.shi) {
+    KernelHit h;
+    h.t = q.g.tShift + s;
+    if (!(h.t < kr.tfar)) return;
+    if (h.t > kr.tnear) {  // else the shift rounded a root in the span onto tnear
+      h.point = kr.org + h.t * kr.dir;
+      if constexpr (kOcclusion) {
+        if (acceptOcclusion(&L, h)) return;
+      } else {
+        h.gradient = 2.0 * (data->quadric->a * h.point) + data->quadric->b;
+        if (acceptIntersection(&L, h)) return;
+      }
+    }
+    slo = s;
+  }
 }
 
 // ---- Embree callbacks (no exception may leave them) ---------------------------------
@@ -300,6 +343,29 @@ void occludedCallback(const RTCOccludedFunctionNArguments* args) {
   }
 }
 
+void quadricIntersectCallback(const RTCIntersectFunctionNArguments* args) {
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  for (unsigned lane = 0; lane < args->N; ++lane) {
+    if (args->valid[lane] == 0) continue;
+    try {
+      quadricLane<false>(args, ray, lane);
+    } catch (...) {
+      static_cast<const SurfaceData*>(args->geometryUserPtr)->errors.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+void quadricOccludedCallback(const RTCOccludedFunctionNArguments* args) {
+  for (unsigned lane = 0; lane < args->N; ++lane) {
+    if (args->valid[lane] == 0 || RTCRayN_tfar(args->ray, args->N, lane) < 0.0f) continue;
+    try {
+      quadricLane<true>(args, args->ray, lane);
+    } catch (...) {
+      static_cast<const SurfaceData*>(args->geometryUserPtr)->errors.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
 }  // namespace
 
 RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
@@ -314,8 +380,10 @@ RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
   // reads the geometry user data like the other callbacks.
   rtcSetGeometryUserData(g, data);
   rtcSetGeometryBoundsFunction(g, &boundsCallback, nullptr);
-  rtcSetGeometryIntersectFunction(g, &intersectCallback);
-  rtcSetGeometryOccludedFunction(g, &occludedCallback);
+  // The callbacks are chosen once here: a quadric with one cell takes its own.
+  const bool quadric = usesQuadricPath(*data);
+  rtcSetGeometryIntersectFunction(g, quadric ? &quadricIntersectCallback : &intersectCallback);
+  rtcSetGeometryOccludedFunction(g, quadric ? &quadricOccludedCallback : &occludedCallback);
   rtcCommitGeometry(g);
   return g;
 }

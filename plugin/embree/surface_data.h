@@ -3,9 +3,15 @@
 // walks the roots of one ray through one cell. Shared by surface_geometry.cpp (set-up),
 // surface_intersect.cpp (the kernel) and embree_bridge.cpp (the callback ABI).
 #include "algray/embree.h"
+#include "algray/horner_form.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <unordered_map>
 #include <vector>
@@ -17,6 +23,14 @@ namespace algray {
 struct SurfaceCell {
   glm::dvec3 lo{0.0}, hi{0.0};
   RTCBounds bounds{};
+};
+
+// An ellipsoid's tight cell (boundedQuadricBox, quadric_path.cpp): the object-space box
+// lo..hi holds every root the intersector can report for a ray whose origin error is at
+// most orgError and whose origin lies within distance of the clip centre.
+struct QuadricBox {
+  glm::dvec3 lo{0.0}, hi{0.0};
+  double orgError = -1, distance = -1;
 };
 
 // A degree-2 surface as f(x) = x^T A x + b . x + c (A symmetric), for the quadric path of
@@ -33,6 +47,13 @@ struct QuadricForm {
 struct SurfaceData {
   SurfaceDesc desc;
   std::optional<QuadricForm> quadric;  // set when desc.polynomial has degree 2 exactly
+  // The quadric path clips rays to cells.front(): the one cell is smaller than the clip
+  // region (an ellipsoid's own box, boundedQuadricBox; or a cell the build shrank).
+  bool quadricCellClip = false;
+  QuadricBox quadricBox;  // the tight cell, when the one cell is an ellipsoid's box
+  // f, grad f and the bound at a point (self-root rule, polish), precompiled from
+  // desc.polynomial.
+  HornerForm horner;
   // desc.transform = [a | b]: world p = a x + b; x = aInv (p - b); normals by aInvT.
   glm::dmat3 a{1.0}, aInv{1.0}, aInvT{1.0};
   glm::dvec3 b{0.0};
@@ -87,5 +108,60 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 
 // u, v of a hit point as documented in algray/embree.h.
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v);
+// The same for Embree's float u, v: within 2e-10 of them, at a third of the cost.
+void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v);
+
+// The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
+bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                    double& t1);
+
+// ---- The quadric path (quadric_path.cpp) ------------------------------------------------
+// f(x) = x^T A x + b . x + c at p, with the bound on its rounding and the gradient 2 A p + b
+// (Higham, Sec. 3.1: each term of the value is at most 8 roundings deep).
+struct QuadricValue {
+  double value, error;
+  glm::dvec3 gradient;
+};
+inline QuadricValue evalQuadric(const QuadricForm& q, const glm::dvec3& p) {
+  const glm::dvec3 ap = q.a * p, absP = glm::abs(p);
+  const double sumAbs = glm::dot(absP, q.absA * absP) + glm::dot(q.absB, absP) + std::abs(q.c);
+  return {glm::dot(p, ap) + glm::dot(q.b, p) + q.c, gamma(8) * sumAbs, 2.0 * ap + q.b};
+}
+
+// g(s) = c[0] + c[1] s + c[2] s^2 = f(o + (tShift + s) d), degree <= 2, with a bound on
+// the error of each coefficient: the restriction of a quadric to a ray in closed form.
+struct QuadricRay {
+  int degree = 2;
+  double tShift = 0;
+  double c[3] = {0, 0, 0};
+  double err[3] = {0, 0, 0};
+};
+// About the origin when it lies on the surface (the self-root rule: the root at s = 0 is
+// divided out), else about the point of [r0, r1] closest to the clip centre. closest: that
+// point's parameter closestParameter(o, d, data.centre) when the caller has it (NaN: not).
+void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1, QuadricRay& g,
+                        double closest = std::numeric_limits<double>::quiet_NaN());
+
+// The dedicated path of a quadric with one cell (the bridge registers its callbacks when
+// usesQuadricPath): the restriction over the ray's span, clip region and (tnear, tfar)
+// at once, and its roots one at a time, with no per-thread record, cell ownership or
+// generic solver frame.
+bool usesQuadricPath(const SurfaceData& data);
+// Whether the one cell's box holds the clip region's box (else quadricCellClip).
+bool cellHoldsClipRegion(const SurfaceData& data);
+// An ellipsoid's (definite A) object-space box, padded to hold every point the
+// intersector can report, intersected with the clip region's box: the tight cell. False
+// when f is not a definite quadric (or too ill-conditioned to box safely), or the box
+// misses the clip region. Needs desc, the transform fields, centre and radius of data.
+bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box);
+struct QuadricSpan {
+  QuadricRay g;
+  double slo = 0, shi = 0;  // the span in s
+};
+// False when the span is empty or the ray is not finite (no hit).
+bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q);
+// The first root s of q.g in (slo, q.shi] by the rules of firstRoot (algray/roots.h): a
+// root within noise of slo is not reported, so slo = the previous root gives the next.
+bool quadricRoot(const QuadricSpan& q, double slo, double& s);
 
 }  // namespace algray

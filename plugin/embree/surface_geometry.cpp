@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <cmath>
 #include <optional>
@@ -169,6 +170,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   auto data = std::make_unique<SurfaceData>();
   data->desc = std::move(desc);
   data->id = nextSurfaceId.fetch_add(1);
+  data->horner = HornerForm(data->desc.polynomial);
   if (data->desc.polynomial.degree() == 2 && data->desc.options.quadricPath)
     data->quadric = QuadricForm::fromPolynomial(data->desc.polynomial);
 
@@ -211,6 +213,23 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   } else {
     data->cells.push_back(SurfaceCell{boxLo, boxHi, worldBounds(*data, boxLo, boxHi)});
   }
+  // An ellipsoid's one cell shrinks to the ellipsoid's own padded box (quadric_path.cpp,
+  // boundedQuadricBox): Embree then sends the callbacks only the rays near it, as for a
+  // native sphere. A grid of cells keeps its boxes (the ownership rule needs the grid).
+  if (data->cells.size() == 1 && opt.quadricBounds) {
+    SurfaceCell& cell = data->cells.front();
+    QuadricBox box;
+    if (boundedQuadricBox(*data, box)) {
+      const glm::dvec3 lo = glm::max(box.lo, cell.lo), hi = glm::min(box.hi, cell.hi);
+      if (glm::all(glm::lessThan(lo, hi))) {
+        cell = SurfaceCell{lo, hi, worldBounds(*data, lo, hi)};
+        // Rays the box's derivation covers skip the quadric path's cell clip only when
+        // the cell is that box (not one the cell build shrank further).
+        if (lo == box.lo && hi == box.hi) data->quadricBox = box;
+      }
+    }
+  }
+  data->quadricCellClip = data->cells.size() == 1 && !cellHoldsClipRegion(*data);
   indexGrid(*data, boxLo, boxHi);
 
   data->geometry = createUserGeometry(device, data.get());

@@ -72,8 +72,8 @@ bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d,
 }
 
 // The ray's span inside the clip region alone (all cells share it).
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                    double& t1) {
+bool spanInClipRegion(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                      double& t1) {
   t0 = -kInf;
   t1 = kInf;
   if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) return clipToSphere(*s, o, d, t0, t1);
@@ -146,11 +146,34 @@ double safeLength(const glm::dvec3& v) {
 // divide by s. The quotient has exactly the other intersections. Repeat while the new
 // constant term is zero within its bound: a ray tangent at its origin, or an origin at a
 // singular point (cone apex, Sarti's nodes) where the root at 0 is multiple.
-bool originOnSurface(const Polynomial& f, const KernelRay& ray) {
-  const Polynomial::Evaluation e = f.evaluateWithBound(ray.org);
-  const glm::dvec3 g = glm::abs(e.gradient), o = glm::abs(ray.org);
-  const double move = ray.orgRoundoff * glm::dot(g, o) + safeLength(e.gradient) * ray.orgError;
-  return std::abs(e.value) <= 4.0 * e.valueError + 2.0 * move;
+//
+// What the rule needs of f at the origin does not depend on the direction, so it is kept
+// per thread for the last origin: a camera's primary rays evaluate f at the eye once
+// instead of once per ray (for a surface the rays mostly miss, that evaluation was the
+// only one on their path).
+struct OriginValue {
+  std::uint64_t id = 0;
+  glm::dvec3 org{0.0};
+  double value = 0, valueError = 0;
+  double gradDotOrg = 0;  // |grad f| . |o|
+  double gradLength = 0;  // ||grad f||
+};
+thread_local OriginValue tlsOriginValue;
+
+bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
+  OriginValue& v = tlsOriginValue;
+  if (v.id != data.id || v.org != ray.org) {
+    v.id = 0;
+    const Polynomial::Evaluation e = data.horner.evaluate(ray.org);
+    v.value = e.value;
+    v.valueError = e.valueError;
+    v.gradDotOrg = glm::dot(glm::abs(e.gradient), glm::abs(ray.org));
+    v.gradLength = safeLength(e.gradient);
+    v.org = ray.org;
+    v.id = data.id;
+  }
+  const double move = ray.orgRoundoff * v.gradDotOrg + v.gradLength * ray.orgError;
+  return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
 
 void deflateAtZero(RayPolynomial& g) {
@@ -166,22 +189,20 @@ void deflateAtZero(RayPolynomial& g) {
 
 // ---- Polish --------------------------------------------------------------------------
 // Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
-// (at most 8; quadratic convergence needs 3-4 from a cached expansion's root, which for
-// the Barth decic seen from 3 clip radii is off by 1e-4): repairs digits a cached or
-// far-centred expansion lost. A step is kept only if it stays a small move inside the
-// span and lowers |f| (so an ill-conditioned root never jumps to a neighbour). Returns
-// whether |f| ended within its bound: the root is confirmed on f itself.
-bool polish(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
-            double regionSpan, KernelHit& hit) {
+// (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred
+// expansion lost. A step is kept only if the iterate stays inside the span, within
+// maxMove of where it started, and lowers |f| (so an ill-conditioned root never jumps to
+// a neighbour). Returns whether |f| ended within its bound: the root is confirmed on f.
+bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
+            double maxMove, KernelHit& hit) {
   double t = hit.t;
-  Polynomial::Evaluation e = f.evaluateWithBound(o + t * d);
-  const double maxMove = 1e-4 * regionSpan;
+  Polynomial::Evaluation e = f.evaluate(o + t * d);
   for (int it = 0; it < 8 && std::abs(e.value) > e.valueError; ++it) {
     const double slope = glm::dot(e.gradient, d);
     if (!(std::abs(slope) > 0.0)) break;
     const double tn = t - e.value / slope;
-    if (!(tn > lo && tn < hi && std::abs(tn - t) <= maxMove)) break;
-    const Polynomial::Evaluation en = f.evaluateWithBound(o + tn * d);
+    if (!(tn > lo && tn < hi && std::abs(tn - hit.t) <= maxMove)) break;
+    const Polynomial::Evaluation en = f.evaluate(o + tn * d);
     if (!(std::abs(en.value) < std::abs(e.value))) break;
     t = tn;
     e = en;
@@ -197,58 +218,18 @@ bool finite(const glm::dvec3& v) {
 }
 
 // ---- Quadrics --------------------------------------------------------------------------
-// Degree 2 in closed form (SurfaceData::quadric): about p = o + tShift d,
-//   g(s) = f(p) + (grad f(p) . d) s + (d^T A d) s^2,   grad f(p) = 2 A p + b,
-// with no expansion, no cache and no polish (the stable quadratic formula is accurate to
-// the conditioning of g, and the normal is 2 A x + b at the hit). Error bounds by the
-// running sums of Higham, Sec. 3.1: f(p) = p . (A p) + b . p + c is at most 8 roundings
-// deep per term, the slope 7, d^T A d 5.
-struct QuadricValue {
-  double value, error;
-  glm::dvec3 gradient;
-};
-
-QuadricValue evalQuadric(const QuadricForm& q, const glm::dvec3& p) {
-  const glm::dvec3 ap = q.a * p, absP = glm::abs(p);
-  const double sumAbs = glm::dot(absP, q.absA * absP) + glm::dot(q.absB, absP) + std::abs(q.c);
-  return {glm::dot(p, ap) + glm::dot(q.b, p) + q.c, gamma(8) * sumAbs, 2.0 * ap + q.b};
-}
-
-void deflateAtZero(RayPolynomial& g);
-
+// Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
+// no expansion, no cache and no polish (the stable quadratic formula is accurate to the
+// conditioning of g, and the normal is 2 A x + b at the hit).
 void restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
-  const QuadricForm& q = *data.quadric;
-  const glm::dvec3& o = ray.org;
-  const glm::dvec3& d = ray.dir;
-  const glm::dvec3 absD = glm::abs(d);
-  QuadricValue at = evalQuadric(q, o);
-  // The self-root rule of originOnSurface, on the closed-form value.
-  const double move =
-      ray.orgRoundoff * glm::dot(glm::abs(at.gradient), glm::abs(o)) + safeLength(at.gradient) * ray.orgError;
-  const bool onSurface = std::abs(at.value) <= 4.0 * at.error + 2.0 * move;
-  double tShift = 0.0;
-  glm::dvec3 p = o;
-  double shiftError0 = 0.0, shiftError1 = 0.0;
-  if (!onSurface && data.desc.options.recentre) {
-    tShift = std::clamp(closestParameter(o, d, data.centre), r0, r1);
-    p = o + tShift * d;
-    at = evalQuadric(q, p);
-    // p is rounded, off the line by up to gamma(2) (|p| + |tShift d|) per coordinate:
-    // its effect on f(p) and on the slope (first order; the second is below u^2).
-    const glm::dvec3 off = gamma(2) * (glm::abs(p) + std::abs(tShift) * absD);
-    shiftError0 = glm::dot(glm::abs(at.gradient), off);
-    shiftError1 = 2.0 * glm::dot(q.absA * off, absD);
+  QuadricRay q;
+  restrictQuadricRay(data, ray, r0, r1, q);
+  g.degree = q.degree;
+  g.tShift = q.tShift;
+  for (int i = 0; i < 3; ++i) {
+    g.coeff[i] = q.c[i];
+    g.error[i] = q.err[i];
   }
-  const glm::dvec3 absP = glm::abs(p);
-  g.degree = 2;
-  g.tShift = tShift;
-  g.coeff[0] = at.value;
-  g.coeff[1] = glm::dot(at.gradient, d);
-  g.coeff[2] = glm::dot(d, q.a * d);
-  g.error[0] = at.error + shiftError0;
-  g.error[1] = gamma(7) * glm::dot(2.0 * (q.absA * absP) + q.absB, absD) + shiftError1;
-  g.error[2] = gamma(5) * glm::dot(absD, q.absA * absD);
-  if (onSurface) deflateAtZero(g);
 }
 
 // ---- Restriction and roots, once per ray -------------------------------------------------
@@ -281,25 +262,24 @@ RayPolynomial restrictRecentred(const SurfaceData& data, const glm::dvec3& o, co
                                 double r1) {
   const double tShift =
       data.desc.options.recentre ? std::clamp(closestParameter(o, d, data.centre), r0, r1) : 0.0;
-  return restrictToRay(data.desc.polynomial, o, d, tShift);
+  return restrictToRay(data.horner, o, d, tShift);
 }
 
 // Returns the cache entry when g came from it.
 CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
-  const Polynomial& f = data.desc.polynomial;
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   if (data.quadric) {
     restrictQuadric(data, ray, r0, r1, g);
     return nullptr;
   }
-  if (originOnSurface(f, ray)) {
-    g = restrictToRay(f, o, d, 0.0);
+  if (originOnSurface(data, ray)) {
+    g = restrictToRay(data.horner, o, d, 0.0);
     if (g.degree > 0) deflateAtZero(g);
     return nullptr;
   }
   if (CacheEntry* entry = data.desc.options.originCache ? cachedExpansion(data, o) : nullptr) {
-    g = entry->expansion.restrict(d);
+    entry->expansion.restrict(d, g);
     return entry;
   }
   g = restrictRecentred(data, o, d, r0, r1);
@@ -332,6 +312,13 @@ std::optional<double> firstRootOf(const RayPolynomial& g, double lo, double hi, 
 // Chmutov-16 from 3.2 radii (~m log10 4 = 10 digits lost) hit a later root than the
 // first. Those rays take the re-centred restriction instead (and the entry counts them
 // as failures, so a camera too far for this degree stops using the cache).
+//
+// A local rule was measured against it (session 3): accept a cached root when its noise
+// region, 4 noise(s) / |g'(s)|, is below 1e-7 of the span. With the rigorous bound that
+// region is 1e-8 to 1e-5 of the span for the Barth sextic (20 % of its roots fell back,
+// 0.92x) and wider than 1e-4 for every root of Sarti's dodecic, Chmutov-12 and the Barth
+// decic from 3 radii: those degrees lose too many digits about a far eye for any rule to
+// keep the cache; what would is the expansion in higher precision.
 bool keepsDigits(const RayPolynomial& g, double r0, double r1) {
   double noise = 0.0, value = 0.0;
   for (const double t : {r0, r1}) {
@@ -391,7 +378,7 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
     if (rr.count == 1) {
       KernelHit hit;
       hit.t = rr.g.tShift + rr.roots[0];
-      if (polish(data.desc.polynomial, ray.org, ray.dir, r0, r1, r1 - r0, hit)) {
+      if (polish(data.horner, ray.org, ray.dir, r0, r1, 1e-4 * (r1 - r0), hit)) {
         rr.roots[0] = hit.t - rr.g.tShift;
         rr.firstPolished = true;
         rr.firstGradient = hit.gradient;
@@ -478,6 +465,11 @@ bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, con
 
 }  // namespace
 
+bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                    double& t1) {
+  return spanInClipRegion(data, o, d, t0, t1);
+}
+
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v) {
   constexpr double kPi = 3.14159265358979323846;
   const glm::dvec3 r = point - data.centre;
@@ -492,6 +484,55 @@ void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, doub
   v = std::acos(std::clamp(r.z / len, -1.0, 1.0)) / kPi;
 }
 
+namespace {
+// atan2(y_i, x_i) of two points at once for the float u, v: atan on [0, 1] by an odd
+// polynomial of degree 19 (least squares at 4000 Chebyshev points of atan(t) / t in t^2,
+// fitted for this file; measured max error 9.8e-10 rad over 2e7 random atan2 calls, i.e.
+// 1.6e-10 in u, v against float's 6e-8 at 1), then the octant by pi/2 - a and pi - a.
+// Estrin's scheme and the two independent evaluations side by side keep the dependency
+// chains short (glibc's atan2 and acos were 11 % of a quadric primary ray; perf,
+// speed_report's sphere). Not for (0, 0).
+void atan2Pair(const double (&y)[2], const double (&x)[2], double (&out)[2]) {
+  constexpr double kPi = 3.14159265358979323846;
+  constexpr double c[] = {0.99999998406654822,  -0.33333194338035299, 0.19996618767948782,
+                          -0.14248359660926879,  0.10881981041904727, -0.082220750117259683,
+                          0.055134709912894257, -0.028572750129062584, 0.0096020026957349888,
+                          -0.0015154920071548067};
+  for (int i = 0; i < 2; ++i) {
+    const double ax = std::abs(x[i]), ay = std::abs(y[i]);
+    const double t = std::min(ax, ay) / std::max(ax, ay), t2 = t * t, t4 = t2 * t2, t8 = t4 * t4;
+    const double p01 = c[0] + c[1] * t2, p23 = c[2] + c[3] * t2, p45 = c[4] + c[5] * t2,
+                 p67 = c[6] + c[7] * t2, p89 = c[8] + c[9] * t2;
+    const double p = (p01 + p23 * t4) + ((p45 + p67 * t4) + p89 * t8) * t8;
+    double a = p * t;
+    if (ay > ax) a = kPi / 2 - a;
+    if (std::signbit(x[i])) a = kPi - a;
+    out[i] = std::copysign(a, y[i]);
+  }
+}
+}  // namespace
+
+void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v) {
+  constexpr double kPi = 3.14159265358979323846;
+  const glm::dvec3 r = point - data.centre;
+  const double rho2 = r.x * r.x + r.y * r.y;
+  if (!(rho2 + r.z * r.z > 0.0) || !std::isfinite(rho2 + r.z * r.z)) {
+    double ud, vd;
+    surfaceUV(data, point, ud, vd);
+    u = static_cast<float>(ud);
+    v = static_cast<float>(vd);
+    return;
+  }
+  // The polar angle as atan2(rho, z): acos(z / |r|) without its clamp, and as accurate.
+  // On the z axis (rho = 0) the azimuth is atan2(+-0, x) as for surfaceUV.
+  double a[2];
+  atan2Pair({rho2 > 0.0 ? r.y : 0.0, std::sqrt(rho2)}, {rho2 > 0.0 ? r.x : 1.0, r.z}, a);
+  double phi = rho2 > 0.0 ? a[0] : std::atan2(r.y, r.x);
+  if (phi < 0.0) phi += 2.0 * kPi;
+  u = static_cast<float>(std::min(phi / (2.0 * kPi), std::nextafter(1.0, 0.0)));
+  v = static_cast<float>(std::min(std::max(a[1] / kPi, 0.0), 1.0));
+}
+
 bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
                AcceptFn accept, void* user) {
   const glm::dvec3& o = ray.org;
@@ -503,7 +544,7 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 
   // ---- 1. Span: clip region, then the cell (closed, widened for rounding) -------------
   double r0, r1;
-  if (!clipRegionSpan(data, o, d, r0, r1)) return false;
+  if (!spanInClipRegion(data, o, d, r0, r1)) return false;
   const SurfaceCell& box = data.cells[cell];
   double c0 = r0, c1 = r1;
   if (!clipToBox(box.lo, box.hi, o, d, c0, c1, true)) return false;
@@ -516,7 +557,7 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
   auto current = [&]() -> RayRoots& { return rayRoots(data, ray, r0, r1); };
 
   // ---- 3. The cell's roots in order, offered to the host filter -------------------------
-  const Polynomial& f = data.desc.polynomial;
+  const HornerForm& f = data.horner;
   for (int i = 0;; ++i) {
     RayRoots& rr = current();
     if (i >= rr.count) {
@@ -546,7 +587,7 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     else if (data.quadric)
       hit.gradient = occlusion ? glm::dvec3(0.0) : evalQuadric(*data.quadric, hit.point).gradient;
     else if (!occlusion)
-      polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), r1 - r0, hit);
+      polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), 1e-4 * (r1 - r0), hit);
     if (hit.t > ray.tnear && hit.t < ray.tfar && accept(user, hit)) return true;
   }
   return false;

@@ -7,7 +7,12 @@
 //   BM_ParseExpanded   : parse the expanded toString() text of a gallery surface,
 //   BM_PowBinary       : (x+y+z+1)^n by Polynomial::pow (binary powering) and
 //   BM_PowRepeated       by n-1 products with the base (the order the parser uses),
-//   BM_MultiplyDense   : product of two dense random polynomials of degree d.
+//   BM_MultiplyDense   : product of two dense random polynomials of degree d,
+//   BM_EvalOld         : value, gradient and rounding bound at a point by
+//   BM_EvalNew           Polynomial::evaluateWithBound (monomial loop) and by
+//                        HornerForm::evaluate (nested Horner), side by side per gallery
+//                        surface and dense degree; ns per evaluation over 256 points in
+//                        the clip ball (the ratio old/new is the speed-up).
 // Run: build/tests/bench/polynomial_bench --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
 
@@ -19,6 +24,7 @@
 #include "algray/gallery.h"
 #include "algray/jsurf.h"
 #include "algray/parser.h"
+#include "algray/horner_form.h"
 
 namespace {
 
@@ -103,11 +109,58 @@ void BM_MultiplyDense(benchmark::State& state) {
   state.counters["terms_in"] = Polynomial::termCount(d);
 }
 
+// Points uniform in the cube around the clip ball, where the adapter evaluates (hits and
+// shadow-ray origins); the cost of either scheme does not depend on the point.
+std::vector<glm::dvec3> evalPoints(double radius) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-radius, radius);
+  std::vector<glm::dvec3> pts(256);
+  for (auto& p : pts) p = {u(rng), u(rng), u(rng)};
+  return pts;
+}
+
+template <class Eval>
+void evalBenchmark(benchmark::State& state, const Polynomial& f, double radius, Eval eval) {
+  const auto pts = evalPoints(radius);
+  size_t i = 0;
+  for (auto _ : state) {
+    const Polynomial::Evaluation e = eval(pts[i++ & 255]);
+    benchmark::DoNotOptimize(e);
+  }
+  state.counters["degree"] = f.degree();
+  state.counters["terms"] = f.nonZeroCount();
+}
+
+void BM_EvalOld(benchmark::State& state, const Polynomial& f, double radius) {
+  evalBenchmark(state, f, radius, [&](const glm::dvec3& p) { return f.evaluateWithBound(p); });
+}
+
+void BM_EvalNew(benchmark::State& state, const Polynomial& f, double radius) {
+  const algray::HornerForm ev(f);
+  evalBenchmark(state, f, radius, [&](const glm::dvec3& p) { return ev.evaluate(p); });
+  state.counters["stored"] = ev.coefficientCount();
+}
+
 BENCHMARK(BM_PowBinary)->Arg(5)->Arg(10)->Arg(20)->Arg(40)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PowRepeated)->Arg(5)->Arg(10)->Arg(20)->Arg(40)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MultiplyDense)->Arg(4)->Arg(8)->Arg(12)->Arg(20)->Unit(benchmark::kMicrosecond);
 
 void registerDynamic() {
+  // Point evaluation, old and new side by side (registered in pairs, run in this order).
+  for (const char* name :
+       {"sphere", "barth-sextic", "chmutov-8", "chmutov-12", "chmutov-16", "sarti-dodecic"}) {
+    const algray::GallerySurface* s = algray::findGallerySurface(name);
+    const Polynomial f = s->build();
+    const std::string suffix = std::string("/") + name;
+    benchmark::RegisterBenchmark(("BM_EvalOld" + suffix).c_str(), BM_EvalOld, f, s->clipRadius);
+    benchmark::RegisterBenchmark(("BM_EvalNew" + suffix).c_str(), BM_EvalNew, f, s->clipRadius);
+  }
+  for (const int degree : {10, 20, 40}) {
+    const Polynomial f = densePolynomial(degree, 3);
+    const std::string name = "dense-" + std::to_string(degree);
+    benchmark::RegisterBenchmark(("BM_EvalOld/" + name).c_str(), BM_EvalOld, f, 1.0);
+    benchmark::RegisterBenchmark(("BM_EvalNew/" + name).c_str(), BM_EvalNew, f, 1.0);
+  }
   // Real SURFER files: the equation with its parameters.
   const std::filesystem::path dir = ALGRAY_SHARED_DIR "/gallery/jsurf";
   if (std::filesystem::is_directory(dir)) {

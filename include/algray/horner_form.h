@@ -1,0 +1,63 @@
+#pragma once
+// A Polynomial precompiled for nested Horner schemes: f(p), grad f(p) and a rigorous
+// rounding bound at one point (the adapter's self-root rule and Newton polish at every
+// hit), and the layout taylor.h's direct restriction to a ray runs over
+// (restrictToRay(const HornerForm&, ...)).
+//
+// Scheme: nested Horner, f = sum_i x^i sum_j y^j sum_k c_ijk z^k, evaluated innermost
+// first (z-rows, then y within an x-block, then x), with the derivative recurrences of
+// Horner's scheme (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed.,
+// Sec. 5.1, Alg. 5.2) for the gradient and the same scheme over |c| and |x|, |y|, |z|
+// for the bound. Only the box the polynomial occupies is stored: x-blocks up to the
+// highest i, y-rows up to the highest j of that block, z-rows up to the highest k of the
+// row. A separable surface (Chmutov: T(x) + T(y) + T(z)) then costs ~3(m+1) coefficients
+// instead of the (m+1)(m+2)(m+3)/6 of the dense graded storage, with no sparse index.
+//
+// Cost per evaluation: no heap allocation; 6 flops per stored coefficient, 8 per row,
+// 10 per block. Measured against Polynomial::evaluateWithBound in
+// tests/bench/polynomial_bench.cpp (BM_PointEval*).
+#include "algray/polynomial.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace algray {
+
+class HornerForm {
+ public:
+  HornerForm() : HornerForm(Polynomial()) {}  // the zero polynomial
+  explicit HornerForm(const Polynomial& f);
+
+  int degree() const { return degree_; }
+  // Stored coefficients (the Horner box, zeros inside it included).
+  int coefficientCount() const { return static_cast<int>(slots_.size()); }
+
+  // value, gradient, magnitude (sum |c| |x|^i |y|^j |z|^k, computed) and valueError with
+  // |computed value - exact value| <= valueError whenever the result is finite (derivation
+  // in horner_form.cpp). Non-finite input gives a non-finite or NaN result.
+  Polynomial::Evaluation evaluate(const glm::dvec3& p) const;
+
+  // A coefficient and its weight in the bound: |c| plus a floor that absorbs underflow.
+  struct Slot {
+    double c;
+    double absC;
+  };
+  // The layout, for other nested schemes over the same box: x-blocks for i = topI down to
+  // 0, each of blockRows()[b] y-rows (j descending to 0), each of rowLengths()[r] slots
+  // (k descending to 0), all in evaluation order.
+  std::span<const Slot> slots() const { return slots_; }
+  std::span<const std::uint8_t> rowLengths() const { return rowLength_; }
+  std::span<const std::uint8_t> blockRows() const { return blockRows_; }
+
+ private:
+  std::vector<Slot> slots_;             // z-rows in evaluation order: i, j, k descending
+  std::vector<std::uint8_t> rowLength_;  // per z-row, >= 1 (kMaxDegree + 1 fits)
+  std::vector<std::uint8_t> blockRows_;  // per x-block (i descending): its y-rows, >= 1
+  int degree_ = -1;
+  double errorFactor_ = 0;  // valueError = errorFactor_ * magnitude
+};
+
+}  // namespace algray

@@ -1,0 +1,455 @@
+// The quadric path: a degree-2 surface with one cell takes its own Embree callbacks
+// (embree_bridge.cpp registers them when usesQuadricPath), which skip what the generic
+// walk of surface_intersect.cpp needs only for many cells or higher degrees: the
+// per-thread ray record and its ownership rules, the cell clip, the 41-coefficient
+// RayPolynomial and LocalPoly frames (their zeroing alone cost more than the quadratic
+// formula; perf on speed_report's sphere). The answers are the same: the restriction is
+// the closed form below (also used by the generic walk for quadrics), and quadricRoot
+// applies firstRoot's rules (roots_scan.h) to it in the caller's frame.
+#include "surface_data.h"
+
+#include "algray/roots.h"
+#include "algray/taylor.h"
+
+#include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <variant>
+
+namespace algray {
+
+namespace {
+
+// |v| without overflow or underflow of the squares (as in surface_intersect.cpp).
+double safeLength(const glm::dvec3& v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(m > 0.0) || !std::isfinite(m)) return m;
+  return m * glm::length(v / m);
+}
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// The self-root rule's division by s (surface_intersect.cpp, deflateAtZero), repeated
+// while the new constant term is zero within its bound.
+void deflateAtZero(QuadricRay& g) {
+  do {
+    for (int i = 0; i < g.degree; ++i) {
+      g.c[i] = g.c[i + 1];
+      g.err[i] = g.err[i + 1];
+    }
+    g.c[g.degree] = g.err[g.degree] = 0.0;
+    --g.degree;
+  } while (g.degree > 0 && std::abs(g.c[0]) <= 4.0 * g.err[0]);
+}
+
+// ---- Roots by firstRoot's rules, in the caller's frame --------------------------------
+// firstRoot maps g to a local frame by powers of two (exact), so every comparison of its
+// sweep (roots_scan.h: |g| against the noise bound, signs, the closed-form root inside
+// its piece) has the same outcome here as long as nothing leaves the range checked
+// below (the checks of firstRootQuadratic, roots_quadratic.cpp). Anything else, and
+// the rare piece whose closed-form root rounds outside it (bracketed Newton there), is
+// answered by the library itself: -1 means "ask firstRoot".
+bool inRange(double x) { return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100); }
+
+// The caller-frame result of a local root v (toCaller in roots.cpp, firstRootQuadratic):
+// a root within noise of hi is hi; one rounded onto lo moves just inside.
+double toSpan(double v, double lo, double hi) {
+  if (v >= hi) return hi;
+  return v > lo ? v : std::nextafter(lo, hi);
+}
+
+// Degree 2 (c2 != 0): firstRootQuadratic, i.e. solveClosedForm's degree-2 sweep with
+// the vertex as the only critical point (roots_closed_form.cpp, roots_scan.h).
+int quadraticFirst(const QuadricRay& g, double lo, double hi, double& s) {
+  const double c0 = g.c[0], c1 = g.c[1], c2 = g.c[2];
+  const double scale = std::max(std::abs(lo), std::abs(hi));
+  bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c2 != 0.0;
+  for (int i = 0; i < 3 && safe; ++i) safe = inRange(g.c[i]) && inRange(g.err[i]) && std::isfinite(g.err[i]);
+  if (safe) {
+    const double lead = std::abs(c2) * scale * scale;
+    const double lower = std::max(std::abs(c0), std::abs(c1) * scale);
+    safe = lead > 4.0 * kUnitRoundoff * lower && std::abs(c2) > 2.0 * g.err[2];
+  }
+  if (!safe) return -1;
+  // Noise of one Horner evaluation: the caller's bound plus gamma(2n+1) |c_j|.
+  const double n0 = g.err[0] + gamma(5) * std::abs(c0), n1 = g.err[1] + gamma(5) * std::abs(c1),
+               n2 = g.err[2] + gamma(5) * std::abs(c2);
+  auto value = [&](double x) { return (c2 * x + c1) * x + c0; };
+  auto noise = [&](double x) {
+    const double ax = std::abs(x);
+    return (n2 * ax + n1) * ax + n0;
+  };
+  const double vertex = -c1 / (2 * c2);
+  const int nCrit = vertex > lo && vertex < hi ? 1 : 0;
+
+  double xPrev = lo, fPrev = value(lo);
+  bool zPrev = std::abs(fPrev) <= noise(lo);
+  bool inCluster = zPrev, clusterAtLo = zPrev, clusterHasInterior = false;
+  double best = lo, bestAbs = std::abs(fPrev);
+  for (int i = 0; i <= nCrit; ++i) {
+    const bool interior = i < nCrit;
+    const double x = interior ? vertex : hi;
+    const double f = value(x);
+    const bool z = std::abs(f) <= noise(x);
+    if (z) {
+      if (!inCluster) {
+        inCluster = true;
+        clusterAtLo = false;
+        clusterHasInterior = false;
+        bestAbs = std::numeric_limits<double>::infinity();
+      }
+      if (interior && (!clusterHasInterior || std::abs(f) < bestAbs)) {
+        best = x;
+        bestAbs = std::abs(f);
+        clusterHasInterior = true;
+      } else if (!interior && !clusterHasInterior) {
+        best = x;
+      }
+    } else if (inCluster) {
+      inCluster = false;
+      if (!clusterAtLo) {
+        s = toSpan(best, lo, hi);
+        return 1;
+      }
+    } else if (!zPrev && std::signbit(f) != std::signbit(fPrev)) {
+      // A simple root in (xPrev, x): the citardauq roots (quadraticRoots in
+      // roots_detail.h, with Kahan's discriminant), the one inside the piece.
+      const double p = c1 * c1, dp = std::fma(c1, c1, -p);
+      const double q4 = 4 * c2 * c0, dq = std::fma(4 * c2, c0, -q4);
+      const double disc = (p - q4) + (dp - dq);
+      if (disc > 0) {
+        const double q = -(c1 + std::copysign(std::sqrt(disc), c1)) / 2;
+        if (q != 0) {
+          double r0 = q / c2, r1 = c0 / q;
+          if (r1 < r0) std::swap(r0, r1);
+          for (const double r : {r0, r1})
+            if (r > xPrev && r < x) {
+              s = toSpan(r, lo, hi);
+              return 1;
+            }
+        }
+      }
+      return -1;
+    }
+    xPrev = x;
+    fPrev = f;
+    zPrev = z;
+  }
+  if (inCluster && !clusterAtLo) {
+    s = toSpan(best, lo, hi);
+    return 1;
+  }
+  return 0;
+}
+
+// Degree 1 (a ray leaving the surface, after the self-root division): firstRoot's frame
+// drops c1 when |c1| 2^e <= u |c0| (2^e in (S, 2S], S = max(|lo|, |hi|)) or |c1| <=
+// err1; the checks below keep clear of both. Then the sweep has no critical point: a
+// root within noise of lo is none, one within noise of hi is hi, else -c0 / c1.
+int linearFirst(const QuadricRay& g, double lo, double hi, double& s) {
+  const double c0 = g.c[0], c1 = g.c[1];
+  const double scale = std::max(std::abs(lo), std::abs(hi));
+  bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c1 != 0.0;
+  for (int i = 0; i < 2 && safe; ++i) safe = inRange(g.c[i]) && inRange(g.err[i]) && std::isfinite(g.err[i]);
+  if (!safe || !(std::abs(c1) > g.err[1]) || !(std::abs(c1) * scale > 2.0 * kUnitRoundoff * std::abs(c0)))
+    return -1;
+  const double n0 = g.err[0] + gamma(3) * std::abs(c0), n1 = g.err[1] + gamma(3) * std::abs(c1);
+  const double fLo = c1 * lo + c0;
+  if (std::abs(fLo) <= n1 * std::abs(lo) + n0) return 0;
+  const double fHi = c1 * hi + c0;
+  if (std::abs(fHi) <= n1 * std::abs(hi) + n0) {
+    s = hi;
+    return 1;
+  }
+  if (std::signbit(fLo) == std::signbit(fHi)) return 0;
+  const double r = -c0 / c1;
+  if (!(r > lo && r < hi)) return -1;
+  s = toSpan(r, lo, hi);
+  return 1;
+}
+
+}  // namespace
+
+// ---- Restriction -------------------------------------------------------------------------
+// About p = o + tShift d,
+//   g(s) = f(p) + (grad f(p) . d) s + (d^T A d) s^2,   grad f(p) = 2 A p + b,
+// with error bounds by the running sums of Higham, Sec. 3.1: f(p) is at most 8 roundings
+// deep per term (evalQuadric), the slope 7, d^T A d 5.
+// (A per-thread cache of the origin's terms for rays sharing it was measured: +1-2 % on
+// a camera's primary rays, -3-4 % on shadow rays, which never share an origin; not kept.)
+void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1, QuadricRay& g,
+                        double closest) {
+  const QuadricForm& q = *data.quadric;
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  const glm::dvec3 absD = glm::abs(d);
+  QuadricValue at = evalQuadric(q, o);
+  // The self-root rule of originOnSurface (surface_intersect.cpp), on the closed-form
+  // value. Most origins (a camera's) are far off the surface: the 1-norm of the gradient
+  // (>= its length; widened by 2^-20 for the rounding of both) decides them without
+  // safeLength. (Rounding is monotone, so the bound with the larger move decides exactly
+  // as the length would.)
+  const glm::dvec3 absG = glm::abs(at.gradient);
+  const double moveRound = ray.orgRoundoff * glm::dot(absG, glm::abs(o));
+  const double moveUpper = moveRound + (1.0 + 0x1p-20) * (absG.x + absG.y + absG.z) * ray.orgError;
+  const bool onSurface = !(std::abs(at.value) > 4.0 * at.error + 2.0 * moveUpper) &&
+                         std::abs(at.value) <= 4.0 * at.error + 2.0 * (moveRound + safeLength(at.gradient) * ray.orgError);
+  double tShift = 0.0;
+  glm::dvec3 p = o;
+  double shiftError0 = 0.0, shiftError1 = 0.0;
+  if (!onSurface && data.desc.options.recentre) {
+    tShift = std::clamp(std::isnan(closest) ? closestParameter(o, d, data.centre) : closest, r0, r1);
+    p = o + tShift * d;
+    at = evalQuadric(q, p);
+    // p is rounded, off the line by up to gamma(2) (|p| + |tShift d|) per coordinate:
+    // its effect on f(p) and on the slope (first order; the second is below u^2).
+    const glm::dvec3 off = gamma(2) * (glm::abs(p) + std::abs(tShift) * absD);
+    shiftError0 = glm::dot(glm::abs(at.gradient), off);
+    shiftError1 = 2.0 * glm::dot(q.absA * off, absD);
+  }
+  const glm::dvec3 absP = glm::abs(p);
+  g.degree = 2;
+  g.tShift = tShift;
+  g.c[0] = at.value;
+  g.c[1] = glm::dot(at.gradient, d);
+  g.c[2] = glm::dot(d, q.a * d);
+  g.err[0] = at.error + shiftError0;
+  g.err[1] = gamma(7) * glm::dot(2.0 * (q.absA * absP) + q.absB, absD) + shiftError1;
+  g.err[2] = gamma(5) * glm::dot(absD, q.absA * absD);
+  if (onSurface) deflateAtZero(g);
+}
+
+// ---- The box of a bounded quadric ----------------------------------------------------------
+// Embree calls the callbacks for every ray that meets the cell's bounds. For an ellipsoid
+// the clip region's box is loose (the gallery sphere: clip radius 1.2 around the unit
+// sphere, ~1.44 times the rays a native sphere gets), so the one cell becomes the
+// ellipsoid's own box, padded to hold every point the intersector can report, and
+// intersected with the clip region's box. The kernels clip rays to that cell (quadricSpan
+// below, walkRoots' cell clip), so Embree's culling never decides a hit: a ray that meets
+// the cell is traced, and the padding only makes sure no reportable root lies outside.
+//
+// Derivation. Take A positive definite (for A negative definite use -f: the same zero set,
+// and every rule of the intersector is in |f|). For any point x0 and y = x - x0,
+//   f(x) = y^T A y + r^T y + f(x0),   r = 2 A x0 + b          (exact; r = 0 at the centre).
+// Completing the square, y = z - A^-1 r / 2:  f(x) = z^T A z + f(x0) - r^T A^-1 r / 4, so
+// the sublevel set {f <= delta} is the ellipsoid z^T A z <= K', K' = delta - f(x0) +
+// r^T A^-1 r / 4, and by Cauchy-Schwarz in the A inner product (e_i^T z = (A^-1 e_i)^T A z)
+//   |y_i| <= |A^-1 r|_i / 2 + sqrt(K' (A^-1)_ii).
+// With x0 = -A^-1 b / 2 as computed, r is rounding-sized; the computed f(x0) is bounded
+// by its own rounding (evalQuadric), r by gamma(4) (2|A||x0| + |b|), the other terms by
+// the absolute values, and what is left (the computed A^-1, off by O(kappa u) relative,
+// kappa <= 2^12 below, and the rounding of the final sums) is far below the relative 2^-20
+// added to every half-extent and to |x0|.
+//
+// What the intersector can report lies in {f <= delta} (object space):
+//  * a root of the restriction by firstRoot's rules: |f| within the restriction's noise,
+//    a few gamma(8) of S = m^T |A| m + |b|^T m + |c| (m bounds |x| componentwise over the
+//    clip region and the ellipsoid; the re-centring point and the hit both lie there;
+//    a far origin adds its shift error, gamma(2) |tShift d| |grad f|, which stays below
+//    delta for origins up to ~1e9 radii away);
+//  * the root left by the self-root rule (a ray leaving the surface): g(s) = c0 + s (c1 +
+//    c2 s) with the root of the bracket kept, where f = c0 = f(o), and the rule admits
+//    |f(o)| <= 4 err + 2 (u_o |grad f| |o| + |grad f| orgError). For float rays the bridge
+//    sets orgError <= |T^-1|_F 4 u_f (|o_world| + |t_T|) + 16 u_f (|o - centre| + R).
+// So delta = 2^-30 S + 4 G (orgError_max + u_f |m|), G = |2 |A| m + |b|| >= |grad f|, with
+// m taken from the ellipsoid of delta = 0 (origins on the surface lie near it). A double
+// ray whose host declares a larger origin error (RayD::orgError), or an origin so far
+// away that its shift error passes 2^-31 S, may leave a root beyond delta: such rays are
+// clipped to the cell (quadricSpan; walkRoots clips every ray), so Embree's culling and
+// the kernels agree on them too.
+// The float world bounds (worldBounds in surface_geometry.cpp: the transformed corners,
+// padded by 2^-16 of their magnitude and rounded outward) then hold the cell and the
+// widened slab test's rounding, as for every cell.
+bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
+  const Polynomial& f = data.desc.polynomial;
+  if (f.degree() != 2) return false;
+  QuadricForm q = data.quadric ? *data.quadric : QuadricForm::fromPolynomial(f);
+  if (q.a[0][0] < 0.0) {
+    q.a = -q.a;
+    q.b = -q.b;
+    q.c = -q.c;
+  }
+  const glm::dmat3& a = q.a;
+  // Definite: Sylvester's leading minors, trusted because kappa_inf(A) <= 2^12 keeps every
+  // eigenvalue above |A|_2 / (3 2^12), so the minors (>= lambda_min^k) exceed their
+  // rounding (~6 u |A|^k) by far and no sign is decided by rounding.
+  const double m1 = a[0][0], m2 = a[0][0] * a[1][1] - a[0][1] * a[1][0], m3 = glm::determinant(a);
+  if (!(m1 > 0.0 && m2 > 0.0 && m3 > 0.0)) return false;
+  const glm::dmat3 ai = glm::inverse(a);
+  auto normInf = [](const glm::dmat3& m) {
+    double n = 0.0;
+    for (int r = 0; r < 3; ++r) n = std::max(n, std::abs(m[0][r]) + std::abs(m[1][r]) + std::abs(m[2][r]));
+    return n;
+  };
+  const double kappa = normInf(a) * normInf(ai);
+  if (!(kappa <= 0x1p12) || !(ai[0][0] > 0.0 && ai[1][1] > 0.0 && ai[2][2] > 0.0)) return false;
+  glm::dmat3 absAi;
+  for (int c = 0; c < 3; ++c) absAi[c] = glm::abs(ai[c]);
+
+  const glm::dvec3 x0 = -0.5 * (ai * q.b);
+  const QuadricValue at = evalQuadric(q, x0);
+  const glm::dvec3 r = glm::abs(at.gradient) + gamma(4) * (2.0 * (q.absA * glm::abs(x0)) + q.absB);
+  const glm::dvec3 shift = 0.5 * (absAi * r);
+  const double rAr = 0.25 * glm::dot(r, absAi * r);
+  auto halfExtent = [&](double delta) {
+    const double k = std::max(0.0, delta - at.value + at.error + rAr);
+    const glm::dvec3 e = shift + glm::sqrt(k * glm::dvec3(ai[0][0], ai[1][1], ai[2][2]));
+    return e * (1.0 + 0x1p-20) + 0x1p-20 * glm::abs(x0);
+  };
+
+  // The clip region's box.
+  glm::dvec3 clipLo, clipHi;
+  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) {
+    clipLo = s->center - glm::dvec3(s->radius);
+    clipHi = s->center + glm::dvec3(s->radius);
+  } else {
+    clipLo = std::get<ClipBox>(data.desc.clip).lo;
+    clipHi = std::get<ClipBox>(data.desc.clip).hi;
+  }
+  // delta, from the bounds m of the ellipsoid of delta = 0 and the clip box (see above).
+  const glm::dvec3 m =
+      glm::max(glm::max(glm::abs(clipLo), glm::abs(clipHi)), glm::abs(x0) + halfExtent(0.0));
+  const double lenM = glm::length(m);
+  const double scale = glm::dot(m, q.absA * m) + glm::dot(q.absB, m) + std::abs(q.c);
+  const double grad = glm::length(2.0 * (q.absA * m) + q.absB);
+  constexpr double uFloat = 0x1p-24;
+  auto frobenius = [](const glm::dmat3& t) {
+    return std::sqrt(glm::dot(t[0], t[0]) + glm::dot(t[1], t[1]) + glm::dot(t[2], t[2]));
+  };
+  const double orgError = frobenius(data.aInv) * 4.0 * uFloat * (frobenius(data.a) * lenM + 2.0 * glm::length(data.b)) +
+                          16.0 * uFloat * (lenM + glm::length(data.centre) + data.radius);
+  const double delta = 0x1p-30 * scale + 4.0 * grad * (orgError + uFloat * lenM);
+  const glm::dvec3 e = halfExtent(delta);
+
+  box.lo = glm::max(x0 - e, clipLo);
+  box.hi = glm::min(x0 + e, clipHi);
+  // The rays the derivation covers (see QuadricBox): origin error up to orgError_max, and
+  // a shift error gamma(2) |tShift d| G below 2^-31 S, i.e. |o - centre| + R below
+  // 2^20 S / G (gamma(2) < 2^-51).
+  box.orgError = orgError;
+  box.distance = 0x1p20 * scale / grad - data.radius;
+  return finite(box.lo) && finite(box.hi) && glm::all(glm::lessThan(box.lo, box.hi)) && grad > 0.0;
+}
+
+// ---- The dedicated path ---------------------------------------------------------------------
+bool usesQuadricPath(const SurfaceData& data) {
+  const SurfaceOptions& opt = data.desc.options;
+  // The generic walk's quadric branch (solveFirst) with one cell and the default solver:
+  // other root options are measurement switches and keep the generic path.
+  return data.quadric && opt.quadricCallbacks && data.cells.size() == 1 && !opt.singlePrecision &&
+         opt.roots.method == RootMethod::Auto && opt.roots.relTolerance == 0.0;
+}
+
+bool cellHoldsClipRegion(const SurfaceData& data) {
+  glm::dvec3 lo, hi;
+  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) {
+    lo = s->center - glm::dvec3(s->radius);
+    hi = s->center + glm::dvec3(s->radius);
+  } else {
+    lo = std::get<ClipBox>(data.desc.clip).lo;
+    hi = std::get<ClipBox>(data.desc.clip).hi;
+  }
+  const SurfaceCell& cell = data.cells.front();
+  return glm::all(glm::lessThanEqual(cell.lo, lo)) && glm::all(glm::greaterThanEqual(cell.hi, hi));
+}
+
+namespace {
+
+// The cell clip of walkRoots: clipToBox of surface_intersect.cpp with widen = true,
+// operation for operation (the same span, so the same roots as the generic walk).
+bool clipToCell(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                double& t1) {
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0.0) {
+      if (o[i] < lo[i] || o[i] > hi[i]) return false;
+      continue;
+    }
+    const double inv = 1.0 / d[i];
+    double ta = (lo[i] - o[i]) * inv, tb = (hi[i] - o[i]) * inv;
+    if (ta > tb) std::swap(ta, tb);
+    ta -= 2.0 * gamma(3) * std::abs(ta);
+    tb += 2.0 * gamma(3) * std::abs(tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+}  // namespace
+
+bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) {
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  // Non-finite or degenerate rays have no hit (as in walkRoots).
+  if (!finite(o) || !finite(d) || std::isnan(ray.tnear) || std::isnan(ray.tfar) || !(ray.orgError >= 0.0))
+    return false;
+  if (!(glm::dot(d, d) > 0.0) || !(ray.tnear < ray.tfar)) return false;
+  // The clip region's span; the restriction keeps its frame (its re-centring point), as
+  // the generic walk does, so both give the same coefficients.
+  double r0 = -std::numeric_limits<double>::infinity(), r1 = std::numeric_limits<double>::infinity();
+  double closest = std::numeric_limits<double>::quiet_NaN();
+  if (const auto* sphere = std::get_if<ClipSphere>(&data.desc.clip)) {
+    // clipToSphere of surface_intersect.cpp, inline (the chord from the closest point).
+    // Its tc is closestParameter(o, d, centre) bit for bit (the clip centre is the
+    // re-centring centre; fl(c - o) = -fl(o - c) and the dot and quotient negate
+    // exactly), which saves the restriction a division on its critical path.
+    const double dd = glm::dot(d, d);
+    const glm::dvec3 oc = o - sphere->center;
+    const double tc = -glm::dot(oc, d) / dd;
+    const glm::dvec3 p = oc + tc * d;
+    const double h2 = sphere->radius * sphere->radius - glm::dot(p, p);
+    if (!(h2 >= 0.0)) return false;
+    const double dt = std::sqrt(h2 / dd);
+    r0 = tc - dt;
+    r1 = tc + dt;
+    if (sphere->center == data.centre) closest = tc;
+  } else if (!clipRegionSpan(data, o, d, r0, r1)) {
+    return false;
+  }
+  // The cell's span, when the cell is smaller than the clip region (an ellipsoid's own
+  // box, boundedQuadricBox; or a cell the build shrank): walkRoots' cell clip. A cell
+  // holding the clip region needs none (its widened slab holds the region's span).
+  // A ray the tight box's derivation covers cannot report a root outside it (nor, then,
+  // outside the cell, which is that box within the clip region): it skips the clip, whose
+  // three divisions cost shadow rays ~8 % (measured); the others are clipped.
+  double c0 = r0, c1 = r1;
+  if (data.quadricCellClip) {
+    const QuadricBox& box = data.quadricBox;
+    const glm::dvec3 oc = o - data.centre;
+    const bool covered = ray.orgError <= box.orgError && glm::dot(oc, oc) <= box.distance * box.distance;
+    if (!covered && !clipToCell(data.cells.front().lo, data.cells.front().hi, o, d, c0, c1)) return false;
+  }
+  const double lo = std::max(c0, ray.tnear), hi = std::min(c1, ray.tfar);
+  if (!(lo < hi)) return false;
+  restrictQuadricRay(data, ray, r0, r1, q.g, closest);
+  // A constant g has no isolated root (no intersection, or a ruling of the surface).
+  if (q.g.degree < 1) return false;
+  q.slo = lo - q.g.tShift;
+  q.shi = hi - q.g.tShift;
+  return q.slo < q.shi;
+}
+
+bool quadricRoot(const QuadricSpan& q, double slo, double& s) {
+  const QuadricRay& g = q.g;
+  if (!(slo < q.shi)) return false;
+  const int found = g.degree == 2 && g.c[2] != 0.0 ? quadraticFirst(g, slo, q.shi, s)
+                    : g.degree == 1                ? linearFirst(g, slo, q.shi, s)
+                                                   : -1;
+  if (found >= 0) return found == 1;
+  const std::optional<double> r =
+      g.degree == 2 && g.c[2] != 0.0
+          ? firstRootQuadratic(std::span<const double, 3>(g.c, 3), std::span<const double, 3>(g.err, 3), slo, q.shi)
+          : firstRoot(std::span<const double>(g.c, g.degree + 1), std::span<const double>(g.err, g.degree + 1), slo,
+                      q.shi);
+  if (!r) return false;
+  s = *r;
+  return true;
+}
+
+}  // namespace algray

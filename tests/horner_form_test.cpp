@@ -1,0 +1,240 @@
+// Tests of include/algray/horner_form.h against an MPFR evaluation of the monomial
+// sum (value, gradient and the magnitudes sum |c| |x|^i |y|^j |z|^k and its gradient) and
+// against Polynomial::evaluateWithBound, the scheme it replaces.
+#include "algray/horner_form.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "algray/gallery.h"
+#include "support/mp.h"
+
+namespace algray {
+namespace {
+
+using test::Mp;
+
+// Exact (320-bit) value, gradient, magnitude E and its gradient grad E at p, term by term.
+struct Reference {
+  Mp value, grad[3], mag, magGrad[3];
+};
+
+Reference reference(const Polynomial& f, const glm::dvec3& p) {
+  const int m = std::max(f.degree(), 0);
+  std::vector<Mp> pw[3], apw[3];
+  for (int a = 0; a < 3; ++a) {
+    pw[a].assign(m + 1, Mp(1.0));
+    apw[a].assign(m + 1, Mp(1.0));
+    for (int e = 1; e <= m; ++e) {
+      pw[a][e] = pw[a][e - 1] * p[a];
+      apw[a][e] = apw[a][e - 1] * std::abs(p[a]);
+    }
+  }
+  Reference r;
+  for (int n = 0; n <= f.degree(); ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      const double c = f.coeffs()[idx];
+      if (c == 0.0) return;
+      const int e[3] = {i, j, k};
+      r.value += Mp(c) * pw[0][i] * pw[1][j] * pw[2][k];
+      r.mag += Mp(std::abs(c)) * apw[0][i] * apw[1][j] * apw[2][k];
+      for (int a = 0; a < 3; ++a) {
+        if (!e[a]) continue;
+        Mp t = Mp(c) * Mp(e[a]), at = Mp(std::abs(c)) * Mp(e[a]);
+        for (int b = 0; b < 3; ++b) {
+          const int eb = e[b] - (a == b);
+          t *= pw[b][eb];
+          at *= apw[b][eb];
+        }
+        r.grad[a] += t;
+        r.magGrad[a] += at;
+      }
+    });
+  return r;
+}
+
+Polynomial randomDense(std::mt19937_64& rng, int degree) {
+  std::uniform_real_distribution<double> c(-1.0, 1.0);
+  Polynomial f;
+  for (int n = 0; n <= degree; ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int) { f.setCoeff(i, j, k, c(rng)); });
+  return f;
+}
+
+// Random direction scaled to |p| = radius.
+glm::dvec3 pointAt(std::mt19937_64& rng, double radius) {
+  std::normal_distribution<double> g;
+  glm::dvec3 p(g(rng), g(rng), g(rng));
+  return p * (radius / std::sqrt(glm::dot(p, p)));
+}
+
+// A point near f = 0 (Newton along the gradient from p, a few steps): the value cancels
+// there, so the rounding error is as large as it gets relative to the value.
+// Steps that would leave the ball of radius 2|p| are refused (Newton diverges where the
+// surface is far or the gradient small), so the point keeps its scale.
+glm::dvec3 nearSurface(const Polynomial& f, glm::dvec3 p) {
+  const double limit = 2.0 * std::sqrt(glm::dot(p, p));
+  for (int it = 0; it < 30; ++it) {
+    const auto e = f.evaluateWithBound(p);
+    const double g2 = glm::dot(e.gradient, e.gradient);
+    if (!(g2 > 0.0) || !std::isfinite(g2)) break;
+    const glm::dvec3 q = p - (e.value / g2) * e.gradient;
+    if (!(std::sqrt(glm::dot(q, q)) <= limit)) break;
+    p = q;
+  }
+  return p;
+}
+
+struct Case {
+  std::string name;
+  Polynomial f;
+  double radius;  // typical scale of the points (the gallery clip radius, else 1)
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (const GallerySurface& s : gallery())
+    out.push_back({std::string(s.name), s.build(), s.clipRadius});
+  std::mt19937_64 rng(2024);
+  for (int d : {1, 2, 3, 5, 8, 13, 20, 29, 40})
+    out.push_back({"dense-" + std::to_string(d), randomDense(rng, d), 1.0});
+  const Polynomial X = Polynomial::variable(0), Y = Polynomial::variable(1),
+                   Z = Polynomial::variable(2);
+  out.push_back({"x^40", X.pow(40), 1.0});
+  out.push_back({"y^13 z^27 - 3", Y.pow(13) * Z.pow(27) - Polynomial(3.0), 1.0});
+  out.push_back({"constant", Polynomial(-2.5), 1.0});
+  out.push_back({"linear", 2.0 * X - Y + 0.5 * Z + Polynomial(1.0), 1.0});
+  return out;
+}
+
+// Measured: the largest |error| / valueError seen (shows the bound is exercised).
+TEST(HornerForm, ValueBoundAndGradientAgainstMpfr) {
+  std::mt19937_64 rng(5);
+  double worstUse = 0.0;
+  int pointsWithError = 0, points = 0;
+  for (const Case& c : cases()) {
+    const HornerForm ev(c.f);
+    ASSERT_EQ(ev.degree(), c.f.degree()) << c.name;
+    const int m = std::max(c.f.degree(), 0);
+    const int perScale = c.f.degree() >= 29 ? 3 : 8;
+    for (double radius : {1e-3, 0.1, 1.0, 30.0, 1e3, 1e6}) {
+      for (int s = 0; s < perScale; ++s) {
+        glm::dvec3 p = pointAt(rng, radius * c.radius);
+        if (s % 2 == 1) p = nearSurface(c.f, p);  // where cancellation is worst
+        const auto e = ev.evaluate(p);
+        const Reference r = reference(c.f, p);
+        const std::string where = c.name + " at (" + std::to_string(p.x) + ", " +
+                                  std::to_string(p.y) + ", " + std::to_string(p.z) + ")";
+        ASSERT_TRUE(std::isfinite(e.value) && std::isfinite(e.valueError)) << where;
+        // The claim: |computed - exact| <= valueError, compared in MPFR.
+        const Mp err = abs(Mp(e.value) - r.value);
+        ASSERT_LE(mpfr_cmp_d(err.get(), e.valueError), 0)
+            << where << ": error " << err.toDouble() << " > bound " << e.valueError;
+        ++points;
+        if (err.toDouble() > 0.0) ++pointsWithError;
+        if (e.valueError > 0.0) worstUse = std::max(worstUse, err.toDouble() / e.valueError);
+        // The bound is the stated one, gamma(2m+3) E up to its slack: not looser.
+        const double mag = r.mag.toDouble();
+        EXPECT_NEAR(e.magnitude, mag, 1e-12 * mag) << where;
+        EXPECT_LE(e.valueError, gamma(2 * m + 3) * mag * (1.0 + 1e-12) + 1e-280) << where;
+        // Gradient: the derivative recurrence puts at most 2m+2 roundings on every term
+        // (horner_form.cpp), so |computed - exact| <= gamma(2m+3) (d/dx_a E)(|p|).
+        for (int a = 0; a < 3; ++a) {
+          const Mp gerr = abs(Mp(e.gradient[a]) - r.grad[a]);
+          const double gbound = gamma(2 * m + 3) * r.magGrad[a].toDouble() * (1.0 + 1e-12);
+          EXPECT_LE(gerr.toDouble(), gbound) << where << " gradient axis " << a;
+        }
+      }
+    }
+  }
+  // Rounding actually happened on many points, and the bound is not vacuous there.
+  EXPECT_GT(pointsWithError, points / 4);
+  EXPECT_GT(worstUse, 1e-3);
+  std::printf("points %d, with rounding error %d, largest error/bound %.3g\n", points,
+              pointsWithError, worstUse);
+}
+
+// Not looser than the monomial loop's running bound by more than a small factor on the
+// points the adapter evaluates (near the surface, inside the clip ball).
+TEST(HornerForm, BoundComparableToTheMonomialBound) {
+  std::mt19937_64 rng(9);
+  for (const Case& c : cases()) {
+    const HornerForm ev(c.f);
+    double worst = 0.0, best = std::numeric_limits<double>::infinity();
+    for (int s = 0; s < 200; ++s) {
+      const double radius = c.radius * std::uniform_real_distribution<double>(0.05, 1.0)(rng);
+      glm::dvec3 p = pointAt(rng, radius);
+      if (s % 2) p = nearSurface(c.f, p);
+      const auto oldE = c.f.evaluateWithBound(p), newE = ev.evaluate(p);
+      if (!(oldE.valueError > 0.0)) continue;
+      const double ratio = newE.valueError / oldE.valueError;
+      worst = std::max(worst, ratio);
+      best = std::min(best, ratio);
+      // Same value and gradient within both bounds (independent schemes).
+      EXPECT_LE(std::abs(newE.value - oldE.value), newE.valueError + oldE.valueError) << c.name;
+    }
+    EXPECT_LE(worst, 100.0) << c.name;
+    std::printf("%-18s new/old bound: %.3g .. %.3g\n", c.name.c_str(), best, worst);
+  }
+}
+
+TEST(HornerForm, StoresOnlyTheBoxThePolynomialOccupies) {
+  // Chmutov-16 is T16(x) + T16(y) + T16(z) + const: one z-row of 17, 16 rows of one
+  // coefficient in block 0, one coefficient in each of the 16 higher blocks.
+  const HornerForm chmutov(findGallerySurface("chmutov-16")->build());
+  EXPECT_EQ(chmutov.coefficientCount(), 17 + 16 + 16);
+  std::mt19937_64 rng(1);
+  EXPECT_EQ(HornerForm(randomDense(rng, 12)).coefficientCount(), Polynomial::termCount(12));
+  // z^7 alone: one block, one row of 8.
+  EXPECT_EQ(HornerForm(Polynomial::variable(2).pow(7)).coefficientCount(), 8);
+}
+
+TEST(HornerForm, NonFiniteInputGivesNonFiniteOutput) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double bad[] = {std::numeric_limits<double>::quiet_NaN(), kInf, -kInf};
+  std::vector<Polynomial> polys = {Polynomial(), Polynomial(3.0), Polynomial::variable(1)};
+  for (const GallerySurface& s : gallery()) polys.push_back(s.build());
+  for (const Polynomial& f : polys) {
+    const HornerForm ev(f);
+    for (int axis = 0; axis < 3; ++axis)
+      for (double v : bad) {
+        glm::dvec3 p(0.25, -0.5, 0.75);
+        p[axis] = v;
+        const auto e = ev.evaluate(p);
+        // Whatever the polynomial depends on, 0 * inf or NaN reaches every output.
+        EXPECT_FALSE(std::isfinite(e.value)) << "degree " << f.degree() << " axis " << axis;
+        EXPECT_FALSE(std::isfinite(e.valueError)) << "degree " << f.degree() << " axis " << axis;
+        EXPECT_FALSE(std::isfinite(e.gradient.x + e.gradient.y + e.gradient.z))
+            << "degree " << f.degree();
+      }
+  }
+}
+
+TEST(HornerForm, UnderflowIsInsideTheBound) {
+  // Products below the smallest normal double lose absolute digits (Higham Eq. (2.8)); the
+  // bound's floor must cover them.
+  const Polynomial X = Polynomial::variable(0), Y = Polynomial::variable(1),
+                   Z = Polynomial::variable(2);
+  const Polynomial polys[] = {X * Y, 1e200 * X.pow(3) * Y - Polynomial(1e-300),
+                              X * Y * Z + 1e-300 * X, (X + Y + Z).pow(5)};
+  std::mt19937_64 rng(3);
+  for (const Polynomial& f : polys) {
+    const HornerForm ev(f);
+    for (double radius : {1e-100, 1e-150, 1e-160, 1e-200, 1e-300}) {
+      for (int s = 0; s < 20; ++s) {
+        const glm::dvec3 p = pointAt(rng, radius);
+        const auto e = ev.evaluate(p);
+        const Mp err = abs(Mp(e.value) - reference(f, p).value);
+        ASSERT_LE(mpfr_cmp_d(err.get(), e.valueError), 0) << f.toString() << " at |p| = " << radius;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace algray
