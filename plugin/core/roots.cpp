@@ -84,11 +84,9 @@ template <class T>
 bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
              Frame<T>& fr) {
   if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) return false;
-  int n = static_cast<int>(c.size()) - 1;
-  for (int i = 0; i <= n; ++i)
-    if (!std::isfinite(c[i]) || (!err.empty() && !std::isfinite(err[i]))) return false;
-  while (n >= 0 && c[n] == 0) --n;
-  if (n < 1) return false;
+  if (!err.empty())
+    for (const T x : err)
+      if (!std::isfinite(x)) return false;
 
   // ---- Frame: 2^e >= max(|lo|, |hi|) ------------------------------------------------
   // max = f 2^e with f in [0.5, 1), as std::frexp (max > 0: lo < hi)
@@ -98,11 +96,33 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
   g.hi = scale2(hi, -e);
   if (!(g.lo < g.hi)) return false;  // only when lo, hi are adjacent subnormals
 
+  // ---- Degree, finiteness and the largest exponent of c_j 2^(j e), in one pass ------
+  // From the exponent field of each coefficient (all ones: inf or NaN; zero: zero or
+  // subnormal, which takes the exact path of exponentOf); exponents are added as integers,
+  // so no intermediate overflows. (This was a third of a cell-sized degree-6 solve as a
+  // loop of library calls.)
+  using Bits = std::conditional_t<std::is_same_v<T, double>, std::uint64_t, std::uint32_t>;
+  constexpr int kMantissa = std::numeric_limits<T>::digits - 1;
+  constexpr int kField = std::is_same_v<T, double> ? 0x7ff : 0xff, kBias = kField / 2;
+  int n = -1, eMax = std::numeric_limits<int>::min();
+  bool subnormal = false;
+  for (int j = 0; j < static_cast<int>(c.size()); ++j) {
+    const int field = static_cast<int>((std::bit_cast<Bits>(c[j]) >> kMantissa) & kField);
+    if (field == kField) return false;
+    if (field == 0) {
+      if (c[j] == 0) continue;
+      subnormal = true;
+    } else {
+      eMax = std::max(eMax, field - kBias + j * e);
+    }
+    n = j;
+  }
+  if (n < 1) return false;
+  if (subnormal)
+    for (int j = 0; j <= n; ++j)
+      if (c[j] != 0) eMax = std::max(eMax, exponentOf(c[j]) + j * e);
+
   // ---- Coefficients C_j = c_j 2^(j e - E), max |C_j| in [1, 2) ----------------------
-  // Exponents are added as integers first so that no intermediate overflows.
-  int eMax = std::numeric_limits<int>::min();
-  for (int j = 0; j <= n; ++j)
-    if (c[j] != 0) eMax = std::max(eMax, exponentOf(c[j]) + j * e);
   const T gEval = gammaT<T>(2 * n + 1);  // one Horner evaluation, Higham Eq. (5.3)
   for (int j = 0; j <= n; ++j) {
     const int shift = j * e - eMax;

@@ -103,20 +103,22 @@ inline bool signBit(float x) { return std::signbit(x); }
 // (gamma(2n+2) ta_j bounds the rounding of t_j); returns the radius r of the interval
 // about m, enlarged to cover the rounding of m. Shared by the exclusion tests of
 // Yuksel's solver (rootFreeOrder) and of the closed forms (rootFree).
+// The two shifts run as one on (value, magnitude) pairs, a 2-lane vector (GCC/Clang
+// vector extension; the same arithmetic, half the instructions).
 template <class T, class D>
 T midpointTaylor(const LocalPoly<T>& g, D deg, T* t, T* ta) {
+  typedef T Pair __attribute__((vector_size(2 * sizeof(T))));
   const int n = deg;
   const T m = g.lo + (g.hi - g.lo) / 2;
-  for (int i = 0; i <= n; ++i) {
-    t[i] = g.c[i];
-    ta[i] = std::abs(g.c[i]);
-  }
-  const T am = std::abs(m);
+  Pair p[kMaxDegree + 1];
+  for (int i = 0; i <= n; ++i) p[i] = Pair{g.c[i], std::abs(g.c[i])};
+  const Pair mm = {m, std::abs(m)};
   for (int k = 0; k < n; ++k)
-    for (int i = n - 1; i >= k; --i) {
-      t[i] += m * t[i + 1];
-      ta[i] += am * ta[i + 1];
-    }
+    for (int i = n - 1; i >= k; --i) p[i] += mm * p[i + 1];
+  for (int i = 0; i <= n; ++i) {
+    t[i] = p[i][0];
+    ta[i] = p[i][1];
+  }
   return (g.hi - g.lo) / 2 * (1 + 4 * kUnit<T>);
 }
 

@@ -85,31 +85,34 @@ inline constexpr InverseBinomials<T> kInverseBinomials{};
 template <class T, class D>
 T toBernsteinWithBound(const LocalPoly<T>& g, D deg, T* b) {
   const int n = deg;
-  const T lo = g.lo, w = g.hi - g.lo, alo = std::abs(lo);
-  T a[kMaxDegree + 1], aa[kMaxDegree + 1];
-  for (int j = 0; j <= n; ++j) {
-    a[j] = g.c[j];
-    aa[j] = std::abs(g.c[j]);
-  }
+  const T lo = g.lo, w = g.hi - g.lo;
+  T a[kMaxDegree + 1];
+  std::copy(g.c.begin(), g.c.begin() + n + 1, a);
   for (int k = 0; k < n; ++k)
-    for (int i = n - 1; i >= k; --i) {
-      a[i] += lo * a[i + 1];
-      aa[i] += alo * aa[i + 1];
-    }
-  T p = 1, sumA = 0;
-  for (int j = 0; j <= n; ++j, p *= w) {
-    a[j] *= p;
-    aa[j] *= p;
-    sumA += aa[j];
-  }
+    for (int i = n - 1; i >= k; --i) a[i] += lo * a[i + 1];
+  T p = 1;
+  for (int j = 0; j <= n; ++j, p *= w) a[j] *= p;
+  // A = sum_j (shift of |C| by |lo|)_j w^j is |C| evaluated at |lo| + w: one Horner pass
+  // instead of a second shift. Rounded up: |lo| + w by 2u, the Horner sum of non-negative
+  // terms (at most 2n roundings each) by gamma(2n + 2).
+  const T x = (std::abs(lo) + w) * (1 + 2 * kUnit<T>);
+  T sumA = 0;
+  for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
+  sumA *= 1 + gammaT<T>(2 * n + 2);
   // b_i = sum_{j <= i} C(i, j) a_j / C(n, j): divide by C(n, j) (a table of reciprocals,
   // two roundings), then n passes of b_i += b_{i-1} (i from n down to k in pass k) form
   // the binomial sums with additions only (Pascal's rule), each of which rounds relative
   // to a partial sum of |a_j| / C(n, j) C(i, j) <= sum_j |a_j|.
   const T* inv = kInverseBinomials<T>.row(n);
   for (int j = 0; j <= n; ++j) b[j] = a[j] * inv[j];
-  for (int k = 1; k <= n; ++k)
-    for (int i = n; i >= k; --i) b[i] += b[i - 1];
+  for (int k = 1; k <= n; ++k) {
+    T cur = b[n];  // carried in a register (see splitBernstein)
+    for (int i = n; i >= k; --i) {
+      const T below = b[i - 1];
+      b[i] = cur + below;
+      cur = below;
+    }
+  }
   return gammaT<T>(4 * n + 4 + 3 * kSubdivideDepth<T>) * sumA;
 }
 
@@ -122,8 +125,16 @@ void splitBernstein(const T* b, D deg, T t, T* l, T* r) {
   const T s = 1 - t;  // exact for the dyadic ratios used
   l[0] = x[0];
   r[n] = x[n];
+  // The right neighbour is carried in a register: vectorised, the loop read x[i + 1]
+  // with 16-byte loads straddling two earlier 16-byte stores, a store-forwarding stall
+  // that was a third of a degree-12 solve (perf).
   for (int k = 1; k <= n; ++k) {
-    for (int i = 0; i <= n - k; ++i) x[i] = s * x[i] + t * x[i + 1];
+    T next = x[n - k + 1];
+    for (int i = n - k; i >= 0; --i) {
+      const T cur = x[i];
+      x[i] = s * cur + t * next;
+      next = cur;
+    }
     l[k] = x[0];
     r[n - k] = x[n - k];
   }
