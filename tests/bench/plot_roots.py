@@ -2,6 +2,7 @@
 """Plot the root-solver report (tests/bench/roots_report.cpp).
 
 Usage: /usr/bin/python3 tests/bench/plot_roots.py docs/roots.csv docs/roots.png
+       /usr/bin/python3 tests/bench/plot_roots.py --markdown docs/roots.csv  (README tables)
 
 One row per interval family (whole ray, one cell). Left: ns per solve against degree.
 Right: run time against error (p99 of |t - t_ref| in units of u cond(t_ref)), one marker
@@ -62,7 +63,37 @@ def main(src, dst):
     fig.savefig(dst, dpi=110)
 
 
+def markdown(src):
+    """The README's summary table per interval family: double precision, first root."""
+    rows = list(csv.DictReader(open(src)))
+    get = {(r["family"], r["method"], r["precision"], r["query"], int(r["degree"])): r for r in rows}
+    out = []
+    for family in sorted({r["family"] for r in rows}, key=lambda f: f != "ray"):
+        out.append(f"**{family} intervals**\n")
+        out.append("| degree | Auto ns | Sturm ns | Sturm / Auto | Bernstein ns | Auto err p99 / max (u cond) "
+                   "| Auto missed / noise / false | Sturm missed / noise / false |")
+        out.append("|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for d in sorted({int(r["degree"]) for r in rows if r["family"] == family}):
+            a = get.get((family, "Auto", "double", "first", d))
+            st = get.get((family, "Sturm", "double", "first", d))
+            b = get.get((family, "Bernstein", "double", "first", d))
+            if not (a and st):
+                continue
+            def mnf(r):
+                return f'{r["missed"]} / {r["noise_hits"]} / {r["false_hits"]}'
+            ta, ts = float(a["ns_per_solve"]), float(st["ns_per_solve"])
+            tb = f'{float(b["ns_per_solve"]):.0f}' if b else "-"
+            out.append(f'| {d} | {ta:.0f} | {ts:.0f} | {ts / ta:.2f} | {tb} '
+                       f'| {float(a["err_p99_ucond"]):.2f} / {float(a["err_max_ucond"]):.2f} '
+                       f'| {mnf(a)} | {mnf(st)} |')
+        out.append("")
+    return "\n".join(out)
+
+
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit("usage: plot_roots.py roots.csv roots.png")
-    main(sys.argv[1], sys.argv[2])
+    if len(sys.argv) == 3 and sys.argv[1] == "--markdown":
+        print(markdown(sys.argv[2]))
+    elif len(sys.argv) == 3:
+        main(sys.argv[1], sys.argv[2])
+    else:
+        sys.exit("usage: plot_roots.py roots.csv roots.png | plot_roots.py --markdown roots.csv")

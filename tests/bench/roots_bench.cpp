@@ -11,6 +11,7 @@
 // Run: build/tests/bench/roots_bench --benchmark_filter='degree:(3|4)/'
 //        --benchmark_counters_tabular=true
 // ClosedForm is registered for degrees 2-4 only: above it is Yuksel's recursion (roots.h).
+// BM_GalleryRays: the same query on real ray polynomials of the gallery surfaces (below).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -18,7 +19,12 @@
 #include <span>
 #include <vector>
 
+#include "algray/gallery.h"
 #include "algray/roots.h"
+#include "algray/taylor.h"
+
+#include <glm/geometric.hpp>
+#include <string>
 
 #include "roots_problems.h"
 
@@ -89,6 +95,63 @@ void BM_FirstRoot(benchmark::State& state) {
   state.counters["hit"] = benchmark::Counter(found, benchmark::Counter::kAvgIterations);
 }
 
+// Real ray polynomials: the primary rays of a 64 x 64 pinhole camera 3 clip radii from a
+// gallery surface's centre, framing its clip sphere (the shape of speed_report's camera),
+// restricted as the plugin does for rays with distinct origins (re-centred at the point
+// closest to the centre, taylor.h), with their rounding bounds, on the clip-sphere span.
+// Only rays that cross the clip sphere are kept.
+struct RayProblem {
+  algray::RayPolynomial g;
+  double lo, hi;
+};
+
+std::vector<RayProblem> galleryRays(const algray::GallerySurface& surface) {
+  const algray::HornerForm f(surface.build());
+  const double r = surface.clipRadius;
+  const glm::dvec3 eye = 3.0 * r * glm::normalize(glm::dvec3(1.0, -1.6, 0.9));
+  const glm::dvec3 forward = -glm::normalize(eye);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
+  const glm::dvec3 up = glm::cross(right, forward);
+  std::vector<RayProblem> out;
+  constexpr int kSide = 64;
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      const double px = (2.0 * (x + 0.5) / kSide - 1.0) * 0.37, py = (1.0 - 2.0 * (y + 0.5) / kSide) * 0.37;
+      const glm::dvec3 d = glm::normalize(forward + px * right + py * up);
+      const double tc = -glm::dot(eye, d), h2 = r * r - glm::dot(eye + tc * d, eye + tc * d);
+      if (!(h2 > 0.0)) continue;
+      const double t0 = tc - std::sqrt(h2), t1 = tc + std::sqrt(h2);
+      out.push_back({algray::restrictToRay(f, eye, d, tc), t0 - tc, t1 - tc});
+    }
+  return out;
+}
+
+// range(0): index into algray::gallery().
+template <RootMethod M>
+void BM_GalleryRays(benchmark::State& state) {
+  const algray::GallerySurface& surface = algray::gallery()[static_cast<size_t>(state.range(0))];
+  const std::vector<RayProblem> problems = galleryRays(surface);
+  state.SetLabel(std::string(surface.name));
+  algray::RootOptions o;
+  o.method = M;
+  size_t i = 0;
+  int found = 0;
+  for (auto _ : state) {
+    const RayProblem& p = problems[i++ % problems.size()];
+    const auto n = static_cast<size_t>(p.g.degree + 1);
+    auto root = algray::firstRoot(std::span<const double>(p.g.coeff.data(), n),
+                                  std::span<const double>(p.g.error.data(), n), p.lo, p.hi, o);
+    benchmark::DoNotOptimize(root);
+    found += root.has_value();
+  }
+  state.counters["hit"] = benchmark::Counter(found, benchmark::Counter::kAvgIterations);
+}
+
+void gallerySurfaces(benchmark::internal::Benchmark* b) {
+  for (size_t k = 0; k < algray::gallery().size(); ++k)
+    if (algray::gallery()[k].build().degree() >= 3) b->Arg(static_cast<int>(k));
+}
+
 void degrees(benchmark::internal::Benchmark* b) {
   for (int family : {0, 1}) {
     for (int d = 2; d <= 20; ++d) b->Args({d, family});
@@ -114,5 +177,8 @@ BENCHMARK(BM_FirstRoot<RootMethod::Bernstein, false>)
     ->Apply(degrees)
     ->ArgNames({"degree", "cell"});
 BENCHMARK(BM_FirstRoot<RootMethod::Auto, true>)->Apply(degrees)->ArgNames({"degree", "cell"});
+BENCHMARK(BM_GalleryRays<RootMethod::Auto>)->Apply(gallerySurfaces)->ArgName("surface");
+BENCHMARK(BM_GalleryRays<RootMethod::Sturm>)->Apply(gallerySurfaces)->ArgName("surface");
+BENCHMARK(BM_GalleryRays<RootMethod::Bernstein>)->Apply(gallerySurfaces)->ArgName("surface");
 
 BENCHMARK_MAIN();

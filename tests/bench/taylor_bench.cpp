@@ -115,8 +115,32 @@ void BM_GalleryShifted(benchmark::State& state, const algray::GallerySurface* su
   state.counters["dense_terms"] = Polynomial::termCount(shifted.degree());
 }
 
+// The direct restriction (rays with distinct origins: shadow and bounce rays, and every
+// ray of a camera too far for the origin cache) of a gallery surface, from its dense
+// graded Polynomial or from its precompiled HornerForm (the adapter's path): the same
+// coefficients bit for bit (tests/taylor_test.cpp), only the box f occupies visited.
+void BM_GalleryDirect(benchmark::State& state, const algray::GallerySurface* surface, bool box) {
+  const Polynomial f = surface->build();
+  const algray::HornerForm horner(f);
+  const glm::dvec3 o = glm::dvec3(0.6, -0.8, 2.5) * surface->clipRadius;
+  const auto dirs = directions(1024);
+  size_t r = 0;
+  for (auto _ : state) {
+    const glm::dvec3 d = dirs[r++ & 1023];
+    const double tShift = algray::closestParameter(o, d, glm::dvec3(0.0));
+    auto g = box ? algray::restrictToRay(horner, o, d, tShift) : algray::restrictToRay(f, o, d, tShift);
+    benchmark::DoNotOptimize(g);
+  }
+  state.counters["terms_f"] = f.nonZeroCount();
+  state.counters["box_slots"] = horner.coefficientCount();
+}
+
 const bool kGalleryRegistered = [] {
   for (const algray::GallerySurface& s : algray::gallery()) {
+    benchmark::RegisterBenchmark(("BM_GalleryDirect/polynomial/" + std::string(s.name)).c_str(),
+                                 BM_GalleryDirect, &s, false);
+    benchmark::RegisterBenchmark(("BM_GalleryDirect/horner-box/" + std::string(s.name)).c_str(),
+                                 BM_GalleryDirect, &s, true);
     benchmark::RegisterBenchmark(("BM_GalleryShifted/library/" + std::string(s.name)).c_str(),
                                  BM_GalleryShifted, &s, true);
     benchmark::RegisterBenchmark(("BM_GalleryShifted/sparse-list/" + std::string(s.name)).c_str(),
