@@ -50,7 +50,14 @@ void normalize(double* a, int n) {
   if (mx == 0) return;
   int e = 0;
   std::frexp(mx, &e);
-  for (int i = 0; i <= n; ++i) a[i] = std::ldexp(a[i], -e);
+  // One multiplication by 2^-e per coefficient: rounded exactly as ldexp rounds (a single
+  // correctly rounded operation), without a library call each.
+  if (e > -1020 && e < 1020) {
+    const double scale = std::ldexp(1.0, -e);
+    for (int i = 0; i <= n; ++i) a[i] *= scale;
+  } else {
+    for (int i = 0; i <= n; ++i) a[i] = std::ldexp(a[i], -e);
+  }
 }
 
 void build(const LocalPoly<double>& g, SturmSequence& s) {
@@ -70,8 +77,9 @@ void build(const LocalPoly<double>& g, SturmSequence& s) {
     const int da = s.deg[s.size - 2];
     std::copy(s.p[s.size - 2], s.p[s.size - 2] + da + 1, r);
     double big = 1;  // largest multiple of the divisor subtracted: the cancellation scale
+    const double invLead = 1.0 / b[db];  // one division, not one per quotient term
     for (int k = da - db; k >= 0; --k) {
-      const double q = r[db + k] / b[db];
+      const double q = r[db + k] * invLead;
       big = std::max(big, std::abs(q));
       for (int j = 0; j <= db; ++j) r[j + k] -= q * b[j];
     }
