@@ -28,6 +28,20 @@ inline void mulLinear(Pair* q, int deg, Pair p, Pair d) {
   q[0] = p * q[0];
 }
 
+// H <- H * (p + d s) + c on both chains, H of degree degH (-1: still zero, and then a zero
+// c is skipped, so leading zero coefficients of a sparse column cost nothing).
+inline void hornerStep(Pair* h, int& degH, double c, Pair p, Pair d) {
+  if (degH < 0 && c == 0.0) return;
+  const Pair term = {c, std::abs(c)};
+  if (degH < 0) {
+    h[0] = term;
+  } else {
+    mulLinear(h, degH, p, d);
+    h[0] += term;
+  }
+  ++degH;
+}
+
 // Degree as a template parameter (Yuksel's cyPolynomial style): with a compile-time
 // degree every loop bound is known and the compiler unrolls the small ones; kDynamic
 // reads the degree at run time.
@@ -56,18 +70,7 @@ void nestedHorner(const double* c, int mRuntime, const glm::dvec3& p, const glm:
       // H = sum_k c_ijk Z^k by Horner; leading zero coefficients are skipped, so sparse
       // columns cost nothing.
       int degH = -1;
-      for (int k = m - i - j; k >= 0; --k) {
-        const double cijk = c[Polynomial::index(i, j, k)];
-        if (degH < 0 && cijk == 0.0) continue;
-        const Pair term = {cijk, std::abs(cijk)};
-        if (degH < 0) {
-          fz[0] = term;
-        } else {
-          mulLinear(fz, degH, pz, dz);
-          fz[0] += term;
-        }
-        ++degH;
-      }
+      for (int k = m - i - j; k >= 0; --k) hornerStep(fz, degH, c[Polynomial::index(i, j, k)], pz, dz);
       for (int r = 0; r <= degH; ++r) fy[r] += fz[r];
       fyZero = fyZero && degH < 0;
     }
@@ -103,17 +106,7 @@ void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, do
     for (int r = 0; r < rows; ++r) {
       if (degF >= 0) mulLinear(fy, degF++, py, dy);
       int degH = -1;
-      for (const HornerForm::Slot* end = s + *len++; s != end; ++s) {
-        if (degH < 0 && s->c == 0.0) continue;
-        const Pair term = {s->c, std::abs(s->c)};
-        if (degH < 0) {
-          fz[0] = term;
-        } else {
-          mulLinear(fz, degH, pz, dz);
-          fz[0] += term;
-        }
-        ++degH;
-      }
+      for (const HornerForm::Slot* end = s + *len++; s != end; ++s) hornerStep(fz, degH, s->c, pz, dz);
       if (degH >= 0) degF = accumulate(fy, degF, fz, degH);
     }
     if (degF >= 0) degG = accumulate(gx, degG, fy, degF);

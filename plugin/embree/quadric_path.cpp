@@ -26,28 +26,6 @@ namespace algray {
 
 namespace {
 
-// |v| without overflow or underflow of the squares (as in surface_intersect.cpp).
-double safeLength(const glm::dvec3& v) {
-  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-  if (!(m > 0.0) || !std::isfinite(m)) return m;
-  return m * glm::length(v / m);
-}
-
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-// The self-root rule's division by s (surface_intersect.cpp, deflateAtZero), repeated
-// while the new constant term is zero within its bound.
-void deflateAtZero(QuadricRay& g) {
-  do {
-    for (int i = 0; i < g.degree; ++i) {
-      g.c[i] = g.c[i + 1];
-      g.err[i] = g.err[i + 1];
-    }
-    g.c[g.degree] = g.err[g.degree] = 0.0;
-    --g.degree;
-  } while (g.degree > 0 && std::abs(g.c[0]) <= 4.0 * g.err[0]);
-}
-
 // ---- Roots by firstRoot's rules, in the caller's frame --------------------------------
 // firstRoot maps g to a local frame by powers of two (exact), so every comparison of its
 // sweep (roots_scan.h: |g| against the noise bound, signs, the closed-form root inside
@@ -222,7 +200,7 @@ void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0
   g.err[0] = at.error + shiftError0;
   g.err[1] = gamma(7) * glm::dot(2.0 * (q.absA * absP) + q.absB, absD) + shiftError1;
   g.err[2] = gamma(5) * glm::dot(absD, q.absA * absD);
-  if (onSurface) deflateAtZero(g);
+  if (onSurface) deflateAtZero(g.degree, g.c, g.err);
 }
 
 // ---- The box of a bounded quadric ----------------------------------------------------------

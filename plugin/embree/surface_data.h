@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -163,5 +164,31 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q);
 // The first root s of q.g in (slo, q.shi] by the rules of firstRoot (algray/roots.h): a
 // root within noise of slo is not reported, so slo = the previous root gives the next.
 bool quadricRoot(const QuadricSpan& q, double slo, double& s);
+
+// ---- Small helpers shared by the kernels -------------------------------------------
+inline bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// |v| without overflow or underflow of the squares (a gradient of a surface with
+// coefficients like 1e200 is ~1e200; its square is not a double).
+inline double safeLength(const glm::dvec3& v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(m > 0.0) || !std::isfinite(m)) return m;
+  return m * glm::length(v / m);
+}
+
+// The self-root rule's division by s (surface_intersect.cpp): g(0) = 0 is removed from
+// g = sum c_i s^i (error bounds err_i), repeated while the new constant term is zero
+// within its bound (a ray tangent at its origin, or an origin at a singular point).
+template <class Array>
+void deflateAtZero(int& degree, Array& c, Array& err) {
+  do {
+    for (int i = 0; i < degree; ++i) {
+      c[i] = c[i + 1];
+      err[i] = err[i + 1];
+    }
+    c[degree] = err[degree] = 0.0;
+    --degree;
+  } while (degree > 0 && std::abs(c[0]) <= 4.0 * err[0]);
+}
 
 }  // namespace algray

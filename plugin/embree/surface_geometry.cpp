@@ -28,10 +28,6 @@ std::string str(const glm::dvec3& v) {
   return s.str();
 }
 
-bool finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 [[noreturn]] void fail(const std::string& what) { throw Error("algray::SurfaceGeometry: " + what); }
 
 // ---- Validation ------------------------------------------------------------------------

@@ -128,13 +128,6 @@ CacheEntry* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
   return &e;
 }
 
-// |v| without overflow or underflow of the squares (a gradient of a surface with
-// coefficients like 1e200 is ~1e200; its square is not a double).
-double safeLength(const glm::dvec3& v) {
-  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-  if (!(m > 0.0) || !std::isfinite(m)) return m;
-  return m * glm::length(v / m);
-}
 
 // ---- Self-root rule ------------------------------------------------------------------
 // A ray leaving the surface starts at a point p that is on the surface only up to
@@ -176,16 +169,6 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
 
-void deflateAtZero(RayPolynomial& g) {
-  do {
-    for (int i = 0; i < g.degree; ++i) {
-      g.coeff[i] = g.coeff[i + 1];
-      g.error[i] = g.error[i + 1];
-    }
-    g.coeff[g.degree] = g.error[g.degree] = 0.0;
-    --g.degree;
-  } while (g.degree > 0 && std::abs(g.coeff[0]) <= 4.0 * g.error[0]);
-}
 
 // ---- Polish --------------------------------------------------------------------------
 // Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
@@ -213,9 +196,6 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
   return std::abs(e.value) <= e.valueError;
 }
 
-bool finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 // ---- Quadrics --------------------------------------------------------------------------
 // Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
@@ -275,7 +255,7 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
   }
   if (originOnSurface(data, ray)) {
     g = restrictToRay(data.horner, o, d, 0.0);
-    if (g.degree > 0) deflateAtZero(g);
+    if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     return nullptr;
   }
   if (CacheEntry* entry = data.desc.options.originCache ? cachedExpansion(data, o) : nullptr) {
