@@ -339,25 +339,6 @@ bool cellHoldsClipRegion(const SurfaceData& data) {
 
 namespace {
 
-// The cell clip of walkRoots: clipToBox of surface_intersect.cpp with widen = true,
-// operation for operation (the same span, so the same roots as the generic walk).
-bool clipToCell(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                double& t1) {
-  for (int i = 0; i < 3; ++i) {
-    if (d[i] == 0.0) {
-      if (o[i] < lo[i] || o[i] > hi[i]) return false;
-      continue;
-    }
-    const double inv = 1.0 / d[i];
-    double ta = (lo[i] - o[i]) * inv, tb = (hi[i] - o[i]) * inv;
-    if (ta > tb) std::swap(ta, tb);
-    ta -= 2.0 * gamma(3) * std::abs(ta);
-    tb += 2.0 * gamma(3) * std::abs(tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  return t0 <= t1;
-}
 
 }  // namespace
 
@@ -401,7 +382,7 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
     const QuadricBox& box = data.quadricBox;
     const glm::dvec3 oc = o - data.centre;
     const bool covered = ray.orgError <= box.orgError && glm::dot(oc, oc) <= box.distance * box.distance;
-    if (!covered && !clipToCell(data.cells.front().lo, data.cells.front().hi, o, d, c0, c1)) return false;
+    if (!covered && !clipToBox(data.cells.front().lo, data.cells.front().hi, o, d, c0, c1, true)) return false;
   }
   const double lo = std::max(c0, ray.tnear), hi = std::min(c1, ray.tfar);
   if (!(lo < hi)) return false;

@@ -176,6 +176,31 @@ inline double safeLength(const glm::dvec3& v) {
   return m * glm::length(v / m);
 }
 
+// Slab test (Kay & Kajiya), written so that a zero direction component keeps the ray
+// inside or outside the slab instead of producing 0 * inf = NaN. With widen = true both
+// ends of each slab are widened by 2 gamma(3) of their magnitude (the subtraction and the
+// product round once each; pbrt-v4 Sec. 6.8.7 widens the far end): adjacent cells then
+// overlap by rounding, so a root on a shared face is never lost between them.
+inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& o,
+               const glm::dvec3& d, double& t0, double& t1, bool widen = false) {
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0.0) {
+      if (o[i] < lo[i] || o[i] > hi[i]) return false;
+      continue;
+    }
+    const double inv = 1.0 / d[i];
+    double ta = (lo[i] - o[i]) * inv, tb = (hi[i] - o[i]) * inv;
+    if (ta > tb) std::swap(ta, tb);
+    if (widen) {
+      ta -= 2.0 * gamma(3) * std::abs(ta);
+      tb += 2.0 * gamma(3) * std::abs(tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
 // The self-root rule's division by s (surface_intersect.cpp): g(0) = 0 is removed from
 // g = sum c_i s^i (error bounds err_i), repeated while the new constant term is zero
 // within its bound (a ray tangent at its origin, or an origin at a singular point).

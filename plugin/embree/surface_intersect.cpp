@@ -28,30 +28,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // ---- Clipping ----------------------------------------------------------------------
-// Slab test (Kay & Kajiya), written so that a zero direction component keeps the ray
-// inside or outside the slab instead of producing 0 * inf = NaN. With widen = true both
-// ends of each slab are widened by 2 gamma(3) of their magnitude (the subtraction and the
-// product round once each; pbrt-v4 Sec. 6.8.7 widens the far end): adjacent cells then
-// overlap by rounding, so a root on a shared face is never lost between them.
-bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& o,
-               const glm::dvec3& d, double& t0, double& t1, bool widen = false) {
-  for (int i = 0; i < 3; ++i) {
-    if (d[i] == 0.0) {
-      if (o[i] < lo[i] || o[i] > hi[i]) return false;
-      continue;
-    }
-    const double inv = 1.0 / d[i];
-    double ta = (lo[i] - o[i]) * inv, tb = (hi[i] - o[i]) * inv;
-    if (ta > tb) std::swap(ta, tb);
-    if (widen) {
-      ta -= 2.0 * gamma(3) * std::abs(ta);
-      tb += 2.0 * gamma(3) * std::abs(tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  return t0 <= t1;
-}
 
 // Sphere by the closest point of the line to the centre (pbrt-v4, Sec. 6.8.1: the chord
 // half-length from R^2 - |q|^2 avoids the cancellation of the textbook quadratic when
