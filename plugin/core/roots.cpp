@@ -124,13 +124,26 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
 
   // ---- Coefficients C_j = c_j 2^(j e - E), max |C_j| in [1, 2) ----------------------
   const T gEval = gammaT<T>(2 * n + 1);  // one Horner evaluation, Higham Eq. (5.3)
-  for (int j = 0; j <= n; ++j) {
-    const int shift = j * e - eMax;
-    g.c[j] = scale2(c[j], shift);
-    const T ej = err.empty() ? T(0) : scale2(std::abs(err[j]), shift);
-    // |computed G(v) - exact G(v)| <= sum_j (err_j + gamma(2n+1) |C_j|) |v|^j.
-    g.noise[j] = ej + gEval * std::abs(g.c[j]);
-    if (!std::isfinite(g.noise[j])) return false;  // err beyond the range of C
+  // |computed G(v) - exact G(v)| <= sum_j (err_j + gamma(2n+1) |C_j|) |v|^j.
+  using Limits = std::numeric_limits<T>;
+  const int s0 = -eMax, s1 = n * e - eMax;  // the shifts are monotone in j
+  if (std::min(s0, s1) >= Limits::min_exponent - 1 && std::max(s0, s1) <= Limits::max_exponent - 1) {
+    // Every factor 2^shift is a normal number: one correctly rounded product each, the
+    // same result as ldexp, without its range checks.
+    for (int j = 0; j <= n; ++j) {
+      const T p = pow2<T>(j * e - eMax);
+      g.c[j] = c[j] * p;
+      g.noise[j] = (err.empty() ? T(0) : std::abs(err[j]) * p) + gEval * std::abs(g.c[j]);
+      if (!std::isfinite(g.noise[j])) return false;  // err beyond the range of C
+    }
+  } else {
+    for (int j = 0; j <= n; ++j) {
+      const int shift = j * e - eMax;
+      g.c[j] = scale2(c[j], shift);
+      const T ej = err.empty() ? T(0) : scale2(std::abs(err[j]), shift);
+      g.noise[j] = ej + gEval * std::abs(g.c[j]);
+      if (!std::isfinite(g.noise[j])) return false;
+    }
   }
 
   // ---- Drop leading coefficients that are noise -------------------------------------
