@@ -11,7 +11,10 @@
 //    tangent candidate there (the same verdict the sweep would reach);
 //  * monotonicity: G' has the Bernstein coefficients n (b_{i+1} - b_i); if all
 //    differences have one sign beyond 2E the node is one monotone piece, and the sweep of
-//    roots_scan.h runs on it with no critical point (Newton on the power form G itself).
+//    roots_scan.h runs on it with no critical point (Newton on the power form G itself);
+//  * one root: if every b_i clears E plus the noise bound and they change sign exactly once,
+//    the node holds exactly one simple root (Descartes' rule, oneVariation below), and the
+//    same sweep brackets it.
 // Anything else is split by de Casteljau's algorithm, left half first, so the first node
 // with a root ends a First/Any query (Lane and Riesenfeld, "Bounds on a polynomial", BIT
 // 21, 1981; Farin, "Curves and Surfaces for CAGD", Sec. 4.2). A node still undecided at

@@ -165,18 +165,22 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
                     maxOut);
 }
 
-// Where the subdivision of roots_subdivide.h pays. tests/bench/roots_report.cpp, same run,
-// ns per first root on whole-ray intervals, before -> after: degree 6 481 -> 498 (even),
-// 8 1137 -> 700, 10 2005 -> 804, 12 3952 -> 851, 16 7783 -> 2753, 20 14258 -> 5158,
-// 30 35884 -> 30561, 40 61956 -> 109705. But on real rays through Chmutov's degree-16
-// surface (Chebyshev coefficients, |g| small against sum|c_i| along most of the span, so
-// the rounding bound excludes little) algray-render's direct integrator was 1.4x slower
-// with it (1.6 s against 1.1-1.2 s, 256^2, alternating runs), while Sarti and Chmutov-12
-// (degree 12) were 1.2x faster and the degree 4-6 surfaces even within noise: degrees 3
-// to 12. On a short interval (a ray's span in one cell) the exclusion test of
-// rootFreeOrder usually proves a low derivative root-free at once, and then the recursion
-// is cheaper than any subdivision (cell intervals, degree 6-12: 229-676 ns with it first,
-// 342-695 ns without).
+// Where the subdivision of roots_subdivide.h pays. Session 2 (tests/bench/roots_report.cpp,
+// whole-ray intervals, ns before -> after): degree 6 481 -> 498, 8 1137 -> 700, 10 2005 ->
+// 804, 12 3952 -> 851, 16 7783 -> 2753, 20 14258 -> 5158; it was then limited to degree 12
+// because Chmutov-16's real rays got 1.4x slower. With Descartes' one-variation nodes
+// (session 3; roots_bench, same run, ns with the limit at 12 -> 20): ray 16 4566 -> 1021,
+// 20 7508 -> 2262; cell 16 564 -> 485, 20 945 -> 1010; Chmutov-16's real rays 6418 -> 4132
+// (BM_GalleryRays). Above 20 it loses: ray 30 20057 -> 16479 but 40 33842 -> 39237, cell
+// 30 3476 -> 5458 and 40 5704 -> 17192 (ray polynomials of degree 30-40 cancel 13 digits
+// in power form, so nodes near their roots stay within the rounding margin; a larger node
+// budget, 8n, made it 2-5x worse still). Also measured and not kept: Sturm's solver for
+// the nodes the budget leaves (Chmutov-16 4032 -> 2296 ns, degree 30 ray 20057 -> 5165),
+// because its end rules merge a root with a noise-level end, so firstRoot(c, err,
+// previousRoot, hi) no longer walks every root (RootsKnown.Wilkinson,
+// RootsKnown.RandomRootsAllDegrees fail). On a short interval (a ray's span in one cell)
+// the exclusion test of rootFreeOrder usually proves a low derivative root-free at once,
+// and then the recursion is cheaper than any subdivision.
 constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 20;
 constexpr int kShortOrder = 3;
 
