@@ -3,6 +3,7 @@
 
 Usage: /usr/bin/python3 tests/bench/plot_roots.py docs/roots.csv docs/roots.png
        /usr/bin/python3 tests/bench/plot_roots.py --markdown docs/roots.csv  (README tables)
+       /usr/bin/python3 tests/bench/plot_roots.py --markdown-full docs/roots.csv  (every column)
 
 One row per interval family (whole ray, one cell). Left: ns per solve against degree.
 Right: run time against error (p99 of |t - t_ref| in units of u cond(t_ref)), one marker
@@ -63,16 +64,19 @@ def main(src, dst):
     fig.savefig(dst, dpi=110)
 
 
-def markdown(src):
-    """The README's summary table per interval family: double precision, first root."""
+def markdown(src, full=False):
+    """The README's summary table per interval family: double precision, first root; with
+    full, also ClosedForm, hasRoot, Bernstein's misses and the float solver (docs)."""
     rows = list(csv.DictReader(open(src)))
     get = {(r["family"], r["method"], r["precision"], r["query"], int(r["degree"])): r for r in rows}
     out = []
+    extra = (" | ClosedForm ns | Auto any ns | Bernstein missed / noise / false | float Auto ns "
+             "| float err p99 | float noise / false" if full else "")
     for family in sorted({r["family"] for r in rows}, key=lambda f: f != "ray"):
         out.append(f"**{family} intervals**\n")
         out.append("| degree | Auto ns | Sturm ns | Sturm / Auto | Bernstein ns | Auto err p99 / max (u cond) "
-                   "| Auto missed / noise / false | Sturm missed / noise / false |")
-        out.append("|---:|---:|---:|---:|---:|---:|---:|---:|")
+                   "| Auto missed / noise / false | Sturm missed / noise / false" + extra + " |")
+        out.append("|---:|---:|---:|---:|---:|---:|---:|---:|" + ("---:|" * 6 if full else ""))
         for d in sorted({int(r["degree"]) for r in rows if r["family"] == family}):
             a = get.get((family, "Auto", "double", "first", d))
             st = get.get((family, "Sturm", "double", "first", d))
@@ -83,16 +87,26 @@ def markdown(src):
                 return f'{r["missed"]} / {r["noise_hits"]} / {r["false_hits"]}'
             ta, ts = float(a["ns_per_solve"]), float(st["ns_per_solve"])
             tb = f'{float(b["ns_per_solve"]):.0f}' if b else "-"
-            out.append(f'| {d} | {ta:.0f} | {ts:.0f} | {ts / ta:.2f} | {tb} '
-                       f'| {float(a["err_p99_ucond"]):.2f} / {float(a["err_max_ucond"]):.2f} '
-                       f'| {mnf(a)} | {mnf(st)} |')
+            row = (f'| {d} | {ta:.0f} | {ts:.0f} | {ts / ta:.2f} | {tb} '
+                   f'| {float(a["err_p99_ucond"]):.2f} / {float(a["err_max_ucond"]):.2f} '
+                   f'| {mnf(a)} | {mnf(st)} |')
+            if full:
+                cf = get.get((family, "ClosedForm", "double", "first", d))
+                an = get.get((family, "Auto", "double", "any", d))
+                fl = get.get((family, "Auto", "float", "first", d))
+                row += (f' {float(cf["ns_per_solve"]):.0f} |' if cf else " - |")
+                row += (f' {float(an["ns_per_solve"]):.0f} |' if an else " - |")
+                row += (f' {mnf(b)} |' if b else " - |")
+                row += (f' {float(fl["ns_per_solve"]):.0f} | {float(fl["err_p99_ucond"]):.2f} '
+                        f'| {fl["noise_hits"]} / {fl["false_hits"]} |' if fl else " - | - | - |")
+            out.append(row)
         out.append("")
     return "\n".join(out)
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 3 and sys.argv[1] == "--markdown":
-        print(markdown(sys.argv[2]))
+    if len(sys.argv) == 3 and sys.argv[1] in ("--markdown", "--markdown-full"):
+        print(markdown(sys.argv[2], full=sys.argv[1] == "--markdown-full"))
     elif len(sys.argv) == 3:
         main(sys.argv[1], sys.argv[2])
     else:
