@@ -177,7 +177,10 @@ void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0
   const double moveRound = ray.orgRoundoff * glm::dot(absG, glm::abs(o));
   const double moveUpper = moveRound + (1.0 + 0x1p-20) * (absG.x + absG.y + absG.z) * ray.orgError;
   const bool onSurface = !(std::abs(at.value) > 4.0 * at.error + 2.0 * moveUpper) &&
-                         std::abs(at.value) <= 4.0 * at.error + 2.0 * (moveRound + safeLength(at.gradient) * ray.orgError);
+                         std::abs(at.value) <= 4.0 * at.error +
+                                                   2.0 * (moveRound + (ray.orgError != 0.0
+                                                                           ? safeLength(at.gradient) * ray.orgError
+                                                                           : 0.0));
   double tShift = 0.0;
   glm::dvec3 p = o;
   double shiftError0 = 0.0, shiftError1 = 0.0;

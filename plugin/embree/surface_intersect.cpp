@@ -125,7 +125,8 @@ struct OriginValue {
   glm::dvec3 org{0.0};
   double value = 0, valueError = 0;
   double gradDotOrg = 0;  // |grad f| . |o|
-  double gradLength = 0;  // ||grad f||
+  glm::dvec3 gradient{0.0};
+  double gradLength = -1;  // ||grad f||, computed when a ray has an origin error (-1: not yet)
 };
 thread_local OriginValue tlsOriginValue;
 
@@ -137,11 +138,18 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
     v.value = e.value;
     v.valueError = e.valueError;
     v.gradDotOrg = glm::dot(glm::abs(e.gradient), glm::abs(ray.org));
-    v.gradLength = safeLength(e.gradient);
+    v.gradient = e.gradient;
+    v.gradLength = -1;
     v.org = ray.org;
     v.id = data.id;
   }
-  const double move = ray.orgRoundoff * v.gradDotOrg + v.gradLength * ray.orgError;
+  // A float ray's origin is exact (orgError = 0): no length, whose square root and
+  // divisions were the largest single cost of a shadow ray leaving a quadric.
+  double move = ray.orgRoundoff * v.gradDotOrg;
+  if (ray.orgError != 0.0) {
+    if (v.gradLength < 0) v.gradLength = safeLength(v.gradient);
+    move += v.gradLength * ray.orgError;
+  }
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
 
