@@ -286,8 +286,9 @@ void validate(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
 constexpr int kProbeLines = 24;
 constexpr double kSkipCoverage = 0.33;  // kMaxCoverage plus 3 standard errors of the sample
 
-double probedCoverage(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+double probedCoverage(const Polynomial& poly, const glm::dvec3& lo, const glm::dvec3& hi,
                       const std::optional<CellSphere>& sphere) {
+  const HornerForm f(poly);  // the restriction over f's own terms (taylor.h)
   double sum = 0.0;
   for (int a = 0; a < 3; ++a) {
     const int u = (a + 1) % 3, v = (a + 2) % 3;
