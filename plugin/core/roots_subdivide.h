@@ -46,8 +46,17 @@ namespace algray::roots_detail {
 // Split ratios are dyadic with 4 bits (1/2, 7/16, 9/16, 3/8, 5/8), so the node ends u0, u1
 // are exact for up to 53/4 (double) or 24/4 (float) levels and coincide with the de
 // Casteljau parameters.
+// Depth cap: a node still undecided after 5 splits (1/32 of the span) goes to Yuksel's
+// recursion, whose exclusion test usually settles so short a piece at a low derivative.
+// Measured (roots_bench BM_GalleryRays and BM_FirstRoot, same session, ns per solve for
+// depth 3 / 4 / 5 / 6 / 7 / 8 / 10 / 20): Chmutov-16's real rays 2297 / 1675 / 1335 /
+// 1552 / 2080 / 2619 / 4176 / 5581, Sarti's 762 / 568 / 529 / 526 / 523 / 531 / 563 /
+// 551, random whole rays of degree 16 943 / 803 / 763 / 794 / 878 / 884 / 862 / 1052 and
+// degree 12 445 / 369 / 349 / 341 / 337 / 340 / 391 / 373; degrees 6-8 and the Barth
+// sextic within noise. Deeper nodes cost an O(n^2) split each and, where g is small
+// against its coefficients (Chebyshev-like ray polynomials), rarely decide.
 template <class T>
-inline constexpr int kSubdivideDepth = std::is_same_v<T, double> ? 10 : 5;
+inline constexpr int kSubdivideDepth = 5;
 // Nodes examined before the rest of the interval, from the first node not yet examined
 // to hi, goes to the recursion in one piece: a polynomial whose Bernstein bound E is
 // large against its values (high degree, much cancellation, |g| small along much of the
