@@ -560,6 +560,25 @@ void rejectEveryOther(const RTCFilterFunctionNArguments* args) {
 }
 }  // namespace
 
+// The fields of two float hit records a host reads, bit for bit.
+void expectSameFloatHit(const RTCRayHit& a, const RTCRayHit& b) {
+  EXPECT_EQ(a.hit.geomID, b.hit.geomID);
+  EXPECT_EQ(a.ray.tfar, b.ray.tfar);
+  EXPECT_EQ(a.hit.Ng_x, b.hit.Ng_x);
+  EXPECT_EQ(a.hit.Ng_y, b.hit.Ng_y);
+  EXPECT_EQ(a.hit.Ng_z, b.hit.Ng_z);
+  EXPECT_EQ(a.hit.u, b.hit.u);
+  EXPECT_EQ(a.hit.v, b.hit.v);
+}
+
+RayD unboundedRay(const glm::dvec3& o, const glm::dvec3& d) {
+  RayD ray;
+  ray.org = o;
+  ray.dir = d;
+  ray.tfar = std::numeric_limits<double>::infinity();
+  return ray;
+}
+
 TEST_F(EmbreeHits, QuadricCallbacksMatchGenericWalk) {
   // The dedicated quadric callbacks (quadric_path.cpp) against the generic walk of the
   // same closed-form restriction (SurfaceOptions::quadricCallbacks = false): the same
@@ -619,17 +638,9 @@ TEST_F(EmbreeHits, QuadricCallbacksMatchGenericWalk) {
           filterCalls = 0;
           fb = intersect1(sb, fb);
           EXPECT_EQ(seenA, filterCalls);
-          EXPECT_EQ(fa.hit.geomID, fb.hit.geomID);
-          EXPECT_EQ(fa.ray.tfar, fb.ray.tfar);
-          EXPECT_EQ(fa.hit.Ng_x, fb.hit.Ng_x);
-          EXPECT_EQ(fa.hit.Ng_z, fb.hit.Ng_z);
-          EXPECT_EQ(fa.hit.u, fb.hit.u);
-          EXPECT_EQ(fa.hit.v, fb.hit.v);
+          expectSameFloatHit(fa, fb);
           // Double rays.
-          RayD ray;
-          ray.org = o;
-          ray.dir = d;
-          ray.tfar = std::numeric_limits<double>::infinity();
+          const RayD ray = unboundedRay(o, d);
           filterCalls = 0;
           const HitD ha = intersectD(sa, ray);
           filterCalls = 0;
@@ -797,14 +808,8 @@ TEST_F(EmbreeHits, QuadricTightBoundsKeepHits) {
           const glm::dvec3 d(glm::vec3(target - o));
           const RTCRayHit fa = intersect1(sa, makeRay(glm::vec3(o), glm::vec3(d)));
           const RTCRayHit fb = intersect1(sb, makeRay(glm::vec3(o), glm::vec3(d)));
-          ASSERT_EQ(fa.hit.geomID, fb.hit.geomID);
-          EXPECT_EQ(fa.ray.tfar, fb.ray.tfar);
-          EXPECT_EQ(fa.hit.Ng_x, fb.hit.Ng_x);
-          EXPECT_EQ(fa.hit.u, fb.hit.u);
-          RayD ray;
-          ray.org = o;
-          ray.dir = d;
-          ray.tfar = std::numeric_limits<double>::infinity();
+          expectSameFloatHit(fa, fb);
+          const RayD ray = unboundedRay(o, d);
           const HitD ha = intersectD(sa, ray), hb = intersectD(sb, ray);
           ASSERT_EQ(ha.hit, hb.hit);
           if (!ha.hit) continue;
