@@ -171,17 +171,22 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
 // because Chmutov-16's real rays got 1.4x slower. With Descartes' one-variation nodes
 // (session 3; roots_bench, same run, ns with the limit at 12 -> 20): ray 16 4566 -> 1021,
 // 20 7508 -> 2262; cell 16 564 -> 485, 20 945 -> 1010; Chmutov-16's real rays 6418 -> 4132
-// (BM_GalleryRays). Above 20 it loses: ray 30 20057 -> 16479 but 40 33842 -> 39237, cell
-// 30 3476 -> 5458 and 40 5704 -> 17192 (ray polynomials of degree 30-40 cancel 13 digits
-// in power form, so nodes near their roots stay within the rounding margin; a larger node
-// budget, 8n, made it 2-5x worse still). Also measured and not kept: Sturm's solver for
+// (BM_GalleryRays). Above 20 on every interval it loses (depth cap 10 then): ray 30 20057 ->
+// 16479 but 40 33842 -> 39237, cell 30 3476 -> 5458 and 40 5704 -> 17192 (ray polynomials
+// of degree 30-40 cancel 13 digits in power form, so nodes near their roots stay within
+// the rounding margin; a larger node budget, 8n, made it 2-5x worse still); hence the rule
+// below for degrees above 20. Also measured and not kept: Sturm's solver for
 // the nodes the budget leaves (Chmutov-16 4032 -> 2296 ns, degree 30 ray 20057 -> 5165),
 // because its end rules merge a root with a noise-level end, so firstRoot(c, err,
 // previousRoot, hi) no longer walks every root (RootsKnown.Wilkinson,
 // RootsKnown.RandomRootsAllDegrees fail). On a short interval (a ray's span in one cell)
 // the exclusion test of rootFreeOrder usually proves a low derivative root-free at once,
 // and then the recursion is cheaper than any subdivision.
-constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 20;
+// Above degree 20 (session 3, roots_bench, ns, without -> with): the subdivision only
+// where the exclusion test proves no derivative but the constant one root-free, i.e. on
+// long spans: whole rays of degree 30 19762 -> 10396, 40 32895 -> 24443; cells (nearly
+// always settled by the test) 3320 -> 3273 and 5266 -> 5366.
+constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 40, kRecursionFirstDegree = 20;
 constexpr int kShortOrder = 3;
 
 template <class T, class D>
@@ -196,11 +201,14 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
     return order == 0 ? 0 : solveDirect(piece, deg, order, q, tol, o, m);
   };
   if (n < kSubdivideMinDegree || n > kSubdivideMaxDegree) return direct(g, out, maxOut);
-  // Short: at most a quarter of the frame's scale (max(|lo|, |hi|) is in [1/2, 1]).
-  if (4 * (g.hi - g.lo) <= std::max(std::abs(g.lo), std::abs(g.hi))) {
+  // Short: at most a quarter of the frame's scale (max(|lo|, |hi|) is in [1/2, 1]). Above
+  // degree 20 every interval is tested, and the subdivision runs only where no derivative
+  // below the constant one is proved root-free (see kSubdivideMaxDegree).
+  const bool high = n > kRecursionFirstDegree;
+  if (high || 4 * (g.hi - g.lo) <= std::max(std::abs(g.lo), std::abs(g.hi))) {
     const int order = rootFreeOrder(g, deg);
     if (order == 0) return 0;
-    if (order <= kShortOrder) return solveDirect(g, deg, order, q, tol, out, maxOut);
+    if (order <= (high ? n - 1 : kShortOrder)) return solveDirect(g, deg, order, q, tol, out, maxOut);
   }
   // The subdivision's working copy (node ends move); only the n + 1 live coefficients.
   LocalPoly<T> work;
