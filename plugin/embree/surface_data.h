@@ -113,8 +113,7 @@ void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, doub
 void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v);
 
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                    double& t1);
+bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
 
 // ---- The quadric path (quadric_path.cpp) ------------------------------------------------
 // f(x) = x^T A x + b . x + c at p, with the bound on its rounding and the gradient 2 A p + b
@@ -198,6 +197,26 @@ inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dve
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
   }
+  return t0 <= t1;
+}
+
+// Sphere by the closest point of the line to the centre (pbrt-v4, Sec. 6.8.1: the chord
+// half-length from R^2 - |q|^2 avoids the cancellation of the textbook quadratic when
+// the origin is far away). tc: the parameter of that closest point; it equals
+// closestParameter(o, d, s.center) bit for bit (fl(c - o) = -fl(o - c), and the dot and
+// quotient negate exactly).
+inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1,
+                         double& tc) {
+  const double dd = glm::dot(d, d);
+  if (!(dd > 0.0)) return false;
+  const glm::dvec3 oc = o - s.center;
+  tc = -glm::dot(oc, d) / dd;
+  const glm::dvec3 q = oc + tc * d;
+  const double h2 = s.radius * s.radius - glm::dot(q, q);
+  if (!(h2 >= 0.0)) return false;
+  const double dt = std::sqrt(h2 / dd);
+  t0 = std::max(t0, tc - dt);
+  t1 = std::min(t1, tc + dt);
   return t0 <= t1;
 }
 

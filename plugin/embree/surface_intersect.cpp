@@ -27,36 +27,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// ---- Clipping ----------------------------------------------------------------------
-
-// Sphere by the closest point of the line to the centre (pbrt-v4, Sec. 6.8.1: the chord
-// half-length from R^2 - |q|^2 avoids the cancellation of the textbook quadratic when
-// the origin is far away).
-bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                  double& t1) {
-  const double dd = glm::dot(d, d);
-  if (!(dd > 0.0)) return false;
-  const glm::dvec3 oc = o - s.center;
-  const double tc = -glm::dot(oc, d) / dd;
-  const glm::dvec3 q = oc + tc * d;
-  const double h2 = s.radius * s.radius - glm::dot(q, q);
-  if (!(h2 >= 0.0)) return false;
-  const double dt = std::sqrt(h2 / dd);
-  t0 = std::max(t0, tc - dt);
-  t1 = std::min(t1, tc + dt);
-  return t0 <= t1;
-}
-
-// The ray's span inside the clip region alone (all cells share it).
-bool spanInClipRegion(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                      double& t1) {
-  t0 = -kInf;
-  t1 = kInf;
-  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) return clipToSphere(*s, o, d, t0, t1);
-  const auto& b = std::get<ClipBox>(data.desc.clip);
-  return clipToBox(b.lo, b.hi, o, d, t0, t1);
-}
-
 // ---- Per-thread origin cache ---------------------------------------------------------
 // Rays sharing an origin (a pinhole camera's primary rays) restrict f from one
 // OriginExpansion: one shift per origin, then O(#terms) per ray (taylor.h, path 1).
@@ -103,7 +73,6 @@ CacheEntry* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
   e.id = data.id;
   return &e;
 }
-
 
 // ---- Self-root rule ------------------------------------------------------------------
 // A ray leaving the surface starts at a point p that is on the surface only up to
@@ -153,7 +122,6 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
 
-
 // ---- Polish --------------------------------------------------------------------------
 // Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
 // (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred
@@ -179,7 +147,6 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
   hit.gradient = e.gradient;
   return std::abs(e.value) <= e.valueError;
 }
-
 
 // ---- Quadrics --------------------------------------------------------------------------
 // Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
@@ -429,9 +396,13 @@ bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, con
 
 }  // namespace
 
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                    double& t1) {
-  return spanInClipRegion(data, o, d, t0, t1);
+bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1) {
+  t0 = -kInf;
+  t1 = kInf;
+  double tc;
+  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) return clipToSphere(*s, o, d, t0, t1, tc);
+  const auto& b = std::get<ClipBox>(data.desc.clip);
+  return clipToBox(b.lo, b.hi, o, d, t0, t1);
 }
 
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v) {
@@ -508,7 +479,7 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 
   // ---- 1. Span: clip region, then the cell (closed, widened for rounding) -------------
   double r0, r1;
-  if (!spanInClipRegion(data, o, d, r0, r1)) return false;
+  if (!clipRegionSpan(data, o, d, r0, r1)) return false;
   const SurfaceCell& box = data.cells[cell];
   double c0 = r0, c1 = r1;
   if (!clipToBox(box.lo, box.hi, o, d, c0, c1, true)) return false;
