@@ -98,6 +98,18 @@ inline void derivative(const T* c, D deg, T* d) {
 inline bool signBit(double x) { return std::signbit(x); }
 inline bool signBit(float x) { return std::signbit(x); }
 
+// Binomial coefficients C(i, j), exact in double up to C(40, 20) ~ 1.4e11.
+struct Binomials {
+  double c[kMaxDegree + 1][kMaxDegree + 1] = {};
+  constexpr Binomials() {
+    for (int i = 0; i <= kMaxDegree; ++i) {
+      c[i][0] = 1;
+      for (int j = 1; j <= i; ++j) c[i][j] = c[i - 1][j - 1] + (j < i ? c[i - 1][j] : 0);
+    }
+  }
+};
+inline constexpr Binomials kBinomials;
+
 // ---- Taylor coefficients at the midpoint (the exclusion tests) ----------------------
 // t_j of G at the midpoint m of (lo, hi) and ta_j, the same shift applied to |C| and |m|
 // (gamma(2n+2) ta_j bounds the rounding of t_j); returns the radius r of the interval

@@ -77,16 +77,13 @@ struct SubdivideState {
   T resumeAt = 0;
 };
 
-// 1 / C(n, j) for n <= kMaxDegree, rounded (C(40, 20) ~ 1.4e11 is exact in double).
+// 1 / C(n, j) for n <= kMaxDegree, rounded (the binomials of roots_detail.h are exact).
 template <class T>
 struct InverseBinomials {
   T v[(kMaxDegree + 1) * (kMaxDegree + 2) / 2] = {};
   constexpr InverseBinomials() {
-    double c[kMaxDegree + 1] = {1};
-    for (int n = 0, idx = 0; n <= kMaxDegree; ++n) {
-      for (int j = n; j >= 1; --j) c[j] += c[j - 1];  // row n of Pascal's triangle
-      for (int j = 0; j <= n; ++j) v[idx++] = static_cast<T>(1.0 / c[j]);
-    }
+    for (int n = 0, idx = 0; n <= kMaxDegree; ++n)
+      for (int j = 0; j <= n; ++j) v[idx++] = static_cast<T>(1.0 / kBinomials.c[n][j]);
   }
   constexpr const T* row(int n) const { return v + n * (n + 1) / 2; }
 };

@@ -102,17 +102,6 @@ int derivRootsDyn(const T* p, int n, T lo, T hi, T tol, T* out, int mono) {
   return pieceRoots(p, n, lo, hi, crit, k, tol, out);
 }
 
-// Binomial coefficients C(i, j), exact in double up to C(40, 20) ~ 1.4e11.
-struct Binomials {
-  double c[kMaxDegree + 1][kMaxDegree + 1] = {};
-  constexpr Binomials() {
-    for (int i = 0; i <= kMaxDegree; ++i) {
-      c[i][0] = 1;
-      for (int j = 1; j <= i; ++j) c[i][j] = c[i - 1][j - 1] + (j < i ? c[i - 1][j] : 0);
-    }
-  }
-};
-constexpr Binomials kBinomials;
 
 // Exclusion test (a cheap, sound shortcut before Yuksel's recursion). With the Taylor
 // coefficients t_j of G at the midpoint m of (lo, hi) and the radius r, the k-th
