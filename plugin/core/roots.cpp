@@ -66,15 +66,20 @@ int exponentOf(T x) {
   return std::ilogb(x);
 }
 
-template <class T>
-void checkSizes(std::span<const T> c, std::span<const T> err, const char* where) {
-  if (c.size() > static_cast<size_t>(kMaxDegree + 1))
-    throw Error(std::string(where) + ": " + std::to_string(c.size()) +
+[[noreturn, gnu::cold, gnu::noinline]] void throwSizeError(size_t nc, size_t nerr, const char* where) {
+  if (nc > static_cast<size_t>(kMaxDegree + 1))
+    throw Error(std::string(where) + ": " + std::to_string(nc) +
                 " coefficients, more than degree kMaxDegree = " + std::to_string(kMaxDegree) +
                 " allows");
-  if (!err.empty() && err.size() != c.size())
-    throw Error(std::string(where) + ": error bound has " + std::to_string(err.size()) +
-                " entries for " + std::to_string(c.size()) + " coefficients");
+  throw Error(std::string(where) + ": error bound has " + std::to_string(nerr) +
+              " entries for " + std::to_string(nc) + " coefficients");
+}
+
+// The message building stays out of line: this runs on every ray.
+template <class T>
+void checkSizes(std::span<const T> c, std::span<const T> err, const char* where) {
+  if (c.size() > static_cast<size_t>(kMaxDegree + 1) || (!err.empty() && err.size() != c.size()))
+    throwSizeError(c.size(), err.size(), where);
 }
 
 // Builds G(v) = g(2^e v) / 2^E with its noise bound (roots_detail.h). Returns false when
@@ -84,9 +89,6 @@ template <class T>
 bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
              Frame<T>& fr) {
   if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) return false;
-  if (!err.empty())
-    for (const T x : err)
-      if (!std::isfinite(x)) return false;
 
   // ---- Frame: 2^e >= max(|lo|, |hi|) ------------------------------------------------
   // max = f 2^e with f in [0.5, 1), as std::frexp (max > 0: lo < hi)
@@ -121,30 +123,41 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
   if (subnormal)
     for (int j = 0; j <= n; ++j)
       if (c[j] != 0) eMax = std::max(eMax, exponentOf(c[j]) + j * e);
+  // The error bounds of the coefficients above n (zero ones) are checked here; those up
+  // to n through the finiteness of the noise bounds below.
+  for (int j = n + 1; j < static_cast<int>(err.size()); ++j)
+    if (!std::isfinite(err[j])) return false;
 
   // ---- Coefficients C_j = c_j 2^(j e - E), max |C_j| in [1, 2) ----------------------
   const T gEval = gammaT<T>(2 * n + 1);  // one Horner evaluation, Higham Eq. (5.3)
   // |computed G(v) - exact G(v)| <= sum_j (err_j + gamma(2n+1) |C_j|) |v|^j.
+  // (err_j beyond the range of C makes a noise bound infinite or NaN: no root.)
   using Limits = std::numeric_limits<T>;
   const int s0 = -eMax, s1 = n * e - eMax;  // the shifts are monotone in j
+  bool finiteNoise = true;
+  T leadErr = 0;  // the caller's error of C_n
   if (std::min(s0, s1) >= Limits::min_exponent - 1 && std::max(s0, s1) <= Limits::max_exponent - 1) {
     // Every factor 2^shift is a normal number: one correctly rounded product each, the
     // same result as ldexp, without its range checks.
     for (int j = 0; j <= n; ++j) {
       const T p = pow2<T>(j * e - eMax);
+      const T ej = err.empty() ? T(0) : std::abs(err[j]) * p;
       g.c[j] = c[j] * p;
-      g.noise[j] = (err.empty() ? T(0) : std::abs(err[j]) * p) + gEval * std::abs(g.c[j]);
-      if (!std::isfinite(g.noise[j])) return false;  // err beyond the range of C
+      g.noise[j] = ej + gEval * std::abs(g.c[j]);
+      finiteNoise = finiteNoise && g.noise[j] <= Limits::max();
+      leadErr = ej;
     }
   } else {
     for (int j = 0; j <= n; ++j) {
       const int shift = j * e - eMax;
-      g.c[j] = scale2(c[j], shift);
       const T ej = err.empty() ? T(0) : scale2(std::abs(err[j]), shift);
+      g.c[j] = scale2(c[j], shift);
       g.noise[j] = ej + gEval * std::abs(g.c[j]);
-      if (!std::isfinite(g.noise[j])) return false;
+      finiteNoise = finiteNoise && g.noise[j] <= Limits::max();
+      leadErr = ej;
     }
   }
+  if (!finiteNoise) return false;
 
   // ---- Drop leading coefficients that are noise -------------------------------------
   // On [-1, 1], |C_n v^n| <= |C_n| |v|^k for k < n, so a leading coefficient with
@@ -153,12 +166,17 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
   // cannot be told from zero. Either way it is dropped and its size is moved into the
   // noise bound of the new leading term (|C_n v^n| <= |C_n| |v|^(n-1)), so the tangent
   // rule still accounts for it.
+  // max_k |C_k| is in [1, 2), so |C_n| > 2u passes the first test without the loop.
+  if (std::abs(g.c[n]) > 2 * roots_detail::kUnit<T> && std::abs(g.c[n]) > leadErr) {
+    g.n = n;
+    return true;
+  }
   while (n >= 1) {
     T maxLower = 0;
     for (int j = 0; j < n; ++j) maxLower = std::max(maxLower, std::abs(g.c[j]));
     const T lead = std::abs(g.c[n]);
-    const T leadErr = err.empty() ? T(0) : scale2(std::abs(err[n]), n * e - eMax);
-    if (lead > roots_detail::kUnit<T> * maxLower && lead > leadErr) break;
+    const T leadErrN = err.empty() ? T(0) : scale2(std::abs(err[n]), n * e - eMax);
+    if (lead > roots_detail::kUnit<T> * maxLower && lead > leadErrN) break;
     g.noise[n - 1] += lead + g.noise[n];
     g.c[n] = 0;
     g.noise[n] = 0;
