@@ -219,7 +219,18 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
   int k = 0;
   const bool small = vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
   if (monotone(b, deg, st.err) || oneVariation(b, deg, st.err + 2 * noise)) {
+    // Start where the control polygon crosses zero (Bezier clipping's estimate, Sederberg
+    // and Nishita 1990): inside a one-variation node it is closer to the root than the
+    // secant through the node's ends.
     auto piece = [&](T a, T c, T fa, T fc) {
+      const int n = deg;
+      for (int i = 0; i < n; ++i)
+        if (signBit(b[i]) != signBit(b[i + 1])) {
+          const T u = (T(i) + b[i] / (b[i] - b[i + 1])) / T(n);
+          const T x = va + (vb - va) * u;
+          if (x > a && x < c) return newtonFrom(g.c.data(), g.noise.data(), deg, a, c, fa, x, st.tol);
+          break;
+        }
       return newtonInBracket(g.c.data(), g.noise.data(), deg, a, c, fa, fc, st.tol);
     };
     k = scanPieces(g, deg, static_cast<const T*>(nullptr), 0, st.q, piece, out, maxOut);
