@@ -52,6 +52,7 @@ struct SurfaceData {
   // region (an ellipsoid's own box, boundedQuadricBox; or a cell the build shrank).
   bool quadricCellClip = false;
   QuadricBox quadricBox;  // the tight cell, when the one cell is an ellipsoid's box
+  bool packetSimd = false;  // usesQuadricPacket: packets take quadric_packet.cpp
   // f, grad f and the bound at a point (self-root rule, polish), precompiled from
   // desc.polynomial.
   HornerForm horner;
@@ -163,6 +164,36 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q);
 // The first root s of q.g in (slo, q.shi] by the rules of firstRoot (algray/roots.h): a
 // root within noise of slo is not reported, so slo = the previous root gives the next.
 bool quadricRoot(const QuadricSpan& q, double slo, double& s);
+
+// ---- Packets through the quadric path (quadric_packet.cpp) ------------------------------
+// The float rays of an rtcIntersect4/8/16 or rtcOccluded4/8/16 call, compacted to the
+// lanes the bridge traces, in world space (structure of arrays, padded to a multiple of
+// the kernel's vector width). For each, quadricPacket computes what quadricLane would:
+// the object-space ray (objectRay of embree_bridge.cpp for a float ray), quadricSpan and
+// the first quadricRoot, bit for bit, for the common cases; every other lane is marked
+// for the scalar path.
+constexpr unsigned kPacketLanes = 16;
+struct QuadricPacket {
+  enum Status : int { kNone = 0, kRoot = 1, kScalar = 2 };
+  unsigned count = 0;
+  // In: world-space float rays as doubles.
+  alignas(64) double ox[kPacketLanes], oy[kPacketLanes], oz[kPacketLanes];
+  alignas(64) double dx[kPacketLanes], dy[kPacketLanes], dz[kPacketLanes];
+  alignas(64) double tnear[kPacketLanes], tfar[kPacketLanes];
+  // Out: kNone (quadricSpan or quadricRoot found nothing), kRoot (the first root s, with
+  // the object-space ray and the span below), kScalar (ask quadricLane).
+  alignas(64) int status[kPacketLanes];
+  alignas(64) double s[kPacketLanes];
+  alignas(64) double kox[kPacketLanes], koy[kPacketLanes], koz[kPacketLanes];
+  alignas(64) double kdx[kPacketLanes], kdy[kPacketLanes], kdz[kPacketLanes], orgError[kPacketLanes];
+  alignas(64) int degree[kPacketLanes];
+  alignas(64) double tShift[kPacketLanes], c0[kPacketLanes], c1[kPacketLanes], c2[kPacketLanes];
+  alignas(64) double e0[kPacketLanes], e1[kPacketLanes], e2[kPacketLanes], slo[kPacketLanes], shi[kPacketLanes];
+};
+// Whether quadricPacket can handle data's rays at all (the quadric path with a clip
+// sphere, re-centring on, and SurfaceOptions::packetSimd).
+bool usesQuadricPacket(const SurfaceData& data);
+void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept;
 
 // ---- Small helpers shared by the kernels -------------------------------------------
 inline bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
