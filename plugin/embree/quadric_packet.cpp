@@ -15,8 +15,8 @@
 // lane's scalar quadricLane.
 #include "surface_data.h"
 
+#include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <variant>
 #if defined(__SSE2__)
@@ -25,58 +25,44 @@
 
 namespace algray {
 
+#if defined(__SSE2__)
 namespace {
 
-// Two lanes per vector: one SSE2 register. (Four, as two registers each, was measured:
-// GCC's generic lowering of 32-byte vectors on SSE2 compares element by element and
-// spills; 1370 instructions a lane, the packets twice slower than the lane loop.)
+// Two lanes per vector: one SSE2 register. GCC's vector extensions do the arithmetic;
+// comparisons and selects are SSE2's own (cmppd, and/andn/or): GCC 12 lowers a vector
+// comparison kept as a mask, and a select on such a mask, element by element through
+// general registers (no 64-bit compare in SSE2), which cost more than the lane loop saved.
+// (Four lanes, as two registers each, were measured: 1370 instructions a lane, the
+// packets twice slower than the lane loop.)
 constexpr unsigned kW = 2;
-typedef double VD __attribute__((vector_size(kW * sizeof(double))));
-typedef std::int64_t VI __attribute__((vector_size(kW * sizeof(std::int64_t))));  // masks: -1 or 0
+typedef double VD __attribute__((vector_size(16)));
+typedef std::int64_t VI __attribute__((vector_size(16)));  // masks: all ones or zero
 
 constexpr double kFloatRoundoff = 0x1p-24;  // the bridge's float ray (objectRay's roundoff)
+constexpr std::int64_t kAbs = std::numeric_limits<std::int64_t>::max();
 
-inline VD splat(double x) { return VD{} + x; }
-inline VD load(const double* p) {
-  VD v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store(double* p, VD v) { std::memcpy(p, &v, sizeof v); }
-inline VD vabs(VD a) { return (VD)((VI)a & std::numeric_limits<std::int64_t>::max()); }
-inline VD copySign(VD mag, VD sign) {
-  return (VD)(((VI)mag & std::numeric_limits<std::int64_t>::max()) | ((VI)sign & std::numeric_limits<std::int64_t>::min()));
-}
+inline VD splat(double x) { return _mm_set1_pd(x); }
+inline VD load(const double* p) { return _mm_loadu_pd(p); }
+inline void store(double* p, VD v) { _mm_storeu_pd(p, v); }
+inline VD vabs(VD a) { return (VD)((VI)a & kAbs); }
+inline VD copySign(VD mag, VD sign) { return (VD)(((VI)mag & kAbs) | ((VI)sign & ~kAbs)); }
+// C++'s comparisons: ordered (false with a NaN), != unordered (true with a NaN).
+inline VI lt(VD a, VD b) { return (VI)_mm_cmplt_pd(a, b); }
+inline VI le(VD a, VD b) { return (VI)_mm_cmple_pd(a, b); }
+inline VI eq(VD a, VD b) { return (VI)_mm_cmpeq_pd(a, b); }
+inline VI ne(VD a, VD b) { return (VI)_mm_cmpneq_pd(a, b); }
+inline VD blend(VI m, VD a, VD b) { return (VD)(((VI)a & m) | ((VI)b & ~m)); }  // m ? a : b
 // std::max(a, b) and std::min(a, b) of libstdc++: a < b ? b : a, and b < a ? b : a.
-inline VD vmax(VD a, VD b) { return a < b ? b : a; }
-inline VD vmin(VD a, VD b) { return b < a ? b : a; }
-inline VI finite(VD a) { return (a - a) == 0.0; }
-inline VD vsqrt(VD a) {
-#if defined(__SSE2__)
-  __m128d h[kW / 2];
-  std::memcpy(h, &a, sizeof a);
-  for (__m128d& x : h) x = _mm_sqrt_pd(x);  // correctly rounded, as std::sqrt
-  std::memcpy(&a, h, sizeof a);
-#else
-  for (unsigned i = 0; i < kW; ++i) a[i] = std::sqrt(a[i]);
-#endif
-  return a;
-}
-// The lanes of a mask as bits (movmskpd).
-inline unsigned laneBits(VI m) {
-#if defined(__SSE2__)
-  return static_cast<unsigned>(_mm_movemask_pd(reinterpret_cast<__m128d>(m)));
-#else
-  unsigned r = 0;
-  for (unsigned i = 0; i < kW; ++i) r |= (m[i] != 0 ? 1u : 0u) << i;
-  return r;
-#endif
-}
+inline VD vmax(VD a, VD b) { return blend(lt(a, b), b, a); }
+inline VD vmin(VD a, VD b) { return blend(lt(b, a), b, a); }
+inline VI finite(VD a) { return eq(a - a, splat(0.0)); }
+inline VD vsqrt(VD a) { return _mm_sqrt_pd(a); }  // correctly rounded, as std::sqrt
+inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm_movemask_pd((VD)m)); }
 inline bool any(VI m) { return laneBits(m) != 0; }
 // inRange of quadric_path.cpp.
 inline VI inRange(VD x) {
   const VD a = vabs(x);
-  return (x == 0.0) | ((a >= 1e-100) & (a <= 1e100));
+  return eq(x, splat(0.0)) | (le(splat(1e-100), a) & le(a, splat(1e100)));
 }
 // a b - fl(a b) exactly (Dekker's product by Veltkamp's split), i.e. std::fma(a, b, -p):
 // exact when no split overflows and no partial product underflows, which |a|, |b| in
@@ -97,7 +83,7 @@ inline V3 mul(const glm::dmat3& m, const V3& v) {
   return {m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z, m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z,
           m[0][2] * v.x + m[1][2] * v.y + m[2][2] * v.z};
 }
-inline V3 select(VI m, const V3& a, const V3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
+inline V3 blend(VI m, const V3& a, const V3& b) { return {blend(m, a.x, b.x), blend(m, a.y, b.y), blend(m, a.z, b.z)}; }
 
 // evalQuadric (surface_data.h).
 struct Value {
@@ -116,7 +102,7 @@ inline Value evalQuadric(const QuadricForm& q, const V3& p) {
 inline VD safeLength(const V3& v) {
   const VD m = vmax(vmax(vabs(v.x), vabs(v.y)), vabs(v.z));
   const V3 w{v.x / m, v.y / m, v.z / m};
-  return (m > 0.0) & finite(m) ? m * vsqrt(dot(w, w)) : m;
+  return blend(lt(splat(0.0), m) & finite(m), m * vsqrt(dot(w, w)), m);
 }
 
 // The status of lane k from the decisions' lane bits, in quadricSpan's and quadricRoot's
@@ -174,7 +160,8 @@ void quadricGroup(const SurfaceData& data, const ClipSphere& sphere, double invN
   // ---- quadricSpan: input, clip sphere, the tight box's coverage, (tnear, tfar) ------------
   const VD dd = dot(d, d);
   const VI ok = finite(o.x) & finite(o.y) & finite(o.z) & finite(d.x) & finite(d.y) & finite(d.z) &
-                (tnear == tnear) & (tfar == tfar) & (orgError >= 0.0) & (dd > 0.0) & (tnear < tfar);
+                eq(tnear, tnear) & eq(tfar, tfar) & le(splat(0.0), orgError) & lt(splat(0.0), dd) &
+                lt(tnear, tfar);
   const V3 sc{o.x - sphere.center.x, o.y - sphere.center.y, o.z - sphere.center.z};
   const VD tc = -dot(sc, d) / dd;
   const V3 cq{sc.x + tc * d.x, sc.y + tc * d.y, sc.z + tc * d.z};
@@ -182,14 +169,14 @@ void quadricGroup(const SurfaceData& data, const ClipSphere& sphere, double invN
   const VD dt = vsqrt(h2 / dd);
   const VD r0 = vmax(splat(-std::numeric_limits<double>::infinity()), tc - dt),
            r1 = vmin(splat(std::numeric_limits<double>::infinity()), tc + dt);
-  const VI inSphere = (h2 >= 0.0) & (r0 <= r1);
-  VI covered = ok | ~ok;  // all set
+  const VI inSphere = le(splat(0.0), h2) & le(r0, r1);
+  VI covered = eq(tnear, tnear) | ~eq(tnear, tnear);  // all set
   if (data.quadricCellClip) {
     const QuadricBox& box = data.quadricBox;
-    covered = (orgError <= box.orgError) & (dot(oc, oc) <= box.distance * box.distance);
+    covered = le(orgError, splat(box.orgError)) & le(dot(oc, oc), splat(box.distance * box.distance));
   }
   const VD lo = vmax(r0, tnear), hi = vmin(r1, tfar);
-  const VI inSpan = lo < hi;
+  const VI inSpan = lt(lo, hi);
   b.ok = laneBits(ok);
   b.sphere = laneBits(inSphere);
   b.covered = laneBits(covered);
@@ -203,10 +190,10 @@ void quadricGroup(const SurfaceData& data, const ClipSphere& sphere, double invN
   const VD moveRound = kFloatRoundoff * dot(absG, vabs(o));
   const VD moveUpper = moveRound + (1.0 + 0x1p-20) * (absG.x + absG.y + absG.z) * orgError;
   const VD absV = vabs(atO.value);
-  VI onSurface = ~(absV > 4.0 * atO.error + 2.0 * moveUpper);
+  VI onSurface = ~lt(4.0 * atO.error + 2.0 * moveUpper, absV);
   if (any(onSurface)) {
-    const VD move = orgError != 0.0 ? safeLength(atO.gradient) * orgError : splat(0.0);
-    onSurface &= absV <= 4.0 * atO.error + 2.0 * (moveRound + move);
+    const VD move = blend(ne(orgError, splat(0.0)), safeLength(atO.gradient) * orgError, splat(0.0));
+    onSurface &= le(absV, 4.0 * atO.error + 2.0 * (moveRound + move));
   }
   b.on = laneBits(onSurface);
   const bool anyOff = b.on != (1u << kW) - 1, anyOn = b.on != 0;
@@ -215,19 +202,19 @@ void quadricGroup(const SurfaceData& data, const ClipSphere& sphere, double invN
   V3 p3 = o, grad = atO.gradient;
   if (anyOff) {
     // std::clamp(tc, r0, r1) = std::min(std::max(tc, r0), r1).
-    tShift = onSurface ? splat(0.0) : vmin(vmax(tc, r0), r1);
+    tShift = blend(onSurface, splat(0.0), vmin(vmax(tc, r0), r1));
     const V3 pShift{o.x + tShift * d.x, o.y + tShift * d.y, o.z + tShift * d.z};
     const Value atP = evalQuadric(q, pShift);
     const V3 absPShift = vabs(pShift);
     const VD absT = vabs(tShift);
     const V3 off{gamma(2) * (absPShift.x + absT * absD.x), gamma(2) * (absPShift.y + absT * absD.y),
                  gamma(2) * (absPShift.z + absT * absD.z)};
-    shiftError0 = onSurface ? splat(0.0) : dot(vabs(atP.gradient), off);
-    shiftError1 = onSurface ? splat(0.0) : 2.0 * dot(mul(q.absA, off), absD);
-    p3 = select(onSurface, o, pShift);
-    grad = select(onSurface, atO.gradient, atP.gradient);
-    value = onSurface ? atO.value : atP.value;
-    valueError = onSurface ? atO.error : atP.error;
+    shiftError0 = blend(onSurface, splat(0.0), dot(vabs(atP.gradient), off));
+    shiftError1 = blend(onSurface, splat(0.0), 2.0 * dot(mul(q.absA, off), absD));
+    p3 = blend(onSurface, o, pShift);
+    grad = blend(onSurface, atO.gradient, atP.gradient);
+    value = blend(onSurface, atO.value, atP.value);
+    valueError = blend(onSurface, atO.error, atP.error);
   }
   const V3 absAP = mul(q.absA, vabs(p3));
   const V3 w{2.0 * absAP.x + q.absB.x, 2.0 * absAP.y + q.absB.y, 2.0 * absAP.z + q.absB.z};
@@ -236,24 +223,24 @@ void quadricGroup(const SurfaceData& data, const ClipSphere& sphere, double invN
            e2 = gamma(5) * dot(absD, mul(q.absA, absD));
   // deflateAtZero on the self-root lanes: g / s, degree 1; a second division (tangent at
   // the origin) is left to the scalar path.
-  const VD g0 = onSurface ? c1 : c0, g1 = onSurface ? c2 : c1, g2 = onSurface ? splat(0.0) : c2;
-  const VD f0 = onSurface ? e1 : e0, f1 = onSurface ? e2 : e1, f2 = onSurface ? splat(0.0) : e2;
-  b.again = laneBits(onSurface & (vabs(g0) <= 4.0 * f0));
+  const VD g0 = blend(onSurface, c1, c0), g1 = blend(onSurface, c2, c1), g2 = blend(onSurface, splat(0.0), c2);
+  const VD f0 = blend(onSurface, e1, e0), f1 = blend(onSurface, e2, e1), f2 = blend(onSurface, splat(0.0), e2);
+  b.again = laneBits(onSurface & le(vabs(g0), 4.0 * f0));
   const VD slo = lo - tShift, shi = hi - tShift;
-  const VI sSpan = slo < shi;
+  const VI sSpan = lt(slo, shi);
   b.sSpan = laneBits(sSpan);
 
   // ---- quadricRoot from slo: the checks shared by quadraticFirst and linearFirst -------------
   const VD scale = vmax(vabs(slo), vabs(shi));
-  const VI safeSpan = finite(slo) & finite(shi) & sSpan & (scale <= 1e30) & inRange(g0) & inRange(g1) &
+  const VI safeSpan = finite(slo) & finite(shi) & sSpan & le(scale, splat(1e30)) & inRange(g0) & inRange(g1) &
                       inRange(f0) & inRange(f1) & finite(f0) & finite(f1);
   VD s = splat(0.0);
   if (anyOff) {
     // quadraticFirst (c2 != 0): the sweep lo, vertex (if inside), hi with no sample within
     // noise, the root of the first sign change by citardauq.
-    const VI quadSafe = safeSpan & (c2 != 0.0) & inRange(c2) & inRange(e2) & finite(e2) &
-                        ((vabs(c2) * scale) * scale > 4.0 * kUnitRoundoff * vmax(vabs(c0), vabs(c1) * scale)) &
-                        (vabs(c2) > 2.0 * e2);
+    const VI quadSafe = safeSpan & ne(c2, splat(0.0)) & inRange(c2) & inRange(e2) & finite(e2) &
+                        lt(4.0 * kUnitRoundoff * vmax(vabs(c0), vabs(c1) * scale), (vabs(c2) * scale) * scale) &
+                        lt(2.0 * e2, vabs(c2));
     const VD n0 = e0 + gamma(5) * vabs(c0), n1 = e1 + gamma(5) * vabs(c1), n2 = e2 + gamma(5) * vabs(c2);
     auto value2 = [&](VD x) { return (c2 * x + c1) * x + c0; };
     auto noise2 = [&](VD x) {
@@ -261,45 +248,47 @@ void quadricGroup(const SurfaceData& data, const ClipSphere& sphere, double invN
       return (n2 * ax + n1) * ax + n0;
     };
     const VD vertex = -c1 / (2.0 * c2);
-    const VI interior = (vertex > slo) & (vertex < shi);
+    const VI interior = lt(slo, vertex) & lt(vertex, shi);
     const VD fLo = value2(slo), fV = value2(vertex), fHi = value2(shi);
-    const VI zLo = vabs(fLo) <= noise2(slo), zV = vabs(fV) <= noise2(vertex), zHi = vabs(fHi) <= noise2(shi);
+    const VI zLo = le(vabs(fLo), noise2(slo)), zV = le(vabs(fV), noise2(vertex)), zHi = le(vabs(fHi), noise2(shi));
     // Signs as f < 0: no sample decided here is zero (|f| > noise >= 0) or NaN (the
     // checks). Masks are -1 or 0: ^ is "differ" (SSE2 has no 64-bit compare).
-    const VI change1 = interior & ((fV < 0.0) ^ (fLo < 0.0));
+    const VD zero = splat(0.0);
+    const VI change1 = interior & (lt(fV, zero) ^ lt(fLo, zero));
     const VI needHi = ~change1;
-    const VI changeHi = (fHi < 0.0) ^ ((interior ? fV : fLo) < 0.0);
+    const VI changeHi = lt(fHi, zero) ^ lt(blend(interior, fV, fLo), zero);
     const VI quadNoisy = zLo | (interior & zV) | (needHi & zHi);
     const VI quadRoot = change1 | (needHi & changeHi);
     b.quadSafe = laneBits(quadSafe & ~quadNoisy);
     b.quadRoot = laneBits(quadRoot);
     if ((b.quadSafe & b.quadRoot & ~b.on) != 0) {
-      const VD xa = change1 ? slo : interior ? vertex : slo, xb = change1 ? vertex : shi;
+      const VD xa = blend(change1, slo, blend(interior, vertex, slo)), xb = blend(change1, vertex, shi);
       // quadraticRoots with Kahan's discriminant (roots_detail.h).
       const VD pp = c1 * c1, dp = productError(c1, c1, pp);
       const VD c4 = 4 * c2, q4 = c4 * c0, dq = productError(c4, c0, q4);
       const VD disc = (pp - q4) + (dp - dq);
       const VD qq = -(c1 + copySign(vsqrt(disc), c1)) / 2;
       const VD ra = qq / c2, rb = c0 / qq;
-      const VI swap = rb < ra;
-      const VD rLo = swap ? rb : ra, rHi = swap ? ra : rb;
-      const VI inLo = (rLo > xa) & (rLo < xb), inHi = (rHi > xa) & (rHi < xb);
-      b.quadFound = laneBits((disc > 0.0) & (qq != 0.0) & (inLo | inHi));
-      s = inLo ? rLo : rHi;
+      const VI swap = lt(rb, ra);
+      const VD rLo = blend(swap, rb, ra), rHi = blend(swap, ra, rb);
+      const VI inLo = lt(xa, rLo) & lt(rLo, xb), inHi = lt(xa, rHi) & lt(rHi, xb);
+      b.quadFound = laneBits(lt(zero, disc) & ne(qq, zero) & (inLo | inHi));
+      s = blend(inLo, rLo, rHi);
     }
   }
   if (anyOn) {
     // linearFirst (leaving the surface, degree 1 after the division).
-    b.linSafe = laneBits(safeSpan & (g1 != 0.0) & (vabs(g1) > f1) &
-                         (vabs(g1) * scale > 2.0 * kUnitRoundoff * vabs(g0)));
+    const VD zero = splat(0.0);
+    b.linSafe = laneBits(safeSpan & ne(g1, zero) & lt(f1, vabs(g1)) &
+                         lt(2.0 * kUnitRoundoff * vabs(g0), vabs(g1) * scale));
     const VD m0 = f0 + gamma(3) * vabs(g0), m1 = f1 + gamma(3) * vabs(g1);
     const VD gLo = g1 * slo + g0, gHi = g1 * shi + g0;
     // Within noise of lo: no root; of hi: the root hi, which quadricLane does not report.
-    b.linNone = laneBits((vabs(gLo) <= m1 * vabs(slo) + m0) | (vabs(gHi) <= m1 * vabs(shi) + m0) |
-                         ~((gLo < 0.0) ^ (gHi < 0.0)));
+    b.linNone = laneBits(le(vabs(gLo), m1 * vabs(slo) + m0) | le(vabs(gHi), m1 * vabs(shi) + m0) |
+                         ~(lt(gLo, zero) ^ lt(gHi, zero)));
     const VD linS = -g0 / g1;
-    b.linFound = laneBits((linS > slo) & (linS < shi));
-    s = onSurface ? linS : s;
+    b.linFound = laneBits(lt(slo, linS) & lt(linS, shi));
+    s = blend(onSurface, linS, s);
   }
   writeStatus(b, p, i);
   store(p.s + i, s);
@@ -322,8 +311,12 @@ void quadricGroup(const SurfaceData& data, const ClipSphere& sphere, double invN
 }
 
 }  // namespace
+#endif  // __SSE2__
 
 bool usesQuadricPacket(const SurfaceData& data) {
+#if !defined(__SSE2__)
+  return false;  // the lane loop (no SIMD path written for other targets)
+#endif
   const auto* sphere = std::get_if<ClipSphere>(&data.desc.clip);
   // The re-centring point is the clip sphere's closest point (quadricSpan passes tc only
   // when the sphere is centred on data.centre); a cell the build shrank below the tight
@@ -333,6 +326,10 @@ bool usesQuadricPacket(const SurfaceData& data) {
 }
 
 void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
+#if !defined(__SSE2__)
+  for (unsigned i = 0; i < p.count; ++i) p.status[i] = QuadricPacket::kScalar;
+  return;
+#else
   const ClipSphere& sphere = std::get<ClipSphere>(data.desc.clip);
   // objectRay's Frobenius norm of A^-1 and |b|, the same operations once per packet.
   const double invNorm = std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
@@ -351,6 +348,7 @@ void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
     p.tfar[i] = p.tfar[0];
   }
   for (unsigned i = 0; i < end; i += kW) quadricGroup(data, sphere, invNorm, lenB, p, i);
+#endif
 }
 
 }  // namespace algray
