@@ -108,6 +108,9 @@ struct Lane {
   unsigned lane;
   IntersectContext* dctx;
   double tfarD;  // the double channel's current far end
+  // surfaceUVFloat's u, v (before the cast) of the hit at t = uvT, computed with the
+  // packet's lanes (quadric_packet.cpp); NaN: none.
+  double uvT = std::numeric_limits<double>::quiet_NaN(), uvU = 0, uvV = 0;
 };
 
 // The candidate's float tfar, and whether it lies inside the ray's current interval: in
@@ -178,6 +181,9 @@ bool acceptIntersection(void* user, const KernelHit& h) {
     surfaceUV(*L.data, h.point, u, v);
     uf = static_cast<float>(u);
     vf = static_cast<float>(v);
+  } else if (h.t == L.uvT) {
+    uf = static_cast<float>(L.uvU);
+    vf = static_cast<float>(L.uvV);
   } else {
     surfaceUVFloat(*L.data, h.point, uf, vf);
   }
@@ -361,6 +367,7 @@ void quadricPacketLanes(const Args* args, RTCRayN* ray) {
     return;
   }
   p.count = count;
+  p.wantUV = !kOcclusion;
   quadricPacket(*data, p);
   for (unsigned i = 0; i < count; ++i) {
     if (p.status[i] == QuadricPacket::kNone) continue;
@@ -370,6 +377,11 @@ void quadricPacketLanes(const Args* args, RTCRayN* ray) {
         continue;
       }
       Lane L{args, data, lanes[i], nullptr, 0.0};
+      if constexpr (!kOcclusion) {
+        L.uvT = p.uvT[i];
+        L.uvU = p.u[i];
+        L.uvV = p.v[i];
+      }
       KernelRay kr;
       kr.org = glm::dvec3(p.kox[i], p.koy[i], p.koz[i]);
       kr.dir = glm::dvec3(p.kdx[i], p.kdy[i], p.kdz[i]);

@@ -52,6 +52,8 @@ inline VI eq(VD a, VD b) { return (VI)_mm_cmpeq_pd(a, b); }
 inline VI ne(VD a, VD b) { return (VI)_mm_cmpneq_pd(a, b); }
 inline VD vsqrt(VD a) { return _mm_sqrt_pd(a); }  // correctly rounded, as std::sqrt
 inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm_movemask_pd((VD)m)); }
+// The sign bit spread over its lane (psrad on the high half, then pshufd).
+inline VI signMask(VD a) { return (VI)_mm_shuffle_epi32(_mm_srai_epi32((__m128i)a, 31), _MM_SHUFFLE(3, 3, 1, 1)); }
 #include "quadric_packet_group.inc"
 }  // namespace sse2
 
@@ -71,6 +73,9 @@ inline VI eq(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
 inline VI ne(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
 inline VD vsqrt(VD a) { return _mm256_sqrt_pd(a); }
 inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm256_movemask_pd((VD)m)); }
+inline VI signMask(VD a) {
+  return (VI)_mm256_shuffle_epi32(_mm256_srai_epi32((__m256i)a, 31), _MM_SHUFFLE(3, 3, 1, 1));
+}
 #include "quadric_packet_group.inc"
 }  // namespace avx2
 #pragma GCC pop_options
@@ -110,10 +115,14 @@ void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
   return;
 #else
   const ClipSphere& sphere = std::get<ClipSphere>(data.desc.clip);
-  // objectRay's Frobenius norm of A^-1 and |b|, the same operations once per packet.
-  const double invNorm = std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
-                                   glm::dot(data.aInv[2], data.aInv[2]));
-  const double lenB = glm::length(data.b);
+  // objectRay's Frobenius norm of A^-1 and |b|, the same operations once per packet (and
+  // only for a transform: two roots on the critical path of every packet otherwise).
+  double invNorm = 0.0, lenB = 0.0;
+  if (!data.identity) {
+    invNorm = std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
+                        glm::dot(data.aInv[2], data.aInv[2]));
+    lenB = glm::length(data.b);
+  }
   // Pad to whole vectors with copies of the first lane (computed, never read).
   const unsigned end = (p.count + 3) / 4 * 4;
   for (unsigned i = p.count; i < end; ++i) {

@@ -112,6 +112,12 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v);
 // The same for Embree's float u, v: within 2e-10 of them, at a third of the cost.
 void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v);
+// Its atan on [0, 1]: atan(t) = t p(t^2), p of degree 9 with these coefficients (the fit
+// is described at atan2Pair, surface_intersect.cpp; the packet lanes use it too).
+inline constexpr double kAtanPoly[10] = {0.99999998406654822,   -0.33333194338035299, 0.19996618767948782,
+                                         -0.14248359660926879,  0.10881981041904727,  -0.082220750117259683,
+                                         0.055134709912894257,  -0.028572750129062584, 0.0096020026957349888,
+                                         -0.0015154920071548067};
 
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
 bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
@@ -189,6 +195,10 @@ struct QuadricPacket {
   alignas(64) int degree[kPacketLanes];
   alignas(64) double tShift[kPacketLanes], c0[kPacketLanes], c1[kPacketLanes], c2[kPacketLanes];
   alignas(64) double e0[kPacketLanes], e1[kPacketLanes], e2[kPacketLanes], slo[kPacketLanes], shi[kPacketLanes];
+  // For intersection queries (wantUV): surfaceUVFloat's u, v before the cast to float at
+  // the first root's point t = tShift + s, in uvT; NaN where the lanes left it to it.
+  bool wantUV = false;
+  alignas(64) double u[kPacketLanes], v[kPacketLanes], uvT[kPacketLanes];
 };
 // Whether quadricPacket can handle data's rays at all (the quadric path with a clip
 // sphere, re-centring on, and SurfaceOptions::packetSimd).
