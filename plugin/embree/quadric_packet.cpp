@@ -135,11 +135,10 @@ void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
     p.tnear[i] = p.tnear[0];
     p.tfar[i] = p.tfar[0];
   }
-  if (hasAvx2()) {
-    for (unsigned i = 0; i < end; i += avx2::kW) avx2::quadricGroup(data, sphere, invNorm, lenB, p, i);
-  } else {
-    for (unsigned i = 0; i < end; i += sse2::kW) sse2::quadricGroup(data, sphere, invNorm, lenB, p, i);
-  }
+  if (hasAvx2())
+    avx2::quadricLanes(data, sphere, invNorm, lenB, p, end);
+  else
+    sse2::quadricLanes(data, sphere, invNorm, lenB, p, end);
 #endif
 }
 
