@@ -330,8 +330,9 @@ void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
 // then the lanes are finished one at a time in lane order - the roots offered to the
 // same accept functions, a lane the packet kernel left undecided by quadricLane - so the
 // host filter sees the same calls in the same order as with the lane loop, and every hit
-// is the scalar path's bit for bit (tests/embree_hits_test.cpp).
-// (Fewer active lanes take the lane loop: see kMinPacketLanes.)
+// is the scalar path's bit for bit (tests/embree_packet_test.cpp).
+// A lone active lane (Embree's hybrid traversal calls with one) takes quadricLane: the
+// lanes would compute a vector for one ray, and the packet record costs its copies.
 constexpr unsigned kMinPacketLanes = 2;
 
 template <bool kOcclusion, class Args>

@@ -185,9 +185,11 @@ void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0
   bool onSurface = false;
   if (!(absValue > 4.0 * at.error + 2.0 * moveUpper)) {
     const double m = std::max({absG.x, absG.y, absG.z});
-    onSurface = absValue <= 4.0 * at.error + 2.0 * (moveRound + m * ray.orgError) ||
-                absValue <= 4.0 * at.error +
-                                2.0 * (moveRound + (ray.orgError != 0.0 ? safeLength(at.gradient) * ray.orgError : 0.0));
+    onSurface = absValue <= 4.0 * at.error + 2.0 * (moveRound + m * ray.orgError);
+    if (!onSurface) {
+      const double move = ray.orgError != 0.0 ? safeLength(at.gradient) * ray.orgError : 0.0;
+      onSurface = absValue <= 4.0 * at.error + 2.0 * (moveRound + move);
+    }
   }
   double tShift = 0.0;
   glm::dvec3 p = o;
