@@ -339,23 +339,13 @@ template <bool kOcclusion, class Args>
 void quadricPacketLanes(const Args* args, RTCRayN* ray) {
   const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
   const unsigned n = args->N;
-  QuadricPacket p;
   unsigned lanes[kMaxN];
   unsigned count = 0;
   for (unsigned lane = 0; lane < n; ++lane) {
     if (args->valid[lane] == 0) continue;
     // Already occluded by an earlier primitive of this packet.
     if (kOcclusion && RTCRayN_tfar(ray, n, lane) < 0.0f) continue;
-    lanes[count] = lane;
-    p.ox[count] = RTCRayN_org_x(ray, n, lane);
-    p.oy[count] = RTCRayN_org_y(ray, n, lane);
-    p.oz[count] = RTCRayN_org_z(ray, n, lane);
-    p.dx[count] = RTCRayN_dir_x(ray, n, lane);
-    p.dy[count] = RTCRayN_dir_y(ray, n, lane);
-    p.dz[count] = RTCRayN_dir_z(ray, n, lane);
-    p.tnear[count] = RTCRayN_tnear(ray, n, lane);
-    p.tfar[count] = RTCRayN_tfar(ray, n, lane);
-    ++count;
+    lanes[count++] = lane;
   }
   if (count < kMinPacketLanes) {
     for (unsigned i = 0; i < count; ++i) {
@@ -366,6 +356,18 @@ void quadricPacketLanes(const Args* args, RTCRayN* ray) {
       }
     }
     return;
+  }
+  QuadricPacket p;
+  for (unsigned i = 0; i < count; ++i) {
+    const unsigned lane = lanes[i];
+    p.ox[i] = RTCRayN_org_x(ray, n, lane);
+    p.oy[i] = RTCRayN_org_y(ray, n, lane);
+    p.oz[i] = RTCRayN_org_z(ray, n, lane);
+    p.dx[i] = RTCRayN_dir_x(ray, n, lane);
+    p.dy[i] = RTCRayN_dir_y(ray, n, lane);
+    p.dz[i] = RTCRayN_dir_z(ray, n, lane);
+    p.tnear[i] = RTCRayN_tnear(ray, n, lane);
+    p.tfar[i] = RTCRayN_tfar(ray, n, lane);
   }
   p.count = count;
   p.wantUV = !kOcclusion;
