@@ -528,6 +528,11 @@ FloatMap floatMap(const RayD& r) {
 }
 }  // namespace
 
+KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                        double tfar, double roundoff, double orgError) {
+  return objectRay(data, o, d, tnear, tfar, roundoff, orgError);
+}
+
 void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit) {
   rtcInitIntersectContext(&context->base);
   context->base.filter = &markerFilter;

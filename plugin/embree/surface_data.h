@@ -91,6 +91,14 @@ struct KernelRay {
   glm::dvec3 travOrg{0.0}, travDir{0.0};
 };
 
+// A host's ray (world space; roundoff: the unit roundoff of its precision, orgError the
+// host's bound) in data's object space, as the bridge forms it for the kernels (its
+// objectRay, kept static there: measured, an external objectRay cost the quadric path's
+// single rays a quarter of their speed in copies of the returned ray). For tests; the
+// packet lanes of quadric_packet.cpp repeat it for float rays.
+KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                        double tfar, double roundoff, double orgError);
+
 // A candidate root handed to the acceptance callback (the host filter).
 struct KernelHit {
   double t = 0;
