@@ -53,7 +53,9 @@ inline VI ne(VD a, VD b) { return (VI)_mm_cmpneq_pd(a, b); }
 inline VD vsqrt(VD a) { return _mm_sqrt_pd(a); }  // correctly rounded, as std::sqrt
 inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm_movemask_pd((VD)m)); }
 // The sign bit spread over its lane (psrad on the high half, then pshufd).
-inline VI signMask(VD a) { return (VI)_mm_shuffle_epi32(_mm_srai_epi32((__m128i)a, 31), _MM_SHUFFLE(3, 3, 1, 1)); }
+inline VI signMask(VD a) {
+  return (VI)_mm_shuffle_epi32(_mm_srai_epi32((__m128i)a, 31), _MM_SHUFFLE(3, 3, 1, 1));
+}
 #include "quadric_packet_group.inc"
 }  // namespace sse2
 
@@ -111,10 +113,10 @@ bool usesQuadricPacket(const SurfaceData& data) {
 
 void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
 #if !defined(__x86_64__)
+  (void)data;
   for (unsigned i = 0; i < p.count; ++i) p.status[i] = QuadricPacket::kScalar;
-  return;
 #else
-  const ClipSphere& sphere = std::get<ClipSphere>(data.desc.clip);
+  const ClipSphere& sphere = *std::get_if<ClipSphere>(&data.desc.clip);  // usesQuadricPacket
   // objectRay's Frobenius norm of A^-1 and |b|, the same operations once per packet (and
   // only for a transform: two roots on the critical path of every packet otherwise).
   double invNorm = 0.0, lenB = 0.0;
