@@ -68,6 +68,8 @@ struct SurfaceOptions {
                                  // (no per-ray record, cell walk or generic solver frame)
   bool quadricBounds = true;     // an ellipsoid with one cell: the cell and Embree bounds
                                  // are its own padded box, not the clip region's
+  bool packetSimd = true;        // quadric callbacks of 4/8/16-ray packets: the active
+                                 // lanes' span, restriction and first root in SIMD
   bool singlePrecision = false;  // float solver for the first root (comparison only; the
                                  // restriction and later roots stay double)
 };

@@ -1,5 +1,6 @@
 // The only file that knows Embree 3's callback ABI: bounds, intersect and occluded for
-// N = 1, 4, 8, 16 (one lane at a time, honouring the valid mask), the host filter calls,
+// N = 1, 4, 8, 16 (one lane at a time, honouring the valid mask; the quadric path's
+// packets through quadric_packet.cpp), the host filter calls,
 // the double-precision side channel (IntersectContext) and the exception barrier.
 // An Embree 4 port rewrites this file; surface_intersect.cpp stays.
 #include "surface_data.h"
@@ -11,6 +12,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 namespace algray {
 
@@ -108,6 +110,13 @@ struct Lane {
   IntersectContext* dctx;
   double tfarD;  // the double channel's current far end
 };
+// A lane of a packet through quadric_packet.cpp: surfaceUVFloat's u, v (before the cast)
+// of the hit at t = uvT, computed with the packet's lanes (NaN: none). A type of its own
+// so that single rays carry and test nothing more (measured: the test and the larger
+// record in the lane loop cost the sphere's single primary rays 1.5 %).
+struct PacketLane : Lane {
+  double uvT, uvU, uvV;
+};
 
 // The candidate's float tfar, and whether it lies inside the ray's current interval: in
 // the double channel against the double far end (the float ray is only Embree's
@@ -161,7 +170,8 @@ glm::vec3 floatNormal(const glm::dvec3& g) {
   return glm::vec3(std::ldexp(g.x, -e), std::ldexp(g.y, -e), std::ldexp(g.z, -e));
 }
 
-bool acceptIntersection(void* user, const KernelHit& h) {
+template <bool kPacketLane>
+bool acceptIntersectionOf(void* user, const KernelHit& h) {
   Lane& L = *static_cast<Lane*>(user);
   const auto* args = static_cast<const RTCIntersectFunctionNArguments*>(L.args);
   const unsigned n = args->N, lane = L.lane;
@@ -178,7 +188,16 @@ bool acceptIntersection(void* user, const KernelHit& h) {
     uf = static_cast<float>(u);
     vf = static_cast<float>(v);
   } else {
-    surfaceUVFloat(*L.data, h.point, uf, vf);
+    bool given = false;
+    if constexpr (kPacketLane) {
+      const auto& P = static_cast<const PacketLane&>(L);
+      if (h.t == P.uvT) {
+        uf = static_cast<float>(P.uvU);
+        vf = static_cast<float>(P.uvV);
+        given = true;
+      }
+    }
+    if (!given) surfaceUVFloat(*L.data, h.point, uf, vf);
   }
   HitBuffer candidate;
   writeCandidate(candidate.hitN(), n, lane, floatNormal(ng), uf, vf, args->primID, args->geomID, args->context);
@@ -212,6 +231,8 @@ bool acceptIntersection(void* user, const KernelHit& h) {
   }
   return true;
 }
+
+bool acceptIntersection(void* user, const KernelHit& h) { return acceptIntersectionOf<false>(user, h); }
 
 bool acceptOcclusion(void* user, const KernelHit& h) {
   Lane& L = *static_cast<Lane*>(user);
@@ -283,17 +304,14 @@ bool traceLane(const Args* args, RTCRayN* ray, unsigned lane, bool occlusion, Ac
 // The quadric path (quadric_path.cpp): the roots of the closed-form restriction in
 // order, offered to the same accept functions as the generic walk's (host filters, the
 // double channel, the float tfar), so a rejected root moves on to the next one.
-template <bool kOcclusion, class Args>
-void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
-  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
-  Lane L{args, data, lane, doubleContext(args->context, args->N), 0.0};
-  const KernelRay kr = laneRay(args, ray, lane, L);
-  QuadricSpan q;
-  if (!quadricSpan(*data, kr, q)) return;
-  double s, slo = q.slo;
+// s: the first root, quadricRoot(q, q.slo, s). (Inlined: a call here cost the lane
+// loop's single primary rays ~1 %, measured.)
+template <bool kOcclusion, class LaneT>
+[[gnu::always_inline]] inline void offerQuadricRoots(LaneT& L, const KernelRay& kr, const QuadricSpan& q,
+                                                     double s) {
   // The span is open at its far end, as the generic walk's cell span: a root within
   // noise of it (reported there by the solver) is no hit.
-  while (quadricRoot(q, slo, s) && s < q.shi) {
+  while (s < q.shi) {
     KernelHit h;
     h.t = q.g.tShift + s;
     if (!(h.t < kr.tfar)) return;
@@ -302,11 +320,109 @@ void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
       if constexpr (kOcclusion) {
         if (acceptOcclusion(&L, h)) return;
       } else {
-        h.gradient = 2.0 * (data->quadric->a * h.point) + data->quadric->b;
-        if (acceptIntersection(&L, h)) return;
+        h.gradient = 2.0 * (L.data->quadric->a * h.point) + L.data->quadric->b;
+        if (acceptIntersectionOf<std::is_same_v<LaneT, PacketLane>>(&L, h)) return;
       }
     }
-    slo = s;
+    const double slo = s;
+    if (!quadricRoot(q, slo, s)) return;
+  }
+}
+
+template <bool kOcclusion, class Args>
+void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  Lane L{args, data, lane, doubleContext(args->context, args->N), 0.0};
+  const KernelRay kr = laneRay(args, ray, lane, L);
+  QuadricSpan q;
+  double s;
+  if (!quadricSpan(*data, kr, q) || !quadricRoot(q, q.slo, s)) return;
+  offerQuadricRoots<kOcclusion>(L, kr, q, s);
+}
+
+// ---- Packets through the quadric path ---------------------------------------------------
+// Two or more active lanes of a float packet (never the double channel, which is N = 1):
+// quadricPacket (quadric_packet.cpp) computes every lane's span and first root in SIMD,
+// then the lanes are finished one at a time in lane order - the roots offered to the
+// same accept functions, a lane the packet kernel left undecided by quadricLane - so the
+// host filter sees the same calls in the same order as with the lane loop, and every hit
+// is the scalar path's bit for bit (tests/embree_packet_test.cpp).
+// A lone active lane (Embree's hybrid traversal calls with one) takes quadricLane: the
+// lanes would compute a vector for one ray, and the packet record costs its copies.
+constexpr unsigned kMinPacketLanes = 2;
+
+template <bool kOcclusion, class Args>
+void quadricPacketLanes(const Args* args, RTCRayN* ray) {
+  const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
+  const unsigned n = args->N;
+  unsigned lanes[kMaxN];
+  unsigned count = 0;
+  for (unsigned lane = 0; lane < n; ++lane) {
+    if (args->valid[lane] == 0) continue;
+    // Already occluded by an earlier primitive of this packet.
+    if (kOcclusion && RTCRayN_tfar(ray, n, lane) < 0.0f) continue;
+    lanes[count++] = lane;
+  }
+  if (count < kMinPacketLanes) {
+    for (unsigned i = 0; i < count; ++i) {
+      try {
+        quadricLane<kOcclusion>(args, ray, lanes[i]);
+      } catch (...) {
+        data->errors.fetch_add(1, std::memory_order_relaxed);
+      }
+    }
+    return;
+  }
+  QuadricPacket p;
+  for (unsigned i = 0; i < count; ++i) {
+    const unsigned lane = lanes[i];
+    p.ox[i] = RTCRayN_org_x(ray, n, lane);
+    p.oy[i] = RTCRayN_org_y(ray, n, lane);
+    p.oz[i] = RTCRayN_org_z(ray, n, lane);
+    p.dx[i] = RTCRayN_dir_x(ray, n, lane);
+    p.dy[i] = RTCRayN_dir_y(ray, n, lane);
+    p.dz[i] = RTCRayN_dir_z(ray, n, lane);
+    p.tnear[i] = RTCRayN_tnear(ray, n, lane);
+    p.tfar[i] = RTCRayN_tfar(ray, n, lane);
+  }
+  p.count = count;
+  p.wantUV = !kOcclusion;
+  quadricPacket(*data, p);
+  for (unsigned i = 0; i < count; ++i) {
+    if (p.status[i] == QuadricPacket::kNone) continue;
+    try {
+      if (p.status[i] == QuadricPacket::kScalar) {
+        quadricLane<kOcclusion>(args, ray, lanes[i]);
+        continue;
+      }
+      PacketLane L{{args, data, lanes[i], nullptr, 0.0}, std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0};
+      if constexpr (!kOcclusion) {
+        L.uvT = p.uvT[i];
+        L.uvU = p.u[i];
+        L.uvV = p.v[i];
+      }
+      KernelRay kr;
+      kr.org = glm::dvec3(p.kox[i], p.koy[i], p.koz[i]);
+      kr.dir = glm::dvec3(p.kdx[i], p.kdy[i], p.kdz[i]);
+      kr.tnear = p.tnear[i];
+      kr.tfar = p.tfar[i];
+      kr.orgRoundoff = kFloatRoundoff;
+      kr.orgError = p.orgError[i];
+      QuadricSpan q;
+      q.g.degree = p.degree[i];
+      q.g.tShift = p.tShift[i];
+      q.g.c[0] = p.c0[i];
+      q.g.c[1] = p.c1[i];
+      q.g.c[2] = p.c2[i];
+      q.g.err[0] = p.e0[i];
+      q.g.err[1] = p.e1[i];
+      q.g.err[2] = p.e2[i];
+      q.slo = p.slo[i];
+      q.shi = p.shi[i];
+      offerQuadricRoots<kOcclusion>(L, kr, q, p.s[i]);
+    } catch (...) {
+      data->errors.fetch_add(1, std::memory_order_relaxed);
+    }
   }
 }
 
@@ -345,6 +461,10 @@ void occludedCallback(const RTCOccludedFunctionNArguments* args) {
 
 void quadricIntersectCallback(const RTCIntersectFunctionNArguments* args) {
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  if (args->N > 1 && static_cast<const SurfaceData*>(args->geometryUserPtr)->packetSimd) {
+    quadricPacketLanes<false>(args, ray);
+    return;
+  }
   for (unsigned lane = 0; lane < args->N; ++lane) {
     if (args->valid[lane] == 0) continue;
     try {
@@ -356,6 +476,10 @@ void quadricIntersectCallback(const RTCIntersectFunctionNArguments* args) {
 }
 
 void quadricOccludedCallback(const RTCOccludedFunctionNArguments* args) {
+  if (args->N > 1 && static_cast<const SurfaceData*>(args->geometryUserPtr)->packetSimd) {
+    quadricPacketLanes<true>(args, args->ray);
+    return;
+  }
   for (unsigned lane = 0; lane < args->N; ++lane) {
     if (args->valid[lane] == 0 || RTCRayN_tfar(args->ray, args->N, lane) < 0.0f) continue;
     try {
@@ -382,6 +506,7 @@ RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
   rtcSetGeometryBoundsFunction(g, &boundsCallback, nullptr);
   // The callbacks are chosen once here: a quadric with one cell takes its own.
   const bool quadric = usesQuadricPath(*data);
+  data->packetSimd = usesQuadricPacket(*data);
   rtcSetGeometryIntersectFunction(g, quadric ? &quadricIntersectCallback : &intersectCallback);
   rtcSetGeometryOccludedFunction(g, quadric ? &quadricOccludedCallback : &occludedCallback);
   rtcCommitGeometry(g);
@@ -418,6 +543,11 @@ FloatMap floatMap(const RayD& r) {
   return m;
 }
 }  // namespace
+
+KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                        double tfar, double roundoff, double orgError) {
+  return objectRay(data, o, d, tnear, tfar, roundoff, orgError);
+}
 
 void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit) {
   rtcInitIntersectContext(&context->base);

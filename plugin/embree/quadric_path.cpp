@@ -176,11 +176,21 @@ void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0
   const glm::dvec3 absG = glm::abs(at.gradient);
   const double moveRound = ray.orgRoundoff * glm::dot(absG, glm::abs(o));
   const double moveUpper = moveRound + (1.0 + 0x1p-20) * (absG.x + absG.y + absG.z) * ray.orgError;
-  const bool onSurface = !(std::abs(at.value) > 4.0 * at.error + 2.0 * moveUpper) &&
-                         std::abs(at.value) <= 4.0 * at.error +
-                                                   2.0 * (moveRound + (ray.orgError != 0.0
-                                                                           ? safeLength(at.gradient) * ray.orgError
-                                                                           : 0.0));
+  // Within that bound, the exact rule takes |grad f| (safeLength: three divisions and a
+  // root, most of a shadow ray's restriction). Its largest component m is no larger
+  // (safeLength = m |g / m| with a component of g / m exactly 1), so |f| within the bound
+  // with m is within it with |grad f|, by the same monotonicity; only the origins in
+  // between pay for the length.
+  const double absValue = std::abs(at.value);
+  bool onSurface = false;
+  if (!(absValue > 4.0 * at.error + 2.0 * moveUpper)) {
+    const double m = std::max({absG.x, absG.y, absG.z});
+    onSurface = absValue <= 4.0 * at.error + 2.0 * (moveRound + m * ray.orgError);
+    if (!onSurface) {
+      const double move = ray.orgError != 0.0 ? safeLength(at.gradient) * ray.orgError : 0.0;
+      onSurface = absValue <= 4.0 * at.error + 2.0 * (moveRound + move);
+    }
+  }
   double tShift = 0.0;
   glm::dvec3 p = o;
   double shiftError0 = 0.0, shiftError1 = 0.0;

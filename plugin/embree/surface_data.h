@@ -52,6 +52,7 @@ struct SurfaceData {
   // region (an ellipsoid's own box, boundedQuadricBox; or a cell the build shrank).
   bool quadricCellClip = false;
   QuadricBox quadricBox;  // the tight cell, when the one cell is an ellipsoid's box
+  bool packetSimd = false;  // usesQuadricPacket: packets take quadric_packet.cpp
   // f, grad f and the bound at a point (self-root rule, polish), precompiled from
   // desc.polynomial.
   HornerForm horner;
@@ -90,6 +91,14 @@ struct KernelRay {
   glm::dvec3 travOrg{0.0}, travDir{0.0};
 };
 
+// A host's ray (world space; roundoff: the unit roundoff of its precision, orgError the
+// host's bound) in data's object space, as the bridge forms it for the kernels (its
+// objectRay, kept static there: measured, an external objectRay cost the quadric path's
+// single rays a quarter of their speed in copies of the returned ray). For tests; the
+// packet lanes of quadric_packet.cpp repeat it for float rays.
+KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                        double tfar, double roundoff, double orgError);
+
 // A candidate root handed to the acceptance callback (the host filter).
 struct KernelHit {
   double t = 0;
@@ -111,6 +120,12 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v);
 // The same for Embree's float u, v: within 2e-10 of them, at a third of the cost.
 void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v);
+// Its atan on [0, 1]: atan(t) = t p(t^2), p of degree 9 with these coefficients (the fit
+// is described at atan2Pair, surface_intersect.cpp; the packet lanes use it too).
+inline constexpr double kAtanPoly[10] = {0.99999998406654822,   -0.33333194338035299, 0.19996618767948782,
+                                         -0.14248359660926879,  0.10881981041904727,  -0.082220750117259683,
+                                         0.055134709912894257,  -0.028572750129062584, 0.0096020026957349888,
+                                         -0.0015154920071548067};
 
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
 bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
@@ -163,6 +178,40 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q);
 // The first root s of q.g in (slo, q.shi] by the rules of firstRoot (algray/roots.h): a
 // root within noise of slo is not reported, so slo = the previous root gives the next.
 bool quadricRoot(const QuadricSpan& q, double slo, double& s);
+
+// ---- Packets through the quadric path (quadric_packet.cpp) ------------------------------
+// The float rays of an rtcIntersect4/8/16 or rtcOccluded4/8/16 call, compacted to the
+// lanes the bridge traces, in world space (structure of arrays, padded to a multiple of
+// the kernel's vector width). For each, quadricPacket computes what quadricLane would:
+// the object-space ray (objectRay of embree_bridge.cpp for a float ray), quadricSpan and
+// the first quadricRoot, bit for bit, for the common cases; every other lane is marked
+// for the scalar path.
+constexpr unsigned kPacketLanes = 16;
+struct QuadricPacket {
+  enum Status : int { kNone = 0, kRoot = 1, kScalar = 2 };
+  unsigned count = 0;
+  // In: world-space float rays as doubles.
+  alignas(64) double ox[kPacketLanes], oy[kPacketLanes], oz[kPacketLanes];
+  alignas(64) double dx[kPacketLanes], dy[kPacketLanes], dz[kPacketLanes];
+  alignas(64) double tnear[kPacketLanes], tfar[kPacketLanes];
+  // Out: kNone (quadricSpan or quadricRoot found nothing), kRoot (the first root s, with
+  // the object-space ray and the span below), kScalar (ask quadricLane).
+  alignas(64) int status[kPacketLanes];
+  alignas(64) double s[kPacketLanes];
+  alignas(64) double kox[kPacketLanes], koy[kPacketLanes], koz[kPacketLanes];
+  alignas(64) double kdx[kPacketLanes], kdy[kPacketLanes], kdz[kPacketLanes], orgError[kPacketLanes];
+  alignas(64) int degree[kPacketLanes];
+  alignas(64) double tShift[kPacketLanes], c0[kPacketLanes], c1[kPacketLanes], c2[kPacketLanes];
+  alignas(64) double e0[kPacketLanes], e1[kPacketLanes], e2[kPacketLanes], slo[kPacketLanes], shi[kPacketLanes];
+  // For intersection queries (wantUV): surfaceUVFloat's u, v before the cast to float at
+  // the first root's point t = tShift + s, in uvT; NaN where the lanes left it to it.
+  bool wantUV = false;
+  alignas(64) double u[kPacketLanes], v[kPacketLanes], uvT[kPacketLanes];
+};
+// Whether quadricPacket can handle data's rays at all (the quadric path with a clip
+// sphere, re-centring on, and SurfaceOptions::packetSimd).
+bool usesQuadricPacket(const SurfaceData& data);
+void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept;
 
 // ---- Small helpers shared by the kernels -------------------------------------------
 inline bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }

@@ -429,10 +429,7 @@ namespace {
 // speed_report's sphere). Not for (0, 0).
 void atan2Pair(const double (&y)[2], const double (&x)[2], double (&out)[2]) {
   constexpr double kPi = 3.14159265358979323846;
-  constexpr double c[] = {0.99999998406654822,  -0.33333194338035299, 0.19996618767948782,
-                          -0.14248359660926879,  0.10881981041904727, -0.082220750117259683,
-                          0.055134709912894257, -0.028572750129062584, 0.0096020026957349888,
-                          -0.0015154920071548067};
+  const auto& c = kAtanPoly;
   for (int i = 0; i < 2; ++i) {
     const double ax = std::abs(x[i]), ay = std::abs(y[i]);
     const double t = std::min(ax, ay) / std::max(ax, ay), t2 = t * t, t4 = t2 * t2, t8 = t4 * t4;

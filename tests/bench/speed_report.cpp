@@ -28,7 +28,9 @@
 // no-cells (one primitive for the whole clip region), cells-depth4 (cells forced to a
 // depth-4 octree, in case the automatic depth chooses few cells), no-origin-cache, no-recentre,
 // no-closed-forms (RootMethod::Yuksel for degrees <= 4; above, Auto is Yuksel already),
-// no-quadric-path (degree 2 through the general restriction, cache and polish).
+// no-quadric-path (degree 2 through the general restriction, cache and polish),
+// no-packet-simd (degree 2: the quadric callbacks loop over a packet's lanes instead of
+// quadric_packet.cpp; measured on pkt8, the rows "primary pkt8" and "shadow pkt8").
 //
 // Writes DIR/speed.csv and DIR/speed.md and prints the tables.
 //
@@ -102,6 +104,7 @@ Entry algrayEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f
   e.buildMs = msSince(start);
   e.primitives = e.geometry->primitiveCount();
   e.allMetrics = e.config == "default";
+  e.packetMetrics = e.config == "no-packet-simd";
   return e;
 }
 
@@ -218,18 +221,14 @@ void measurePass(Entry& e, const View& v, const std::vector<float>* reference) {
   e.hitFraction = static_cast<double>(hits) / t.size();
   e.depth = t;
   if (reference) e.disagreeFraction = static_cast<double>(differ) / t.size();
-  if (e.allMetrics) {
-    keepBest(e, kPAll, tracePrimaryAll(e.scene, v, t));
-    keepBest(e, kP8, tracePrimary8(e.scene, v, t));
-  }
+  if (e.allMetrics) keepBest(e, kPAll, tracePrimaryAll(e.scene, v, t));
+  if (e.allMetrics || e.packetMetrics) keepBest(e, kP8, tracePrimary8(e.scene, v, t));
   keepBest(e, kS1, traceShadow1(e.scene, *e.shadowSet, e.shadowTnear, occ));
   size_t occluded = 0;
   for (std::uint8_t o : occ) occluded += o;
   e.occludedFraction = occ.empty() ? NAN : static_cast<double>(occluded) / occ.size();
-  if (e.allMetrics) {
-    keepBest(e, kSAll, traceShadowAll(e.scene, *e.shadowSet, e.shadowTnear, occ));
-    keepBest(e, kS8, traceShadow8(e.scene, *e.shadowSet, e.shadowTnear, occ));
-  }
+  if (e.allMetrics) keepBest(e, kSAll, traceShadowAll(e.scene, *e.shadowSet, e.shadowTnear, occ));
+  if (e.allMetrics || e.packetMetrics) keepBest(e, kS8, traceShadow8(e.scene, *e.shadowSet, e.shadowTnear, occ));
 }
 
 int run(const Args& args) {
@@ -245,7 +244,7 @@ int run(const Args& args) {
   }
   const std::vector<std::string> configs = {"default",     "no-cells",        "cells-depth4",
                                             "no-origin-cache", "no-recentre", "no-closed-forms",
-                                            "no-quadric-path"};
+                                            "no-quadric-path", "no-packet-simd"};
   std::vector<Entry> done;
   unsigned long long callbackErrors = 0;
   for (const GallerySurface& s : gallery()) {
@@ -267,6 +266,10 @@ int run(const Args& args) {
       if (c == "no-quadric-path") {
         if (f.degree() != 2) continue;
         o.quadricPath = false;
+      }
+      if (c == "no-packet-simd") {
+        if (f.degree() != 2) continue;
+        o.packetSimd = false;
       }
       if (c == "no-closed-forms") {
         if (f.degree() > 4) continue;

@@ -35,6 +35,7 @@ struct Entry {
   unsigned long long primitives = 0;
   double tessellationMs = NAN, buildMs = NAN;
   bool allMetrics = false;  // else primary and shadow on one thread only
+  bool packetMetrics = false;  // the pkt8 figures too (a packet switch)
   float shadowTnear = 0.0f;
   // Own shadow rays, or shared by all configurations of an algray surface.
   std::shared_ptr<const std::vector<ShadowRay>> shadowSet;
@@ -171,18 +172,28 @@ inline std::string switchTable(const std::vector<Entry>& entries, const std::vec
   for (const Entry& e : entries)
     if (std::find(surfaces.begin(), surfaces.end(), e.surface) == surfaces.end()) surfaces.push_back(e.surface);
   for (const auto& name : surfaces)
-    for (Metric m : {kP1, kS1, kMetricCount}) {
+    for (Metric m : {kP1, kS1, kP8, kS8, kMetricCount}) {
       const Entry* base = nullptr;
       for (const Entry& e : entries)
         if (e.surface == name && e.method == "algray" && e.config == "default") base = &e;
       if (!base) continue;
-      s << "| " << name << " | " << base->degree << " | " << (m == kP1 ? "primary" : m == kS1 ? "shadow" : "differ %")
+      // The pkt8 rows only where a switch measured them (the packet switch).
+      bool measured = m != kP8 && m != kS8;
+      for (const Entry& e : entries)
+        measured = measured || (e.surface == name && e.method == "algray" && e.packetMetrics);
+      if (!measured) continue;
+      s << "| " << name << " | " << base->degree << " | "
+        << (m == kP1   ? "primary"
+            : m == kS1 ? "shadow"
+            : m == kP8 ? "primary pkt8"
+            : m == kS8 ? "shadow pkt8"
+                       : "differ %")
         << " |";
       for (const auto& c : configs) {
         const Entry* x = nullptr;
         for (const Entry& e : entries)
           if (e.surface == name && e.method == "algray" && e.config == c) x = &e;
-        if (!x) {
+        if (!x || (m != kMetricCount && !std::isfinite(x->mrays(m, true)))) {
           s << " - |";
         } else if (m == kMetricCount) {
           s << " " << fmt(100 * x->disagreeFraction, "%.2f") << " |";

@@ -1,0 +1,152 @@
+// Packets through the quadric path (issue 5): the float rays of one rtcIntersect4/8/16 or
+// rtcOccluded4/8/16 call, several lanes per instruction (quadric_packet_group.inc), from
+// the world-space ray to the first root of the quadric's restriction. Every lane's result
+// is the scalar path's bit for bit: each value is the same IEEE operations in the same
+// order as objectRay (embree_bridge.cpp), quadricSpan, restrictQuadricRay, quadraticFirst
+// and linearFirst (quadric_path.cpp) and the glm calls they make (dot (x + y) + z, matrix
+// times vector by rows, length = sqrt(dot)); std::max/min/clamp are written with
+// libstdc++'s comparisons so that they agree on signed zeros too. No FMA is formed:
+// neither SSE2 nor the AVX2 target below enables it (AVX2 does not imply FMA), and the one
+// std::fma of the scalar path (Kahan's discriminant) is Dekker's exact product here,
+// equal to it whenever the operands pass quadraticFirst's range checks.
+// What the lanes do not decide exactly - a sample within noise, a ray tangent at or
+// leaving from the surface twice, a root needing the library's fallback, rays the tight
+// box does not cover, non-finite input - is marked kScalar, and the bridge runs that
+// lane's scalar quadricLane.
+#include "surface_data.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <string_view>
+#include <variant>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
+namespace algray {
+
+#if defined(__x86_64__)
+namespace {
+
+constexpr double kFloatRoundoff = 0x1p-24;  // the bridge's float ray (objectRay's roundoff)
+constexpr std::int64_t kAbs = std::numeric_limits<std::int64_t>::max();
+
+// ---- SSE2 (x86-64's baseline): two lanes per register --------------------------------------
+// GCC's vector extensions do the arithmetic; comparisons and selects are SSE2's own (cmppd,
+// and/andn/or): GCC 12 lowers a vector comparison kept as a mask, and a select on such a
+// mask, element by element through general registers (SSE2 has no 64-bit compare), which
+// cost more than the lane loop saved. (Four lanes as two SSE2 registers each were measured:
+// 1370 instructions a lane, the packets twice slower than the lane loop.)
+namespace sse2 {
+constexpr unsigned kW = 2;
+typedef double VD __attribute__((vector_size(16)));
+typedef std::int64_t VI __attribute__((vector_size(16)));
+inline VD splat(double x) { return _mm_set1_pd(x); }
+inline VD load(const double* p) { return _mm_loadu_pd(p); }
+inline void store(double* p, VD v) { _mm_storeu_pd(p, v); }
+inline VI lt(VD a, VD b) { return (VI)_mm_cmplt_pd(a, b); }
+inline VI le(VD a, VD b) { return (VI)_mm_cmple_pd(a, b); }
+inline VI eq(VD a, VD b) { return (VI)_mm_cmpeq_pd(a, b); }
+inline VI ne(VD a, VD b) { return (VI)_mm_cmpneq_pd(a, b); }
+inline VD vsqrt(VD a) { return _mm_sqrt_pd(a); }  // correctly rounded, as std::sqrt
+inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm_movemask_pd((VD)m)); }
+// The sign bit spread over its lane (psrad on the high half, then pshufd).
+inline VI signMask(VD a) {
+  return (VI)_mm_shuffle_epi32(_mm_srai_epi32((__m128i)a, 31), _MM_SHUFFLE(3, 3, 1, 1));
+}
+#include "quadric_packet_group.inc"
+}  // namespace sse2
+
+// ---- AVX2: four lanes per register, when the CPU has it (checked at run time) ---------------
+#pragma GCC push_options
+#pragma GCC target("avx2")
+namespace avx2 {
+constexpr unsigned kW = 4;
+typedef double VD __attribute__((vector_size(32)));
+typedef std::int64_t VI __attribute__((vector_size(32)));
+inline VD splat(double x) { return _mm256_set1_pd(x); }
+inline VD load(const double* p) { return _mm256_loadu_pd(p); }
+inline void store(double* p, VD v) { _mm256_storeu_pd(p, v); }
+inline VI lt(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+inline VI le(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_LE_OQ); }
+inline VI eq(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
+inline VI ne(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
+inline VD vsqrt(VD a) { return _mm256_sqrt_pd(a); }
+inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm256_movemask_pd((VD)m)); }
+inline VI signMask(VD a) {
+  return (VI)_mm256_shuffle_epi32(_mm256_srai_epi32((__m256i)a, 31), _MM_SHUFFLE(3, 3, 1, 1));
+}
+#include "quadric_packet_group.inc"
+}  // namespace avx2
+#pragma GCC pop_options
+
+// ALGRAY_PACKET_ISA=sse2 keeps the SSE2 lanes on an AVX2 machine: the tests run both
+// (tests/CMakeLists.txt), and speed runs can compare them.
+bool hasAvx2() {
+  static const bool has = [] {
+    const char* isa = std::getenv("ALGRAY_PACKET_ISA");
+    if (isa && std::string_view(isa) == "sse2") return false;
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+}
+
+}  // namespace
+#endif  // __x86_64__
+
+bool usesQuadricPacket(const SurfaceData& data) {
+#if !defined(__x86_64__)
+  (void)data;
+  return false;  // the lane loop (no SIMD path written for other targets)
+#else
+  const auto* sphere = std::get_if<ClipSphere>(&data.desc.clip);
+  // The re-centring point is the clip sphere's closest point (quadricSpan passes tc only
+  // when the sphere is centred on data.centre); a cell the build shrank below the tight
+  // box has no QuadricBox and every ray would be clipped to it (left to the scalar path).
+  return usesQuadricPath(data) && data.desc.options.packetSimd && data.desc.options.recentre && sphere &&
+         sphere->center == data.centre && (!data.quadricCellClip || data.quadricBox.distance >= 0.0);
+#endif
+}
+
+void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
+#if !defined(__x86_64__)
+  (void)data;
+  for (unsigned i = 0; i < p.count; ++i) p.status[i] = QuadricPacket::kScalar;
+#else
+  const ClipSphere& sphere = *std::get_if<ClipSphere>(&data.desc.clip);  // usesQuadricPacket
+  // objectRay's Frobenius norm of A^-1 and |b|, the same operations once per packet (and
+  // only for a transform: two roots on the critical path of every packet otherwise).
+  double invNorm = 0.0, lenB = 0.0;
+  if (!data.identity) {
+    invNorm = std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
+                        glm::dot(data.aInv[2], data.aInv[2]));
+    lenB = glm::length(data.b);
+  }
+  // Pad to whole vectors with copies of the first lane (computed, never read); a last
+  // lane alone in its vector is cheaper by the scalar path (measured: three active lanes
+  // of an 8-ray packet with SSE2, 0.96x of the lane loop when padded to four).
+  const bool wide = hasAvx2();
+  const unsigned width = wide ? avx2::kW : sse2::kW, full = p.count / width * width;
+  const unsigned end = p.count - full > 1 ? full + width : full;
+  if (end < p.count) p.status[full] = QuadricPacket::kScalar;
+  for (unsigned i = p.count; i < end; ++i) {
+    p.ox[i] = p.ox[0];
+    p.oy[i] = p.oy[0];
+    p.oz[i] = p.oz[0];
+    p.dx[i] = p.dx[0];
+    p.dy[i] = p.dy[0];
+    p.dz[i] = p.dz[0];
+    p.tnear[i] = p.tnear[0];
+    p.tfar[i] = p.tfar[0];
+  }
+  if (wide)
+    avx2::quadricLanes(data, sphere, invNorm, lenB, p, end);
+  else
+    sse2::quadricLanes(data, sphere, invNorm, lenB, p, end);
+#endif
+}
+
+}  // namespace algray

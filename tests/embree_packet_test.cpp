@@ -1,0 +1,398 @@
+// Packets of 4, 8 and 16 rays through the quadric callbacks (issue 5): the SIMD packet
+// path (quadric_packet.cpp) must give every lane the hit rtcIntersect1 / rtcOccluded1
+// gives the same ray, bit for bit, and the host filter the same calls in the same order.
+#include "algray/embree.h"
+#include "embree_test_util.h"
+// The adapter's private kernel, for the lanes' double results (the float hits above show
+// only what survives the cast to float).
+#include "../plugin/embree/surface_data.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace algray::test {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Rejects every other candidate it sees (the count is reset before each comparison).
+int filterCalls = 0;
+void rejectEveryOther(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0 && (filterCalls++ % 2) == 0) args->valid[i] = 0;
+}
+
+std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
+
+// Embree's SoA packets of width N, as a plain float array (the layout of RTCRayHitN).
+template <unsigned N>
+struct PacketOf;
+template <>
+struct PacketOf<4> {
+  using RayHit = RTCRayHit4;
+  using Ray = RTCRay4;
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect4(v, s, c, r); }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded4(v, s, c, r); }
+};
+template <>
+struct PacketOf<8> {
+  using RayHit = RTCRayHit8;
+  using Ray = RTCRay8;
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect8(v, s, c, r); }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded8(v, s, c, r); }
+};
+template <>
+struct PacketOf<16> {
+  using RayHit = RTCRayHit16;
+  using Ray = RTCRay16;
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect16(v, s, c, r); }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(v, s, c, r); }
+};
+
+template <class R>
+void setLane(R& r, unsigned l, const RTCRay& one) {
+  r.org_x[l] = one.org_x;
+  r.org_y[l] = one.org_y;
+  r.org_z[l] = one.org_z;
+  r.dir_x[l] = one.dir_x;
+  r.dir_y[l] = one.dir_y;
+  r.dir_z[l] = one.dir_z;
+  r.tnear[l] = one.tnear;
+  r.tfar[l] = one.tfar;
+  r.time[l] = 0.0f;
+  r.mask[l] = ~0u;
+  r.id[l] = l;
+  r.flags[l] = 0;
+}
+
+struct Case {
+  const char* name;
+  Polynomial f;
+  ClipRegion clip;
+  glm::dmat4 transform;
+};
+
+std::vector<Case> cases() {
+  const Polynomial x = X(), y = Y(), z = Z();
+  glm::dmat4 skew(1.0);
+  skew[0][1] = 0.3;
+  skew[1][2] = -0.2;
+  skew[2][2] = 1.7;
+  skew[3] = glm::dvec4(0.5, -0.25, 2.0, 1.0);
+  const Polynomial ellipsoid = x * x + y * y * (1.0 / 0.5625) + z * z * 4.0 - Polynomial(1.0);
+  return {
+      {"sphere", spherePolynomial(1.0), ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
+      {"ellipsoid", ellipsoid, ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
+      {"ellipsoid skew", ellipsoid, ClipSphere{{0, 0, 0}, 1.2}, skew},
+      {"ellipsoid off-centre", ellipsoid, ClipSphere{{0.4, 0.1, 0}, 1.0}, glm::dmat4(1.0)},
+      {"hyperboloid", x * x + y * y - z * z - Polynomial(0.25), ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0)},
+      {"hyperboloid box", x * x + y * y - z * z - Polynomial(0.25), ClipBox{{-1, -1.2, -0.8}, {1.1, 1, 1}},
+       glm::dmat4(1.0)},
+      {"paraboloid skew", x * x + y * y - z, ClipSphere{{0.1, 0, 0.3}, 1.0}, skew},
+      {"saddle", x * y + y * z + x * z - 0.2 * x + Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0)},
+      {"cylinder", x * x + y * y - Polynomial(0.5), ClipSphere{{0, 0, 0}, 1.0}, glm::dmat4(1.0)},
+      {"huge sphere", 1e200 * spherePolynomial(1.0), ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
+  };
+}
+
+class EmbreePacket : public ::testing::Test {
+ protected:
+  Device device;
+  std::mt19937 rng{4242};
+  glm::vec3 randomDir() {
+    std::normal_distribution<float> n;
+    return glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
+  }
+  float uniform(float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); }
+
+  // Rays of every kind the packet kernel decides or hands back: a camera's (shared eye,
+  // near or very far), random ones, from inside, leaving the surface (tnear = 0, the
+  // self-root rule), grazing, cut short by tfar or starting beyond the hit, and
+  // degenerate ones (zero or tiny direction, inverted or empty span). (No NaN or infinite
+  // lanes: Embree 3 asserts on them before any user geometry sees them.)
+  RTCRay randomRay(RTCScene scene, const glm::vec3& eye, float scale, const glm::mat4& world) {
+    auto target = [&] { return glm::vec3(world * glm::vec4(uniform(-1.3f, 1.3f) * randomDir(), 1)); };
+    const int kind = std::uniform_int_distribution<int>(0, 11)(rng);
+    glm::vec3 o = eye, d = target() - eye;
+    float tnear = 0.0f, tfar = kInf;
+    switch (kind) {
+      case 0:
+      case 1:
+      case 2:
+        break;  // the camera
+      case 3:
+        o = scale * randomDir();
+        d = target() - o;
+        break;
+      case 4:
+        o = glm::vec3(world * glm::vec4(0.2f * randomDir(), 1));
+        d = randomDir();
+        break;
+      case 5:
+      case 6: {  // leaving the surface from a hit of the camera
+        RTCRayHit rh = intersect1(scene, makeRay(eye, d));
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        o = eye + rh.ray.tfar * d;
+        d = kind == 5 ? 3.0f * randomDir() - o : d;
+        tfar = kind == 5 ? 1.0f : kInf;
+        break;
+      }
+      case 7:
+        tfar = uniform(0.0f, 1.2f);  // cut short, or starting beyond the first root
+        tnear = uniform(0.0f, 0.9f);
+        break;
+      case 8:
+        d = glm::vec3(0.0f);
+        break;
+      case 9:
+        tnear = 5.0f;
+        tfar = uniform(0.0f, 1.0f) < 0.5f ? 3.0f : 5.0f;
+        break;
+      case 10:
+        d *= 1e-30f;
+        break;
+      default:
+        o = scale * randomDir();
+        d = glm::cross(o, randomDir());  // grazing the clip region or missing
+        break;
+    }
+    return makeRay(o, d, tnear, tfar).ray;
+  }
+
+  template <unsigned N>
+  void compare(RTCScene scene, const glm::vec3& eye, float scale, const glm::mat4& world, int packets, int& lanes,
+               int& hits) {
+    using P = PacketOf<N>;
+    for (int k = 0; k < packets; ++k) {
+      alignas(64) typename P::RayHit rh{};
+      alignas(64) typename P::Ray ray{};
+      alignas(64) int valid[N];
+      RTCRay singles[N];
+      for (unsigned l = 0; l < N; ++l) {
+        valid[l] = uniform(0.0f, 1.0f) < 0.8f ? -1 : 0;
+        singles[l] = randomRay(scene, eye, scale, world);
+        setLane(rh.ray, l, singles[l]);
+        setLane(ray, l, singles[l]);
+        rh.hit.geomID[l] = rh.hit.primID[l] = rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.Ng_x[l] = rh.hit.Ng_y[l] = rh.hit.Ng_z[l] = rh.hit.u[l] = rh.hit.v[l] = -7.0f;
+      }
+      // ---- Closest hit ------------------------------------------------------------------
+      const typename P::RayHit before = rh;
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      filterCalls = 0;
+      P::intersect(valid, scene, &context, &rh);
+      const int packetFilterCalls = filterCalls;
+      filterCalls = 0;
+      for (unsigned l = 0; l < N; ++l) {
+        SCOPED_TRACE(testing::Message() << "N " << N << " packet " << k << " lane " << l);
+        if (!valid[l]) {
+          EXPECT_EQ(bits(rh.ray.tfar[l]), bits(before.ray.tfar[l]));
+          EXPECT_EQ(rh.hit.geomID[l], RTC_INVALID_GEOMETRY_ID);
+          continue;
+        }
+        ++lanes;
+        RTCRayHit one{};
+        one.ray = singles[l];
+        one.ray.id = l;
+        one.hit.geomID = one.hit.primID = one.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        one.hit.Ng_x = one.hit.Ng_y = one.hit.Ng_z = one.hit.u = one.hit.v = -7.0f;
+        one = intersect1(scene, one);
+        hits += one.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        EXPECT_EQ(bits(rh.ray.tfar[l]), bits(one.ray.tfar));
+        EXPECT_EQ(rh.hit.geomID[l], one.hit.geomID);
+        EXPECT_EQ(rh.hit.primID[l], one.hit.primID);
+        EXPECT_EQ(rh.hit.instID[0][l], one.hit.instID[0]);
+        EXPECT_EQ(bits(rh.hit.Ng_x[l]), bits(one.hit.Ng_x));
+        EXPECT_EQ(bits(rh.hit.Ng_y[l]), bits(one.hit.Ng_y));
+        EXPECT_EQ(bits(rh.hit.Ng_z[l]), bits(one.hit.Ng_z));
+        EXPECT_EQ(bits(rh.hit.u[l]), bits(one.hit.u));
+        EXPECT_EQ(bits(rh.hit.v[l]), bits(one.hit.v));
+      }
+      EXPECT_EQ(packetFilterCalls, filterCalls) << "N " << N << " packet " << k;
+      // ---- Occlusion ----------------------------------------------------------------------
+      filterCalls = 0;
+      P::occluded(valid, scene, &context, &ray);
+      const int packetOcclusionCalls = filterCalls;
+      filterCalls = 0;
+      for (unsigned l = 0; l < N; ++l) {
+        SCOPED_TRACE(testing::Message() << "occluded N " << N << " packet " << k << " lane " << l);
+        if (!valid[l]) {
+          EXPECT_EQ(bits(ray.tfar[l]), bits(singles[l].tfar));
+          continue;
+        }
+        RTCRay one = singles[l];
+        one.id = l;
+        rtcOccluded1(scene, &context, &one);
+        EXPECT_EQ(bits(ray.tfar[l]), bits(one.tfar));
+      }
+      EXPECT_EQ(packetOcclusionCalls, filterCalls) << "N " << N << " packet " << k;
+    }
+  }
+};
+
+TEST_F(EmbreePacket, QuadricPacketsMatchSingleRays) {
+  int lanes = 0, hits = 0;
+  for (const Case& c : cases()) {
+    for (const bool filter : {false, true}) {
+      SCOPED_TRACE(testing::Message() << c.name << " filter " << filter);
+      SurfaceDesc desc{c.f, c.clip, c.transform, {}};
+      desc.options.cellDepth = 0;  // one cell: the quadric callbacks
+      SurfaceGeometry g(device, desc);
+      ASSERT_EQ(g.primitiveCount(), 1u);
+      if (filter) {
+        rtcSetGeometryIntersectFilterFunction(g.geometry(), &rejectEveryOther);
+        rtcSetGeometryOccludedFilterFunction(g.geometry(), &rejectEveryOther);
+        rtcCommitGeometry(g.geometry());
+      }
+      Scene scene(device);
+      scene.attach(g.geometry());
+      scene.commit();
+      const glm::mat4 world(c.transform);
+      for (const float dist : {3.0f, 30.0f, 1e4f, 1e7f}) {
+        const glm::vec3 eye = glm::vec3(world * glm::vec4(dist * randomDir(), 1));
+        compare<4>(scene, eye, dist, world, 12, lanes, hits);
+        compare<8>(scene, eye, dist, world, 12, lanes, hits);
+        compare<16>(scene, eye, dist, world, 12, lanes, hits);
+      }
+      EXPECT_EQ(g.callbackErrors(), 0u);
+    }
+  }
+  EXPECT_GT(lanes, 10000);
+  EXPECT_GT(hits, 2000);
+}
+
+std::uint64_t bits(double f) { return std::bit_cast<std::uint64_t>(f); }
+
+// The packet lanes' doubles against the scalar kernel's, bit for bit: the object-space
+// ray (hostObjectRay), the span and restriction (quadricSpan), the first root (quadricRoot)
+// and the float u, v at it (surfaceUVFloat), for every lane they decide.
+TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
+  int decided = 0, roots = 0, uvs = 0, total = 0, nearDecided = 0, nearTotal = 0;
+  for (const Case& c : cases()) {
+    SCOPED_TRACE(c.name);
+    SurfaceDesc desc{c.f, c.clip, c.transform, {}};
+    desc.options.cellDepth = 0;
+    SurfaceGeometry g(device, desc);
+    const auto& data = *static_cast<const SurfaceData*>(rtcGetGeometryUserData(g.geometry()));
+    if (!usesQuadricPacket(data)) continue;
+    Scene scene(device);
+    scene.attach(g.geometry());
+    scene.commit();
+    const glm::mat4 world(c.transform);
+    for (const float dist : {3.0f, 30.0f, 1e4f}) {
+      const glm::vec3 eye = glm::vec3(world * glm::vec4(dist * randomDir(), 1));
+      for (int k = 0; k < 100; ++k) {
+        QuadricPacket p;
+        p.count = 2 + static_cast<unsigned>(uniform(0.0f, 14.99f));
+        p.wantUV = k % 2 == 0;
+        for (unsigned l = 0; l < p.count; ++l) {
+          const RTCRay r = randomRay(scene, eye, dist, world);
+          p.ox[l] = r.org_x;
+          p.oy[l] = r.org_y;
+          p.oz[l] = r.org_z;
+          p.dx[l] = r.dir_x;
+          p.dy[l] = r.dir_y;
+          p.dz[l] = r.dir_z;
+          p.tnear[l] = r.tnear;
+          p.tfar[l] = r.tfar;
+        }
+        quadricPacket(data, p);
+        for (unsigned l = 0; l < p.count; ++l) {
+          SCOPED_TRACE(testing::Message() << "dist " << dist << " packet " << k << " lane " << l);
+          ++total;
+          nearTotal += dist < 10.0f;
+          const KernelRay kr = hostObjectRay(data, {p.ox[l], p.oy[l], p.oz[l]}, {p.dx[l], p.dy[l], p.dz[l]},
+                                         p.tnear[l], p.tfar[l], 0x1p-24, 0.0);
+          QuadricSpan q;
+          double s = 0.0;
+          const bool found = quadricSpan(data, kr, q) && quadricRoot(q, q.slo, s) && s < q.shi;
+          if (p.status[l] == QuadricPacket::kScalar) continue;
+          ++decided;
+          nearDecided += dist < 10.0f;
+          ASSERT_EQ(p.status[l] == QuadricPacket::kRoot, found);
+          if (!found) continue;
+          ++roots;
+          EXPECT_EQ(bits(p.s[l]), bits(s));
+          EXPECT_EQ(bits(p.kox[l]), bits(kr.org.x));
+          EXPECT_EQ(bits(p.koy[l]), bits(kr.org.y));
+          EXPECT_EQ(bits(p.koz[l]), bits(kr.org.z));
+          EXPECT_EQ(bits(p.kdx[l]), bits(kr.dir.x));
+          EXPECT_EQ(bits(p.kdy[l]), bits(kr.dir.y));
+          EXPECT_EQ(bits(p.kdz[l]), bits(kr.dir.z));
+          EXPECT_EQ(bits(p.orgError[l]), bits(kr.orgError));
+          EXPECT_EQ(p.degree[l], q.g.degree);
+          EXPECT_EQ(bits(p.tShift[l]), bits(q.g.tShift));
+          const double pc[3] = {p.c0[l], p.c1[l], p.c2[l]}, pe[3] = {p.e0[l], p.e1[l], p.e2[l]};
+          for (int i = 0; i < 3; ++i) {
+            EXPECT_EQ(bits(pc[i]), bits(q.g.c[i])) << "c" << i;
+            EXPECT_EQ(bits(pe[i]), bits(q.g.err[i])) << "err" << i;
+          }
+          EXPECT_EQ(bits(p.slo[l]), bits(q.slo));
+          EXPECT_EQ(bits(p.shi[l]), bits(q.shi));
+          if (!p.wantUV || std::isnan(p.uvT[l])) continue;
+          ++uvs;
+          const double t = q.g.tShift + s;
+          EXPECT_EQ(bits(p.uvT[l]), bits(t));
+          float u, v;
+          surfaceUVFloat(data, kr.org + t * kr.dir, u, v);
+          EXPECT_EQ(bits(static_cast<float>(p.u[l])), bits(u));
+          EXPECT_EQ(bits(static_cast<float>(p.v[l])), bits(v));
+        }
+      }
+    }
+  }
+  EXPECT_GT(roots, 3000);
+  EXPECT_GT(uvs, 1000);
+  // Undecided: the degenerate kinds, far eyes outside the tight box's derivation, a last
+  // lane alone in its vector; from a near eye most lanes are decided.
+  EXPECT_GT(decided, total / 2);
+  EXPECT_GT(nearDecided, 0.6 * nearTotal);
+}
+
+// The same rays with the packet kernel switched off (SurfaceOptions::packetSimd): the
+// lane loop, which the comparison above checks against rtcIntersect1 as well.
+TEST_F(EmbreePacket, PacketSwitchKeepsTheHits) {
+  SurfaceDesc on = sphereDesc(1.0, 1.2), off = on;
+  off.options.packetSimd = false;
+  SurfaceGeometry a(device, on), b(device, off);
+  Scene sa(device), sb(device);
+  sa.attach(a.geometry());
+  sb.attach(b.geometry());
+  sa.commit();
+  sb.commit();
+  const glm::vec3 eye = 3.0f * randomDir();
+  int hits = 0;
+  for (int k = 0; k < 200; ++k) {
+    alignas(32) RTCRayHit8 ra{};
+    alignas(32) int valid[8];
+    for (unsigned l = 0; l < 8; ++l) {
+      valid[l] = -1;
+      const glm::vec3 target(uniform(-1.2f, 1.2f), uniform(-1.2f, 1.2f), uniform(-1.2f, 1.2f));
+      setLane(ra.ray, l, makeRay(eye, target - eye).ray);
+      ra.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCRayHit8 rb = ra;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect8(valid, sa, &context, &ra);
+    rtcIntersect8(valid, sb, &context, &rb);
+    for (unsigned l = 0; l < 8; ++l) {
+      hits += ra.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID;
+      EXPECT_EQ(bits(ra.ray.tfar[l]), bits(rb.ray.tfar[l]));
+      EXPECT_EQ(bits(ra.hit.Ng_x[l]), bits(rb.hit.Ng_x[l]));
+      EXPECT_EQ(bits(ra.hit.u[l]), bits(rb.hit.u[l]));
+      EXPECT_EQ(bits(ra.hit.v[l]), bits(rb.hit.v[l]));
+    }
+  }
+  EXPECT_GT(hits, 600);
+}
+
+}  // namespace
+}  // namespace algray::test
