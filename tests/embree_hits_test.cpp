@@ -943,5 +943,88 @@ TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
   }
 }
 
+// SurfaceOptions::uv off: every hit field as with the default except u = v = 0, for
+// single float rays, 8-ray packets (the quadric's SIMD lanes and the generic walk's lane
+// loop) and the double channel; and the default's u, v are not all zero (the test can fail).
+TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
+  std::uniform_real_distribution<float> u(-1.3f, 1.3f);
+  for (const bool quadric : {true, false}) {
+    SCOPED_TRACE(quadric ? "sphere" : "torus");
+    SurfaceDesc desc = quadric ? sphereDesc(1.0, 1.2) : SurfaceDesc{};
+    if (!quadric) {
+      desc.polynomial = torusPolynomial(1.0, 0.4);
+      desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    }
+    SurfaceDesc off = desc;
+    off.options.uv = false;
+    SurfaceGeometry ga(device, desc), gb(device, off);
+    Scene sa(device), sb(device);
+    sa.attach(ga.geometry());
+    sb.attach(gb.geometry());
+    sa.commit();
+    sb.commit();
+    const glm::vec3 eye(0.4f, -3.1f, 1.7f);
+    int hits = 0, nonZeroUV = 0;
+    for (int k = 0; k < 40; ++k) {
+      RTCRayHit8 pa{}, pb{};
+      int valid[8];
+      RTCRayHit singles[8];
+      for (int l = 0; l < 8; ++l) {
+        valid[l] = -1;
+        const glm::vec3 dir = glm::vec3(u(rng), u(rng), u(rng)) - eye;
+        singles[l] = makeRay(eye, dir);
+        for (RTCRayHit8* p : {&pa, &pb}) {
+          p->ray.org_x[l] = eye.x;
+          p->ray.org_y[l] = eye.y;
+          p->ray.org_z[l] = eye.z;
+          p->ray.dir_x[l] = dir.x;
+          p->ray.dir_y[l] = dir.y;
+          p->ray.dir_z[l] = dir.z;
+          p->ray.tfar[l] = std::numeric_limits<float>::infinity();
+          p->ray.mask[l] = ~0u;
+          p->hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+        }
+      }
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      rtcIntersect8(valid, sa, &context, &pa);
+      rtcInitIntersectContext(&context);
+      rtcIntersect8(valid, sb, &context, &pb);
+      for (int l = 0; l < 8; ++l) {
+        const RTCRayHit a = intersect1(sa, singles[l]), b = intersect1(sb, singles[l]);
+        ASSERT_EQ(a.hit.geomID, b.hit.geomID);
+        ASSERT_EQ(pa.hit.geomID[l], a.hit.geomID);
+        ASSERT_EQ(pb.hit.geomID[l], a.hit.geomID);
+        if (a.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+        ++hits;
+        nonZeroUV += a.hit.u != 0.0f || a.hit.v != 0.0f;
+        EXPECT_EQ(b.ray.tfar, a.ray.tfar);
+        EXPECT_EQ(b.hit.Ng_x, a.hit.Ng_x);
+        EXPECT_EQ(b.hit.Ng_y, a.hit.Ng_y);
+        EXPECT_EQ(b.hit.Ng_z, a.hit.Ng_z);
+        EXPECT_EQ(b.hit.primID, a.hit.primID);
+        EXPECT_EQ(b.hit.u, 0.0f);
+        EXPECT_EQ(b.hit.v, 0.0f);
+        EXPECT_EQ(pb.ray.tfar[l], a.ray.tfar);
+        EXPECT_EQ(pa.hit.u[l], a.hit.u);
+        EXPECT_EQ(pb.hit.u[l], 0.0f);
+        EXPECT_EQ(pb.hit.v[l], 0.0f);
+        // The double channel.
+        const RayD ray{glm::dvec3(eye), glm::dvec3(singles[l].ray.dir_x, singles[l].ray.dir_y, singles[l].ray.dir_z),
+                       0.0, 1e30, 0.0};
+        const HitD da = intersectD(sa, ray), db = intersectD(sb, ray);
+        ASSERT_TRUE(da.hit && db.hit);
+        EXPECT_EQ(db.t, da.t);
+        EXPECT_EQ(db.u, 0.0);
+        EXPECT_EQ(db.v, 0.0);
+        EXPECT_NE(da.u, 0.0);
+      }
+    }
+    EXPECT_GT(hits, 100);
+    EXPECT_GT(nonZeroUV, hits - 2);
+    EXPECT_EQ(ga.callbackErrors() + gb.callbackErrors(), 0u);
+  }
+}
+
 }  // namespace
 }  // namespace algray::test

@@ -95,6 +95,10 @@ Scene::Scene(const SceneDesc& desc) : desc_(desc) {
     sd.polynomial = item.polynomial;
     sd.clip = item.clip;
     sd.transform = item.transform;
+    // The surface's u, v (its spherical parametrisation) only where a texture reads them:
+    // an untextured surface skips the atan2/acos of every hit.
+    auto textured = [&](int m) { return m >= 0 && desc_.materials[static_cast<size_t>(m)].texture != nullptr; };
+    sd.options.uv = textured(item.material) || textured(item.backMaterial);
     try {
       g->surface = std::make_unique<SurfaceGeometry>(device_, std::move(sd));
     } catch (const std::exception& e) {
@@ -189,6 +193,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
     double len = glm::length(n);
     hit.ng = len > 0 && std::isfinite(len) ? n / len : -glm::normalize(fdir);
     hit.ns = hit.ng;
+    hit.uv = glm::dvec2(rh.hit.u, rh.hit.v);  // 0, 0 unless a texture asked for them
     return hit;
   }
   const auto& t = g->mesh.triangles[hit.primID];

@@ -180,10 +180,12 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   if (!candidateTfar(L, ray, n, lane, h.t, tf)) return false;
   // ---- The candidate, as Embree would write it ---------------------------------------
   const glm::dvec3 ng = L.data->identity ? h.gradient : L.data->aInvT * h.gradient;
-  // u, v in double for the double channel, else to float accuracy (surfaceUVFloat).
+  // u, v in double for the double channel, else to float accuracy (surfaceUVFloat);
+  // none (0, 0, as Embree's own sphere) when the host switched them off.
   double u = 0, v = 0;
-  float uf, vf;
-  if (L.dctx) {
+  float uf = 0, vf = 0;
+  if (!L.data->desc.options.uv) {
+  } else if (L.dctx) {
     surfaceUV(*L.data, h.point, u, v);
     uf = static_cast<float>(u);
     vf = static_cast<float>(v);
@@ -386,7 +388,7 @@ void quadricPacketLanes(const Args* args, RTCRayN* ray) {
     p.tfar[i] = RTCRayN_tfar(ray, n, lane);
   }
   p.count = count;
-  p.wantUV = !kOcclusion;
+  p.wantUV = !kOcclusion && data->desc.options.uv;
   quadricPacket(*data, p);
   for (unsigned i = 0; i < count; ++i) {
     if (p.status[i] == QuadricPacket::kNone) continue;

@@ -30,7 +30,9 @@
 // no-closed-forms (RootMethod::Yuksel for degrees <= 4; above, Auto is Yuksel already),
 // no-quadric-path (degree 2 through the general restriction, cache and polish),
 // no-packet-simd (degree 2: the quadric callbacks loop over a packet's lanes instead of
-// quadric_packet.cpp; measured on pkt8, the rows "primary pkt8" and "shadow pkt8").
+// quadric_packet.cpp; measured on pkt8, the rows "primary pkt8" and "shadow pkt8"), and
+// uv-off (not an optimisation but an option: SurfaceOptions::uv = false, hits with u = v =
+// 0 as Embree's own sphere writes them; the like-for-like comparison with it).
 //
 // Writes DIR/speed.csv and DIR/speed.md and prints the tables.
 //
@@ -104,7 +106,7 @@ Entry algrayEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f
   e.buildMs = msSince(start);
   e.primitives = e.geometry->primitiveCount();
   e.allMetrics = e.config == "default";
-  e.packetMetrics = e.config == "no-packet-simd";
+  e.packetMetrics = e.config == "no-packet-simd" || e.config == "uv-off";
   return e;
 }
 
@@ -244,7 +246,7 @@ int run(const Args& args) {
   }
   const std::vector<std::string> configs = {"default",     "no-cells",        "cells-depth4",
                                             "no-origin-cache", "no-recentre", "no-closed-forms",
-                                            "no-quadric-path", "no-packet-simd"};
+                                            "no-quadric-path", "no-packet-simd", "uv-off"};
   std::vector<Entry> done;
   unsigned long long callbackErrors = 0;
   for (const GallerySurface& s : gallery()) {
@@ -271,6 +273,7 @@ int run(const Args& args) {
         if (f.degree() != 2) continue;
         o.packetSimd = false;
       }
+      if (c == "uv-off") o.uv = false;
       if (c == "no-closed-forms") {
         if (f.degree() > 4) continue;
         o.roots.method = RootMethod::Yuksel;

@@ -98,6 +98,39 @@ TEST(WhiteFurnace, GreyConvexSurfaceReflectsAlbedoTimesEnvironment) {
   }
 }
 
+// A textured material on an algebraic surface reads the surface's u, v (the plugin's
+// spherical parametrisation about the clip centre: u = atan2(y, x) / 2pi, v = acos(z / r)
+// / pi); an untextured one asks the plugin for none (SurfaceOptions::uv off: 0, 0).
+TEST(SurfaceTexture, UvComeFromTheSurfaceOnlyWhenTextured) {
+  for (const bool textured : {true, false}) {
+    SceneDesc s;
+    Material m;
+    if (textured) m.texture = std::make_shared<const Texture>(1, 1, std::vector<glm::vec3>{glm::vec3(0.5f)});
+    s.addMaterial(m);
+    SurfaceItem item;
+    item.label = "sphere";
+    item.polynomial = findGallerySurface("sphere")->build();
+    item.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+    s.surfaces.push_back(item);
+    Scene scene(s);
+    RayCounter counter;
+    // Rays from outside towards points of the unit sphere at azimuth phi, polar angle theta.
+    for (const auto& [phi, theta] : {std::pair{0.5 * M_PI, 0.5 * M_PI}, std::pair{1.25 * M_PI, 0.3 * M_PI},
+                                    std::pair{0.2, 0.8 * M_PI}}) {
+      const glm::dvec3 p(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+      const auto hit = scene.intersect(3.0 * p, -p, 0.0, counter);
+      ASSERT_TRUE(hit);
+      EXPECT_NEAR(hit->t, 2.0, 1e-6);
+      if (textured) {
+        EXPECT_NEAR(hit->uv.x, phi / (2 * M_PI), 1e-5) << phi;
+        EXPECT_NEAR(hit->uv.y, theta / M_PI, 1e-5) << theta;
+      } else {
+        EXPECT_EQ(hit->uv, glm::dvec2(0.0));
+      }
+    }
+  }
+}
+
 TEST(Determinism, SameImageForOneAndTwoThreads) {
   SceneDesc s = furnace(0.8);
   addSurface(s, "torus");
