@@ -125,7 +125,17 @@ int rootFreeOrder(const LocalPoly<T>& g, D deg) {
   T t[kMaxDegree + 1], ta[kMaxDegree + 1];
   const T r = midpointTaylor(g, deg, t, ta);
   const T gShift = gammaT<T>(2 * n + 2);
-  for (int k = 0; k <= n; ++k) {
+  {
+    // k = 0, the common verdict on a cell-sized span (no root), with its binomials of 1.
+    T rest = 0, err = 0;
+    for (int j = n; j >= 1; --j) {
+      rest = (rest + std::abs(t[j])) * r;
+      err = (err + ta[j]) * r;
+    }
+    err = gShift * (err + ta[0]) + hornerAbs(g.noise.data(), deg, std::max(std::abs(g.lo), std::abs(g.hi)));
+    if (std::abs(t[0]) > rest + err) return 0;
+  }
+  for (int k = 1; k <= n; ++k) {
     T rest = 0, err = 0;
     for (int j = n - k; j >= 1; --j) {
       const T b = static_cast<T>(kBinomials.c[j + k][k]);
@@ -133,7 +143,6 @@ int rootFreeOrder(const LocalPoly<T>& g, D deg) {
       err = (err + b * ta[j + k]) * r;
     }
     err = gShift * (err + ta[k]);
-    if (k == 0) err += hornerAbs(g.noise.data(), deg, std::max(std::abs(g.lo), std::abs(g.hi)));
     if (std::abs(t[k]) > rest + err) return k;
   }
   return n;  // not reached: the order-n derivative is the constant n! C_n != 0
