@@ -224,7 +224,7 @@ int main(int argc, char** argv) {
   md << "| surface | deg | origins | rays | well-cond. | agree | max err / R | leaving rays | self-hits | "
         "float err / R |\n|---|---|---|---|---|---|---|---|---|---|\n";
   int totalWc = 0, totalAgree = 0, totalSelf = 0;
-  double worst = 0;
+  double worst = 0, worstBeyond = 0;  // origins up to 1000 R (the figure), and 1e6 R
   char buf[512];
   for (const Row& r : rows) {
     std::snprintf(buf, sizeof buf, "%s,%d,%s,%d,%d,%d,%d,%.3g,%d,%d,%.3g\n", r.surface.c_str(), r.degree,
@@ -237,10 +237,12 @@ int main(int argc, char** argv) {
     totalWc += r.wc;
     totalAgree += r.agree;
     totalSelf += r.self;
-    worst = std::max(worst, r.maxErr);
+    double& w = r.origins == "1e6 R" ? worstBeyond : worst;
+    w = std::max(w, r.maxErr);
   }
   std::printf("\nwell-conditioned rays: %d, hit/miss agreement: %d (%.4f%%), worst position error %.3g R "
-              "(target 1e-9), self-hits %d (target 0)\n",
-              totalWc, totalAgree, totalWc ? 100.0 * totalAgree / totalWc : 100.0, worst, totalSelf);
+              "for origins up to 1000 R (target 1e-9) and %.3g R from 1e6 R (beyond the figure), "
+              "self-hits %d (target 0)\n",
+              totalWc, totalAgree, totalWc ? 100.0 * totalAgree / totalWc : 100.0, worst, worstBeyond, totalSelf);
   return 0;
 }
