@@ -163,6 +163,23 @@ constexpr std::array<MulAddFn, sizeof...(N)> mulAddTable(std::integer_sequence<i
 }
 constexpr auto kMulAdd = mulAddTable(std::make_integer_sequence<int, kUnrolled>{});
 
+// G <- G * X + c (a block that is one constant) and F <- F * Y + c (a row of one slot),
+// mulAdd's fused pass for q of degree 0 with a compile-time degree N of the accumulator.
+template <int N>
+__attribute__((noinline)) void mulAddConstN(Pair* acc, Pair c, Pair p, Pair d) {
+  acc[N + 1] = d * acc[N];
+#pragma GCC unroll 64
+  for (int r = N; r >= 1; --r) acc[r] = p * acc[r] + d * acc[r - 1];
+  acc[0] = p * acc[0] + c;
+}
+
+using MulAddConstFn = void (*)(Pair*, Pair, Pair, Pair);
+template <int... N>
+constexpr std::array<MulAddConstFn, sizeof...(N)> mulAddConstTable(std::integer_sequence<int, N...>) {
+  return {&mulAddConstN<N>...};
+}
+constexpr auto kMulAddConst = mulAddConstTable(std::make_integer_sequence<int, kUnrolled>{});
+
 void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, double* g, double* mag) {
   const Pair px = {p.x, std::abs(p.x)}, py = {p.y, std::abs(p.y)}, pz = {p.z, std::abs(p.z)};
   const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
@@ -176,6 +193,10 @@ void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, do
       const int n = *len;
       if (n == 1 && s->c == 0.0) {
         if (degF >= 0) mulLinearAny(fy, degF++, py, dy);  // a zero row: F <- F * Y
+        continue;
+      }
+      if (n == 1 && degF >= 0 && degF < kUnrolled) {
+        kMulAddConst[degF++](fy, term(s->c), py, dy);
         continue;
       }
       if (s->c == 0.0) {
@@ -207,6 +228,8 @@ void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, do
     }
     if (degG >= 0 && degF == degG + 1 && degG < kUnrolled) {
       kMulAdd[degG++](gx, fy, px, dx);
+    } else if (degG >= 0 && degF == 0 && degG < kUnrolled) {
+      kMulAddConst[degG++](gx, fy[0], px, dx);
     } else if (degF >= 0) {
       degG = mulAdd(gx, degG, fy, degF, px, dx);
     } else if (degG >= 0) {
