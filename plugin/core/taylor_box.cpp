@@ -180,10 +180,11 @@ constexpr std::array<MulAddConstFn, sizeof...(N)> mulAddConstTable(std::integer_
 }
 constexpr auto kMulAddConst = mulAddConstTable(std::make_integer_sequence<int, kUnrolled>{});
 
-void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, double* g, double* mag) {
+// G = f(p + s d) on both chains into gx; returns G's degree (-1: zero).
+int boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, Pair* gx) {
   const Pair px = {p.x, std::abs(p.x)}, py = {p.y, std::abs(p.y)}, pz = {p.z, std::abs(p.z)};
   const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
-  Pair gx[kMaxDegree + 2], fy[kMaxDegree + 2];
+  Pair fy[kMaxDegree + 2];
   int degG = -1;  // -1: still zero
   const HornerForm::Slot* s = f.slots().data();
   const std::uint8_t* len = f.rowLengths().data();
@@ -236,11 +237,7 @@ void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, do
       mulLinearAny(gx, degG++, px, dx);
     }
   }
-  const int m = f.degree();
-  for (int r = 0; r <= m; ++r) {
-    g[r] = r <= degG ? gx[r][0] : 0.0;
-    mag[r] = r <= degG ? gx[r][1] : 0.0;
-  }
+  return degG;
 }
 
 }  // namespace
@@ -251,12 +248,17 @@ RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm:
   const int m = f.degree();
   if (m < 0) return g;
   const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
-  double mag[kMaxDegree + 1];
-  boxHorner(f, p, d, g.coeff.data(), mag);
+  Pair gx[kMaxDegree + 2];
+  const int degG = boxHorner(f, p, d, gx);
   // The bound of restrictToRay(const Polynomial&, ...) (taylor.cpp): the same operations.
+  // Above G's degree coefficient and bound stay the +0 of RayPolynomial's initialiser
+  // (factor * +0 before).
   const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
   g.degree = m;
-  for (int i = 0; i <= m; ++i) g.error[i] = factor * mag[i];
+  for (int i = 0; i <= degG; ++i) {
+    g.coeff[i] = gx[i][0];
+    g.error[i] = factor * gx[i][1];
+  }
   return g;
 }
 
