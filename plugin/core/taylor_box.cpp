@@ -8,20 +8,25 @@
 //
 // Speed from compile-time lengths, not other arithmetic: the bits are those of the
 // run-time-loop version kept in tests/support/box_reference.h (tests/taylor_test.cpp).
-// Measured in tests/bench/taylor_bench (BM_GalleryDirect):
 //  - a z-row of L <= kUnrolled slots is one unrolled function with H in registers
 //    (rowStep<L>), followed by F <- F * Y + H in one pass over F (mulAdd);
-//  - F <- F * Y for a zero row, G <- G * X for a zero block and G <- G * X + F for a
-//    block one degree above G call unrolled passes of fixed degree (mulLinearN, mulAddN;
-//    Chmutov's boxes are mostly zero rows and blocks).
+//  - F <- F * Y for a zero row, G <- G * X for a zero block, G <- G * X + F for a block
+//    one degree above G and F <- F * Y + c, G <- G * X + c for one-constant rows and
+//    blocks call unrolled passes of fixed degree (mulLinearN, mulAddN, mulAddConstN;
+//    Chmutov's boxes are mostly such rows and blocks).
 // Branch mispredictions at the exits of short loops of varying length, and the loads and
-// stores of H, were most of the run-time version's cost: Sarti's dodecic 690 -> 326 ns,
-// Barth's decic 407 -> 201, Chmutov-16 373 -> 217 (medians of 3 interleaved runs).
-// Did not pay (same benchmark): a table of function pointers instead of the switch over
+// stores of H, were most of the run-time version's cost. Measured in
+// tests/bench/taylor_bench (medians of 5 interleaved runs, ns per ray): BM_GalleryDirect
+// Sarti's dodecic 668 -> 328, Barth's decic 413 -> 203, Endrass' octic 274 -> 140,
+// Chmutov-16 372 -> 219, sphere 63 -> 33; BM_RestrictToRayBox dense degree 12
+// 1535 -> 744 (3 runs). The kernels then run at about 1.4 cycles per (value, magnitude)
+// multiply-add pair (2 mulpd + 1 addpd).
+// Did not pay (same benchmarks): a table of function pointers instead of the switch over
 // row lengths (3-7 % slower); inlining the kernels into boxHorner (5-15 % slower);
 // passing the axes as a struct (by value it travels in memory, by reference it is
 // reloaded after every store to F: 5-10 % slower); fusing a zero row's F * Y into the
-// next row's pass on even surfaces (no change).
+// next row's pass on even surfaces (no change); writing g straight from G without the
+// magnitude array (no change, kept as simpler).
 // The same bits need the same roundings: no FMA contraction (none in baseline x86-64;
 // with -mfma, GCC may contract this code and the reference differently).
 #include "algray/taylor.h"
