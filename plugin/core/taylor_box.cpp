@@ -32,6 +32,7 @@
 #include "algray/taylor.h"
 
 #include <array>
+#include <cstring>
 #include <utility>
 
 #include "ray_horner.h"
@@ -43,7 +44,14 @@ namespace {
 using ray_horner::hornerStep;
 using ray_horner::mulLinear;
 using ray_horner::Pair;
-using ray_horner::term;
+
+// A slot's (c, |c|), the term(c) of ray_horner.h, in one aligned load.
+inline Pair load(const HornerForm::SignedTerm& t) {
+  static_assert(sizeof(Pair) == sizeof(HornerForm::SignedTerm) && alignof(HornerForm::SignedTerm) == alignof(Pair));
+  Pair v;
+  std::memcpy(&v, &t, sizeof v);
+  return v;
+}
 
 // Row lengths and product degrees with unrolled code: up to degree 16 (Chmutov-16's
 // z-row has 17 slots); longer ones take the run-time loops.
@@ -103,16 +111,16 @@ inline void mulLinearAny(Pair* q, int deg, Pair p, Pair d) {
 // Not inlined: inlining 17 of them into boxHorner cost 5-15 % (register allocation of
 // the one big function), and the Pair arguments travel in registers.
 template <int L>
-__attribute__((noinline)) void rowStep(const HornerForm::Slot* s, Pair pz, Pair dz, Pair py, Pair dy, Pair* fy,
+__attribute__((noinline)) void rowStep(const HornerForm::SignedTerm* s, Pair pz, Pair dz, Pair py, Pair dy, Pair* fy,
                                        int& degF) {
   Pair h[L];
-  h[0] = term(s[0].c);
+  h[0] = load(s[0]);
 #pragma GCC unroll 64
   for (int t = 1; t < L; ++t) {
     h[t] = dz * h[t - 1];
 #pragma GCC unroll 64
     for (int r = t - 1; r >= 1; --r) h[r] = pz * h[r] + dz * h[r - 1];
-    h[0] = pz * h[0] + term(s[t].c);
+    h[0] = pz * h[0] + load(s[t]);
   }
   if (degF < 0 || degF < L - 2) {
     degF = mulAdd(fy, degF, h, L - 1, py, dy);
@@ -140,10 +148,10 @@ __attribute__((noinline)) void rowStep(const HornerForm::Slot* s, Pair pz, Pair 
 }
 
 // Any row: the run-time hornerStep loop.
-void rowStepAny(const HornerForm::Slot* s, int len, Pair pz, Pair dz, Pair py, Pair dy, Pair* fy, int& degF) {
+void rowStepAny(const HornerForm::SignedTerm* s, int len, Pair pz, Pair dz, Pair py, Pair dy, Pair* fy, int& degF) {
   Pair fz[kMaxDegree + 2];
   int degH = -1;
-  for (const HornerForm::Slot* end = s + len; s != end; ++s) hornerStep(fz, degH, s->c, pz, dz);
+  for (const HornerForm::SignedTerm* end = s + len; s != end; ++s) hornerStep(fz, degH, s->c, pz, dz);
   if (degH >= 0) {
     degF = mulAdd(fy, degF, fz, degH, py, dy);
   } else if (degF >= 0) {
@@ -191,7 +199,7 @@ int boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, Pai
   const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
   Pair fy[kMaxDegree + 2];
   int degG = -1;  // -1: still zero
-  const HornerForm::Slot* s = f.slots().data();
+  const HornerForm::SignedTerm* s = f.signedTerms().data();
   const std::uint8_t* len = f.rowLengths().data();
   for (const std::uint8_t rows : f.blockRows()) {
     int degF = -1;
@@ -202,7 +210,7 @@ int boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, Pai
         continue;
       }
       if (n == 1 && degF >= 0 && degF < kUnrolled) {
-        kMulAddConst[degF++](fy, term(s->c), py, dy);
+        kMulAddConst[degF++](fy, load(*s), py, dy);
         continue;
       }
       if (s->c == 0.0) {
