@@ -16,17 +16,18 @@
 //    Chmutov's boxes are mostly such rows and blocks).
 // Branch mispredictions at the exits of short loops of varying length, and the loads and
 // stores of H, were most of the run-time version's cost. Measured in
-// tests/bench/taylor_bench (medians of 5 interleaved runs, ns per ray): BM_GalleryDirect
-// Sarti's dodecic 668 -> 328, Barth's decic 413 -> 203, Endrass' octic 274 -> 140,
-// Chmutov-16 372 -> 219, sphere 63 -> 33; BM_RestrictToRayBox dense degree 12
-// 1535 -> 744 (3 runs). The kernels then run at about 1.4 cycles per (value, magnitude)
-// multiply-add pair (2 mulpd + 1 addpd).
+// tests/bench/taylor_bench (medians of 5 interleaved runs, ns per ray, with the one-load
+// terms of HornerForm::signedTerms()): BM_GalleryDirect Sarti's dodecic 703 -> 311,
+// Barth's decic 420 -> 191, Endrass' octic 279 -> 133, Chmutov-16 372 -> 212, sphere
+// 63 -> 32; BM_RestrictToRayBox dense degree 12 1537 -> 673 (3 runs). The kernels then
+// run at about 1.4 cycles per (value, magnitude) multiply-add pair (2 mulpd + 1 addpd).
 // Did not pay (same benchmarks): a table of function pointers instead of the switch over
 // row lengths (3-7 % slower); inlining the kernels into boxHorner (5-15 % slower);
 // passing the axes as a struct (by value it travels in memory, by reference it is
 // reloaded after every store to F: 5-10 % slower); fusing a zero row's F * Y into the
 // next row's pass on even surfaces (no change); writing g straight from G without the
-// magnitude array (no change, kept as simpler).
+// magnitude array (no change, kept as simpler); the bound's factor from a compile-time
+// table instead of gamma()'s division per call (no change).
 // The same bits need the same roundings: no FMA contraction (none in baseline x86-64;
 // with -mfma, GCC may contract this code and the reference differently).
 #include "algray/taylor.h"
