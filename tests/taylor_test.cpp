@@ -5,11 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
 #include "algray/gallery.h"
+#include "support/box_reference.h"
 #include "support/mp.h"
 
 namespace algray {
@@ -90,6 +93,28 @@ double checkAgainstReference(const RayPolynomial& g, const Polynomial& f, const 
   return worst;
 }
 
+// Equal values (+0 == -0) in the whole record.
+void expectSameValues(const RayPolynomial& a, const RayPolynomial& b, const std::string& what) {
+  ASSERT_EQ(a.degree, b.degree) << what;
+  EXPECT_EQ(a.tShift, b.tShift) << what;
+  for (int n = 0; n <= kMaxDegree; ++n) {
+    EXPECT_EQ(a.coeff[n], b.coeff[n]) << what << ", coefficient " << n;
+    EXPECT_EQ(a.error[n], b.error[n]) << what << ", bound " << n;
+  }
+}
+
+// Bit for bit (the sign of a zero too), the whole record.
+void expectSameBits(const RayPolynomial& a, const RayPolynomial& b, const std::string& what) {
+  ASSERT_EQ(a.degree, b.degree) << what;
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(a.tShift), std::bit_cast<std::uint64_t>(b.tShift)) << what;
+  for (int n = 0; n <= kMaxDegree; ++n) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(a.coeff[n]), std::bit_cast<std::uint64_t>(b.coeff[n]))
+        << what << ", coefficient " << n << ": " << a.coeff[n] << " vs " << b.coeff[n];
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(a.error[n]), std::bit_cast<std::uint64_t>(b.error[n]))
+        << what << ", bound " << n << ": " << a.error[n] << " vs " << b.error[n];
+  }
+}
+
 TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
   std::mt19937_64 rng(99);
   std::normal_distribution<double> normal;
@@ -130,15 +155,50 @@ TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
         checkAgainstReference(g, cs.f, o + tShift * d, d, what + " (direct)");
 
         // The same over the precompiled Horner box: the same operations on the same
-        // non-zero data, so the same bits.
+        // non-zero data, so the same values (bits but for the sign of a zero, see
+        // support/box_reference.h), and the same bits as before its unrolled kernels.
         const RayPolynomial gb = restrictToRay(box, o, d, tShift);
-        ASSERT_EQ(gb.degree, g.degree) << what;
-        EXPECT_EQ(gb.tShift, tShift);
-        for (int n = 0; n <= g.degree; ++n) {
-          EXPECT_EQ(gb.coeff[n], g.coeff[n]) << what << " box, coefficient " << n;
-          EXPECT_EQ(gb.error[n], g.error[n]) << what << " box, bound " << n;
-        }
+        expectSameValues(gb, g, what + " box");
+        expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift), what + " box vs reference");
       }
+    }
+  }
+}
+
+// The box path's unrolled kernels (taylor_box.cpp) against its run-time-loop reference
+// (bit for bit) and the Polynomial path (value for value) on box shapes the gallery lacks (sparse random polynomials: gaps, rows longer or shorter than
+// their neighbours, zero blocks, degrees past the unrolled lengths) and on rays with zero
+// and negative-zero components (signed zeros through the value chain).
+TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> normal;
+  std::vector<Polynomial> polys;
+  for (const Case& cs : cases()) polys.push_back(cs.f);
+  for (int degree : {0, 1, 2, 4, 5, 9, 12, 13, 16, 17, 18, 24})
+    for (double density : {0.05, 0.2, 0.5, 0.9}) {
+      Polynomial f;
+      for (int n = 0; n <= degree; ++n)
+        forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+          if (0.5 * (u(rng) + 1.0) < density) f.setCoeff(i, j, k, u(rng));
+        });
+      f.setCoeff(degree, 0, 0, 1.0);  // keep the degree
+      polys.push_back(f);
+    }
+  const std::vector<glm::dvec3> special = {{0.0, 0.0, 1.0}, {-0.0, 1.0, -0.0}, {1.0, -0.0, 0.0},
+                                           {0.0, -0.6, 0.8}, {-0.0, -0.0, -1.0}};
+  for (const Polynomial& f : polys) {
+    const HornerForm box(f);
+    for (int ray = 0; ray < 12; ++ray) {
+      glm::dvec3 o{normal(rng), normal(rng), normal(rng)}, d{normal(rng), normal(rng), normal(rng)};
+      if (ray < 5) d = special[ray];
+      if (ray >= 5 && ray < 8) o = glm::dvec3(0.0);
+      if (ray == 8) o = glm::dvec3(-0.0, 0.5, -0.0);
+      const double tShift = ray % 2 == 0 ? 0.0 : closestParameter(o, d, glm::dvec3(0.0));
+      const std::string what = "degree " + std::to_string(f.degree()) + " ray " + std::to_string(ray);
+      const RayPolynomial gb = restrictToRay(box, o, d, tShift);
+      expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift), what + " vs reference");
+      expectSameValues(gb, restrictToRay(f, o, d, tShift), what + " vs Polynomial path");
     }
   }
 }

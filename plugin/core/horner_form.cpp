@@ -63,6 +63,7 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
       for (int k = topK; k >= 0; --k) {
         const double c = f.coeff(i, j, k);
         slots_.push_back({c, std::abs(c) + kUnderflowFloor});
+        signedTerms_.push_back({c, std::abs(c)});
       }
     }
   }

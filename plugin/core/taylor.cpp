@@ -3,44 +3,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ray_horner.h"
+
 namespace algray {
 
 namespace {
 
 // Nested Horner of f(p + s d) in R[s] (Taylor-mode automatic differentiation along the
 // ray):  g = sum_i X^i sum_j Y^j sum_k c_ijk Z^k,  X = p.x + s d.x, ...
-// Each step multiplies a univariate polynomial by a linear factor (a + b s) and adds the
-// next term. The same steps run on absolute values in the same loops, giving the
-// coefficients of |f|(|p| + s |d|), the magnitudes the error bound scales: two independent
-// dependency chains, so the second one is nearly free on a pipelined core.
+// on values and magnitudes (ray_horner.h).
 // Cost: about m^4/24 + m^3/3 multiply-adds (twice) for degree m.
-//
-// A (value, magnitude) pair is one 2-lane vector (GCC/Clang vector extension): both chains
-// advance in one SIMD operation and every load matches the width of the store that wrote
-// it. (With separate scalar arrays the compiler vectorised the additions, and 16-byte
-// loads of two 8-byte stores defeated store forwarding: a 3x slowdown, found by perf.)
-typedef double Pair __attribute__((vector_size(16)));
-
-// q <- q * (p + d s) on both chains; q has degree deg >= 0 before the call.
-inline void mulLinear(Pair* q, int deg, Pair p, Pair d) {
-  q[deg + 1] = d * q[deg];
-  for (int r = deg; r >= 1; --r) q[r] = p * q[r] + d * q[r - 1];
-  q[0] = p * q[0];
-}
-
-// H <- H * (p + d s) + c on both chains, H of degree degH (-1: still zero, and then a zero
-// c is skipped, so leading zero coefficients of a sparse column cost nothing).
-inline void hornerStep(Pair* h, int& degH, double c, Pair p, Pair d) {
-  if (degH < 0 && c == 0.0) return;
-  const Pair term = {c, std::abs(c)};
-  if (degH < 0) {
-    h[0] = term;
-  } else {
-    mulLinear(h, degH, p, d);
-    h[0] += term;
-  }
-  ++degH;
-}
+using ray_horner::hornerStep;
+using ray_horner::mulLinear;
+using ray_horner::Pair;
 
 // Degree as a template parameter (Yuksel's cyPolynomial style): with a compile-time
 // degree every loop bound is known and the compiler unrolls the small ones; kDynamic
@@ -81,40 +56,6 @@ void nestedHorner(const double* c, int mRuntime, const glm::dvec3& p, const glm:
   for (int r = 0; r <= m; ++r) {
     g[r] = gx[r][0];
     mag[r] = gx[r][1];
-  }
-}
-
-// The same scheme over a HornerForm's box (its layout in horner_form.h): the same
-// operations on the same non-zero data as nestedHorner, which also skips products of a
-// still-zero G or F, so the result is the same; zero rows inside the box add exact zeros.
-void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, double* g, double* mag) {
-  const Pair px = {p.x, std::abs(p.x)}, py = {p.y, std::abs(p.y)}, pz = {p.z, std::abs(p.z)};
-  const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
-  Pair gx[kMaxDegree + 2], fy[kMaxDegree + 2], fz[kMaxDegree + 2];
-  int degG = -1;  // -1: still zero
-  const HornerForm::Slot* s = f.slots().data();
-  const std::uint8_t* len = f.rowLengths().data();
-  // Adds q (degree dq) into acc (degree da, -1 = zero); returns the new degree.
-  auto accumulate = [](Pair* acc, int da, const Pair* q, int dq) {
-    for (int r = da + 1; r <= dq; ++r) acc[r] = Pair{0.0, 0.0};
-    for (int r = 0; r <= dq; ++r) acc[r] += q[r];
-    return std::max(da, dq);
-  };
-  for (const std::uint8_t rows : f.blockRows()) {
-    if (degG >= 0) mulLinear(gx, degG++, px, dx);
-    int degF = -1;
-    for (int r = 0; r < rows; ++r) {
-      if (degF >= 0) mulLinear(fy, degF++, py, dy);
-      int degH = -1;
-      for (const HornerForm::Slot* end = s + *len++; s != end; ++s) hornerStep(fz, degH, s->c, pz, dz);
-      if (degH >= 0) degF = accumulate(fy, degF, fz, degH);
-    }
-    if (degF >= 0) degG = accumulate(gx, degG, fy, degF);
-  }
-  const int m = f.degree();
-  for (int r = 0; r <= m; ++r) {
-    g[r] = r <= degG ? gx[r][0] : 0.0;
-    mag[r] = r <= degG ? gx[r][1] : 0.0;
   }
 }
 
@@ -205,21 +146,6 @@ RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm:
   // the same computation on absolute values bounds the rounding (Higham Sec. 5.1 applied
   // level by level). The abs computation itself rounds too: the final factor covers it.
   const int m = f.degree();
-  const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
-  g.degree = m;
-  for (int i = 0; i <= m; ++i) g.error[i] = factor * mag[i];
-  return g;
-}
-
-RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift) {
-  RayPolynomial g;
-  g.tShift = tShift;
-  const int m = f.degree();
-  if (m < 0) return g;
-  const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
-  double mag[kMaxDegree + 1];
-  boxHorner(f, p, d, g.coeff.data(), mag);
-  // The bound of restrictToRay(const Polynomial&, ...): the same operations.
   const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
   g.degree = m;
   for (int i = 0; i <= m; ++i) g.error[i] = factor * mag[i];

@@ -3,6 +3,7 @@
 //   BM_OriginExpansion : rays sharing an origin, g_n = H_n(d) from the cached expansion
 //                        (with and without the error bound),
 //   BM_RestrictToRay   : the direct per-ray restriction (nested Horner in R[s]),
+//   BM_RestrictToRayBox: the same over the HornerForm (the adapter's path),
 //   BM_ExpandOrigin    : the one-off cost of expanding about a new origin.
 // Run: build/tests/bench/taylor_bench --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
@@ -58,6 +59,19 @@ void BM_RestrictToRay(benchmark::State& state) {
   size_t i = 0;
   for (auto _ : state) {
     auto g = algray::restrictToRay(f, kOrigin, dirs[i++ & 1023]);
+    benchmark::DoNotOptimize(g);
+  }
+  state.counters["terms"] = Polynomial::termCount(f.degree());
+}
+
+// The same over the polynomial's HornerForm (the adapter's path; taylor_box.cpp).
+void BM_RestrictToRayBox(benchmark::State& state) {
+  const auto f = densePolynomial(static_cast<int>(state.range(0)));
+  const algray::HornerForm horner(f);
+  const auto dirs = directions(1024);
+  size_t i = 0;
+  for (auto _ : state) {
+    auto g = algray::restrictToRay(horner, kOrigin, dirs[i++ & 1023]);
     benchmark::DoNotOptimize(g);
   }
   state.counters["terms"] = Polynomial::termCount(f.degree());
@@ -159,6 +173,7 @@ void degreesNoError(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_OriginExpansion)->Apply(degrees)->ArgNames({"degree", "bound"});
 BENCHMARK(BM_OriginExpansion)->Apply(degreesNoError)->ArgNames({"degree", "bound"});
 BENCHMARK(BM_RestrictToRay)->Apply(degrees)->ArgNames({"degree", "bound"});
+BENCHMARK(BM_RestrictToRayBox)->Apply(degrees)->ArgNames({"degree", "bound"});
 BENCHMARK(BM_ExpandOrigin)->Apply(degrees)->ArgNames({"degree", "bound"});
 
 }  // namespace
