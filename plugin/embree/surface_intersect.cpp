@@ -16,10 +16,15 @@
 #include "algray/roots.h"
 #include "algray/taylor.h"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <new>
+#include <type_traits>
 
 namespace algray {
 
@@ -53,10 +58,33 @@ struct OriginCache {
   std::uint64_t pendingId = 0;
   glm::dvec3 pendingOrigin{0.0};
 };
-thread_local OriginCache tlsCache;
+
+// The cache holds vectors, so a `thread_local OriginCache` would have a destructor, and
+// C++ registers such a destructor on a thread's first use through __cxa_thread_atexit,
+// which takes the dynamic loader's lock: the first ray of every thread then waited for
+// any dlopen running in the host at that moment (measured: algray-render's render thread
+// stood still for the whole 0.17 s load of OpenImageIO on its second thread, so the
+// render loop of a torus took 0.29 s instead of 0.11 s). A POSIX thread key frees the
+// cache at thread exit instead, without that lock; the thread_local is only a pointer
+// (trivially destructible: nothing registered).
+void freeOriginCache(void* p) { delete static_cast<OriginCache*>(p); }
+
+OriginCache& threadOriginCache() {
+  thread_local OriginCache* cache = nullptr;
+  if (cache) return *cache;
+  static const pthread_key_t key = [] {
+    pthread_key_t k{};
+    if (pthread_key_create(&k, &freeOriginCache) != 0) throw std::bad_alloc();
+    return k;
+  }();
+  auto owned = std::make_unique<OriginCache>();
+  if (pthread_setspecific(key, owned.get()) != 0) throw std::bad_alloc();
+  cache = owned.release();
+  return *cache;
+}
 
 CacheEntry* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
-  OriginCache& cache = tlsCache;
+  OriginCache& cache = threadOriginCache();
   for (CacheEntry& e : cache.entries)
     if (e.id == data.id && e.origin == o)
       return (e.uses < 64 || 4 * e.failures <= e.uses) ? &e : nullptr;
@@ -97,6 +125,8 @@ struct OriginValue {
   glm::dvec3 gradient{0.0};
   double gradLength = -1;  // ||grad f||, computed when a ray has an origin error (-1: not yet)
 };
+// Trivially destructible, so no destructor is registered (see threadOriginCache).
+static_assert(std::is_trivially_destructible_v<OriginValue>);
 thread_local OriginValue tlsOriginValue;
 
 bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
@@ -187,6 +217,7 @@ struct RayRoots {
   bool firstPolished = false;
   glm::dvec3 firstGradient{0.0};
 };
+static_assert(std::is_trivially_destructible_v<RayRoots>);  // see threadOriginCache
 thread_local RayRoots tlsRayRoots;
 
 RayPolynomial restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0,

@@ -1,0 +1,84 @@
+// The intersector's per-thread state and a host's threads: a thread's first ray must not
+// wait for a dlopen running on another thread (surface_intersect.cpp, threadOriginCache).
+// A C++ thread_local with a destructor registers it through __cxa_thread_atexit, which
+// takes the dynamic loader's lock; algray-render loads OpenImageIO on a second thread while
+// it renders, and its render thread stood still for the whole load.
+//
+// The test holds the loader's lock on purpose: it dlopens a library whose constructor
+// (run under that lock) waits for a second thread to trace its first rays through a torus
+// (degree 4: the origin cache's path) and then returns. If the second thread had to take
+// the lock, the two would wait for each other until the constructor gives up (after
+// kPatience, a deadlock breaker, not a timing target) and the test fails.
+#include "algray/embree.h"
+
+#include <gtest/gtest.h>
+
+#include <dlfcn.h>
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+#include "embree_test_util.h"
+
+namespace {
+
+constexpr auto kPatience = std::chrono::seconds(10);
+
+std::mutex gMutex;
+std::condition_variable gChanged;
+bool gInsideDlopen = false, gTraced = false, gGaveUp = false;
+
+}  // namespace
+
+// Called by tests/support/loader_lock_probe.cpp's constructor, inside dlopen.
+extern "C" __attribute__((visibility("default"))) void algrayTestInsideDlopen() {
+  std::unique_lock lock(gMutex);
+  gInsideDlopen = true;
+  gChanged.notify_all();
+  gGaveUp = !gChanged.wait_for(lock, kPatience, [] { return gTraced; });
+}
+
+namespace algray::test {
+namespace {
+
+TEST(EmbreeThreads, FirstRayOfAThreadDoesNotWaitForTheLoader) {
+  Device device;
+  SurfaceDesc desc;
+  desc.polynomial = torusPolynomial(1.0, 0.4);
+  desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+  SurfaceGeometry torus(device, desc);
+  Scene scene(device);
+  scene.attach(torus.geometry());
+  scene.commit();
+
+  // The tracing thread exists before the loader's lock is taken (creating a thread needs
+  // it too), then waits until the constructor holds it.
+  float tfar[3] = {0, 0, 0};
+  std::thread tracer([&] {
+    {
+      std::unique_lock lock(gMutex);
+      gChanged.wait(lock, [] { return gInsideDlopen; });
+    }
+    for (float& t : tfar) t = intersect1(scene, makeRay({0.0f, -3.0f, 0.2f}, {0.0f, 1.0f, 0.0f})).ray.tfar;
+    std::lock_guard lock(gMutex);
+    gTraced = true;
+    gChanged.notify_all();
+  });
+  void* handle = dlopen(ALGRAY_LOADER_LOCK_PROBE, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(handle, nullptr) << dlerror();
+  tracer.join();
+  dlclose(handle);
+  EXPECT_TRUE(gTraced);
+  EXPECT_FALSE(gGaveUp) << "the tracing thread waited for the dynamic loader's lock";
+  // The rays meet the tube where (|y| - 1)^2 + 0.2^2 = 0.4^2, y = -1 - sqrt(0.12): t = 2 -
+  // sqrt(0.12) (the first ray fills the cache's pending slot, the second builds the
+  // expansion, the third uses it).
+  for (const float t : tfar) EXPECT_NEAR(t, 2.0 - std::sqrt(0.12), 1e-5);
+  EXPECT_EQ(torus.callbackErrors(), 0u);
+}
+
+}  // namespace
+}  // namespace algray::test
