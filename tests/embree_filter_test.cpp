@@ -286,33 +286,37 @@ TEST_F(EmbreeFilter, PacketsAgreeWithSingleRays) {
 }
 
 TEST_F(EmbreeFilter, ThreadsShareOneSurface) {
-  SurfaceDesc desc;
-  desc.polynomial = torusPolynomial(1.0, 0.4);
-  desc.clip = ClipSphere{{0, 0, 0}, 1.6};
-  SurfaceGeometry torus(device, desc);
-  Scene scene(device);
-  scene.attach(torus.geometry());
-  scene.commit();
-  // Reference single-threaded, then 4 threads over the same rays (the per-thread caches
-  // must not leak between threads).
-  std::vector<RTCRayHit> rays;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u(-1.4f, 1.4f);
-  for (int i = 0; i < 400; ++i)
-    rays.push_back(makeRay({0.1f * (i % 4), 0, -4}, glm::vec3(u(rng), u(rng), 4.0f)));
-  std::vector<float> ref;
-  for (const auto& r : rays) ref.push_back(intersect1(scene, r).ray.tfar);
-  std::atomic<int> mismatches{0};
-  std::vector<std::thread> threads;
-  for (int k = 0; k < 4; ++k)
-    threads.emplace_back([&, k] {
-      for (size_t i = k; i < rays.size() * 4; i += 4) {
-        const size_t j = (i * 7) % rays.size();
-        if (intersect1(scene, rays[j]).ray.tfar != ref[j]) ++mismatches;
-      }
-    });
-  for (auto& t : threads) t.join();
-  EXPECT_EQ(mismatches.load(), 0);
+  for (const bool originCache : {false, true}) {
+    SCOPED_TRACE(originCache ? "origin cache" : "default");
+    SurfaceDesc desc;
+    desc.polynomial = torusPolynomial(1.0, 0.4);
+    desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    desc.options.originCache = originCache;  // the per-thread expansions too
+    SurfaceGeometry torus(device, desc);
+    Scene scene(device);
+    scene.attach(torus.geometry());
+    scene.commit();
+    // Reference single-threaded, then 4 threads over the same rays (the per-thread caches
+    // must not leak between threads).
+    std::vector<RTCRayHit> rays;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-1.4f, 1.4f);
+    for (int i = 0; i < 400; ++i)
+      rays.push_back(makeRay({0.1f * (i % 4), 0, -4}, glm::vec3(u(rng), u(rng), 4.0f)));
+    std::vector<float> ref;
+    for (const auto& r : rays) ref.push_back(intersect1(scene, r).ray.tfar);
+    std::atomic<int> mismatches{0};
+    std::vector<std::thread> threads;
+    for (int k = 0; k < 4; ++k)
+      threads.emplace_back([&, k] {
+        for (size_t i = k; i < rays.size() * 4; i += 4) {
+          const size_t j = (i * 7) % rays.size();
+          if (intersect1(scene, rays[j]).ray.tfar != ref[j]) ++mismatches;
+        }
+      });
+    for (auto& t : threads) t.join();
+    EXPECT_EQ(mismatches.load(), 0);
+  }
 }
 
 }  // namespace

@@ -422,7 +422,7 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
 // configuration finds the same hits (to double precision; the float solver to float).
 TEST_F(EmbreeHits, OptionsGiveTheSameHits) {
   std::vector<SurfaceOptions> configs(6);
-  configs[1].originCache = false;
+  configs[1].originCache = true;  // off by default
   configs[2].recentre = false;
   configs[3].useCells = false;
   configs[4].cellDepth = 2;

@@ -49,6 +49,7 @@ TEST(EmbreeThreads, FirstRayOfAThreadDoesNotWaitForTheLoader) {
   SurfaceDesc desc;
   desc.polynomial = torusPolynomial(1.0, 0.4);
   desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+  desc.options.originCache = true;  // the per-thread state under test (off by default)
   SurfaceGeometry torus(device, desc);
   Scene scene(device);
   scene.attach(torus.geometry());

@@ -75,7 +75,7 @@ std::vector<Config> configurations() {
     with(name, [tol](Config& c) { c.options.roots.relTolerance = tol; });
   }
   with("no-cells", [](Config& c) { c.options.useCells = false; });
-  with("no-origin-cache", [](Config& c) { c.options.originCache = false; });
+  with("origin-cache", [](Config& c) { c.options.originCache = true; });  // off by default
   with("no-recentre", [](Config& c) { c.options.recentre = false; });
   return out;
 }

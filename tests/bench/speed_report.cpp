@@ -26,7 +26,8 @@
 //
 // Switches (algray::SurfaceOptions, one off at a time, primary and shadow on one thread):
 // no-cells (one primitive for the whole clip region), cells-depth4 (cells forced to a
-// depth-4 octree, in case the automatic depth chooses few cells), no-origin-cache, no-recentre,
+// depth-4 octree, in case the automatic depth chooses few cells), origin-cache (switched on:
+// off by default), no-recentre,
 // no-closed-forms (RootMethod::Yuksel for degrees <= 4; above, Auto is Yuksel already),
 // no-quadric-path (degree 2 through the general restriction, cache and polish),
 // no-packet-simd (degree 2: the quadric callbacks loop over a packet's lanes instead of
@@ -245,7 +246,7 @@ int run(const Args& args) {
     return 1;
   }
   const std::vector<std::string> configs = {"default",     "no-cells",        "cells-depth4",
-                                            "no-origin-cache", "no-recentre", "no-closed-forms",
+                                            "origin-cache", "no-recentre", "no-closed-forms",
                                             "no-quadric-path", "no-packet-simd", "uv-off"};
   std::vector<Entry> done;
   unsigned long long callbackErrors = 0;
@@ -263,7 +264,7 @@ int run(const Args& args) {
       SurfaceOptions o;
       if (c == "no-cells") o.useCells = false;
       if (c == "cells-depth4") o.cellDepth = 4;  // an octree of depth 4, whatever the automatic rule says
-      if (c == "no-origin-cache") o.originCache = false;
+      if (c == "origin-cache") o.originCache = true;
       if (c == "no-recentre") o.recentre = false;
       if (c == "no-quadric-path") {
         if (f.degree() != 2) continue;
