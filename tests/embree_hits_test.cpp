@@ -73,10 +73,7 @@ class EmbreeHits : public ::testing::Test {
  protected:
   Device device;
   std::mt19937 rng{12345};
-  glm::vec3 randomDir() {
-    std::normal_distribution<float> n;
-    return glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
-  }
+  glm::vec3 randomDir() { return randomUnit(rng); }
 };
 
 TEST_F(EmbreeHits, SphereMatchesClosedForm) {
@@ -974,14 +971,7 @@ TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
         const glm::vec3 dir = glm::vec3(u(rng), u(rng), u(rng)) - eye;
         singles[l] = makeRay(eye, dir);
         for (RTCRayHit8* p : {&pa, &pb}) {
-          p->ray.org_x[l] = eye.x;
-          p->ray.org_y[l] = eye.y;
-          p->ray.org_z[l] = eye.z;
-          p->ray.dir_x[l] = dir.x;
-          p->ray.dir_y[l] = dir.y;
-          p->ray.dir_z[l] = dir.z;
-          p->ray.tfar[l] = std::numeric_limits<float>::infinity();
-          p->ray.mask[l] = ~0u;
+          setPacketLane(p->ray, l, singles[l].ray);
           p->hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
         }
       }

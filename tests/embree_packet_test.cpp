@@ -55,22 +55,6 @@ struct PacketOf<16> {
   static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(v, s, c, r); }
 };
 
-template <class R>
-void setLane(R& r, unsigned l, const RTCRay& one) {
-  r.org_x[l] = one.org_x;
-  r.org_y[l] = one.org_y;
-  r.org_z[l] = one.org_z;
-  r.dir_x[l] = one.dir_x;
-  r.dir_y[l] = one.dir_y;
-  r.dir_z[l] = one.dir_z;
-  r.tnear[l] = one.tnear;
-  r.tfar[l] = one.tfar;
-  r.time[l] = 0.0f;
-  r.mask[l] = ~0u;
-  r.id[l] = l;
-  r.flags[l] = 0;
-}
-
 struct Case {
   const char* name;
   Polynomial f;
@@ -105,10 +89,7 @@ class EmbreePacket : public ::testing::Test {
  protected:
   Device device;
   std::mt19937 rng{4242};
-  glm::vec3 randomDir() {
-    std::normal_distribution<float> n;
-    return glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
-  }
+  glm::vec3 randomDir() { return randomUnit(rng); }
   float uniform(float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); }
 
   // Rays of every kind the packet kernel decides or hands back: a camera's (shared eye,
@@ -177,8 +158,8 @@ class EmbreePacket : public ::testing::Test {
       for (unsigned l = 0; l < N; ++l) {
         valid[l] = uniform(0.0f, 1.0f) < 0.8f ? -1 : 0;
         singles[l] = randomRay(scene, eye, scale, world);
-        setLane(rh.ray, l, singles[l]);
-        setLane(ray, l, singles[l]);
+        setPacketLane(rh.ray, l, singles[l]);
+        setPacketLane(ray, l, singles[l]);
         rh.hit.geomID[l] = rh.hit.primID[l] = rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.Ng_x[l] = rh.hit.Ng_y[l] = rh.hit.Ng_z[l] = rh.hit.u[l] = rh.hit.v[l] = -7.0f;
       }
@@ -375,7 +356,7 @@ TEST_F(EmbreePacket, PacketSwitchKeepsTheHits) {
     for (unsigned l = 0; l < 8; ++l) {
       valid[l] = -1;
       const glm::vec3 target(uniform(-1.2f, 1.2f), uniform(-1.2f, 1.2f), uniform(-1.2f, 1.2f));
-      setLane(ra.ray, l, makeRay(eye, target - eye).ray);
+      setPacketLane(ra.ray, l, makeRay(eye, target - eye).ray);
       ra.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
     }
     RTCRayHit8 rb = ra;

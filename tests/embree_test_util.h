@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 namespace algray::test {
@@ -105,6 +106,30 @@ inline RTCGeometry makeQuad(RTCDevice device, float zPlane, float s) {
   for (int i = 0; i < 6; ++i) idx[i] = tris[i];
   rtcCommitGeometry(g);
   return g;
+}
+
+// A direction uniform on the unit sphere.
+inline glm::vec3 randomUnit(std::mt19937& rng) {
+  std::normal_distribution<float> n;
+  return glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
+}
+
+// Lane l of an Embree SoA ray packet (RTCRay4/8/16 or the ray of RTCRayHit4/8/16) set to
+// the single ray `one`.
+template <class R>
+void setPacketLane(R& r, unsigned l, const RTCRay& one) {
+  r.org_x[l] = one.org_x;
+  r.org_y[l] = one.org_y;
+  r.org_z[l] = one.org_z;
+  r.dir_x[l] = one.dir_x;
+  r.dir_y[l] = one.dir_y;
+  r.dir_z[l] = one.dir_z;
+  r.tnear[l] = one.tnear;
+  r.tfar[l] = one.tfar;
+  r.time[l] = 0.0f;
+  r.mask[l] = ~0u;
+  r.id[l] = l;
+  r.flags[l] = 0;
 }
 
 }  // namespace algray::test
