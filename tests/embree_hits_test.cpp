@@ -498,12 +498,8 @@ TEST_F(EmbreeHits, QuadricPathMatchesGeneralPath) {
     fast.polynomial = general.polynomial = quadrics[qi];
     fast.clip = general.clip = ClipSphere{{0, 0, 0}, 1.5};
     general.options.quadricPath = false;
-    SurfaceGeometry a(device, fast), b(device, general);
-    Scene sa(device), sb(device);
-    sa.attach(a.geometry());
-    sb.attach(b.geometry());
-    sa.commit();
-    sb.commit();
+    ScenePair pair(device, fast, general);
+    auto& [a, b, sa, sb] = pair;
     for (double dist : {2.0, 4.0, 1e4}) {
       const glm::dvec3 eye = dist * glm::dvec3(randomDir());
       for (int i = 0; i < 150; ++i) {
@@ -954,12 +950,8 @@ TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
     }
     SurfaceDesc off = desc;
     off.options.uv = false;
-    SurfaceGeometry ga(device, desc), gb(device, off);
-    Scene sa(device), sb(device);
-    sa.attach(ga.geometry());
-    sb.attach(gb.geometry());
-    sa.commit();
-    sb.commit();
+    ScenePair pair(device, desc, off);
+    auto& [ga, gb, sa, sb] = pair;
     const glm::vec3 eye(0.4f, -3.1f, 1.7f);
     int hits = 0, nonZeroUV = 0;
     for (int k = 0; k < 40; ++k) {

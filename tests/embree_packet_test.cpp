@@ -342,12 +342,8 @@ TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
 TEST_F(EmbreePacket, PacketSwitchKeepsTheHits) {
   SurfaceDesc on = sphereDesc(1.0, 1.2), off = on;
   off.options.packetSimd = false;
-  SurfaceGeometry a(device, on), b(device, off);
-  Scene sa(device), sb(device);
-  sa.attach(a.geometry());
-  sb.attach(b.geometry());
-  sa.commit();
-  sb.commit();
+  ScenePair pair(device, on, off);
+  auto& [a, b, sa, sb] = pair;
   const glm::vec3 eye = 3.0f * randomDir();
   int hits = 0;
   for (int k = 0; k < 200; ++k) {

@@ -39,6 +39,20 @@ struct Scene {
   operator RTCScene() const { return scene; }  // NOLINT
 };
 
+// One surface under two sets of options, each geometry alone in its committed scene: the
+// A/B comparisons of options (a, sa) against (b, sb).
+struct ScenePair {
+  SurfaceGeometry a, b;
+  Scene sa, sb;
+  ScenePair(RTCDevice device, const SurfaceDesc& da, const SurfaceDesc& db)
+      : a(device, da), b(device, db), sa(device), sb(device) {
+    sa.attach(a.geometry());
+    sb.attach(b.geometry());
+    sa.commit();
+    sb.commit();
+  }
+};
+
 inline SurfaceDesc sphereDesc(double r, double clip, glm::dvec3 centre = glm::dvec3(0.0)) {
   SurfaceDesc desc;
   desc.polynomial = spherePolynomial(r);
