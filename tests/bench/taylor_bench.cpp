@@ -53,29 +53,22 @@ void BM_OriginExpansion(benchmark::State& state) {
   state.counters["terms"] = Polynomial::termCount(f.degree());
 }
 
-void BM_RestrictToRay(benchmark::State& state) {
+// The direct restriction from f itself (Form = Polynomial) or from its HornerForm (the
+// adapter's path; taylor_box.cpp).
+template <class Form>
+void restrictToRayLoop(benchmark::State& state) {
   const auto f = densePolynomial(static_cast<int>(state.range(0)));
+  const Form form(f);
   const auto dirs = directions(1024);
   size_t i = 0;
   for (auto _ : state) {
-    auto g = algray::restrictToRay(f, kOrigin, dirs[i++ & 1023]);
+    auto g = algray::restrictToRay(form, kOrigin, dirs[i++ & 1023]);
     benchmark::DoNotOptimize(g);
   }
   state.counters["terms"] = Polynomial::termCount(f.degree());
 }
-
-// The same over the polynomial's HornerForm (the adapter's path; taylor_box.cpp).
-void BM_RestrictToRayBox(benchmark::State& state) {
-  const auto f = densePolynomial(static_cast<int>(state.range(0)));
-  const algray::HornerForm horner(f);
-  const auto dirs = directions(1024);
-  size_t i = 0;
-  for (auto _ : state) {
-    auto g = algray::restrictToRay(horner, kOrigin, dirs[i++ & 1023]);
-    benchmark::DoNotOptimize(g);
-  }
-  state.counters["terms"] = Polynomial::termCount(f.degree());
-}
+void BM_RestrictToRay(benchmark::State& state) { restrictToRayLoop<Polynomial>(state); }
+void BM_RestrictToRayBox(benchmark::State& state) { restrictToRayLoop<algray::HornerForm>(state); }
 
 void BM_ExpandOrigin(benchmark::State& state) {
   const auto f = densePolynomial(static_cast<int>(state.range(0)));
