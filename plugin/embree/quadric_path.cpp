@@ -296,13 +296,7 @@ bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
 
   // The clip region's box.
   glm::dvec3 clipLo, clipHi;
-  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) {
-    clipLo = s->center - glm::dvec3(s->radius);
-    clipHi = s->center + glm::dvec3(s->radius);
-  } else {
-    clipLo = std::get<ClipBox>(data.desc.clip).lo;
-    clipHi = std::get<ClipBox>(data.desc.clip).hi;
-  }
+  clipRegionBox(data.desc.clip, clipLo, clipHi);
   // delta, from the bounds m of the ellipsoid of delta = 0 and the clip box (see above).
   const glm::dvec3 m =
       glm::max(glm::max(glm::abs(clipLo), glm::abs(clipHi)), glm::abs(x0) + halfExtent(0.0));
@@ -339,13 +333,7 @@ bool usesQuadricPath(const SurfaceData& data) {
 
 bool cellHoldsClipRegion(const SurfaceData& data) {
   glm::dvec3 lo, hi;
-  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) {
-    lo = s->center - glm::dvec3(s->radius);
-    hi = s->center + glm::dvec3(s->radius);
-  } else {
-    lo = std::get<ClipBox>(data.desc.clip).lo;
-    hi = std::get<ClipBox>(data.desc.clip).hi;
-  }
+  clipRegionBox(data.desc.clip, lo, hi);
   const SurfaceCell& cell = data.cells.front();
   return glm::all(glm::lessThanEqual(cell.lo, lo)) && glm::all(glm::greaterThanEqual(cell.hi, hi));
 }

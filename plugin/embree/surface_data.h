@@ -130,6 +130,17 @@ inline constexpr double kAtanPoly[10] = {0.99999998406654822,   -0.3333319433803
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
 bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
 
+// The axis-aligned box of a clip region (a sphere's bounding box, or the box itself).
+inline void clipRegionBox(const ClipRegion& clip, glm::dvec3& lo, glm::dvec3& hi) {
+  if (const auto* s = std::get_if<ClipSphere>(&clip)) {
+    lo = s->center - glm::dvec3(s->radius);
+    hi = s->center + glm::dvec3(s->radius);
+  } else {
+    lo = std::get<ClipBox>(clip).lo;
+    hi = std::get<ClipBox>(clip).hi;
+  }
+}
+
 // ---- The quadric path (quadric_path.cpp) ------------------------------------------------
 // f(x) = x^T A x + b . x + c at p, with the bound on its rounding and the gradient 2 A p + b
 // (Higham, Sec. 3.1: each term of the value is at most 8 roundings deep).
