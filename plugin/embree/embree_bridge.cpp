@@ -184,22 +184,23 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   // none (0, 0, as Embree's own sphere) when the host switched them off.
   double u = 0, v = 0;
   float uf = 0, vf = 0;
-  if (!L.data->desc.options.uv) {
-  } else if (L.dctx) {
-    surfaceUV(*L.data, h.point, u, v);
-    uf = static_cast<float>(u);
-    vf = static_cast<float>(v);
-  } else {
-    bool given = false;
-    if constexpr (kPacketLane) {
-      const auto& P = static_cast<const PacketLane&>(L);
-      if (h.t == P.uvT) {
-        uf = static_cast<float>(P.uvU);
-        vf = static_cast<float>(P.uvV);
-        given = true;
+  if (L.data->desc.options.uv) {
+    if (L.dctx) {
+      surfaceUV(*L.data, h.point, u, v);
+      uf = static_cast<float>(u);
+      vf = static_cast<float>(v);
+    } else {
+      bool given = false;
+      if constexpr (kPacketLane) {
+        const auto& P = static_cast<const PacketLane&>(L);
+        if (h.t == P.uvT) {
+          uf = static_cast<float>(P.uvU);
+          vf = static_cast<float>(P.uvV);
+          given = true;
+        }
       }
+      if (!given) surfaceUVFloat(*L.data, h.point, uf, vf);
     }
-    if (!given) surfaceUVFloat(*L.data, h.point, uf, vf);
   }
   HitBuffer candidate;
   writeCandidate(candidate.hitN(), n, lane, floatNormal(ng), uf, vf, args->primID, args->geomID, args->context);
