@@ -1,9 +1,12 @@
 // Hit records of algray surfaces through Embree (rtcIntersect1 / rtcOccluded1), against
 // closed forms and brute-force references computed independently of the library.
 #include "embree_test_util.h"
+#include "../plugin/embree/surface_data.h"
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
 #include <optional>
 #include <random>
 
@@ -138,6 +141,69 @@ TEST_F(EmbreeHits, SphereInsideHitsFarSide) {
   const RTCRayHit rh = intersect1(scene, makeRay({0.5f, 0, 0}, {1, 0, 0}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 1.5f);
   EXPECT_GT(rh.hit.Ng_x, 0.0f);  // gradient points outward, whichever side the ray came from
+}
+
+// A ray starting on the surface outside the clip ball (restrictQuadricRay skips the
+// self-root rule there: the root at the origin lies outside the ray's span) finds the
+// other root inside the ball, for a diagonal quadric (the cylinder) and a mixed one
+// (the saddle z = xy). Both restrictions are 4.5 t (t - 1)-shaped: the hit is t = 1.
+TEST_F(EmbreeHits, OriginOnTheSurfaceOutsideTheClipBall) {
+  struct Line {
+    const char* f;
+    glm::vec3 o, d, normal;
+  };
+  for (const Line& l : {Line{"x^2 + y^2 - 1", {1, 0, 3}, {-2, 0, -3}, {-2, 0, 0}},
+                        Line{"x*y - z", {2, 2, 4}, {-1.5f, -3, -4.5f}, {-1, 0.5f, -1}}}) {
+    SCOPED_TRACE(l.f);
+    SurfaceDesc desc;
+    desc.polynomial = parsePolynomial(l.f);
+    desc.clip = ClipSphere{{0, 0, 0}, 2.0};
+    SurfaceGeometry g(device, desc);
+    Scene scene(device);
+    scene.attach(g.geometry());
+    scene.commit();
+    const RTCRayHit rh = intersect1(scene, makeRay(l.o, l.d));
+    ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+    EXPECT_NEAR(rh.ray.tfar, 1.0f, 1e-6f);
+    const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    EXPECT_NEAR(glm::dot(glm::normalize(ng), glm::normalize(l.normal)), 1.0f, 1e-6f);
+    EXPECT_FALSE(occluded1(scene, makeRay(l.o, l.d, 0.0f, 0.999f).ray));
+    EXPECT_TRUE(occluded1(scene, makeRay(l.o, l.d, 0.0f, 1.001f).ray));
+    EXPECT_EQ(g.callbackErrors(), 0u);
+  }
+}
+
+// The float u, v of a hit (surfaceUVFloat: polynomial atan, no libm) are the exact ones
+// (long double atan2 of the azimuth and of the polar angle as atan2(rho, z), which near
+// the poles is more accurate than surfaceUV's acos) rounded to float, or a neighbour:
+// points in every octant, near the axes and poles, and of any magnitude.
+TEST_F(EmbreeHits, FloatUvAreTheDoubleOnesToAnUlp) {
+  SurfaceDesc desc = sphereDesc(1.0, 1.2);
+  desc.clip = ClipSphere{{0.25, -0.5, 0.125}, 1.2};
+  SurfaceGeometry g(device, desc);
+  const auto& data = *static_cast<const SurfaceData*>(rtcGetGeometryUserData(g.geometry()));
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  auto ulps = [](float a, float b) {
+    return std::abs(static_cast<long>(std::bit_cast<std::int32_t>(a)) - std::bit_cast<std::int32_t>(b));
+  };
+  for (int i = 0; i < 200000; ++i) {
+    glm::dvec3 r(uni(rng), uni(rng), uni(rng));
+    if (i % 5 == 1) r[i % 3] *= 1e-9;                        // near an axis plane
+    if (i % 5 == 2) r.x *= 1e-12, r.y *= 1e-12;              // near a pole
+    r *= std::pow(10.0, 8.0 * uni(rng));
+    const glm::dvec3 point = data.centre + r;
+    const glm::dvec3 rr = point - data.centre;  // as the kernel rounds it
+    const long double pi = 3.141592653589793238462643383279503L;
+    long double phi = std::atan2((long double)rr.y, (long double)rr.x);
+    if (phi < 0) phi += 2 * pi;
+    const long double rho = std::hypot((long double)rr.x, (long double)rr.y);
+    const long double ud = std::min(phi / (2 * pi), (long double)std::nextafter(1.0, 0.0)),
+                      vd = std::atan2(rho, (long double)rr.z) / pi;
+    float uf, vf;
+    surfaceUVFloat(data, point, uf, vf);
+    EXPECT_LE(ulps(uf, static_cast<float>(ud)), 1) << i << " " << ud << " " << uf;
+    EXPECT_LE(ulps(vf, static_cast<float>(vd)), 1) << i << " " << vd << " " << vf;
+  }
 }
 
 TEST_F(EmbreeHits, TorusMatchesBruteForce) {

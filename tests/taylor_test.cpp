@@ -203,6 +203,40 @@ TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
   }
 }
 
+// closestParameter against the closest point in long double (64-bit significand): within
+// inverseSquaredLength's relative 2^-40 for near-unit directions (float-normalised ones,
+// and double ones up to 2^-20 off unit length) and the rounding of the dot product, and
+// a plain quotient for every other length.
+TEST(Taylor, ClosestParameterWithinItsBound) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 20000; ++i) {
+    const glm::dvec3 o = std::pow(10.0, 6.0 * std::abs(u(rng))) * glm::dvec3(u(rng), u(rng), u(rng));
+    const glm::dvec3 c(u(rng), u(rng), u(rng));
+    glm::dvec3 d = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+    const int kind = i % 4;
+    if (kind == 1) d = glm::dvec3(glm::normalize(glm::vec3(d)));    // float-normalised
+    if (kind == 2) d *= 1.0 + 0x1p-21 * u(rng);                      // near unit
+    if (kind == 3) d *= std::pow(10.0, 3.0 * u(rng));                 // any length
+    const double dd = glm::dot(d, d), inv = inverseSquaredLength(dd);
+    if (std::abs(dd - 1.0) <= 0x1p-20)
+      EXPECT_LE(std::abs((long double)inv * dd - 1.0L), 0x1p-40L + 0x1p-51L) << dd;
+    else
+      EXPECT_EQ(inv, 1.0 / dd);
+    long double dot = 0, dotAbs = 0, ddL = 0;
+    for (int k = 0; k < 3; ++k) {
+      dot += ((long double)c[k] - o[k]) * d[k];
+      dotAbs += std::abs(((long double)c[k] - o[k]) * d[k]);
+      ddL += (long double)d[k] * d[k];
+    }
+    const long double ref = dot / ddL, t = closestParameter(o, d, c);
+    // the quotient's or product's 2^-40 and rounding, and the dot product's rounding
+    // (gamma(4) over |c - o| |d|, c - o rounded too)
+    const long double bound = (0x1p-40L + 0x1p-50L) * std::abs(ref) + 0x1p-49L * dotAbs / ddL;
+    EXPECT_LE(std::abs(t - ref), bound) << "kind " << kind << " ray " << i;
+  }
+}
+
 TEST(Taylor, RecentringKeepsFarRaysAccurate) {
   // Far origins: the re-centred coefficients stay at the scale of the clip region, so the
   // error of g near the surface is tiny relative to g's own scale there; the expansion

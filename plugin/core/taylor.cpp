@@ -121,7 +121,7 @@ double RayPolynomial::evaluateWithBound(double s, double& bound) const {
 
 double closestParameter(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& c) {
   const double dd = glm::dot(d, d);
-  return dd > 0.0 ? glm::dot(c - o, d) / dd : 0.0;
+  return dd > 0.0 ? glm::dot(c - o, d) * inverseSquaredLength(dd) : 0.0;
 }
 
 RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d,

@@ -323,7 +323,7 @@ template <bool kOcclusion, class LaneT>
       if constexpr (kOcclusion) {
         if (acceptOcclusion(&L, h)) return;
       } else {
-        h.gradient = 2.0 * (L.data->quadric->a * h.point) + L.data->quadric->b;
+        h.gradient = L.data->quadric->gradient(h.point);
         if (acceptIntersectionOf<std::is_same_v<LaneT, PacketLane>>(&L, h)) return;
       }
     }

@@ -4,6 +4,7 @@
 // surface_intersect.cpp (the kernel) and embree_bridge.cpp (the callback ABI).
 #include "algray/embree.h"
 #include "algray/horner_form.h"
+#include "algray/taylor.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -42,6 +43,24 @@ struct QuadricForm {
   double c = 0;
   glm::dmat3 absA{0.0};  // |A|, |b| entrywise, for the error bounds
   glm::dvec3 absB{0.0};
+  // A diagonal (no mixed terms: spheres, axis-aligned ellipsoids, cylinders, cones,
+  // paraboloids...): A v and |A| v as three products, the same values as the full
+  // products (which only add exact zeros to them) but a fifth of the work.
+  bool diagonal = false;
+  glm::dvec3 diagA{0.0}, absDiagA{0.0};
+  // A v and |A| v; kDiagonal (only when diagonal) takes the three products.
+  template <bool kDiagonal = false>
+  glm::dvec3 mulA(const glm::dvec3& v) const {
+    if constexpr (kDiagonal) return diagA * v;
+    return a * v;
+  }
+  template <bool kDiagonal = false>
+  glm::dvec3 mulAbsA(const glm::dvec3& v) const {
+    if constexpr (kDiagonal) return absDiagA * v;
+    return absA * v;
+  }
+  // grad f(x) = 2 A x + b (the same values as evalQuadric's).
+  glm::dvec3 gradient(const glm::dvec3& x) const { return 2.0 * (diagonal ? mulA<true>(x) : mulA(x)) + b; }
   static QuadricForm fromPolynomial(const Polynomial& f);
 };
 
@@ -64,6 +83,7 @@ struct SurfaceData {
   // re-centring and the scale every relative tolerance of the adapter refers to.
   glm::dvec3 centre{0.0};
   double radius = 1.0;
+  double selfRootRadius2 = 1.0;  // (radius (1 + 2^-9))^2: see restrictQuadricRay
   std::vector<SurfaceCell> cells;
   // The cells' grid (they are one level of a regular subdivision of the box around the
   // clip region): box corner, size and cells per axis, and the cell of each grid key.
@@ -120,6 +140,8 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v);
 // The same for Embree's float u, v: within 2e-10 of them, at a third of the cost.
 void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v);
+// surfaceUVFloat's 1 / (2 pi) and 1 / pi, rounded.
+inline constexpr double kInvTwoPi = 0.15915494309189535, kInvPi = 0.31830988618379069;
 // Its atan on [0, 1]: atan(t) = t p(t^2), p of degree 9 with these coefficients (the fit
 // is described at atan2Pair, surface_intersect.cpp; the packet lanes use it too).
 inline constexpr double kAtanPoly[10] = {0.99999998406654822,   -0.33333194338035299, 0.19996618767948782,
@@ -148,9 +170,10 @@ struct QuadricValue {
   double value, error;
   glm::dvec3 gradient;
 };
-inline QuadricValue evalQuadric(const QuadricForm& q, const glm::dvec3& p) {
-  const glm::dvec3 ap = q.a * p, absP = glm::abs(p);
-  const double sumAbs = glm::dot(absP, q.absA * absP) + glm::dot(q.absB, absP) + std::abs(q.c);
+template <bool kDiagonal = false>
+QuadricValue evalQuadric(const QuadricForm& q, const glm::dvec3& p) {
+  const glm::dvec3 ap = q.mulA<kDiagonal>(p), absP = glm::abs(p);
+  const double sumAbs = glm::dot(absP, q.mulAbsA<kDiagonal>(absP)) + glm::dot(q.absB, absP) + std::abs(q.c);
   return {glm::dot(p, ap) + glm::dot(q.b, p) + q.c, gamma(8) * sumAbs, 2.0 * ap + q.b};
 }
 
@@ -264,17 +287,21 @@ inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dve
 // half-length from R^2 - |q|^2 avoids the cancellation of the textbook quadratic when
 // the origin is far away). tc: the parameter of that closest point; it equals
 // closestParameter(o, d, s.center) bit for bit (fl(c - o) = -fl(o - c), and the dot and
-// quotient negate exactly).
+// product negate exactly). With 1 / dd from inverseSquaredLength (taylor.h), tc may be
+// off by delta <= 2^-40 |tc|: |q|^2 grows by delta^2 dd only, so the chord keeps its
+// length and moves by delta, a shift of the clip boundary far below a float origin's
+// own rounding.
 inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1,
                          double& tc) {
   const double dd = glm::dot(d, d);
   if (!(dd > 0.0)) return false;
+  const double inv = inverseSquaredLength(dd);
   const glm::dvec3 oc = o - s.center;
-  tc = -glm::dot(oc, d) / dd;
+  tc = -glm::dot(oc, d) * inv;
   const glm::dvec3 q = oc + tc * d;
   const double h2 = s.radius * s.radius - glm::dot(q, q);
   if (!(h2 >= 0.0)) return false;
-  const double dt = std::sqrt(h2 / dd);
+  const double dt = std::sqrt(h2 * inv);
   t0 = std::max(t0, tc - dt);
   t1 = std::min(t1, tc + dt);
   return t0 <= t1;

@@ -157,6 +157,9 @@ QuadricForm QuadricForm::fromPolynomial(const Polynomial& f) {
   q.c = f.coeff(0, 0, 0);
   for (int r = 0; r < 3; ++r) q.absA[r] = glm::abs(q.a[r]);
   q.absB = glm::abs(q.b);
+  q.diagonal = q.a[0][1] == 0.0 && q.a[0][2] == 0.0 && q.a[1][2] == 0.0;
+  q.diagA = {q.a[0][0], q.a[1][1], q.a[2][2]};
+  q.absDiagA = glm::abs(q.diagA);
   return q;
 }
 
@@ -196,6 +199,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
     boxLo = b.lo;
     boxHi = b.hi;
   }
+  data->selfRootRadius2 = (data->radius * (1.0 + 0x1p-9)) * (data->radius * (1.0 + 0x1p-9));
   const SurfaceOptions& opt = data->desc.options;
   if (opt.useCells) {
     CellOptions cellOptions;

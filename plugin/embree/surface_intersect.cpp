@@ -439,61 +439,68 @@ bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dve
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v) {
   constexpr double kPi = 3.14159265358979323846;
   const glm::dvec3 r = point - data.centre;
-  const double len = glm::length(r);
-  if (!(len > 0.0)) {
+  if (!(std::abs(r.x) + std::abs(r.y) + std::abs(r.z) > 0.0)) {  // the centre, or NaN
     u = v = 0.0;
     return;
   }
   double phi = std::atan2(r.y, r.x);
   if (phi < 0.0) phi += 2.0 * kPi;
   u = std::min(phi / (2.0 * kPi), std::nextafter(1.0, 0.0));
-  v = std::acos(std::clamp(r.z / len, -1.0, 1.0)) / kPi;
+  // The polar angle as atan2(rho, z): acos(z / |r|) loses half the digits near the poles
+  // (tests: FloatUvAreTheDoubleOnesToAnUlp).
+  v = std::atan2(std::hypot(r.x, r.y), r.z) / kPi;
 }
 
 namespace {
-// atan2(y_i, x_i) of two points at once for the float u, v: atan on [0, 1] by an odd
-// polynomial of degree 19 (least squares at 4000 Chebyshev points of atan(t) / t in t^2,
-// fitted for this file; measured max error 9.8e-10 rad over 2e7 random atan2 calls, i.e.
-// 1.6e-10 in u, v against float's 6e-8 at 1), then the octant by pi/2 - a and pi - a.
-// Estrin's scheme and the two independent evaluations side by side keep the dependency
-// chains short (glibc's atan2 and acos were 11 % of a quadric primary ray; perf,
-// speed_report's sphere). Not for (0, 0).
-void atan2Pair(const double (&y)[2], const double (&x)[2], double (&out)[2]) {
-  constexpr double kPi = 3.14159265358979323846;
+// atan(t) for t in [0, 1], from t and t^2, for the float u, v: t p(t^2), p of degree 9
+// (least squares at 4000 Chebyshev points of atan(t) / t in t^2, fitted for this file;
+// measured max error 9.8e-10 rad over 2e7 random atan2 calls, i.e. 1.6e-10 in u, v
+// against float's 6e-8 at 1). Estrin's scheme keeps the dependency chain short (glibc's
+// atan2 and acos were 11 % of a quadric primary ray; perf, speed_report's sphere).
+double atanUnit(double t, double t2) {
   const auto& c = kAtanPoly;
-  for (int i = 0; i < 2; ++i) {
-    const double ax = std::abs(x[i]), ay = std::abs(y[i]);
-    const double t = std::min(ax, ay) / std::max(ax, ay), t2 = t * t, t4 = t2 * t2, t8 = t4 * t4;
-    const double p01 = c[0] + c[1] * t2, p23 = c[2] + c[3] * t2, p45 = c[4] + c[5] * t2,
-                 p67 = c[6] + c[7] * t2, p89 = c[8] + c[9] * t2;
-    const double p = (p01 + p23 * t4) + ((p45 + p67 * t4) + p89 * t8) * t8;
-    double a = p * t;
-    if (ay > ax) a = kPi / 2 - a;
-    if (std::signbit(x[i])) a = kPi - a;
-    out[i] = std::copysign(a, y[i]);
-  }
+  const double t4 = t2 * t2, t8 = t4 * t4;
+  const double p01 = c[0] + c[1] * t2, p23 = c[2] + c[3] * t2, p45 = c[4] + c[5] * t2, p67 = c[6] + c[7] * t2,
+               p89 = c[8] + c[9] * t2;
+  return ((p01 + p23 * t4) + ((p45 + p67 * t4) + p89 * t8) * t8) * t;
 }
 }  // namespace
 
 void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v) {
   constexpr double kPi = 3.14159265358979323846;
   const glm::dvec3 r = point - data.centre;
-  const double rho2 = r.x * r.x + r.y * r.y;
-  if (!(rho2 + r.z * r.z > 0.0) || !std::isfinite(rho2 + r.z * r.z)) {
+  const double rho2 = r.x * r.x + r.y * r.y, z2 = r.z * r.z;
+  if (!(rho2 + z2 > 0.0) || !std::isfinite(rho2 + z2)) {
     double ud, vd;
     surfaceUV(data, point, ud, vd);
     u = static_cast<float>(ud);
     v = static_cast<float>(vd);
     return;
   }
-  // The polar angle as atan2(rho, z): acos(z / |r|) without its clamp, and as accurate.
-  // On the z axis (rho = 0) the azimuth is atan2(+-0, x) as for surfaceUV.
-  double a[2];
-  atan2Pair({rho2 > 0.0 ? r.y : 0.0, std::sqrt(rho2)}, {rho2 > 0.0 ? r.x : 1.0, r.z}, a);
-  double phi = rho2 > 0.0 ? a[0] : std::atan2(r.y, r.x);
+  // The azimuth atan2(y, x) from the octant of |x|, |y| (on the z axis, rho = 0, it is
+  // atan2(+-0, x) as for surfaceUV).
+  double phi;
+  if (rho2 > 0.0) {
+    const double ax = std::abs(r.x), ay = std::abs(r.y), t = std::min(ax, ay) / std::max(ax, ay);
+    phi = atanUnit(t, t * t);
+    if (ay > ax) phi = kPi / 2 - phi;
+    if (std::signbit(r.x)) phi = kPi - phi;
+    phi = std::copysign(phi, r.y);
+  } else {
+    phi = std::atan2(r.y, r.x);
+  }
   if (phi < 0.0) phi += 2.0 * kPi;
-  u = static_cast<float>(std::min(phi / (2.0 * kPi), std::nextafter(1.0, 0.0)));
-  v = static_cast<float>(std::min(std::max(a[1] / kPi, 0.0), 1.0));
+  // The polar angle atan2(rho, z) (acos(z / |r|) without its clamp, and as accurate),
+  // from the squares: t^2 = min / max of rho^2, z^2 and its root t side by side, so that
+  // no root delays the division (a hit's last latency chain; measured).
+  const double t2 = std::min(rho2, z2) / std::max(rho2, z2), t = std::sqrt(t2);
+  double theta = atanUnit(t, t2);
+  if (rho2 > z2) theta = kPi / 2 - theta;
+  if (std::signbit(r.z)) theta = kPi - theta;
+  // Products with the rounded 1 / (2 pi) and 1 / pi (one more rounding, far below
+  // float's; the quotients' latency came last on a hit's critical path, measured).
+  u = static_cast<float>(std::min(phi * kInvTwoPi, std::nextafter(1.0, 0.0)));
+  v = static_cast<float>(std::min(std::max(theta * kInvPi, 0.0), 1.0));
 }
 
 bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
@@ -548,7 +555,7 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     if (i == 0 && rr.firstPolished)
       hit.gradient = rr.firstGradient;
     else if (data.quadric)
-      hit.gradient = occlusion ? glm::dvec3(0.0) : evalQuadric(*data.quadric, hit.point).gradient;
+      hit.gradient = occlusion ? glm::dvec3(0.0) : data.quadric->gradient(hit.point);
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), 1e-4 * (r1 - r0), hit);
     if (hit.t > ray.tnear && hit.t < ray.tfar && accept(user, hit)) return true;
