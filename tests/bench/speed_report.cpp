@@ -42,6 +42,8 @@
 #include "algray/embree.h"
 #include "algray/gallery.h"
 
+#include <glm/geometric.hpp>
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -53,6 +55,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -108,6 +111,71 @@ Entry algrayEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f
   e.primitives = e.geometry->primitiveCount();
   e.allMetrics = e.config == "default";
   e.packetMetrics = e.config == "no-packet-simd" || e.config == "uv-off";
+  return e;
+}
+
+// ---- The user-geometry floor ---------------------------------------------------------------
+// The unit sphere as the plainest Embree user geometry (Embree's tutorial style: float
+// textbook quadratic, no error bound, no clip, u = v = 0): what any user geometry pays for
+// Embree's traversal and callback, beside which algray's rigorous double kernel and
+// Embree's own sphere primitive are measured.
+void floatSphereBounds(const RTCBoundsFunctionArguments* a) {
+  *a->bounds_o = RTCBounds{-1.0f, -1.0f, -1.0f, 0.0f, 1.0f, 1.0f, 1.0f, 0.0f};
+}
+// The first root of |o + t d|^2 = 1 in (tnear, tfar) of one lane, or -1.
+float floatSphereRoot(RTCRayN* ray, unsigned n, unsigned i) {
+  const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
+  const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
+  const float a = glm::dot(d, d), b = 2.0f * glm::dot(o, d), c = glm::dot(o, o) - 1.0f, disc = b * b - 4.0f * a * c;
+  if (!(disc >= 0.0f)) return -1.0f;
+  const float root = std::sqrt(disc), t0 = (-b - root) / (2.0f * a), t1 = (-b + root) / (2.0f * a);
+  const float tnear = RTCRayN_tnear(ray, n, i), tfar = RTCRayN_tfar(ray, n, i);
+  return t0 > tnear && t0 < tfar ? t0 : t1 > tnear && t1 < tfar ? t1 : -1.0f;
+}
+void floatSphereIntersect(const RTCIntersectFunctionNArguments* args) {
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (!args->valid[i]) continue;
+    const float t = floatSphereRoot(ray, args->N, i);
+    if (t < 0.0f) continue;
+    RTCRayN_tfar(ray, args->N, i) = t;
+    RTCHitN_Ng_x(hit, args->N, i) = RTCRayN_org_x(ray, args->N, i) + t * RTCRayN_dir_x(ray, args->N, i);
+    RTCHitN_Ng_y(hit, args->N, i) = RTCRayN_org_y(ray, args->N, i) + t * RTCRayN_dir_y(ray, args->N, i);
+    RTCHitN_Ng_z(hit, args->N, i) = RTCRayN_org_z(ray, args->N, i) + t * RTCRayN_dir_z(ray, args->N, i);
+    RTCHitN_u(hit, args->N, i) = RTCHitN_v(hit, args->N, i) = 0.0f;
+    RTCHitN_primID(hit, args->N, i) = args->primID;
+    RTCHitN_geomID(hit, args->N, i) = args->geomID;
+    RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];
+  }
+}
+void floatSphereOccluded(const RTCOccludedFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] && floatSphereRoot(args->ray, args->N, i) >= 0.0f)
+      RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+}
+
+Entry floatUserSphereEntry(RTCDevice device) {
+  Entry e;
+  e.surface = "sphere";
+  e.degree = 2;
+  e.method = "user-float-sphere";
+  e.config = "floor";
+  const auto start = std::chrono::steady_clock::now();
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, 1);
+  rtcSetGeometryBoundsFunction(g, &floatSphereBounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, &floatSphereIntersect);
+  rtcSetGeometryOccludedFunction(g, &floatSphereOccluded);
+  rtcCommitGeometry(g);
+  e.scene = rtcNewScene(device);
+  rtcAttachGeometry(e.scene, g);
+  rtcReleaseGeometry(g);
+  rtcCommitScene(e.scene);
+  e.buildMs = msSince(start);
+  e.primitives = 1;
+  e.allMetrics = true;
+  e.shadowTnear = 1e-4f;
   return e;
 }
 
@@ -281,7 +349,10 @@ int run(const Args& args) {
       }
       entries.push_back(algrayEntry(device, s, f, c, o));
     }
-    if (s.name == "sphere") entries.push_back(nativeSphereEntry(device));
+    if (s.name == "sphere") {
+      entries.push_back(nativeSphereEntry(device));
+      entries.push_back(floatUserSphereEntry(device));
+    }
     entries.push_back(meshEntry(device, s, f, args.tiny ? 2e4 : 1e5, args.tiny ? "20k" : "100k"));
     if (args.mesh1m) entries.push_back(meshEntry(device, s, f, 1e6, "1M"));
 

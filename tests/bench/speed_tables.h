@@ -93,6 +93,7 @@ inline void writeDepthImage(const std::string& dir, const Entry& e, const View& 
 inline std::string label(const Entry& e) {
   if (e.method == "algray") return e.config == "default" ? "algray" : "algray " + e.config;
   if (e.method == "mc") return "MC " + e.config + " tris";
+  if (e.method == "user-float-sphere") return "float user-geometry sphere (floor)";
   return "Embree sphere";
 }
 
@@ -147,7 +148,8 @@ inline std::string summaryTable(const std::vector<Entry>& entries) {
     // The other method of this surface to set beside it: Embree's sphere if any, else the last mesh.
     const Entry* other = nullptr;
     for (const Entry& e : entries)
-      if (e.surface == a.surface && e.method != "algray" && (!other || other->method != "embree-sphere"))
+      if (e.surface == a.surface && e.method != "algray" && e.method != "user-float-sphere" &&
+          (!other || other->method != "embree-sphere"))
         other = &e;
     if (!other) continue;
     s << "| " << a.surface << " | " << a.degree << " | " << a.primitives << " | " << fmt(a.buildMs, "%.0f") << " | "
@@ -232,6 +234,12 @@ inline std::string targets(const std::vector<Entry>& entries) {
       s << "- sphere " << kMetricName[m] << " with uv off (u = v = 0 as Embree's sphere): algray / Embree native = "
         << fmt(sphereNoUV->mrays(m) / native->mrays(m), "%.2f") << " (per CPU second: "
         << fmt(sphereNoUV->mrays(m, true) / native->mrays(m, true), "%.2f") << ")\n";
+  // The user-geometry floor: a float sphere with no bound (speed_report.cpp).
+  if (const Entry* floor = find("sphere", "user-float-sphere"); floor && native && sphere)
+    for (Metric m : {kP1, kS1})
+      s << "- sphere " << kMetricName[m] << ": plain float user-geometry sphere / Embree native = "
+        << fmt(floor->mrays(m) / native->mrays(m), "%.2f") << "; algray / that floor = "
+        << fmt(sphere->mrays(m) / floor->mrays(m), "%.2f") << "\n";
   if (const Entry* b = find("barth-sextic", "algray"))
     s << "- barth-sextic primary 1T: " << fmt(b->mrays(kP1)) << " Mrays/s, " << fmt(b->mrays(kP1, true))
       << " per CPU second (target >= 3)\n";
