@@ -292,7 +292,7 @@ std::uint64_t bits(double f) { return std::bit_cast<std::uint64_t>(f); }
 // ray (hostObjectRay), the span and restriction (quadricSpan), the first root (quadricRoot)
 // and the float u, v at it (surfaceUVFloat), for every lane they decide.
 TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
-  int decided = 0, roots = 0, uvs = 0, total = 0, nearDecided = 0, nearTotal = 0;
+  int decided = 0, roots = 0, uvs = 0, normals = 0, total = 0, nearDecided = 0, nearTotal = 0;
   for (const Case& c : cases()) {
     SCOPED_TRACE(c.name);
     SurfaceDesc desc{c.f, c.clip, c.transform, {}};
@@ -311,6 +311,7 @@ TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
         QuadricPacket p;
         p.count = 2 + static_cast<unsigned>(uniform(0.0f, 14.99f));
         p.wantUV = k % 2 == 0;
+        p.wantNormal = k % 3 != 0;
         for (unsigned l = 0; l < p.count; ++l) {
           const RTCRay r = randomRay(scene, eye, dist, world);
           p.ox[l] = r.org_x;
@@ -355,9 +356,19 @@ TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
           }
           EXPECT_EQ(bits(p.slo[l]), bits(q.slo));
           EXPECT_EQ(bits(p.shi[l]), bits(q.shi));
+          const double t = q.g.tShift + s;
+          if (p.wantNormal && !std::isnan(p.nT[l])) {
+            // The bridge's normal: the world-space gradient at the hit, cast to float.
+            ++normals;
+            EXPECT_EQ(bits(p.nT[l]), bits(t));
+            const glm::dvec3 grad = data.quadric->gradient(kr.org + t * kr.dir);
+            const glm::vec3 ng(data.identity ? grad : data.aInvT * grad);
+            EXPECT_EQ(bits(p.nx[l]), bits(ng.x));
+            EXPECT_EQ(bits(p.ny[l]), bits(ng.y));
+            EXPECT_EQ(bits(p.nz[l]), bits(ng.z));
+          }
           if (!p.wantUV || std::isnan(p.uvT[l])) continue;
           ++uvs;
-          const double t = q.g.tShift + s;
           EXPECT_EQ(bits(p.uvT[l]), bits(t));
           float u, v;
           surfaceUVFloat(data, kr.org + t * kr.dir, u, v);
@@ -369,6 +380,7 @@ TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
   }
   EXPECT_GT(roots, 3000);
   EXPECT_GT(uvs, 1000);
+  EXPECT_GT(normals, 1000);
   // Undecided: the degenerate kinds, far eyes outside the tight box's derivation, a last
   // lane alone in its vector; from a near eye most lanes are decided.
   EXPECT_GT(decided, total / 2);

@@ -111,11 +111,14 @@ struct Lane {
   double tfarD;  // the double channel's current far end
 };
 // A lane of a packet through quadric_packet.cpp: surfaceUVFloat's u, v (before the cast)
-// of the hit at t = uvT, computed with the packet's lanes (NaN: none). A type of its own
-// so that single rays carry and test nothing more (measured: the test and the larger
-// record in the lane loop cost the sphere's single primary rays 1.5 %).
+// of the hit at t = uvT and its float normal at t = nT, computed with the packet's lanes
+// (NaN: none). A type of its own so that single rays carry and test nothing more
+// (measured: the test and the larger record in the lane loop cost the sphere's single
+// primary rays 1.5 %).
 struct PacketLane : Lane {
-  double uvT, uvU, uvV;
+  double uvT = std::numeric_limits<double>::quiet_NaN(), uvU = 0, uvV = 0;
+  double nT = std::numeric_limits<double>::quiet_NaN();
+  glm::vec3 normal{0.0f};
 };
 
 // The candidate's float tfar, and whether it lies inside the ray's current interval: in
@@ -179,7 +182,20 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   float tf;
   if (!candidateTfar(L, ray, n, lane, h.t, tf)) return false;
   // ---- The candidate, as Embree would write it ---------------------------------------
-  const glm::dvec3 ng = L.data->identity ? h.gradient : L.data->aInvT * h.gradient;
+  glm::dvec3 ng(0.0);
+  glm::vec3 ngFloat;
+  bool givenNormal = false;
+  if constexpr (kPacketLane) {
+    const auto& P = static_cast<const PacketLane&>(L);
+    if (h.t == P.nT) {
+      ngFloat = P.normal;
+      givenNormal = true;
+    }
+  }
+  if (!givenNormal) {
+    ng = L.data->identity ? h.gradient : L.data->aInvT * h.gradient;
+    ngFloat = floatNormal(ng);
+  }
   // u, v in double for the double channel, else to float accuracy (surfaceUVFloat);
   // none (0, 0, as Embree's own sphere) when the host switched them off.
   double u = 0, v = 0;
@@ -203,7 +219,7 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
     }
   }
   HitBuffer candidate;
-  writeCandidate(candidate.hitN(), n, lane, floatNormal(ng), uf, vf, args->primID, args->geomID, args->context);
+  writeCandidate(candidate.hitN(), n, lane, ngFloat, uf, vf, args->primID, args->geomID, args->context);
   // ---- Host filter (geometry filter, then context filter): the filter sees the
   // candidate t as the ray's tfar and may reject it by clearing valid[lane] -------------
   int valid[kMaxN] = {};
@@ -323,7 +339,10 @@ template <bool kOcclusion, class LaneT>
       if constexpr (kOcclusion) {
         if (acceptOcclusion(&L, h)) return;
       } else {
-        h.gradient = L.data->quadric->gradient(h.point);
+        // (A packet lane may come with the normal of its first root.)
+        bool givenNormal = false;
+        if constexpr (std::is_same_v<LaneT, PacketLane>) givenNormal = h.t == L.nT;
+        if (!givenNormal) h.gradient = L.data->quadric->gradient(h.point);
         if (acceptIntersectionOf<std::is_same_v<LaneT, PacketLane>>(&L, h)) return;
       }
     }
@@ -390,6 +409,7 @@ void quadricPacketLanes(const Args* args, RTCRayN* ray) {
   }
   p.count = count;
   p.wantUV = !kOcclusion && data->desc.options.uv;
+  p.wantNormal = !kOcclusion;
   quadricPacket(*data, p);
   for (unsigned i = 0; i < count; ++i) {
     if (p.status[i] == QuadricPacket::kNone) continue;
@@ -398,11 +418,15 @@ void quadricPacketLanes(const Args* args, RTCRayN* ray) {
         quadricLane<kOcclusion>(args, ray, lanes[i]);
         continue;
       }
-      PacketLane L{{args, data, lanes[i], nullptr, 0.0}, std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0};
+      PacketLane L{{args, data, lanes[i], nullptr, 0.0}};
       if constexpr (!kOcclusion) {
-        L.uvT = p.uvT[i];
-        L.uvU = p.u[i];
-        L.uvV = p.v[i];
+        if (p.wantUV) {
+          L.uvT = p.uvT[i];
+          L.uvU = p.u[i];
+          L.uvV = p.v[i];
+        }
+        L.nT = p.nT[i];
+        L.normal = glm::vec3(p.nx[i], p.ny[i], p.nz[i]);
       }
       KernelRay kr;
       kr.org = glm::dvec3(p.kox[i], p.koy[i], p.koz[i]);

@@ -241,6 +241,12 @@ struct QuadricPacket {
   // the first root's point t = tShift + s, in uvT; NaN where the lanes left it to it.
   bool wantUV = false;
   alignas(64) double u[kPacketLanes], v[kPacketLanes], uvT[kPacketLanes];
+  // For intersection queries (wantNormal): Embree's float Ng as the bridge writes it (the
+  // world-space gradient at the first root's point, cast to float) in nx, ny, nz, at the
+  // t in nT; NaN where the lanes left it to the bridge (a gradient outside float's range).
+  bool wantNormal = false;
+  alignas(64) double nT[kPacketLanes];
+  alignas(64) float nx[kPacketLanes], ny[kPacketLanes], nz[kPacketLanes];
 };
 // Whether quadricPacket can handle data's rays at all (the quadric path with a clip
 // sphere, re-centring on, and SurfaceOptions::packetSimd).
