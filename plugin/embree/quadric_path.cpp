@@ -170,7 +170,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   const QuadricForm& q = *data.quadric;
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
-  const glm::dvec3 absD = glm::abs(d);
+  const glm::dvec3 absD = absv(d);
   // An origin outside the clip ball by 2^-9 of its radius, with an uncertainty below
   // 2^-11 of it (a camera's), cannot put a root at the origin into the ray's span (which
   // starts 2^-9 R / |d| from it): the self-root rule has nothing to remove, and with
@@ -187,8 +187,8 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
     // length; widened by 2^-20 for the rounding of both) decides them without
     // safeLength. (Rounding is monotone, so the bound with the larger move decides
     // exactly as the length would.)
-    const glm::dvec3 absG = glm::abs(at.gradient);
-    const double moveRound = ray.orgRoundoff * glm::dot(absG, glm::abs(o));
+    const glm::dvec3 absG = absv(at.gradient);
+    const double moveRound = ray.orgRoundoff * glm::dot(absG, absv(o));
     const double moveUpper = moveRound + (1.0 + 0x1p-20) * (absG.x + absG.y + absG.z) * ray.orgError;
     // Within that bound, the exact rule takes |grad f| (safeLength: three divisions and
     // a root, most of a shadow ray's restriction). Its largest component m is no larger
@@ -216,11 +216,11 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
     at = evalQuadric<kDiagonal>(q, p);
     // p is rounded, off the line by up to gamma(2) (|p| + |tShift d|) per coordinate:
     // its effect on f(p) and on the slope (first order; the second is below u^2).
-    const glm::dvec3 off = gamma(2) * (glm::abs(p) + std::abs(tShift) * absD);
-    shiftError0 = glm::dot(glm::abs(at.gradient), off);
+    const glm::dvec3 off = gamma(2) * (absv(p) + std::abs(tShift) * absD);
+    shiftError0 = glm::dot(absv(at.gradient), off);
     shiftError1 = 2.0 * glm::dot(q.mulAbsA<kDiagonal>(off), absD);
   }
-  const glm::dvec3 absP = glm::abs(p);
+  const glm::dvec3 absP = absv(p);
   g.degree = 2;
   g.tShift = tShift;
   g.c[0] = at.value;

@@ -136,7 +136,7 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
     const Polynomial::Evaluation e = data.horner.evaluate(ray.org);
     v.value = e.value;
     v.valueError = e.valueError;
-    v.gradDotOrg = glm::dot(glm::abs(e.gradient), glm::abs(ray.org));
+    v.gradDotOrg = glm::dot(absv(e.gradient), absv(ray.org));
     v.gradient = e.gradient;
     v.gradLength = -1;
     v.org = ray.org;
