@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <optional>
@@ -832,7 +833,7 @@ TEST_F(EmbreeHits, QuadricTightBoundsKeepHits) {
   // rays leaving it with their orgError) give the same hits bit for bit with and without,
   // on the quadric callbacks and on the generic walk.
   std::uniform_real_distribution<double> u(-1.3, 1.3);
-  int hits = 0, grazing = 0;
+  int hits = 0, grazing = 0, tangentHits = 0;
   for (const BoundedCase& c : boundedCases()) {
     for (const bool callbacks : {true, false}) {
       SurfaceDesc tight{c.f, c.clip, c.transform, {}}, loose = tight;
@@ -899,12 +900,39 @@ TEST_F(EmbreeHits, QuadricTightBoundsKeepHits) {
           }
         }
       }
+      // Rays tangent to the ellipsoid, just inside, on and just outside it (where the
+      // tight ball of quadricSpan's early rejection is as close as it gets): found
+      // between the centre x0 and the surface point x0 + s w, f(x0 + s w) = f(x0) + s^2
+      // w^T A w, and pushed along the normal by eps of s.
+      const QuadricForm q = QuadricForm::fromPolynomial(c.f);
+      const glm::dvec3 x0 = -0.5 * (glm::inverse(q.a) * q.b);
+      const double f0 = glm::dot(x0, q.a * x0) + glm::dot(q.b, x0) + q.c;
+      for (int i = 0; i < 100; ++i) {
+        const glm::dvec3 w = glm::dvec3(randomDir());
+        const double sw = std::sqrt(-f0 / glm::dot(w, q.a * w));
+        const glm::dvec3 n = glm::normalize(q.a * w), tangent = glm::normalize(glm::cross(n, glm::dvec3(randomDir())));
+        const double eps = std::array<double, 5>{-1e-3, -1e-6, 0.0, 1e-6, 1e-3}[i % 5];
+        const glm::dvec3 touch = x0 + sw * w + eps * sw * n;
+        const glm::dvec3 wo = glm::dvec3(c.transform * glm::dvec4(touch - 3.0 * tangent, 1.0));
+        const glm::dvec3 wd = glm::dvec3(c.transform * glm::dvec4(tangent, 0.0));
+        SCOPED_TRACE(testing::Message() << "tangent ray " << i << " eps " << eps);
+        expectSameFloatHit(intersect1(sa, makeRay(glm::vec3(wo), glm::vec3(wd))),
+                           intersect1(sb, makeRay(glm::vec3(wo), glm::vec3(wd))));
+        const RayD ray = unboundedRay(wo, wd);
+        const HitD ha = intersectD(sa, ray), hb = intersectD(sb, ray);
+        ASSERT_EQ(ha.hit, hb.hit);
+        tangentHits += ha.hit;
+        if (ha.hit) {
+          EXPECT_EQ(ha.t, hb.t);
+        }
+      }
       EXPECT_EQ(a.callbackErrors(), 0u);
       EXPECT_EQ(b.callbackErrors(), 0u);
     }
   }
   EXPECT_GT(hits, 1000);
   EXPECT_GT(grazing, 1000);
+  EXPECT_GT(tangentHits, 200);
 }
 
 TEST_F(EmbreeHits, QuadricTightBoundsHoldTheSurface) {

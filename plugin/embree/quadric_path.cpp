@@ -339,6 +339,16 @@ bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
 
   box.lo = glm::max(x0 - e, clipLo);
   box.hi = glm::min(x0 + e, clipHi);
+  // The ball about x0: |z|^2 <= K' lambda_max(A^-1) <= K' |A^-1|_inf (an induced norm
+  // bounds the spectral radius; equal for a diagonal A) and |y| <= |shift| + |z|, padded
+  // as the half-extents, and once more by 2^-20 for the rounding of a ray's distance to
+  // x0 (quadricSpan tests rays within 2^16 radii only: that rounding is below 2^-40).
+  const double k = std::max(0.0, delta - at.value + at.error + rAr);
+  const double radius = ((glm::length(shift) + std::sqrt(k * normInf(ai))) * (1.0 + 0x1p-20) +
+                         0x1p-20 * glm::length(x0)) *
+                        (1.0 + 0x1p-20);
+  box.ballCentre = x0;
+  box.ballRadius2 = std::isfinite(radius) ? radius * radius : std::numeric_limits<double>::infinity();
   // The rays the derivation covers (see QuadricBox): origin error up to orgError_max, and
   // a shift error gamma(2) |tShift d| G below 2^-31 S, i.e. |o - centre| + R below
   // 2^20 S / G (gamma(2) < 2^-51).
@@ -362,6 +372,20 @@ bool cellHoldsClipRegion(const SurfaceData& data) {
   const SurfaceCell& cell = data.cells.front();
   return glm::all(glm::lessThanEqual(cell.lo, lo)) && glm::all(glm::greaterThanEqual(cell.hi, hi));
 }
+
+namespace {
+// Whether the line o + t d passes within the tight box's ball (or too far off to tell):
+// its closest point by the chord's arithmetic (clipToSphere). quadricGroup
+// (quadric_packet_group.inc) repeats it.
+bool meetsQuadricBall(const QuadricBox& box, const glm::dvec3& o, const glm::dvec3& d) {
+  const glm::dvec3 ob = o - box.ballCentre;
+  const double ob2 = glm::dot(ob, ob);
+  if (ob2 <= box.ballRadius2 || !(ob2 <= 0x1p32 * box.ballRadius2)) return true;  // inside, or too far
+  const double tb = -glm::dot(ob, d) * inverseSquaredLength(glm::dot(d, d));
+  const glm::dvec3 qb = ob + tb * d;
+  return glm::dot(qb, qb) <= box.ballRadius2;
+}
+}  // namespace
 
 bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) {
   const glm::dvec3& o = ray.org;
@@ -398,6 +422,9 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
     const glm::dvec3 oc = o - data.centre;
     const bool covered = ray.orgError <= box.orgError && glm::dot(oc, oc) <= box.distance * box.distance;
     if (!covered && !clipToBox(data.cells.front().lo, data.cells.front().hi, o, d, c0, c1, true)) return false;
+    // A covered ray that passes outside the ellipsoid's ball has no root to report: no
+    // restriction or solve (a quarter of a camera's rays at the gallery sphere, measured).
+    if (covered && !meetsQuadricBall(box, o, d)) return false;
   }
   const double lo = std::max(c0, ray.tnear), hi = std::min(c1, ray.tfar);
   if (!(lo < hi)) return false;

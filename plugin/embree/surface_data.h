@@ -37,6 +37,10 @@ struct SurfaceCell {
 struct QuadricBox {
   glm::dvec3 lo{0.0}, hi{0.0};
   double orgError = -1, distance = -1;
+  // A ball holding the same points (ballRadius2 its padded squared radius): a ray the box
+  // covers that passes outside it has no root to report (quadricSpan's early rejection).
+  glm::dvec3 ballCentre{0.0};
+  double ballRadius2 = std::numeric_limits<double>::infinity();
 };
 
 // A degree-2 surface as f(x) = x^T A x + b . x + c (A symmetric), for the quadric path of
