@@ -299,7 +299,7 @@ inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dve
 
 // Sphere by the closest point of the line to the centre (pbrt-v4, Sec. 6.8.1: the chord
 // half-length from R^2 - |q|^2 avoids the cancellation of the textbook quadratic when
-// the origin is far away). tc: the parameter of that closest point; it equals
+// the origin is far away; near origins take the shorter textbook form, see below). tc: the parameter of that closest point; it equals
 // closestParameter(o, d, s.center) bit for bit (fl(c - o) = -fl(o - c), and the dot and
 // product negate exactly). With 1 / dd from inverseSquaredLength (taylor.h), tc may be
 // off by delta <= 2^-40 |tc|: |q|^2 grows by delta^2 dd only, so the chord keeps its
@@ -311,9 +311,19 @@ inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dv
   if (!(dd > 0.0)) return false;
   const double inv = inverseSquaredLength(dd);
   const glm::dvec3 oc = o - s.center;
-  tc = -glm::dot(oc, d) * inv;
-  const glm::dvec3 q = oc + tc * d;
-  const double h2 = s.radius * s.radius - glm::dot(q, q);
+  const double b = glm::dot(oc, d), r2 = s.radius * s.radius, oc2 = glm::dot(oc, oc);
+  tc = -b * inv;
+  // From an origin within 2 R of the centre (a ray leaving a surface inside), Lagrange's
+  // h^2 = R^2 - |oc|^2 + b^2 / dd has no cancellation beyond its terms' 4 R^2 and a
+  // shorter dependency chain to the root (measured on shadow rays); from farther, the
+  // closest point q.
+  double h2;
+  if (oc2 <= 4.0 * r2) {
+    h2 = (r2 - oc2) + b * b * inv;
+  } else {
+    const glm::dvec3 q = oc + tc * d;
+    h2 = r2 - glm::dot(q, q);
+  }
   if (!(h2 >= 0.0)) return false;
   const double dt = std::sqrt(h2 * inv);
   t0 = std::max(t0, tc - dt);
