@@ -142,6 +142,10 @@ int linearFirst(const QuadricRay& g, double lo, double hi, double& s) {
   const double n0 = g.err[0] + gamma(3) * std::abs(c0), n1 = g.err[1] + gamma(3) * std::abs(c1);
   const double fLo = c1 * lo + c0;
   if (std::abs(fLo) <= n1 * std::abs(lo) + n0) return 0;
+  // g moving away from zero beyond lo has no sign change up to hi; a root within noise
+  // of hi would be hi itself, which the callers do not report. So none, without hi (a
+  // ray leaving a lit surface need not wait for the clip chord's root; measured).
+  if (std::signbit(fLo) == std::signbit(c1)) return 0;
   const double fHi = c1 * hi + c0;
   if (std::abs(fHi) <= n1 * std::abs(hi) + n0) {
     s = hi;
