@@ -155,18 +155,16 @@ void floatSphereOccluded(const RTCOccludedFunctionNArguments* args) {
       RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
 }
 
-Entry floatUserSphereEntry(RTCDevice device) {
+// A reference sphere (make() returns its uncommitted geometry) in a scene of its own.
+template <class MakeGeometry>
+Entry sphereEntry(RTCDevice device, std::string method, std::string config, MakeGeometry make) {
   Entry e;
   e.surface = "sphere";
   e.degree = 2;
-  e.method = "user-float-sphere";
-  e.config = "floor";
+  e.method = std::move(method);
+  e.config = std::move(config);
   const auto start = std::chrono::steady_clock::now();
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-  rtcSetGeometryUserPrimitiveCount(g, 1);
-  rtcSetGeometryBoundsFunction(g, &floatSphereBounds, nullptr);
-  rtcSetGeometryIntersectFunction(g, &floatSphereIntersect);
-  rtcSetGeometryOccludedFunction(g, &floatSphereOccluded);
+  RTCGeometry g = make();
   rtcCommitGeometry(g);
   e.scene = rtcNewScene(device);
   rtcAttachGeometry(e.scene, g);
@@ -179,29 +177,27 @@ Entry floatUserSphereEntry(RTCDevice device) {
   return e;
 }
 
+Entry floatUserSphereEntry(RTCDevice device) {
+  return sphereEntry(device, "user-float-sphere", "floor", [device] {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, 1);
+    rtcSetGeometryBoundsFunction(g, &floatSphereBounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, &floatSphereIntersect);
+    rtcSetGeometryOccludedFunction(g, &floatSphereOccluded);
+    return g;
+  });
+}
+
 // Embree's own sphere (RTC_GEOMETRY_TYPE_SPHERE_POINT), one point of radius 1.
 Entry nativeSphereEntry(RTCDevice device) {
-  Entry e;
-  e.surface = "sphere";
-  e.degree = 2;
-  e.method = "embree-sphere";
-  e.config = "native";
-  const auto start = std::chrono::steady_clock::now();
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                        4 * sizeof(float), 1));
-  v[0] = v[1] = v[2] = 0.0f;
-  v[3] = 1.0f;
-  rtcCommitGeometry(g);
-  e.scene = rtcNewScene(device);
-  rtcAttachGeometry(e.scene, g);
-  rtcReleaseGeometry(g);
-  rtcCommitScene(e.scene);
-  e.buildMs = msSince(start);
-  e.primitives = 1;
-  e.allMetrics = true;
-  e.shadowTnear = 1e-4f;
-  return e;
+  return sphereEntry(device, "embree-sphere", "native", [device] {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* v = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+    v[0] = v[1] = v[2] = 0.0f;
+    v[3] = 1.0f;
+    return g;
+  });
 }
 
 Entry meshEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f, double target,
