@@ -345,8 +345,9 @@ bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
   box.hi = glm::min(x0 + e, clipHi);
   // The ball about x0: |z|^2 <= K' lambda_max(A^-1) <= K' |A^-1|_inf (an induced norm
   // bounds the spectral radius; equal for a diagonal A) and |y| <= |shift| + |z|, padded
-  // as the half-extents, and once more by 2^-20 for the rounding of a ray's distance to
-  // x0 (quadricSpan tests rays within 2^16 radii only: that rounding is below 2^-40).
+  // as the half-extents, and once more by 2^-20 for the rounding of a ray's squared
+  // distance to x0 (meetsQuadricBall tests lines from origins within 2^16 radii only:
+  // about 7 u 2^16 < 2^-33 of the squared radius, and 1 / |d|^2's 2^-40 adds 2^-48).
   const double k = std::max(0.0, delta - at.value + at.error + rAr);
   const double radius = ((glm::length(shift) + std::sqrt(k * normInf(ai))) * (1.0 + 0x1p-20) +
                          0x1p-20 * glm::length(x0)) *
