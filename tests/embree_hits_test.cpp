@@ -73,6 +73,14 @@ glm::dvec3 asD(const RTCRayHit& rh, bool org) {
              : glm::dvec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
 }
 
+RayD unboundedRay(const glm::dvec3& o, const glm::dvec3& d) {
+  RayD ray;
+  ray.org = o;
+  ray.dir = d;
+  ray.tfar = std::numeric_limits<double>::infinity();
+  return ray;
+}
+
 class EmbreeHits : public ::testing::Test {
  protected:
   Device device;
@@ -171,6 +179,22 @@ TEST_F(EmbreeHits, OriginOnTheSurfaceOutsideTheClipBall) {
     EXPECT_FALSE(occluded1(scene, makeRay(l.o, l.d, 0.0f, 0.999f).ray));
     EXPECT_TRUE(occluded1(scene, makeRay(l.o, l.d, 0.0f, 1.001f).ray));
     EXPECT_EQ(g.callbackErrors(), 0u);
+  }
+  // Double rays from points of the cylinder at 2 (1 + eps) from the centre, on the clip
+  // sphere and up to far beyond the rule's margin (2^-9), to the far side (-1, 0, 0) at
+  // t = 1: never their own origin, always that hit.
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial("x^2 + y^2 - 1");
+  desc.clip = ClipSphere{{0, 0, 0}, 2.0};
+  SurfaceGeometry g(device, desc);
+  Scene scene(device);
+  scene.attach(g.geometry());
+  scene.commit();
+  for (const double eps : {0.0, 1e-15, 1e-12, 1e-9, 0x1p-10, 0x1p-9, 0x1p-8, 1e-2}) {
+    const double z = std::sqrt(4.0 * (1.0 + eps) * (1.0 + eps) - 1.0);
+    const HitD hit = intersectD(scene, unboundedRay({1.0, 0.0, z}, {-2.0, 0.0, -z}));
+    ASSERT_TRUE(hit.hit) << eps;
+    EXPECT_NEAR(hit.t, 1.0, 1e-12) << eps;
   }
 }
 
@@ -629,14 +653,6 @@ void expectSameFloatHit(const RTCRayHit& a, const RTCRayHit& b) {
   EXPECT_EQ(a.hit.Ng_z, b.hit.Ng_z);
   EXPECT_EQ(a.hit.u, b.hit.u);
   EXPECT_EQ(a.hit.v, b.hit.v);
-}
-
-RayD unboundedRay(const glm::dvec3& o, const glm::dvec3& d) {
-  RayD ray;
-  ray.org = o;
-  ray.dir = d;
-  ray.tfar = std::numeric_limits<double>::infinity();
-  return ray;
 }
 
 TEST_F(EmbreeHits, QuadricCallbacksMatchGenericWalk) {
