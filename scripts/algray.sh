@@ -46,6 +46,12 @@ case "${1:-}" in
       -DALGRAY_BUILD_BENCHMARKS=OFF
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
       ctest --test-dir build-asan --output-on-failure -j "$jobs"
+    # The host's own instruction set (FMA where the CPU has it, as a user's -march=native
+    # build): the bit-identity and error-bound tests must hold there too (the library
+    # builds with -ffp-contract=off, CMakeLists.txt).
+    configure_and_build build-native -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-march=native \
+      -DALGRAY_BUILD_BENCHMARKS=OFF
+    ctest --test-dir build-native --output-on-failure -j "$jobs"
     # The installed package: find_package(algray) from examples/minimal.
     if [[ -f examples/minimal/CMakeLists.txt ]]; then
       prefix=$(mktemp -d)

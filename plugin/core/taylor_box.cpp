@@ -28,8 +28,8 @@
 // next row's pass on even surfaces (no change); writing g straight from G without the
 // magnitude array (no change, kept as simpler); the bound's factor from a compile-time
 // table instead of gamma()'s division per call (no change).
-// The same bits need the same roundings: no FMA contraction (none in baseline x86-64;
-// with -mfma, GCC may contract this code and the reference differently).
+// The same bits need the same roundings: no FMA contraction (none in baseline x86-64,
+// and the build's -ffp-contract=off for hosts that build with -march=native).
 #include "algray/taylor.h"
 
 #include <array>
