@@ -5,6 +5,7 @@
 //  * range enclosures must contain the exact value of f at random points of the box;
 //  * closed-form distances to a sphere for tightness; exact ray/box geometry in MPFR.
 #include "algray/cells.h"
+#include "algray/gallery.h"
 #include "algray/range_bound.h"
 
 #include <gtest/gtest.h>
@@ -410,6 +411,30 @@ TEST(CellsTest, CoverWithClipSphereAndAutomaticDepth) {
 }
 
 // A non-cubic clip box: the kd split takes the long axis first.
+// The automatic choice on gallery surfaces (cells.cpp, "Skipping a build that cannot
+// pay"): Barth's sextic and Chmutov's octic fill their clip balls (probed coverage 0.23
+// and 0.27), get one cell and build no level at all; the octic in a ball of 3x the radius
+// (probed 0.009) gets a level whose cells meet few rays.
+TEST(CellsTest, AutomaticDepthSkipsBuildsThatCannotPay) {
+  for (const char* name : {"barth-sextic", "chmutov-8"}) {
+    SCOPED_TRACE(name);
+    const GallerySurface& s = *findGallerySurface(name);
+    for (const double scale : {1.0, 3.0}) {
+      const double r = scale * s.clipRadius;
+      CellStats stats;
+      const auto cells = buildCells(s.build(), glm::dvec3(-r), glm::dvec3(r), CellSphere{glm::dvec3(0.0), r},
+                                    {.maxCells = 4096}, &stats);
+      if (scale == 1.0) {
+        EXPECT_EQ(cells.size(), 1u) << scale;
+        EXPECT_EQ(stats.boxesTested, 0) << scale;
+      } else if (std::string_view(name) == "chmutov-8") {
+        EXPECT_GT(cells.size(), 1000u);
+        EXPECT_LE(stats.rayCoverage, 0.3);
+      }
+    }
+  }
+}
+
 TEST(CellsTest, CoverInElongatedBox) {
   const Polynomial f = sphere({0.0, 0.0, 0.0}, 1.0);
   const glm::dvec3 lo(-3.0, -1.2, -0.4), hi(3.0, 1.2, 0.7);
