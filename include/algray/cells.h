@@ -60,7 +60,7 @@ struct CellStats {
   // Of the axis-parallel rays through the clip region, the fraction that meets a cell
   // (averaged over the axes; -1 if the grid is too fine to count): what the cells cannot
   // cull. Near 1 when the surface fills its clip region. When the automatic choice
-  // skipped the build (the surface itself crosses more than a third of the axis-parallel
+  // skipped the build (the surface itself crosses more than 0.2 of the axis-parallel
   // lines through the region: cells could not cull, see cells.cpp), the fraction of
   // probe lines crossing f = 0 instead, and boxesTested is 0.
   double rayCoverage = -1;
