@@ -289,6 +289,64 @@ TEST(StressScale, SphereAndTorusAt1eMinus6And1e6) {
   }
 }
 
+// Embree's own range: its float boxes end at FLT_LARGE (1.8e18) and its traversal takes
+// direction components below 1e-18 as +1e-18. Scenes from 1e-30 to 6e17 (grid of cells
+// and quadric, rays whose directions have the scene's size) hit in both channels at the
+// closed-form t; surfaces beyond the range are refused with a message instead of being
+// missed silently.
+TEST(StressScale, EmbreeRangeEnds) {
+  for (double scale : {1e-30, 1e-20, 1e-17, 6e17}) {
+    const std::string at = "scale " + std::to_string(std::log10(scale));
+    const double R = scale, r = 0.4 * scale;
+    SurfaceDesc torus = describe(torusPolynomial(R, r), 1.6 * scale);
+    torus.clip = ClipBox{glm::dvec3(-1.6 * scale), glm::dvec3(1.6 * scale)};
+    torus.options.cellDepth = 3;  // a grid of cells: Embree's BVH traversal decides
+    OneSurface t(torus);
+    EXPECT_GT(t.geometry().primitiveCount(), 1u) << at;
+    SurfaceDesc sphere = describe(spherePolynomial(scale), 1.6 * scale);
+    sphere.clip = torus.clip;
+    OneSurface s(sphere);
+    for (double x : {0.0, 0.3, 0.7}) {
+      // Down through the tube at (R + x r, 0): top at z = r sqrt(1 - x^2), from z = 2 scale
+      // with d = (0, 0, -scale): t = 2 - 0.4 sqrt(1 - x^2).
+      const RayD down = rayD({R + x * r, 0.0, 2.0 * scale}, {0.0, 0.0, -scale});
+      const double expected = 2.0 - 0.4 * std::sqrt(1.0 - x * x);
+      const auto hit = t.intersect(down, at);
+      ASSERT_TRUE(hit) << at << " x " << x;
+      EXPECT_NEAR(hit->t, expected, kContract * 1.6) << at;
+      const auto hitF = t.intersectFloat(down, at);
+      ASSERT_TRUE(hitF) << at << " x " << x;
+      EXPECT_NEAR(*hitF, expected, 1e-5) << at;
+      // The unit sphere along the same line (x scaled into it): z = sqrt(1 - (x / 2)^2).
+      const RayD down2 = rayD({0.5 * x * scale, 0.0, 2.0 * scale}, {0.0, 0.0, -scale});
+      const double expected2 = 2.0 - std::sqrt(1.0 - 0.25 * x * x);
+      const auto hit2 = s.intersect(down2, at);
+      ASSERT_TRUE(hit2) << at << " x " << x;
+      EXPECT_NEAR(hit2->t, expected2, kContract * 1.6) << at;
+      const auto hit2F = s.intersectFloat(down2, at);
+      ASSERT_TRUE(hit2F) << at << " x " << x;
+      EXPECT_NEAR(*hit2F, expected2, 1e-5) << at;
+    }
+    // From 3e18 scale away along -x (the double channel moves such origins to Embree's
+    // range): the torus's outer equator at x = -1.4 scale.
+    const RayD far = rayD({-3e18, 0.0, 0.0}, {1.0, 0.0, 0.0});
+    if (scale > 1e10) {
+      const auto hit = t.intersect(far, at);
+      ASSERT_TRUE(hit) << at;
+      EXPECT_NEAR(hit->t, 3e18 - 1.4 * scale, 1e-9 * 1.6 * scale + 3e18 * kUnitRoundoff) << at;
+    }
+  }
+  Device device;
+  for (double scale : {1e-40, 1e18, 1e30}) {
+    try {
+      SurfaceGeometry g(device, describe(spherePolynomial(scale), 1.5 * scale));
+      ADD_FAILURE() << "a surface at scale " << scale << " must be refused";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("scale the scene"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // ---- Degenerate input ---------------------------------------------------------------------
 // NaN, infinite and zero-length rays and empty intervals: no hit, no hang, no crash.
 // Through the double channel every RayD is legal input: makeRayHit must hand Embree a

@@ -69,7 +69,7 @@ query::QueryHit trace(RTCScene scene, unsigned geomID, const RayD& ray, bool use
     rtcIntersect1(scene, &context, &rh);
     if (rh.hit.geomID != geomID) return out;
     out.hit = true;
-    out.t = rh.ray.tfar;
+    out.t = fromFloatParameter(ray, rh.ray.tfar);  // the float ray may be re-parametrised
     ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
   } else {
     HitD hit;

@@ -150,9 +150,9 @@ struct IntersectContext {
   const RayD* ray = nullptr;
   HitD* hit = nullptr;
   RTCFilterFunctionN hostFilter = nullptr;  // the host's context filter, chained
-  // The float ray of makeRayHit is the double ray re-parametrised when its origin or
-  // direction is beyond what Embree accepts (|component| > 1e17): t = floatShift +
-  // floatScale * t_float. Set by initIntersectContext from the same ray.
+  // The float ray of makeRayHit is the double ray re-parametrised when Embree could not
+  // take it as it is (see fromFloatParameter): t = floatShift + floatScale * t_float. Set
+  // by initIntersectContext from the same ray.
   double floatShift = 0;
   double floatScale = 1;
 };
@@ -162,5 +162,11 @@ void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit)
 // and tfar rounded up (the double interval is re-applied in the callbacks), mask ~0u,
 // hit ids invalid.
 RTCRayHit makeRayHit(const RayD& ray);
+// The parameter along `ray` of a parameter of makeRayHit(ray)'s float ray (its tfar after
+// rtcIntersect1 without the double channel). The float ray is `ray` itself unless Embree
+// could not take it as it is: components beyond 1e17 (origin moved along the line,
+// direction normalised) or a direction below 2^-20 (scaled by a power of two: Embree
+// treats direction components below 1e-18 as +1e-18).
+double fromFloatParameter(const RayD& ray, double tFloat);
 
 }  // namespace algray

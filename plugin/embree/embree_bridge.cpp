@@ -542,30 +542,54 @@ RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
 
 namespace {
 // Embree's ray.valid() requires |org|, |dir| <= FLT_LARGE (1.8e18) per component. A double
-// ray beyond 1e17 is handed to Embree re-parametrised: origin moved along the line to
-// 1e15 before the point closest to the world origin (never before tnear), direction
-// normalised, t = shift + scale * t_float.
+// ray with a component beyond 1e17 is handed to Embree re-parametrised: the direction
+// normalised and, for an origin outside the cube |x_i| <= 1.5e18, the origin moved along
+// the line to where it enters that cube (never before tnear; a line that misses the cube
+// is empty). Every surface lies within 1e18 (checkEmbreeRange, surface_geometry.cpp), so
+// no point a ray can hit is skipped. t = shift + scale * t_float.
+// Embree's traversal also replaces every direction component below 1e-18 in magnitude by
+// +1e-18 (rcp_safe: the sign is lost), so a ray whose whole direction is that small (a
+// scene at the scale of 1e-20) would pass beside the boxes it crosses. Such a direction
+// is scaled by a power of two to a largest component in [1, 2): t = scale * t_float,
+// exact both ways.
 struct FloatMap {
   double shift = 0, scale = 1;
   bool empty = false;
 };
 FloatMap floatMap(const RayD& r) {
-  constexpr double kBig = 1e17;
+  constexpr double kBig = 1e17, kTiny = 0x1p-20, kCube = 1.5e18;
+  static_assert(kCube > kEmbreeReach && kCube < 1.8e18);
   FloatMap m;
   bool big = false;
   for (int i = 0; i < 3; ++i) big = big || std::abs(r.org[i]) > kBig || std::abs(r.dir[i]) > kBig;
-  if (!big) return m;
-  const double len = glm::length(r.dir);
+  if (!big) {
+    const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
+    if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
+    return m;
+  }
+  const double len = safeLength(r.dir);
   if (!(len > 0.0 && std::isfinite(len)) || !std::isfinite(r.org.x + r.org.y + r.org.z)) {
     m.empty = true;
     return m;
   }
   const glm::dvec3 u = r.dir / len;
-  const double sc = -glm::dot(r.org, u);  // arc length of the closest point
-  const double s0 = std::max(r.tnear * len, sc - 1e15);
-  const glm::dvec3 o = r.org + s0 * u;
-  if (!(std::abs(o.x) <= kBig && std::abs(o.y) <= kBig && std::abs(o.z) <= kBig)) m.empty = true;
-  m.shift = s0 / len;
+  // Arc lengths along u: the part of the line inside the cube, from tnear on.
+  double a = std::max(r.tnear, 0.0) * len, b = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    if (u[i] == 0.0) {
+      if (std::abs(r.org[i]) > kCube) m.empty = true;
+      continue;
+    }
+    double s0 = (-kCube - r.org[i]) / u[i], s1 = (kCube - r.org[i]) / u[i];
+    if (s0 > s1) std::swap(s0, s1);
+    a = std::max(a, s0);
+    b = std::min(b, s1);
+  }
+  if (m.empty || !(a <= b)) {
+    m.empty = true;
+    return m;
+  }
+  m.shift = a / len;
   m.scale = 1.0 / len;
   return m;
 }
@@ -586,6 +610,11 @@ void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit)
   context->floatShift = m.shift;
   context->floatScale = m.scale;
   if (hit) *hit = HitD{};
+}
+
+double fromFloatParameter(const RayD& ray, double tFloat) {
+  const FloatMap m = floatMap(ray);
+  return m.shift + m.scale * tFloat;
 }
 
 RTCRayHit makeRayHit(const RayD& r) {
@@ -612,9 +641,9 @@ RTCRayHit makeRayHit(const RayD& r) {
   rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
   for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) rh.hit.instID[l] = RTC_INVALID_GEOMETRY_ID;
   // Embree 3 rejects (asserts on) non-finite or huge origins and directions and NaN spans:
-  // such a ray becomes a valid one with an empty span, which hits nothing. (Known limit:
-  // a finite double ray beyond 1.8e18 is therefore a miss in the double channel too.)
-  // Embree's ray.valid() also requires |org|, |dir| <= FLT_LARGE (1.8e18) per component.
+  // such a ray (non-finite, or a far line that misses the cube of floatMap, where no
+  // surface lies) becomes a valid one with an empty span, which hits nothing. Embree's
+  // ray.valid() requires |org|, |dir| <= FLT_LARGE (1.8e18) per component.
   constexpr float kLarge = 1.8e18f;
   auto ok = [](float v) { return std::abs(v) <= kLarge; };
   const bool finiteRay = ok(rh.ray.org_x) && ok(rh.ray.org_y) && ok(rh.ray.org_z) && ok(rh.ray.dir_x) &&

@@ -157,6 +157,11 @@ inline constexpr double kAtanPoly[10] = {0.99999998406654822,   -0.3333319433803
                                          0.055134709912894257,  -0.028572750129062584, 0.0096020026957349888,
                                          -0.0015154920071548067};
 
+// Every surface's float bounds lie within +-kEmbreeReach (checkEmbreeRange): Embree drops
+// boxes beyond FLT_LARGE (1.844e18), and the double channel moves far ray origins to the
+// cube of 1.5e18 (makeRayHit), which must lie before every surface.
+inline constexpr double kEmbreeReach = 1e18;
+
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
 bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
 

@@ -28,6 +28,13 @@ std::string str(const glm::dvec3& v) {
   return s.str();
 }
 
+std::string str(double v) {
+  std::ostringstream s;
+  s.precision(4);
+  s << v;
+  return s.str();
+}
+
 [[noreturn]] void fail(const std::string& what) { throw Error("algray::SurfaceGeometry: " + what); }
 
 // ---- Validation ------------------------------------------------------------------------
@@ -58,6 +65,29 @@ void validate(const SurfaceDesc& desc) {
   const double hadamard = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
   if (!(std::abs(glm::determinant(a)) > 64.0 * kUnitRoundoff * hadamard))
     fail("the transform is singular");
+}
+
+// ---- Embree's coordinate range --------------------------------------------------------
+// Embree builds its BVH only from primitives whose float bounds lie within +-FLT_LARGE
+// (1.844e18; larger boxes are dropped without a message), the double channel's far rays
+// enter at 1.5e18 (kEmbreeReach), and with flush-to-zero a box whose coordinates are
+// subnormal floats collapses. Either way rays would silently miss the surface, so such a
+// surface is refused with the scale it has.
+void checkEmbreeRange(const SurfaceData& data) {
+  double largest = 0.0, smallestNonZero = std::numeric_limits<double>::infinity();
+  for (const SurfaceCell& c : data.cells)
+    for (const float v : {c.bounds.lower_x, c.bounds.lower_y, c.bounds.lower_z, c.bounds.upper_x,
+                          c.bounds.upper_y, c.bounds.upper_z}) {
+      largest = std::max(largest, static_cast<double>(std::abs(v)));
+      if (v != 0.0f) smallestNonZero = std::min(smallestNonZero, static_cast<double>(std::abs(v)));
+    }
+  if (!(largest <= kEmbreeReach))
+    fail("the surface's bounds reach " + str(largest) +
+         ", beyond 1e18, the range of Embree's float boxes and rays (it drops boxes beyond 1.8e18): scale the "
+         "scene down");
+  if (smallestNonZero < std::numeric_limits<float>::min())
+    fail("the surface's bounds need coordinates as small as " + str(smallestNonZero) +
+         ", below float's normal range (1.2e-38) that Embree's BVH resolves: scale the scene up");
 }
 
 // ---- Bounds ----------------------------------------------------------------------------
@@ -231,6 +261,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   }
   data->quadricCellClip = data->cells.size() == 1 && !cellHoldsClipRegion(*data);
   indexGrid(*data, boxLo, boxHi);
+  checkEmbreeRange(*data);
 
   data->geometry = createUserGeometry(device, data.get());
   data_ = std::move(data);

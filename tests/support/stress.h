@@ -48,13 +48,13 @@ class OneSurface {
     EXPECT_TRUE(std::isfinite(rh.ray.tfar)) << what;
     return hit;
   }
-  // The plain float path (no double channel).
-  std::optional<float> intersectFloat(const RayD& ray, const std::string& what = "") {
+  // The plain float path (no double channel): the float hit's t along `ray`.
+  std::optional<double> intersectFloat(const RayD& ray, const std::string& what = "") {
     RTCRayHit rh = makeRayHit(ray);
     rh = intersect1(scene_, rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     EXPECT_TRUE(std::isfinite(rh.ray.tfar) && std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) << what;
-    return rh.ray.tfar;
+    return fromFloatParameter(ray, rh.ray.tfar);
   }
   // Occlusion through the double channel.
   bool occluded(const RayD& ray) {
