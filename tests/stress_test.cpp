@@ -449,5 +449,76 @@ TEST(StressInput, EmptyClipRegion) {
     EXPECT_FALSE(s.intersect(rayD({3, 0, 0}, d), "clip ball inside the sphere"));
 }
 
+// A surface lying on the boundary of its clip region: the unit sphere in the clip sphere of
+// radius 1 (quadric path, generic walk, and as the degree-4 product with a sphere that has
+// no real points), and the planes x = +-1 on the faces of the clip box [-1, 1]^3 (one cell
+// and a grid). The clip region is closed: rays from outside hit the boundary, rays from
+// inside hit it on the way out, in both channels, at the closed-form t. (Before session 6
+// every one of these rays missed: the root sat at an end of the span, which the solver
+// and the cells treat as open.)
+long double dotL(const glm::dvec3& a, const glm::dvec3& b) {
+  return static_cast<long double>(a.x) * b.x + static_cast<long double>(a.y) * b.y + static_cast<long double>(a.z) * b.z;
+}
+
+TEST(StressClip, SurfaceOnTheClipBoundary) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto unit = [&] {
+    glm::dvec3 v;
+    do v = glm::dvec3(u(rng), u(rng), u(rng));
+    while (glm::dot(v, v) > 1.0 || glm::dot(v, v) < 0.01);
+    return glm::normalize(v);
+  };
+  const Polynomial sphere = spherePolynomial(1.0);
+  std::vector<std::pair<std::string, SurfaceDesc>> spheres;
+  for (int variant = 0; variant < 3; ++variant) {
+    SurfaceDesc desc = describe(sphere, 1.0);
+    if (variant == 2) desc.polynomial = sphere * (sphere + Polynomial(2.0));  // (r^2 - 1)(r^2 + 1)
+    desc.options.quadricPath = variant == 0;
+    spheres.emplace_back(variant == 0 ? "quadric path" : variant == 1 ? "generic walk" : "degree 4", desc);
+  }
+  for (const auto& [name, desc] : spheres) {
+    OneSurface s(desc);
+    for (int i = 0; i < 200; ++i) {
+      // From outside towards a point inside: |o + t d| = 1, first root.
+      const glm::dvec3 o = 3.0 * unit(), target = 0.5 * u(rng) * unit();
+      const glm::dvec3 d = target - o;
+      const long double a = dotL(d, d), b = dotL(o, d), c = dotL(o, o) - 1.0L;
+      const double expected = static_cast<double>((-b - std::sqrt(b * b - a * c)) / a);
+      const auto hit = s.intersect(rayD(o, d), name);
+      ASSERT_TRUE(hit) << name << " ray " << i;
+      EXPECT_NEAR(hit->t, expected, kContract * std::sqrt(static_cast<double>(a))) << name;
+      const auto hitF = s.intersectFloat(rayD(o, d), name);
+      ASSERT_TRUE(hitF) << name << " float ray " << i;
+      EXPECT_NEAR(*hitF, expected, 1e-5 * expected) << name;
+      // From the inside point outwards: the exit.
+      const glm::dvec3 e = unit();
+      const long double be = dotL(target, e), ce = dotL(target, target) - 1.0L;
+      const auto exit = s.intersect(rayD(target, e), name);
+      ASSERT_TRUE(exit) << name << " exit " << i;
+      EXPECT_NEAR(exit->t, static_cast<double>(-be + std::sqrt(be * be - ce)), kContract) << name;
+    }
+  }
+  for (int depth : {0, 3}) {
+    SurfaceDesc desc;
+    desc.polynomial = (X() - Polynomial(1.0)) * (X() + Polynomial(1.0));
+    desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+    desc.options.cellDepth = depth;
+    OneSurface s(desc);
+    for (int i = 0; i < 200; ++i) {
+      // From x = -3 through the face x = -1 at (y, z) inside it.
+      const glm::dvec3 o(-3.0, 0.9 * u(rng), 0.9 * u(rng)), target(0.0, 0.9 * u(rng), 0.9 * u(rng));
+      const glm::dvec3 d = target - o;
+      const auto hit = s.intersect(rayD(o, d), "plane on a face");
+      ASSERT_TRUE(hit) << "depth " << depth << " ray " << i;
+      EXPECT_NEAR(hit->t, 2.0 / d.x, kContract * 2.0) << depth;
+      // From inside: the face x = 1.
+      const auto exit = s.intersect(rayD(target, {1.0, 0.1 * u(rng), 0.1 * u(rng)}), "plane on a face, exit");
+      ASSERT_TRUE(exit) << "depth " << depth << " exit " << i;
+      EXPECT_NEAR(exit->t, 1.0, kContract * 2.0) << depth;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace algray::test

@@ -67,6 +67,26 @@ void validate(const SurfaceDesc& desc) {
     fail("the transform is singular");
 }
 
+// ---- The working clip region ----------------------------------------------------------
+// The clip region is closed, but the solver's interval is open at its near end (a root
+// within noise of lo is the one a caller already has, roots.h) and a cell's span at both:
+// a surface lying on the clip boundary (x^2+y^2+z^2-1 in the clip sphere of radius 1, a
+// plane on a face of the clip box) had every root at an end of the span and was never
+// hit. So the region the kernels clip to is the user's, widened by 2^-20 of its size
+// (plus 2^-40 of its distance from the origin, beyond the rounding of far boundaries):
+// roots on the boundary are inside, and nothing farther than a millionth of the region
+// beyond it shows.
+ClipRegion widenedClip(const ClipRegion& clip) {
+  constexpr double kRelative = 0x1p-20, kFar = 0x1p-40;
+  if (const auto* s = std::get_if<ClipSphere>(&clip)) {
+    const double far = std::max({std::abs(s->center.x), std::abs(s->center.y), std::abs(s->center.z)});
+    return ClipSphere{s->center, s->radius * (1.0 + kRelative) + kFar * far};
+  }
+  const auto& b = std::get<ClipBox>(clip);
+  const glm::dvec3 pad = kRelative * (b.hi - b.lo) + kFar * glm::max(glm::abs(b.lo), glm::abs(b.hi));
+  return ClipBox{b.lo - pad, b.hi + pad};
+}
+
 // ---- Embree's coordinate range --------------------------------------------------------
 // Embree builds its BVH only from primitives whose float bounds lie within +-FLT_LARGE
 // (1.844e18; larger boxes are dropped without a message), the double channel's far rays
@@ -198,6 +218,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   validate(desc);
   auto data = std::make_unique<SurfaceData>();
   data->desc = std::move(desc);
+  data->desc.clip = widenedClip(data->desc.clip);
   data->id = nextSurfaceId.fetch_add(1);
   data->horner = HornerForm(data->desc.polynomial);
   if (data->desc.polynomial.degree() == 2 && data->desc.options.quadricPath)

@@ -408,10 +408,12 @@ bool surelyReached(const RTCBounds& b, const glm::dvec3& o, const glm::dvec3& d)
   return clipToBox(lo + margin, hi - margin, o, d, t0, t1) && t0 < t1;
 }
 
-// Whether `cell` takes the root at p. inSpan: p is in the cell's span of the ray. A root
-// outside the span is taken only in the double channel, as an orphan: its owner cell is
-// not surely reached by the float ray Embree traverses with (origins ~1e6 clip radii
-// away), so the first cell Embree does visit reports it.
+// Whether `cell` takes the root at p. inSpan: p is in the cell's span of the ray. The
+// owner takes it wherever the span ends (walkRoots offers it roots just outside the span,
+// which rounding puts there). Another cell takes a root outside its span only in the
+// double channel, as an orphan: its owner cell is not surely reached by the float ray
+// Embree traverses with (origins ~1e6 clip radii away), so the first cell Embree does
+// visit reports it.
 bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray, bool inSpan) {
   if (data.cells.size() == 1 || data.cellOfKey.empty()) return inSpan;
   std::uint64_t key = 0;
@@ -421,7 +423,8 @@ bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, con
     key = key * 65536u + static_cast<std::uint64_t>(k);
   }
   const auto it = data.cellOfKey.find(key);
-  if (it == data.cellOfKey.end() || it->second == cell) return inSpan;
+  if (it == data.cellOfKey.end()) return inSpan;
+  if (it->second == cell) return true;  // Embree reached the owner: wherever its span ends
   return ray.hasTraversalRay && !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir);
 }
 
@@ -527,11 +530,18 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
   auto current = [&]() -> RayRoots& { return rayRoots(data, ray, r0, r1); };
 
   // ---- 3. The cell's roots in order, offered to the host filter -------------------------
+  // A root belongs to the cell whose grid box holds its point (claimsRoot), which the
+  // span decides only up to rounding: the span is widened by the rounding of its own slab
+  // test, relative to t at the face, while the root carries the rounding of the
+  // re-centred restriction, relative to tShift, which can lie far beyond a face near the
+  // origin (a ray crossing the plane x = 0 on a cell face was claimed by no cell). So
+  // roots within `window` of the span go to claimsRoot as well.
   const HornerForm& f = data.horner;
   for (int i = 0;; ++i) {
     RayRoots& rr = current();
+    const double window = 0x1p-20 * (std::abs(rr.g.tShift) + std::abs(lo) + std::abs(hi));
     if (i >= rr.count) {
-      if (rr.complete || !(rr.roots[rr.count - 1] < hi - rr.g.tShift)) break;
+      if (rr.complete || !(rr.roots[rr.count - 1] < hi + window - rr.g.tShift)) break;
       completeRoots(data, rr);  // the next cells of this ray find the full list here
       if (i >= rr.count) break;
     }
@@ -539,7 +549,7 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     const double slo = lo - g.tShift, shi = hi - g.tShift;
     const double s = rr.roots[i];
     const bool inSpan = s > slo && s < shi;
-    if (!inSpan && !ray.hasTraversalRay) {
+    if (!inSpan && !ray.hasTraversalRay && !(s > slo - window && s < shi + window)) {
       if (s >= shi) break;
       continue;
     }
