@@ -141,6 +141,10 @@ int run(int argc, char** argv) {
     throw UsageError(e.what());
   }
 
+  // The output is opened before tracing: a path that cannot be written is bad input.
+  std::ofstream out(outPath);
+  if (!out) throw UsageError("--out: cannot write '" + outPath + "'");
+
   // ---- Scene -------------------------------------------------------------------------------
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) throw std::runtime_error("cannot create the Embree device");
@@ -172,8 +176,6 @@ int run(int argc, char** argv) {
   }
   rtcReleaseDevice(device);
 
-  std::ofstream out(outPath);
-  if (!out) throw std::runtime_error("--out: cannot write '" + outPath + "'");
   query::writeHits(out, hits);
   out.close();
   if (!out) throw std::runtime_error("--out: error writing '" + outPath + "'");

@@ -132,7 +132,13 @@ int main(int argc, char** argv) {
   if (threads) s.threads = *threads;
   if (maxDepth) s.maxDepth = *maxDepth;
   if (seed) s.seed = *seed;
-  if (exposure) s.exposure = *exposure;
+  if (exposure) {
+    if (!std::isfinite(*exposure)) {
+      std::fprintf(stderr, "algray-render: --exposure must be a finite number of stops\n");
+      return 2;
+    }
+    s.exposure = *exposure;
+  }
   if (!integrator.empty()) s.integrator = integrator == "direct" ? IntegratorType::Direct : IntegratorType::Path;
 
   if (!exportPov.empty()) {

@@ -101,6 +101,8 @@ Scene::Scene(const SceneDesc& desc) : desc_(desc) {
     sd.options.uv = textured(item.material) || textured(item.backMaterial);
     try {
       g->surface = std::make_unique<SurfaceGeometry>(device_, std::move(sd));
+    } catch (const Error& e) {  // the plugin refused the surface: bad input, exit code 2
+      throw Error(item.label + ": " + e.what());
     } catch (const std::exception& e) {
       throw std::runtime_error(item.label + ": " + e.what());
     }

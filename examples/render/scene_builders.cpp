@@ -137,17 +137,19 @@ SceneDesc defaultScene() {
 SceneDesc quickScene(const QuickOptions& options) {
   SceneDesc scene;
   SurfaceItem s;
-  double r = options.clipRadius;
+  double r = options.clipRadius.value_or(0.0);
+  if (options.clipRadius && !(r > 0 && std::isfinite(r)))
+    throw Error("--clip-sphere must be a positive number, got " + std::to_string(r));
   if (const GallerySurface* g = findGallerySurface(options.surface)) {
     s.polynomial = g->build();
-    if (r <= 0) r = g->clipRadius;
+    if (!options.clipRadius) r = g->clipRadius;
     s.label = "gallery surface '" + options.surface + "'";
     scene.name = options.surface;
   } else {
     ParseOptions po;
     po.parameters = options.parameters;
     s.polynomial = parsePolynomial(options.surface, po);
-    if (r <= 0) r = 2.0;
+    if (!options.clipRadius) r = 2.0;
     s.label = "--surface";
     scene.name = "surface";
   }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace algray::render {
@@ -16,7 +17,7 @@ SceneDesc defaultScene();
 struct QuickOptions {
   std::string surface;  // an equation or a gallery name
   std::map<std::string, double, std::less<>> parameters;
-  double clipRadius = 0;  // 0: the gallery's radius, or 2 for an equation
+  std::optional<double> clipRadius;  // unset: the gallery's radius, or 2 for an equation
 };
 // The surface centred at the origin inside its clip sphere of radius R, a floor at
 // z = -R, a camera that frames the sphere, one directional light with shadows and a

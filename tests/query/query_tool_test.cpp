@@ -222,6 +222,8 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {sphere + common(good) + " --bogus", "bogus"},
       {sphere + "--rays /nonexistent/rays.csv --out " + (dir / "out.csv").string(), "cannot open"},
       {"--surface \"7\" --clip-sphere 2 " + common(good), "constant"},
+      {sphere + "--rays " + good.string() + " --out /nonexistent/out.csv", "--out: cannot write"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1e30 " + common(good), "scale the scene down"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);

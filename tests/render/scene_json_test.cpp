@@ -139,5 +139,31 @@ TEST(RenderProgram, BadSceneExitsWithCode2AndLocation) {
   std::filesystem::remove(file);
 }
 
+// Bad command-line input: exit code 2 and a message naming the option (never a render
+// with a silently replaced value, never exit code 1 as for an internal failure).
+TEST(RenderProgram, BadOptionsExitWithCode2) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"--surface x^2+y^2+z^2-1 --clip-sphere 0", "--clip-sphere"},
+      {"--surface x^2+y^2+z^2-1 --clip-sphere -1", "--clip-sphere"},
+      {"--surface sphere --clip-sphere nan", "--clip-sphere"},
+      {"--surface x^2+y^2+z^2-1 --clip-sphere 1e30", "scale the scene down"},
+      {"--surface 0", "zero"},
+      {"--surface x --exposure nan", "--exposure"},
+      {"--surface x^41", "degree 41"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + args + " --width 8 --height 8 -q -o /dev/null 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string out;
+    char buf[512];
+    while (fgets(buf, sizeof buf, pipe)) out += buf;
+    const int status = pclose(pipe);
+    ASSERT_TRUE(WIFEXITED(status)) << args;
+    EXPECT_EQ(WEXITSTATUS(status), 2) << args << ": " << out;
+    EXPECT_NE(out.find(expected), std::string::npos) << args << ": " << out;
+  }
+}
+
 }  // namespace
 }  // namespace algray::render
