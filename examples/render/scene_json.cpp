@@ -189,6 +189,10 @@ class Loader {
     if (j.contains("focus_distance")) c.focusDistance = positive(j["focus_distance"], p + "/focus_distance");
     if (c.aperture < 0) fail(p + "/aperture", "aperture must not be negative");
     if (c.position == c.lookAt) fail(p, "camera position and look_at coincide");
+    // The camera's own test (camera.cpp), here so that the message has the file position.
+    const glm::dvec3 forward = glm::normalize(c.lookAt - c.position);
+    if (!(glm::length(glm::cross(forward, c.up)) > 1e-9 * glm::length(c.up)))
+      fail(p + (j.contains("up") ? "/up" : ""), "up must not be parallel to the view direction (position to look_at)");
   }
 
   Material readMaterial(const json& j, const std::string& p) const {

@@ -91,6 +91,11 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
   SceneError d = errorOf("{\"surfaces\": [{\"equation\": \"x^2 + y^2 - 1\"}]}");
   EXPECT_EQ(d.column(), 15);
   EXPECT_NE(d.message().find("clip"), std::string::npos);
+  // A camera whose up is the view direction: the up value (the camera found it only when
+  // the render started, without a position, exit code 1).
+  SceneError u = errorOf("{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]}}");
+  EXPECT_EQ(u.column(), 64);
+  EXPECT_NE(u.message().find("parallel"), std::string::npos);
 }
 
 TEST(SceneJson, EquationErrorPointsIntoTheString) {
