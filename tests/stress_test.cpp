@@ -23,6 +23,10 @@ constexpr double kContract = 1e-9;
 // (1.5e-8) times a factor of the curvature; 1e-6 clip radii leaves a wide margin.
 constexpr double kDoubleRoot = 1e-6;
 
+long double dotL(const glm::dvec3& a, const glm::dvec3& b) {
+  return static_cast<long double>(a.x) * b.x + static_cast<long double>(a.y) * b.y + static_cast<long double>(a.z) * b.z;
+}
+
 // ---- Tangent and grazing rays ---------------------------------------------------------
 
 // The line z = 1 + delta, y = 0 against the unit sphere: roots x = -+sqrt(1 - (1+delta)^2),
@@ -347,6 +351,29 @@ TEST(StressScale, EmbreeRangeEnds) {
   }
 }
 
+// A camera on the unbounded part of a surface, outside the clip ball: f(o) = 0, but the
+// origin's root lies outside the span, and the self-root rule must not expand about it
+// (from 200 radii, a degree-8 f loses all its digits there: the spheres inside were
+// not hit at all; from 20 the polish on f still rescued the root). The cylinder x^2 + y^2 = 1 times spheres of radii 0.7, 0.5,
+// 0.3; the first hit is the sphere of radius 0.7 in closed form.
+TEST(StressFar, OriginOnTheSurfaceOutsideTheClipBall) {
+  const Polynomial cylinder = X() * X() + Y() * Y() - Polynomial(1.0);
+  Polynomial f = cylinder;
+  for (double r : {0.7, 0.5, 0.3}) f = f * spherePolynomial(r);
+  OneSurface s(describe(f, 1.5));
+  for (double z : {3.0, 30.0, 300.0, -1000.0}) {
+    const glm::dvec3 o(1.0, 0.0, z);  // on the cylinder: f(o) = 0 exactly
+    for (const glm::dvec3& target : {glm::dvec3(0.2, 0.1, 0.0), glm::dvec3(-0.1, 0.3, 0.1)}) {
+      const glm::dvec3 d = target - o;
+      const long double a = dotL(d, d), b = dotL(o, d), c = dotL(o, o) - 0.49L;
+      const double expected = static_cast<double>((-b - std::sqrt(b * b - a * c)) / a);
+      const auto hit = s.intersect(rayD(o, d), "origin on the cylinder");
+      ASSERT_TRUE(hit) << "z " << z;
+      EXPECT_NEAR(hit->t, expected, kContract * 1.5 / std::sqrt(static_cast<double>(a))) << "z " << z;
+    }
+  }
+}
+
 // ---- Degenerate input ---------------------------------------------------------------------
 // NaN, infinite and zero-length rays and empty intervals: no hit, no hang, no crash.
 // Through the double channel every RayD is legal input: makeRayHit must hand Embree a
@@ -456,10 +483,6 @@ TEST(StressInput, EmptyClipRegion) {
 // inside hit it on the way out, in both channels, at the closed-form t. (Before session 6
 // every one of these rays missed: the root sat at an end of the span, which the solver
 // and the cells treat as open.)
-long double dotL(const glm::dvec3& a, const glm::dvec3& b) {
-  return static_cast<long double>(a.x) * b.x + static_cast<long double>(a.y) * b.y + static_cast<long double>(a.z) * b.z;
-}
-
 TEST(StressClip, SurfaceOnTheClipBoundary) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

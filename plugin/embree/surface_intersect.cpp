@@ -235,7 +235,16 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
     restrictQuadric(data, ray, r0, r1, g);
     return nullptr;
   }
-  if (originOnSurface(data, ray)) {
+  // An origin outside the clip ball by 2^-9 of its radius, known to 2^-11 of it, puts no
+  // root of its own into the span (which starts beyond that margin): the rule has nothing
+  // to remove, and testing it could only do harm. A far origin of a high-degree f is
+  // "on the surface within rounding" whenever f's expansion cancels more digits there
+  // than f(o) has (a random degree-16 surface seen from 3.5 radii: f(o) within its
+  // bound), and the deflated polynomial, expanded about that far origin, lost the ray's
+  // real roots. (The quadric path has the same far-origin rule.)
+  const glm::dvec3 oc = o - data.centre;
+  const bool farOrigin = glm::dot(oc, oc) > data.selfRootRadius2 && ray.orgError <= 0x1p-11 * data.radius;
+  if (!farOrigin && originOnSurface(data, ray)) {
     g = restrictToRay(data.horner, o, d, 0.0);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     return nullptr;
@@ -548,7 +557,11 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     const RayPolynomial& g = rr.g;
     const double slo = lo - g.tShift, shi = hi - g.tShift;
     const double s = rr.roots[i];
-    const bool inSpan = s > slo && s < shi;
+    // The solver reports a root within noise of its interval's end at that end (roots.h):
+    // at the clip region's far end (r1, before tfar) nothing follows that could report
+    // it, so it counts (a triple factor seen through a degree-16 product was within noise
+    // over the last 1 % of a ray's span: the root came back as r1 and was dropped).
+    const bool inSpan = s > slo && (s < shi || (s == rr.shi && hi == r1 && r1 < ray.tfar));
     if (!inSpan && !ray.hasTraversalRay && !(s > slo - window && s < shi + window)) {
       if (s >= shi) break;
       continue;
