@@ -15,7 +15,9 @@
 #include <CLI/CLI.hpp>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -152,6 +154,18 @@ int main(int argc, char** argv) {
   }
 
   // ---- Build, render, write ------------------------------------------------------------
+  // The output's directory is checked before the render (a typo in -o should not cost
+  // the render); the format is the image library's to judge, when it writes.
+  {
+    const std::string probe = output + ".tmp";
+    std::FILE* f = std::fopen(probe.c_str(), "wb");
+    if (!f) {
+      std::fprintf(stderr, "algray-render: -o %s: cannot write there (%s)\n", output.c_str(), std::strerror(errno));
+      return 2;
+    }
+    std::fclose(f);
+    std::remove(probe.c_str());
+  }
   try {
     Scene scene(desc);
     // OpenImageIO loads (~0.35 s, image_backend.h) while the image renders. Not earlier:
@@ -168,7 +182,12 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, onInterrupt);
     RenderStats stats = render(scene, image, options);
     std::signal(SIGINT, SIG_DFL);
-    writeImage(image, output, s, !aovList.empty());
+    try {
+      writeImage(image, output, s, !aovList.empty());
+    } catch (const std::exception& e) {  // an unsupported format: bad input
+      std::fprintf(stderr, "algray-render: %s\n", e.what());
+      return 2;
+    }
     std::printf("algray-render: %s, %dx%d, %d spp, %s: %.2f s, %llu rays, %.2f Mrays/s -> %s%s\n",
                 desc.name.c_str(), s.width, s.height, s.spp,
                 s.integrator == IntegratorType::Path ? "path" : "direct", stats.seconds,

@@ -155,9 +155,12 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--surface 0", "zero"},
       {"--surface x --exposure nan", "--exposure"},
       {"--surface x^41", "degree 41"},
+      {"--surface sphere -o /nonexistent/dir/a.png", "cannot write there"},
+      {"--surface sphere -o algray_test_image.xyz", "unsupported image format"},
   };
   for (const auto& [args, expected] : cases) {
-    const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + args + " --width 8 --height 8 -q -o /dev/null 2>&1";
+    const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
+    const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + args + " --width 8 --height 8 -q" + output + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     ASSERT_NE(pipe, nullptr);
     std::string out;
