@@ -588,6 +588,37 @@ TEST(RootsContract, IntervalEnds) {
   EXPECT_EQ(out[1], 1.0);
 }
 
+// RootOptions::closedLo: the interval becomes [lo, hi]. A simple root exactly at lo and a
+// quadruple root within its noise region of lo (rounded coefficients: about u^(1/4) of
+// the scale) are reported with it and not without it, by every method; a root inside
+// is unaffected.
+TEST(RootsContract, ClosedLoReportsARootAtLo) {
+  const std::vector<double> linear{-0.25, 1.0};                                     // x - 1/4
+  const std::vector<double> quadruple = test::expand({0.3, 0.3, 0.3, 0.3, -0.75}, {}, 1.0);  // root 0.3 (rounded)
+  const std::vector<double> inside = test::expand({0.5, -0.2, 0.9}, {}, 1.0);
+  for (RootMethod m : {RootMethod::Auto, RootMethod::ClosedForm, RootMethod::Yuksel, RootMethod::Sturm,
+                       RootMethod::Bernstein}) {
+    RootOptions open, closed;
+    open.method = closed.method = m;
+    closed.closedLo = true;
+    const int id = static_cast<int>(m);
+    EXPECT_FALSE(firstRoot(linear, {}, 0.25, 1.0, open)) << id;
+    ASSERT_TRUE(firstRoot(linear, {}, 0.25, 1.0, closed)) << id;
+    EXPECT_EQ(*firstRoot(linear, {}, 0.25, 1.0, closed), 0.25) << id;
+    EXPECT_TRUE(hasRoot(linear, {}, 0.25, 1.0, closed)) << id;
+    // lo 1e-6 before the quadruple root: inside its noise region.
+    EXPECT_FALSE(firstRoot(quadruple, {}, 0.3 - 1e-6, 1.0, open)) << id;
+    const auto q = firstRoot(quadruple, {}, 0.3 - 1e-6, 1.0, closed);
+    ASSERT_TRUE(q) << id;
+    EXPECT_NEAR(*q, 0.3, 1e-3) << id;
+    std::vector<double> all(8);
+    all.resize(allRoots(quadruple, {}, 0.3 - 1e-6, 1.0, all, closed));
+    EXPECT_EQ(all.size(), 1u) << id;
+    // A root away from lo: the same answer either way.
+    EXPECT_EQ(firstRoot(inside, {}, -0.5, 1.0, open), firstRoot(inside, {}, -0.5, 1.0, closed)) << id;
+  }
+}
+
 TEST(RootsContract, NoiseLeadingCoefficientIsDropped) {
   // x^2 - 1 + 1e-30 x^3: the cubic term is rounding noise on [-2, 2]; its far root
   // (-1e30) is outside anyway, but a solver that kept it would see a degree-3 problem.

@@ -47,6 +47,13 @@ struct RootOptions {
   // Relative tolerance on a root, relative to the interval length; 0 means full
   // precision (iterate until the root is bracketed to adjacent doubles or Newton stalls).
   double relTolerance = 0.0;
+  // The interval is (lo, hi]: a root within noise of lo is the one a caller walking the
+  // roots already has (firstRoot(c, err, previousRoot, hi)), and is not reported. With
+  // closedLo it is reported (at the extremum of |g| near lo, or lo itself): for an lo
+  // that bounds a region rather than follows a root. The noise region of an m-fold root
+  // is about u^(1/m) of the scale wide, so without it a multiple root that close to lo
+  // is lost (the plugin solves on the clip region's span with closedLo).
+  bool closedLo = false;
 };
 
 // c has degree+1 <= kMaxDegree+1 entries (more throws Error); c[degree] may be rounding

@@ -186,12 +186,13 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
   return n >= 1;
 }
 
-// Maps a local root back to (lo, hi]: exact (a power of two) except for a root within
-// noise of hi, which the sweep reports as the local hi itself.
+// Maps a local root back to (lo, hi] ([lo, hi] with closedLo): exact (a power of two)
+// except for a root within noise of hi, which the sweep reports as the local hi itself.
 template <class T>
 T toCaller(const Frame<T>& fr, const LocalPoly<T>& g, const LocalRoot<T>& r) {
   if (r.v >= g.hi) return fr.hi;
   const T s = scale2(r.v, fr.e);
+  if (g.closedLo) return std::max(s, fr.lo);  // [lo, hi]
   return s > fr.lo ? s : std::nextafter(fr.lo, fr.hi);
 }
 
@@ -239,6 +240,7 @@ std::optional<T> firstRootT(std::span<const T> c, std::span<const T> err, T lo, 
   LocalPoly<T> g;
   Frame<T> fr;
   if (!toLocal(c, err, lo, hi, g, fr)) return std::nullopt;
+  g.closedLo = o.closedLo;
   LocalRoot<T> r[1];
   if (solveLocal(g, Query::First, o, r, 1) == 0) return std::nullopt;
   return toCaller(fr, g, r[0]);
@@ -250,6 +252,7 @@ bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const Ro
   LocalPoly<T> g;
   Frame<T> fr;
   if (!toLocal(c, err, lo, hi, g, fr)) return false;
+  g.closedLo = o.closedLo;
   LocalRoot<T> r[1];
   return solveLocal(g, Query::Any, o, r, 1) > 0;
 }
@@ -272,6 +275,7 @@ int allRoots(std::span<const double> c, std::span<const double> err, double lo, 
   LocalPoly<double> g;
   Frame<double> fr;
   if (out.empty() || !toLocal(c, err, lo, hi, g, fr)) return 0;
+  g.closedLo = options.closedLo;
   LocalRoot<double> r[kMaxDegree + 1];
   const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
   const int k = solveLocal(g, Query::All, options, r, maxOut);

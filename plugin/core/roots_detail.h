@@ -38,6 +38,9 @@ template <class T>
 struct LocalPoly {
   int n = -1;
   T lo = -1, hi = 1;  // the open interval searched, -1 <= lo < hi <= 1
+  // Whether a root within noise of lo is reported (RootOptions::closedLo: lo is a
+  // region's boundary) or taken as the caller's previous root (the default).
+  bool closedLo = false;
   Coeffs<T> c;
   Coeffs<T> noise;
 };

@@ -16,7 +16,8 @@
 //    the sign of rounding errors, which shows as speckle on silhouettes.
 //  * a cluster that contains x_0 = lo is the root at lo (a ray's own origin, or the
 //    previous root when the caller asks for the next one with lo = previous root): it is
-//    NOT reported, so repeated calls never return the same root twice, tangent or not.
+//    NOT reported, so repeated calls never return the same root twice, tangent or not;
+//    unless g.closedLo (lo bounds a region): then it is reported like an interior one.
 //  * a cluster that contains x_{k+1} = hi but no interior point is a root within noise of
 //    hi: it is reported (at hi), so two intervals sharing an endpoint report a root on it
 //    exactly once (the left one reports it, the right one excludes it as its lo).
@@ -63,7 +64,7 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
     } else {
       if (inCluster) {
         inCluster = false;
-        if (!clusterAtLo && !emit(best, true)) return count;
+        if ((!clusterAtLo || g.closedLo) && !emit(best, true)) return count;
       } else if (!zPrev && signBit(f) != signBit(fPrev)) {
         const T r = q == Query::Any ? xPrev + (x - xPrev) / 2 : piece(xPrev, x, fPrev, f);
         if (!emit(r, false)) return count;
@@ -73,7 +74,7 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
     fPrev = f;
     zPrev = z;
   }
-  if (inCluster && !clusterAtLo) emit(best, true);
+  if (inCluster && (!clusterAtLo || g.closedLo)) emit(best, true);
   return count;
 }
 
@@ -119,14 +120,20 @@ int withEndRules(const LocalPoly<T>& g, Query q, LocalRoot<T>* out, int maxOut, 
   const bool zLo = isZero(g.lo), zHi = isZero(g.hi);
   if (!zLo && !zHi) return solve(g, q, out, maxOut);
   LocalPoly<T> inner = g;
+  inner.closedLo = false;  // its lo, if moved, is not the region's
   if (zLo) inner.lo = leaveNoise(g, g.lo, g.hi);
   if (zHi) inner.hi = leaveNoise(g, g.hi, inner.lo);
   if (!(inner.lo < inner.hi)) {  // G within noise all the way: one cluster
-    if (zLo) return 0;           // ... containing lo
-    out[0] = LocalRoot<T>{g.hi, true};
+    if (zLo && !g.closedLo) return 0;  // ... containing lo
+    out[0] = LocalRoot<T>{zLo ? g.lo : g.hi, true};
     return 1;
   }
-  int count = solve(inner, q, out, maxOut);
+  int count = 0;
+  if (zLo && g.closedLo) {  // the cut-off part at lo is a root there
+    out[count++] = LocalRoot<T>{g.lo, true};
+    if (q != Query::All || count >= maxOut) return count;
+  }
+  count += solve(inner, q, out + count, maxOut - count);
   if (zHi && count < (q == Query::All ? maxOut : 1)) out[count++] = LocalRoot<T>{g.hi, true};
   return count;
 }

@@ -72,6 +72,7 @@ struct SubdivideState {
   T err;            // E above
   Query q;
   T tol;
+  bool closedLo;    // the root node's lo is closed (LocalPoly::closedLo); inner ends are not
   int nodes = 0;
   bool exhausted = false;  // the budget ran out at node end `resumeAt`; the rest is open
   T resumeAt = 0;
@@ -216,6 +217,9 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
   const T saveLo = g.lo, saveHi = g.hi;
   g.lo = va;
   g.hi = vb;
+  // A node's lo is a split point (its root, if any, was the left neighbour's to report
+  // at its hi) except the first node's, which is the interval's own.
+  g.closedLo = st.closedLo && u0 == 0;
   int k = 0;
   const bool small = vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
   if (monotone(b, deg, st.err) || oneVariation(b, deg, st.err + 2 * noise)) {

@@ -220,13 +220,14 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   std::copy(g.c.begin(), g.c.begin() + n + 1, work.c.begin());
   std::copy(g.noise.begin(), g.noise.begin() + n + 1, work.noise.begin());
   T b[kMaxDegree + 1];
-  SubdivideState<T> st{work, g.lo, g.hi - g.lo, toBernsteinWithBound(g, deg, b), q, tol};
+  SubdivideState<T> st{work, g.lo, g.hi - g.lo, toBernsteinWithBound(g, deg, b), q, tol, g.closedLo};
   int k = subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
   if (st.exhausted && (k == 0 || (q == Query::All && k < maxOut))) {
     // The budget ran out: the recursion takes the rest, [resumeAt, hi], in one piece
     // (a cluster at resumeAt was reported by the node before it, see roots_scan.h).
     work.lo = st.resumeAt;
     work.hi = g.hi;
+    work.closedLo = g.closedLo && st.resumeAt == g.lo;
     k += direct(work, out + k, maxOut - k);
   }
   return k;

@@ -257,6 +257,17 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
   return nullptr;
 }
 
+// The solver's options for a clip-region span: its start is the region's boundary, not a
+// root the walk already has (the walk keeps its own list), so a root within noise of it
+// counts (RootOptions::closedLo; a multiple root's noise region there is u^(1/m) wide:
+// a plane written as x^8 lost its hits within 1 % of the span's start). Degree 2 (the
+// quadratic fast path) stays open: a double root's noise region is far inside the 2^-20
+// by which the region is widened.
+RootOptions regionRoots(RootOptions options) {
+  options.closedLo = true;
+  return options;
+}
+
 std::optional<double> firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions& options,
                                   bool singlePrecision) {
   const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
@@ -316,7 +327,7 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
                          opt.roots.method == RootMethod::Auto && opt.roots.relTolerance == 0.0;
   const auto s = quadratic ? firstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
                                                 std::span<const double, 3>(rr.g.error.data(), 3), rr.slo, rr.shi)
-                           : firstRootOf(rr.g, rr.slo, rr.shi, opt.roots, opt.singlePrecision);
+                           : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots), opt.singlePrecision);
   if (s) {
     rr.roots[0] = *s;
     rr.count = 1;
@@ -384,7 +395,7 @@ void completeRoots(const SurfaceData& data, RayRoots& rr) {
   const RayPolynomial& g = rr.g;
   const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
   std::array<double, kMaxDegree> all{};
-  const int n = allRoots(c, err, rr.slo, rr.shi, all, data.desc.options.roots);
+  const int n = allRoots(c, err, rr.slo, rr.shi, all, regionRoots(data.desc.options.roots));
   const double first = rr.roots[0];
   int closest = -1;
   for (int i = 0; i < n; ++i)
@@ -557,11 +568,13 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     const RayPolynomial& g = rr.g;
     const double slo = lo - g.tShift, shi = hi - g.tShift;
     const double s = rr.roots[i];
-    // The solver reports a root within noise of its interval's end at that end (roots.h):
-    // at the clip region's far end (r1, before tfar) nothing follows that could report
-    // it, so it counts (a triple factor seen through a degree-16 product was within noise
-    // over the last 1 % of a ray's span: the root came back as r1 and was dropped).
-    const bool inSpan = s > slo && (s < shi || (s == rr.shi && hi == r1 && r1 < ray.tfar));
+    // The solver reports a root within noise of an end of the region's span at that end
+    // (roots.h; the start is closed, regionRoots): nothing beyond the region could report
+    // it, so it counts there, inside (tnear, tfar) (a triple factor seen through a
+    // degree-16 product was within noise over the last 1 % of a ray's span: the root came
+    // back as r1 and was dropped).
+    const bool inSpan = (s > slo || (s == rr.slo && lo == r0 && r0 > ray.tnear)) &&
+                        (s < shi || (s == rr.shi && hi == r1 && r1 < ray.tfar));
     if (!inSpan && !ray.hasTraversalRay && !(s > slo - window && s < shi + window)) {
       if (s >= shi) break;
       continue;
