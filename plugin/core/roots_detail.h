@@ -59,12 +59,13 @@ inline T horner(const T* c, D deg, T x) {
   return r;
 }
 
-// Value f, derivative df, the Taylor coefficients dd = f''/2 and d3 = f'''/6 and the
-// noise bound nb at x in one pass. The recurrences are independent from one step to
+// Value f, derivative df, the Taylor coefficients dd = f''/2 and d3 = f'''/6, the
+// noise bound nb at x and its slope nbSlope (the bound the coefficients' noise puts on
+// f'(x)) in one pass. The recurrences are independent from one step to
 // the next, so on a superscalar core the extra ones hide in the latency of the value
 // recurrence.
 template <class T, class D>
-inline void hornerNewton(const T* c, const T* noise, D deg, T x, T& f, T& df, T& dd, T& d3, T& nb) {
+inline void hornerNewton(const T* c, const T* noise, D deg, T x, T& f, T& df, T& dd, T& d3, T& nb, T& nbSlope) {
   const int n = deg;
   const T ax = std::abs(x);
   f = c[n];
@@ -72,11 +73,13 @@ inline void hornerNewton(const T* c, const T* noise, D deg, T x, T& f, T& df, T&
   dd = 0;
   d3 = 0;
   nb = noise[n];
+  nbSlope = 0;
   for (int i = n - 1; i >= 0; --i) {
     d3 = d3 * x + dd;
     dd = dd * x + df;
     df = df * x + f;
     f = f * x + c[i];
+    nbSlope = nbSlope * ax + nb;
     nb = nb * ax + noise[i];
   }
 }
@@ -89,19 +92,6 @@ inline T hornerAbs(const T* a, D deg, T x) {
   T r = a[n];
   for (int i = n - 1; i >= 0; --i) r = r * ax + a[i];
   return r;
-}
-
-// d/dx of sum a_i |x|^i: the bound the noise of the coefficients puts on G'(x).
-template <class T, class D>
-inline T hornerAbsSlope(const T* a, D deg, T x) {
-  const int n = deg;
-  const T ax = std::abs(x);
-  T r = a[n], s = 0;
-  for (int i = n - 1; i >= 0; --i) {
-    s = s * ax + r;
-    r = r * ax + a[i];
-  }
-  return s;
 }
 
 // Derivative coefficients divided by the degree (d[i] = (i+1) c[i+1] / n): the same roots
@@ -198,8 +188,8 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
   const bool negA = signBit(fa);
   T stepOld = b - a;
   for (int it = 0; it < kMaxNewton; ++it) {
-    T f, df, dd, d3, nb;
-    hornerNewton(p, noise, deg, x, f, df, dd, d3, nb);
+    T f, df, dd, d3, nb, nbSlope;
+    hornerNewton(p, noise, deg, x, f, df, dd, d3, nb, nbSlope);
     if (f == 0) return x;
     if (signBit(f) == negA)
       a = x;
@@ -230,7 +220,7 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
     // itself noise and the step is garbage: a triple root of G' sent a step across a fifth
     // of the node and lost a ray's 4-fold root (x^4 = 0: 1 % of rays missed).
     auto trusted = [&] {
-      return 2 * std::abs(dd * (xn - x)) <= std::abs(df) && std::abs(df) > 2 * hornerAbsSlope(noise, deg, x);
+      return 2 * std::abs(dd * (xn - x)) <= std::abs(df) && std::abs(df) > 2 * nbSlope;
     };
     if (!inside || creep * std::abs(xn - x) > stepOld) {
       if (atNoise) return inside && trusted() ? xn : x;
