@@ -1,10 +1,10 @@
-// Numerical-stability stress suite, part 3: random surfaces against brute force. Products
-// of random quadrics and planes (some factors cubed), under random affine transforms, in a
-// clip sphere or box, with random cell depths; rays from random origins outside towards
-// random points inside. Reference: every sign change of the product of the factors (each
-// evaluated in long double in object space) along the ray, found by sampling and
-// bisection, the first one inside the clip region. No expected value comes from the
-// library.
+// Numerical-stability stress suite, part 3: random surfaces. Products of random quadrics
+// and planes (some factors cubed), under random affine transforms, in a clip sphere or
+// box, with random cell depths, against brute force: every sign change of the product of
+// the factors (each evaluated in long double in object space) along the ray, found by
+// sampling and bisection, the first one inside the clip region. And random quadrics of
+// every kind against their closed forms in long double, with rays leaving each hit. No
+// expected value comes from the library.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -139,6 +139,147 @@ TEST(StressRandom, ProductsOfQuadricsAgainstBruteForce) {
   }
   EXPECT_GT(withRoot, 5000);
   EXPECT_EQ(misses, 0) << "of " << withRoot << " rays with a root";
+}
+
+// Random quadrics of every kind (ellipsoids, hyperboloids and cones, cylinders and
+// paraboloids, plane pairs), rotated, in a random clip sphere or box, through the quadric
+// path and the generic walk: the first hit against the long-double closed form, and a ray
+// leaving each hit in a random direction (origin = the double hit point, with its error
+// bound) against the other root of its own quadratic (the first is 0: never a self-hit).
+// Rays near a tangency or with a root near the clip boundary are skipped (either answer
+// is right there).
+TEST(StressRandom, QuadricsAgainstClosedForms) {
+  using LD = long double;
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int checked = 0, leaving = 0;
+  for (int surface = 0; surface < 200; ++surface) {
+    // f = x^T A x + b.x + c, A = R diag(l) R^T.
+    double l[3] = {u(rng), u(rng), u(rng)};
+    const int kind = static_cast<int>(rng() % 6);
+    if (kind == 0)
+      for (double& v : l) v = std::abs(v) + 0.2;  // ellipsoid
+    if (kind == 1) l[2] = 0;                      // cylinder or paraboloid
+    if (kind == 2) {                              // hyperboloid or cone
+      l[0] = std::abs(l[0]) + 0.2;
+      l[1] = std::abs(l[1]) + 0.2;
+      l[2] = -std::abs(l[2]) - 0.2;
+    }
+    if (kind == 3) l[1] = l[2] = 0;  // plane pair or parabolic cylinder
+    const glm::dvec3 r0 = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+    const glm::dvec3 r1(u(rng), u(rng), u(rng));
+    const glm::dvec3 e1 = glm::normalize(r1 - glm::dot(r0, r1) * r0), rot[3] = {r0, e1, glm::cross(r0, e1)};
+    double a[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) a[i][j] = rot[0][i] * l[0] * rot[0][j] + rot[1][i] * l[1] * rot[1][j] + rot[2][i] * l[2] * rot[2][j];
+    double b[3] = {0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)}, c = 0.3 * u(rng);
+    if (kind == 5) b[0] = b[1] = b[2] = c = 0;  // a cone through the origin
+    const Polynomial vars[3] = {X(), Y(), Z()};
+    Polynomial f(c);
+    for (int i = 0; i < 3; ++i) {
+      f = f + Polynomial(b[i]) * vars[i];
+      for (int j = 0; j < 3; ++j) f = f + Polynomial(a[i][j]) * vars[i] * vars[j];
+    }
+    if (f.degree() < 2) continue;
+    const bool box = rng() % 2;
+    const glm::dvec3 centre(0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
+    const double radius = 0.8 + 0.4 * std::abs(u(rng));
+    const glm::dvec3 lo = centre - glm::dvec3(radius), hi = centre + glm::dvec3(0.8 * radius, radius, 1.1 * radius);
+    auto inClip = [&](const LD p[3]) {
+      if (box) return p[0] >= lo.x && p[0] <= hi.x && p[1] >= lo.y && p[1] <= hi.y && p[2] >= lo.z && p[2] <= hi.z;
+      const LD dx = p[0] - centre.x, dy = p[1] - centre.y, dz = p[2] - centre.z;
+      return dx * dx + dy * dy + dz * dz <= static_cast<LD>(radius) * radius;
+    };
+    auto nearBoundary = [&](const LD p[3]) {  // within 1e-7 of the clip boundary
+      for (int axis = 0; axis < 3; ++axis)
+        for (LD step : {-1e-7L, 1e-7L}) {
+          LD q[3] = {p[0], p[1], p[2]};
+          q[axis] += step;
+          if (inClip(q) != inClip(p)) return true;
+        }
+      return false;
+    };
+    // g(t) = qa t^2 + qb t + qc along (o, d), in long double.
+    auto quadratic = [&](const glm::dvec3& o, const glm::dvec3& d, LD& qa, LD& qb, LD& qc) {
+      const LD O[3] = {o.x, o.y, o.z}, D[3] = {d.x, d.y, d.z};
+      qa = 0, qb = 0, qc = c;
+      for (int i = 0; i < 3; ++i) {
+        qb += b[i] * D[i];
+        qc += b[i] * O[i];
+        for (int j = 0; j < 3; ++j) {
+          qa += a[i][j] * D[i] * D[j];
+          qb += a[i][j] * (O[i] * D[j] + D[i] * O[j]);
+          qc += a[i][j] * O[i] * O[j];
+        }
+      }
+    };
+    for (int path = 0; path < 2; ++path) {
+      SurfaceDesc desc;
+      desc.polynomial = f;
+      if (box)
+        desc.clip = ClipBox{lo, hi};
+      else
+        desc.clip = ClipSphere{centre, radius};
+      desc.options.quadricPath = path == 0;
+      OneSurface s(desc);
+      std::mt19937_64 rays(surface);  // the same rays for both paths
+      for (int r = 0; r < 48; ++r) {
+        std::uniform_real_distribution<double> v(-1, 1);
+        const glm::dvec3 o(3 * v(rays), 3 * v(rays), 3 * v(rays));
+        glm::dvec3 d = centre + 0.7 * glm::dvec3(v(rays), v(rays), v(rays)) - o;
+        if (r % 4 == 0) d = glm::normalize(d);
+        const glm::dvec3 e = glm::normalize(glm::dvec3(v(rays), v(rays), v(rays)));
+        LD qa, qb, qc;
+        quadratic(o, d, qa, qb, qc);
+        std::vector<LD> roots;
+        if (qa == 0) {
+          if (qb != 0) roots.push_back(-qc / qb);
+        } else if (const LD disc = qb * qb - 4 * qa * qc; disc >= 0) {
+          const LD q = -(qb + std::copysign(std::sqrt(disc), qb)) / 2;
+          LD t0 = q / qa, t1 = q != 0 ? qc / q : t0;
+          if (t0 > t1) std::swap(t0, t1);
+          roots = {t0, t1};
+        }
+        bool ambiguous = roots.size() == 2 && std::abs(static_cast<double>(roots[1] - roots[0])) < 1e-6;
+        LD ref = -1;
+        for (const LD t : roots) {
+          if (t <= 1e-9L) continue;
+          const LD p[3] = {o.x + t * d.x, o.y + t * d.y, o.z + t * d.z};
+          ambiguous = ambiguous || nearBoundary(p);
+          if (inClip(p)) {
+            ref = t;
+            break;
+          }
+        }
+        const auto hit = s.intersect(rayD(o, d), "quadric");
+        if (ambiguous) continue;
+        ++checked;
+        ASSERT_EQ(hit.has_value(), ref >= 0) << "surface " << surface << " kind " << kind << " path " << path << " ray " << r;
+        if (!hit) continue;
+        EXPECT_NEAR(hit->t, static_cast<double>(ref), 1e-9 * (1 + static_cast<double>(ref))) << "surface " << surface;
+        // Leaving the hit: roots 0 (the origin, on the surface) and -qb/qa.
+        const glm::dvec3 p = o + hit->t * d;
+        RayD leave = rayD(p, e);
+        leave.orgError = gamma(3) * (glm::length(o) + hit->t * glm::length(d));
+        quadratic(p, e, qa, qb, qc);
+        const LD other = qa != 0 ? -qb / qa : -1;
+        const LD q[3] = {p.x + other * e.x, p.y + other * e.y, p.z + other * e.z};
+        const auto next = s.intersect(leave, "leaving");
+        ++leaving;
+        if (next) {
+          EXPECT_GT(next->t, 1e-6) << "self-hit, surface " << surface << " kind " << kind << " path " << path;
+        }
+        if (other > 1e-6L && !nearBoundary(q) && std::abs(static_cast<double>(qa)) > 1e-6) {
+          ASSERT_EQ(next.has_value(), inClip(q)) << "surface " << surface << " kind " << kind << " path " << path;
+          if (next) {
+            EXPECT_NEAR(next->t, static_cast<double>(other), 1e-8 * (1 + static_cast<double>(other)));
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 15000);
+  EXPECT_GT(leaving, 4000);
 }
 
 }  // namespace
