@@ -33,6 +33,18 @@ void rejectingFilter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
+// A surface with rejectingFilter, alone in its committed scene.
+struct FilteredSurface {
+  SurfaceGeometry geometry;
+  Scene scene;
+  FilteredSurface(RTCDevice device, const SurfaceDesc& desc) : geometry(device, desc), scene(device) {
+    rtcSetGeometryIntersectFilterFunction(geometry.geometry(), &rejectingFilter);
+    rtcCommitGeometry(geometry.geometry());
+    scene.attach(geometry.geometry());
+    scene.commit();
+  }
+};
+
 class EmbreeFilter : public ::testing::Test {
  protected:
   Device device;
@@ -104,15 +116,10 @@ TEST_F(EmbreeFilter, EveryRootOfferedOnceAcrossCells) {
     desc.polynomial = torusPolynomial(1.0, 0.4);
     desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     desc.options.useCells = cells == 1;
-    SurfaceGeometry torus(device, desc);
-    rtcSetGeometryIntersectFilterFunction(torus.geometry(), &rejectingFilter);
-    rtcCommitGeometry(torus.geometry());
-    Scene scene(device);
-    scene.attach(torus.geometry());
-    scene.commit();
+    FilteredSurface torus(device, desc);
     for (const RTCRayHit& r : rays) {
       log = FilterLog{1 << 30, 0, {}};
-      intersect1(scene, r);
+      intersect1(torus.scene, r);
       std::sort(log.seenT.begin(), log.seenT.end());
       seen[cells].push_back(log.seenT);
     }
@@ -152,26 +159,21 @@ TEST_F(EmbreeFilter, PlanesOnCellFacesOfferedOnce) {
       desc.polynomial = parsePolynomial(equation);
       desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
       desc.options.cellDepth = cells == 1 ? 3 : 0;
-      SurfaceGeometry g(device, desc);
-      ASSERT_EQ(g.primitiveCount() > 1, cells == 1) << equation;
-      rtcSetGeometryIntersectFilterFunction(g.geometry(), &rejectingFilter);
-      rtcCommitGeometry(g.geometry());
-      Scene scene(device);
-      scene.attach(g.geometry());
-      scene.commit();
+      FilteredSurface g(device, desc);
+      ASSERT_EQ(g.geometry.primitiveCount() > 1, cells == 1) << equation;
       for (const RayD& r : rays) {
         log = FilterLog{1 << 30, 0, {}};
-        intersect1(scene, makeRayHit(r));
+        intersect1(g.scene, makeRayHit(r));
         offers[cells].push_back(log.seenT.size());
       }
-      rtcSetGeometryIntersectFilterFunction(g.geometry(), nullptr);
-      rtcCommitGeometry(g.geometry());
-      scene.commit();
+      rtcSetGeometryIntersectFilterFunction(g.geometry.geometry(), nullptr);
+      rtcCommitGeometry(g.geometry.geometry());
+      g.scene.commit();
       for (const RayD& r : rays) {
-        const HitD hit = intersectD(scene, r);
+        const HitD hit = intersectD(g.scene, r);
         firstT[cells].push_back(hit.hit ? hit.t : -1.0);
       }
-      EXPECT_EQ(g.callbackErrors(), 0u);
+      EXPECT_EQ(g.geometry.callbackErrors(), 0u);
     }
     int crossings = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
@@ -202,14 +204,9 @@ TEST_F(EmbreeFilter, TorusFilterWalksAllFourRoots) {
   desc.polynomial = torusPolynomial(1.0, 0.4);
   desc.clip = ClipSphere{{0, 0, 0}, 1.6};
   desc.options.useCells = false;
-  SurfaceGeometry torus(device, desc);
-  rtcSetGeometryIntersectFilterFunction(torus.geometry(), &rejectingFilter);
-  rtcCommitGeometry(torus.geometry());
-  Scene scene(device);
-  scene.attach(torus.geometry());
-  scene.commit();
+  FilteredSurface torus(device, desc);
   log = FilterLog{3, 0, {}};
-  RTCRayHit rh = intersect1(scene, makeRay({-5, 0, 0}, {1, 0, 0}));
+  RTCRayHit rh = intersect1(torus.scene, makeRay({-5, 0, 0}, {1, 0, 0}));
   ASSERT_EQ(log.seenT.size(), 4u);
   const float expected[4] = {3.6f, 4.4f, 5.6f, 6.4f};
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(log.seenT[i], expected[i], 1e-6f);

@@ -337,26 +337,21 @@ TEST(StressScale, EmbreeRangeEnds) {
     SurfaceDesc sphere = describe(spherePolynomial(scale), 1.6 * scale);
     sphere.clip = torus.clip;
     OneSurface s(sphere);
+    // Both channels on one ray, against the closed form.
+    auto check = [&](OneSurface& surface, const RayD& ray, double expected) {
+      const auto hit = surface.intersect(ray, at);
+      ASSERT_TRUE(hit) << at << " ray from " << ray.org.x;
+      EXPECT_NEAR(hit->t, expected, kContract * 1.6) << at;
+      const auto hitF = surface.intersectFloat(ray, at);
+      ASSERT_TRUE(hitF) << at << " ray from " << ray.org.x;
+      EXPECT_NEAR(*hitF, expected, 1e-5) << at;
+    };
     for (double x : {0.0, 0.3, 0.7}) {
       // Down through the tube at (R + x r, 0): top at z = r sqrt(1 - x^2), from z = 2 scale
       // with d = (0, 0, -scale): t = 2 - 0.4 sqrt(1 - x^2).
-      const RayD down = rayD({R + x * r, 0.0, 2.0 * scale}, {0.0, 0.0, -scale});
-      const double expected = 2.0 - 0.4 * std::sqrt(1.0 - x * x);
-      const auto hit = t.intersect(down, at);
-      ASSERT_TRUE(hit) << at << " x " << x;
-      EXPECT_NEAR(hit->t, expected, kContract * 1.6) << at;
-      const auto hitF = t.intersectFloat(down, at);
-      ASSERT_TRUE(hitF) << at << " x " << x;
-      EXPECT_NEAR(*hitF, expected, 1e-5) << at;
+      check(t, rayD({R + x * r, 0.0, 2.0 * scale}, {0.0, 0.0, -scale}), 2.0 - 0.4 * std::sqrt(1.0 - x * x));
       // The unit sphere along the same line (x scaled into it): z = sqrt(1 - (x / 2)^2).
-      const RayD down2 = rayD({0.5 * x * scale, 0.0, 2.0 * scale}, {0.0, 0.0, -scale});
-      const double expected2 = 2.0 - std::sqrt(1.0 - 0.25 * x * x);
-      const auto hit2 = s.intersect(down2, at);
-      ASSERT_TRUE(hit2) << at << " x " << x;
-      EXPECT_NEAR(hit2->t, expected2, kContract * 1.6) << at;
-      const auto hit2F = s.intersectFloat(down2, at);
-      ASSERT_TRUE(hit2F) << at << " x " << x;
-      EXPECT_NEAR(*hit2F, expected2, 1e-5) << at;
+      check(s, rayD({0.5 * x * scale, 0.0, 2.0 * scale}, {0.0, 0.0, -scale}), 2.0 - std::sqrt(1.0 - 0.25 * x * x));
     }
     // From 3e18 scale away along -x (the double channel moves such origins to Embree's
     // range): the torus's outer equator at x = -1.4 scale.
