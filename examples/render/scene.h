@@ -77,6 +77,8 @@ class Scene {
  private:
   struct Geom;
   struct Light;
+  void build();             // the constructor's work
+  void release() noexcept;  // the destructor's, also when build() throws
   SceneDesc desc_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
