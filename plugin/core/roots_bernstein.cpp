@@ -46,7 +46,7 @@ void toBernstein(const LocalPoly<double>& g, double* b) {
   const int n = g.n;
   const double w = g.hi - g.lo;
   double a[kMaxDegree + 1];
-  std::copy(g.c.begin(), g.c.begin() + n + 1, a);
+  copyCoeffs(g.c.data(), n + 1, a);
   for (int k = 0; k < n; ++k)
     for (int i = n - 1; i >= k; --i) a[i] += g.lo * a[i + 1];
   double p = 1;
@@ -69,7 +69,7 @@ void toBernstein(const LocalPoly<double>& g, double* b) {
 // de Casteljau at 1/2: left into l, right into r.
 void split(const double* b, int n, double* l, double* r) {
   double t[kMaxDegree + 1];
-  std::copy(b, b + n + 1, t);
+  copyCoeffs(b, n + 1, t);
   l[0] = t[0];
   r[n] = t[n];
   for (int k = 1; k <= n; ++k) {
@@ -129,11 +129,11 @@ int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>
     double l[kMaxDegree + 1], r[kMaxDegree + 1];
     split(nd.b, n, l, r);
     const double mid = nd.u0 + (nd.u1 - nd.u0) / 2;
-    std::copy(l, l + n + 1, left.b);
+    copyCoeffs(l, n + 1, left.b);
     left.u0 = nd.u0;
     left.u1 = mid;
     left.depth = nd.depth + 1;
-    std::copy(r, r + n + 1, right.b);
+    copyCoeffs(r, n + 1, right.b);
     right.u0 = mid;
     right.depth = left.depth;
     ++top;

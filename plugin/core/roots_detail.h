@@ -50,6 +50,14 @@ struct LocalPoly {
 template <int N>
 using Deg = std::integral_constant<int, N>;
 
+// Copies count coefficients. A plain loop: with the degree known at compile time it
+// becomes a few moves, where std::copy became a call to memmove (8 % of a whole-ray
+// degree-6 solve in perf).
+template <class T>
+inline void copyCoeffs(const T* from, int count, T* to) {
+  for (int i = 0; i < count; ++i) to[i] = from[i];
+}
+
 // ---- Evaluation -------------------------------------------------------------------
 template <class T, class D>
 inline T horner(const T* c, D deg, T x) {

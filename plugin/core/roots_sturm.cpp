@@ -64,7 +64,7 @@ void build(const LocalPoly<double>& g, SturmSequence& s) {
   const int n = g.n;
   s.size = 2;
   s.deg[0] = n;
-  std::copy(g.c.begin(), g.c.begin() + n + 1, s.p[0]);
+  copyCoeffs(g.c.data(), n + 1, s.p[0]);
   normalize(s.p[0], n);
   s.deg[1] = n - 1;
   derivative(s.p[0], n, s.p[1]);
@@ -75,7 +75,7 @@ void build(const LocalPoly<double>& g, SturmSequence& s) {
     const int db = s.deg[s.size - 1];
     double r[kMaxDegree + 1];
     const int da = s.deg[s.size - 2];
-    std::copy(s.p[s.size - 2], s.p[s.size - 2] + da + 1, r);
+    copyCoeffs(s.p[s.size - 2], da + 1, r);
     double big = 1;  // largest multiple of the divisor subtracted: the cancellation scale
     const double invLead = 1.0 / b[db];  // one division, not one per quotient term
     for (int k = da - db; k >= 0; --k) {

@@ -97,7 +97,7 @@ T toBernsteinWithBound(const LocalPoly<T>& g, D deg, T* b) {
   const int n = deg;
   const T lo = g.lo, w = g.hi - g.lo;
   T a[kMaxDegree + 1];
-  std::copy(g.c.begin(), g.c.begin() + n + 1, a);
+  copyCoeffs(g.c.data(), n + 1, a);
   for (int k = 0; k < n; ++k)
     for (int i = n - 1; i >= k; --i) a[i] += lo * a[i + 1];
   T p = 1;

@@ -217,8 +217,8 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   work.n = g.n;
   work.lo = g.lo;
   work.hi = g.hi;
-  std::copy(g.c.begin(), g.c.begin() + n + 1, work.c.begin());
-  std::copy(g.noise.begin(), g.noise.begin() + n + 1, work.noise.begin());
+  copyCoeffs(g.c.data(), n + 1, work.c.data());
+  copyCoeffs(g.noise.data(), n + 1, work.noise.data());
   T b[kMaxDegree + 1];
   SubdivideState<T> st{work, g.lo, g.hi - g.lo, toBernsteinWithBound(g, deg, b), q, tol, g.closedLo};
   int k = subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
