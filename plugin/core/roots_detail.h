@@ -51,8 +51,9 @@ template <int N>
 using Deg = std::integral_constant<int, N>;
 
 // Copies count coefficients. A plain loop: with the degree known at compile time it
-// becomes a few moves, where std::copy became a call to memmove (8 % of a whole-ray
-// degree-6 solve in perf).
+// becomes a few moves, where std::copy became a call to memmove (measured against
+// std::copy: Auto's whole rays 3-9 % faster at degrees 3-20, cells 2-6 %; de Casteljau's
+// working copy, splitBernstein, measured 8 % slower at degree 6 as a loop and keeps it).
 template <class T>
 inline void copyCoeffs(const T* from, int count, T* to) {
   for (int i = 0; i < count; ++i) to[i] = from[i];
