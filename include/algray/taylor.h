@@ -54,6 +54,11 @@ RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm:
 // box f occupies is visited (a separable f, Chmutov's, costs O(m^2) instead of O(m^4)).
 RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d,
                             double tShift = 0.0);
+// The same into an existing record (a per-thread one on the adapter's path: returning the
+// 672-byte record by value cost a block copy per ray). Entries above g.degree are left
+// as they were.
+void restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift,
+                   RayPolynomial& g);
 
 // Path (1): f expanded about o once; restrict(d) for every ray from o.
 class OriginExpansion {

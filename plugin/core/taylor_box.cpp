@@ -32,6 +32,7 @@
 // and the build's -ffp-contract=off for hosts that build with -march=native).
 #include "algray/taylor.h"
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <utility>
@@ -256,23 +257,29 @@ int boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, Pai
 
 }  // namespace
 
-RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift) {
-  RayPolynomial g;
+void restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift,
+                   RayPolynomial& g) {
   g.tShift = tShift;
   const int m = f.degree();
-  if (m < 0) return g;
+  g.degree = m;
+  if (m < 0) return;
   const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
   Pair gx[kMaxDegree + 2];
   const int degG = boxHorner(f, p, d, gx);
   // The bound of restrictToRay(const Polynomial&, ...) (taylor.cpp): the same operations.
-  // Above G's degree coefficient and bound stay the +0 of RayPolynomial's initialiser
-  // (factor * +0 before).
+  // Above G's degree coefficient and bound are +0, as RayPolynomial's initialiser
+  // leaves them (factor * +0 before).
   const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
-  g.degree = m;
   for (int i = 0; i <= degG; ++i) {
     g.coeff[i] = gx[i][0];
     g.error[i] = factor * gx[i][1];
   }
+  for (int i = std::max(degG + 1, 0); i <= m; ++i) g.coeff[i] = g.error[i] = 0.0;
+}
+
+RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift) {
+  RayPolynomial g;
+  restrictToRay(f, o, d, tShift, g);
   return g;
 }
 

@@ -220,11 +220,11 @@ struct RayRoots {
 static_assert(std::is_trivially_destructible_v<RayRoots>);  // see threadOriginCache
 thread_local RayRoots tlsRayRoots;
 
-RayPolynomial restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0,
-                                double r1) {
+void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0, double r1,
+                       RayPolynomial& g) {
   const double tShift =
       data.desc.options.recentre ? std::clamp(closestParameter(o, d, data.centre), r0, r1) : 0.0;
-  return restrictToRay(data.horner, o, d, tShift);
+  restrictToRay(data.horner, o, d, tShift, g);
 }
 
 // Returns the cache entry when g came from it.
@@ -245,7 +245,7 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
   const glm::dvec3 oc = o - data.centre;
   const bool farOrigin = glm::dot(oc, oc) > data.selfRootRadius2 && ray.orgError <= 0x1p-11 * data.radius;
   if (!farOrigin && originOnSurface(data, ray)) {
-    g = restrictToRay(data.horner, o, d, 0.0);
+    restrictToRay(data.horner, o, d, 0.0, g);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     return nullptr;
   }
@@ -253,7 +253,7 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
     entry->expansion.restrict(d, g);
     return entry;
   }
-  g = restrictRecentred(data, o, d, r0, r1);
+  restrictRecentred(data, o, d, r0, r1, g);
   return nullptr;
 }
 
@@ -348,7 +348,7 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
     ++entry->failures;
-    rr.g = restrictRecentred(data, ray.org, ray.dir, r0, r1);
+    restrictRecentred(data, ray.org, ray.dir, r0, r1, rr.g);
     entry = nullptr;
   }
   rr.fromCache = entry != nullptr;
@@ -367,7 +367,7 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
         rr.firstGradient = hit.gradient;
       } else {
         ++entry->failures;
-        rr.g = restrictRecentred(data, ray.org, ray.dir, r0, r1);
+        restrictRecentred(data, ray.org, ray.dir, r0, r1, rr.g);
         rr.fromCache = false;
         solveFirst(data, rr);
       }
@@ -387,7 +387,7 @@ void completeRoots(const SurfaceData& data, RayRoots& rr) {
     // The later roots come from the re-centred restriction: the cache confirmed only the
     // first one (a host filter would otherwise be offered unconfirmed roots).
     const double tFirst = rr.g.tShift + rr.roots[0];
-    rr.g = restrictRecentred(data, rr.org, rr.dir, rr.r0, rr.r1);
+    restrictRecentred(data, rr.org, rr.dir, rr.r0, rr.r1, rr.g);
     rr.fromCache = false;
     rr.slo = rr.r0 - rr.g.tShift;
     rr.shi = rr.r1 - rr.g.tShift;
