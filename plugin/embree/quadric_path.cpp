@@ -179,9 +179,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   // 2^-11 of it (a camera's), cannot put a root at the origin into the ray's span (which
   // starts 2^-9 R / |d| from it): the self-root rule has nothing to remove, and with
   // re-centring f(o) is not needed at all (a fifth of a camera ray's work, measured).
-  const glm::dvec3 oc = o - data.centre;
-  const bool farOrigin = data.desc.options.recentre && glm::dot(oc, oc) > data.selfRootRadius2 &&
-                         ray.orgError <= 0x1p-11 * data.radius;
+  const bool farOrigin = data.desc.options.recentre && originOutsideClipBall(data, o, ray.orgError);
   QuadricValue at{};
   bool onSurface = false;
   if (!farOrigin) {

@@ -162,6 +162,15 @@ inline constexpr double kAtanPoly[10] = {0.99999998406654822,   -0.3333319433803
 // cube of 1.5e18 (makeRayHit), which must lie before every surface.
 inline constexpr double kEmbreeReach = 1e18;
 
+// Whether an origin lies outside the clip ball by 2^-9 of its radius (selfRootRadius2),
+// known to 2^-11 of it: a root at the origin then lies outside every span the ray has
+// (which starts beyond that margin), so the self-root rule has nothing to remove. Shared
+// by the generic walk and the quadric path (the packet lanes repeat it in vector form).
+inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, double orgError) {
+  const glm::dvec3 oc = o - data.centre;
+  return glm::dot(oc, oc) > data.selfRootRadius2 && orgError <= 0x1p-11 * data.radius;
+}
+
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
 bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
 

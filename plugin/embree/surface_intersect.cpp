@@ -235,16 +235,12 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
     restrictQuadric(data, ray, r0, r1, g);
     return nullptr;
   }
-  // An origin outside the clip ball by 2^-9 of its radius, known to 2^-11 of it, puts no
-  // root of its own into the span (which starts beyond that margin): the rule has nothing
-  // to remove, and testing it could only do harm. A far origin of a high-degree f is
-  // "on the surface within rounding" whenever f's expansion cancels more digits there
-  // than f(o) has (a random degree-16 surface seen from 3.5 radii: f(o) within its
-  // bound), and the deflated polynomial, expanded about that far origin, lost the ray's
-  // real roots. (The quadric path has the same far-origin rule.)
-  const glm::dvec3 oc = o - data.centre;
-  const bool farOrigin = glm::dot(oc, oc) > data.selfRootRadius2 && ray.orgError <= 0x1p-11 * data.radius;
-  if (!farOrigin && originOnSurface(data, ray)) {
+  // Outside the clip ball (originOutsideClipBall, as the quadric path) the self-root rule
+  // has nothing to remove and testing it could only do harm: a far origin of a
+  // high-degree f is "on the surface within rounding" whenever f's expansion cancels more
+  // digits there than f(o) has (a random degree-16 surface seen from 3.5 radii), and the
+  // deflated polynomial, expanded about that far origin, lost the ray's real roots.
+  if (!originOutsideClipBall(data, o, ray.orgError) && originOnSurface(data, ray)) {
     restrictToRay(data.horner, o, d, 0.0, g);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     return nullptr;
