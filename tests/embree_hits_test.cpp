@@ -1066,7 +1066,7 @@ TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
     int hits = 0, nonZeroUV = 0;
     for (int k = 0; k < 40; ++k) {
       RTCRayHit8 pa{}, pb{};
-      int valid[8];
+      alignas(32) int valid[8];  // rtcIntersect8 loads the mask as one vector
       RTCRayHit singles[8];
       for (int l = 0; l < 8; ++l) {
         valid[l] = -1;

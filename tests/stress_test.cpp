@@ -276,6 +276,74 @@ void expectFarRays(const Polynomial& f, double radius, const char* name) {
 TEST(StressFar, SphereFrom1e3To1e6Radii) { expectFarRays(spherePolynomial(1.0), 1.5, "sphere"); }
 TEST(StressFar, TorusFrom1e3To1e6Radii) { expectFarRays(torusPolynomial(1.0, 0.4), 1.6, "torus"); }
 
+// From 1e9 to 1e150 clip radii, where t = |o| / |d| resolves the clip region coarsely or
+// (beyond ~1e15) not at all: the double channel re-bases such rays near the surface
+// (rebaseFarOrigin, embree_bridge.cpp). Expected: the MPFR reference of the same double
+// ray in world space, hit or miss, t within the contract plus t's own rounding (4 u t).
+// Random aims lose the surface from ~1e15 radii on (the double line through a far point
+// passes u |o| from the aim), so the farthest rays pass exactly through a point: o = p - K d
+// with K a power of two, d small integers and p_i = 0 where d_i != 0 (exact in double).
+void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double refRadius, const char* name) {
+  OneSurface s(desc);
+  RefOptions opt;
+  opt.positionNoise = 0.0;  // no singular curves on these surfaces; |o| would swamp it
+  std::vector<RayD> rays;
+  const glm::dvec3 dirs[] = {{1, 0, 0}, {0, 0, -1}, {3, 4, 0}, {3, -4, 12}, {-2, 1, 2}, {1, 1, 1}};
+  for (const double k : {0x1p30, 0x1p40, 0x1p50, 0x1p60, 0x1p100, 0x1p300, 0x1p500})
+    for (const glm::dvec3& d : dirs) {
+      rays.push_back(rayD(-k * d, d));  // through the world origin
+      glm::dvec3 p(0.0);                // through a point off it, in the free coordinates
+      for (int i = 0; i < 3; ++i) p[i] = d[i] == 0.0 ? 0.25 * (i + 1) : 0.0;
+      rays.push_back(rayD(p - k * d, d));
+    }
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> normal;
+  for (const double dist : {1e9, 1e12, 1e14})
+    for (int k = 0; k < 12; ++k) {
+      const glm::dvec3 o = dist * refRadius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+      const glm::dvec3 aim = 0.3 * refRadius * glm::dvec3{normal(rng), normal(rng), normal(rng)};
+      rays.push_back(rayD(o, glm::normalize(aim - o)));
+    }
+  int compared = 0, hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const RayD& ray = rays[i];
+    const std::string what = std::string(name) + " ray " + std::to_string(i) + " from " +
+                             std::to_string(glm::length(ray.org) / refRadius) + " radii";
+    const RayRef ref = referenceFirstHit(fWorld, ray.org, ray.dir, 0.0, kInfD, glm::dvec3(0.0), refRadius, opt);
+    const auto hit = s.intersect(ray, what);
+    const bool occluded = s.occluded(ray);
+    if (!ref.wellConditioned) continue;
+    ++compared;
+    ASSERT_EQ(hit.has_value(), ref.hit) << what;
+    EXPECT_EQ(occluded, ref.hit) << what;
+    if (!hit) continue;
+    ++hits;
+    const double len = glm::length(ray.dir);
+    EXPECT_NEAR(hit->t * len, ref.t * len, kContract * refRadius + 4 * kUnitRoundoff * std::abs(ref.t) * len) << what;
+  }
+  EXPECT_GT(compared, 100) << name;
+  EXPECT_GT(hits, 60) << name;
+}
+
+TEST(StressFar, SphereBeyondTheResolutionOfT) {
+  expectVeryFarRays(describe(spherePolynomial(1.0), 1.5), spherePolynomial(1.0), 1.5, "sphere");
+}
+
+// The torus under a shear, a scale by 2 and a translation (all exact in double, so the
+// world polynomial f(A^-1 (p - b)) is exact too): the world origin maps to the tube's
+// core circle, so every ray through it hits; the generic walk, and a transform applied
+// after the re-basing.
+TEST(StressFar, TransformedTorusBeyondTheResolutionOfT) {
+  const glm::dmat3 a = 2.0 * glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0.5, 1, 0), glm::dvec3(0, 0.25, 1));
+  const glm::dvec3 b(-2, 0, 0);
+  SurfaceDesc desc = describe(torusPolynomial(1.0, 0.4), 1.6);
+  desc.transform = glm::dmat4(a);
+  desc.transform[3] = glm::dvec4(b, 1.0);
+  const glm::dmat3 aInv = glm::inverse(a);
+  const Polynomial world = torusPolynomial(1.0, 0.4).composeAffine(aInv, -(aInv * b));
+  expectVeryFarRays(desc, world, 8.0, "transformed torus");
+}
+
 // ---- Scaled surfaces --------------------------------------------------------------------
 // f(x / s) for s = 1e-6 and 1e6 (sphere and torus built with scaled coefficients, clip
 // radius scaled): every relative tolerance must scale with it. Expected: closed forms.
@@ -418,13 +486,10 @@ TEST(StressInput, NonFiniteAndZeroLengthRaysMissThroughDoubleChannel) {
 }
 
 // A finite double ray beyond the float range Embree accepts (|org| <= 1.8e18): the double
-// channel must still hand Embree a valid float ray. Aimed through the torus tube along x:
-// expected hit where x = -1.4, i.e. t = 1e30 - 1.4 (= 1e30 in double).
-// Known limitation (disabled until fixed, see the plugin issue's note): beyond about 1e16
-// clip radii the clip span collapses to one double value of t, and the adapter, which
-// clips in t before converting to the re-centred parameter s, reports a miss. The
-// expected result below is the correct one; the next test checks the safety part.
-TEST(StressInput, DISABLED_HugeFiniteOriginThroughDoubleChannel) {
+// channel must still hand Embree a valid float ray, and find the hit (re-based,
+// StressFar.*BeyondTheResolutionOfT). Aimed through the torus tube along x: expected hit
+// where x = -1.4, i.e. t = 1e30 - 1.4 (= 1e30 in double).
+TEST(StressInput, HugeFiniteOriginThroughDoubleChannel) {
   OneSurface s(describe(torusPolynomial(1.0, 0.4), 1.6));
   const RayD ray = rayD({-1e30, 0, 0}, {1, 0, 0});
   const auto hit = s.intersect(ray, "origin 1e30 away");

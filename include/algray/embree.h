@@ -151,9 +151,11 @@ struct IntersectContext {
   HitD* hit = nullptr;
   RTCFilterFunctionN hostFilter = nullptr;  // the host's context filter, chained
   // The float ray of makeRayHit is the double ray re-parametrised when Embree could not
-  // take it as it is (see fromFloatParameter): t = floatShift + floatScale * t_float. Set
-  // by initIntersectContext from the same ray.
+  // take it as it is (see fromFloatParameter): t = floatShift + (floatShiftLow + floatScale
+  // * t_float), the shift an unevaluated sum (an origin beyond 1e17 moves by many of its
+  // own ulps). Set by initIntersectContext from the same ray.
   double floatShift = 0;
+  double floatShiftLow = 0;
   double floatScale = 1;
 };
 // Initialises base (rtcInitIntersectContext) and marks the context as algray's.

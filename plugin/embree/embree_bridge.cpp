@@ -72,6 +72,75 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
 
 glm::dvec3 lanePoint(float x, float y, float z) { return {x, y, z}; }
 
+// ---- Far origins of double rays ----------------------------------------------------------
+// The kernels work in t, which resolves a position along the ray only to u |t d|: from
+// ~1e15 clip radii away the clip region's span rounds away and the ray missed (a torus
+// seen from 1e30). A double ray from beyond kFarOrigin world radii is re-based first: its
+// origin moves along the line to o' = o + T d, four radii before the point closest to the
+// clip centre, the kernels trace o' + s d, and a hit reports t = T + s. Each move computes
+// o + t d with error-free transformations (the product's error by FMA, the sum's by
+// Knuth's TwoSum; Ogita, Rump and Oishi, "Accurate sum and dot product", SIAM J. Sci.
+// Comput. 26, 2005), so o' stays on the line to u |o'| + u^2 |t d|; the rounding of t
+// only moves o' along the line, by up to u |t d|, and the next move takes that up (a few
+// moves from any finite origin). What remains is the interface's own limit: the reported
+// t = T + s is rounded to u |t|.
+constexpr double kFarOrigin = 0x1p40;
+// Each move gains ~16 digits (u): 20 bring any finite origin from 1e308 to the surface.
+constexpr int kMaxMoves = 24;
+
+glm::dvec3 pointOnLine(const glm::dvec3& o, const glm::dvec3& d, double t) {
+  glm::dvec3 p;
+  for (int i = 0; i < 3; ++i) {
+    const double prod = t * d[i], prodErr = std::fma(t, d[i], -prod);
+    const double sum = o[i] + prod, bv = sum - o[i], sumErr = (o[i] - (sum - bv)) + (prod - bv);
+    p[i] = sum + (prodErr + sumErr);
+  }
+  return p;
+}
+
+// hi + low += t, exactly (Knuth's TwoSum; the low parts rounded once more).
+void addExact(double& hi, double& low, double t) {
+  const double sum = hi + t, bv = sum - hi;
+  low += (hi - (sum - bv)) + (t - bv);
+  hi = sum;
+}
+
+// Moves o to o' as above and returns T as an unevaluated sum tBase + tBaseLow (Knuth's
+// TwoSum of the moves: T keeps the digits the kernels' t adds to); both 0, o unchanged,
+// when o is not that far, its error bound is not small against its distance, or the
+// moves do not end outside the clip ball (overflow). orgError becomes the rounding bound
+// of o': the self-root rule, the only user of the host's bound, cannot apply to an origin
+// this far outside.
+double rebaseFarOrigin(const SurfaceData& data, glm::dvec3& o, const glm::dvec3& d, double& orgError,
+                       double& tBaseLow) {
+  tBaseLow = 0.0;
+  const double r = data.worldRadius, far = kFarOrigin * r;
+  const glm::dvec3 oc = o - data.worldCentre;
+  const double dist2 = glm::dot(oc, oc), dd = glm::dot(d, d);
+  if (!(dist2 > far * far) || !(orgError <= 0x1p-20 * std::sqrt(dist2)) || !(dd > 0.0) || !std::isfinite(dd))
+    return 0.0;
+  const double len = std::sqrt(dd);
+  glm::dvec3 p = o;
+  double hi = 0.0, low = 0.0;
+  for (int move = 0; move < kMaxMoves; ++move) {
+    // To four radii before the point of the line closest to the centre; done when within
+    // two radii of it (so two to six radii before that point, outside the ball).
+    const double t = -glm::dot(p - data.worldCentre, d) / dd - 4.0 * r / len;
+    if (!std::isfinite(t)) return 0.0;
+    if (std::abs(t) * len <= 2.0 * r) break;
+    const glm::dvec3 next = pointOnLine(p, d, t);
+    if (next == p) break;
+    p = next;
+    addExact(hi, low, t);
+  }
+  const glm::dvec3 pc = p - data.worldCentre;
+  if (!finite(p) || !std::isfinite(hi + low) || !(glm::dot(pc, pc) > 2.0 * r * r)) return 0.0;
+  o = p;
+  orgError = 4.0 * kUnitRoundoff * (std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
+  tBaseLow = low;
+  return hi;
+}
+
 // ---- Candidate hits ----------------------------------------------------------------------
 struct HitBuffer {
   float storage[kHitFields * kMaxN];
@@ -109,6 +178,9 @@ struct Lane {
   unsigned lane;
   IntersectContext* dctx;
   double tfarD;  // the double channel's current far end
+  // The double channel's far origins (rebaseFarOrigin): the kernels' t is
+  // tBase + tBaseLow less.
+  double tBase = 0.0, tBaseLow = 0.0;
 };
 // A lane of a packet through quadric_packet.cpp: surfaceUVFloat's u, v (before the cast)
 // of the hit at t = uvT and its float normal at t = nT, computed with the packet's lanes
@@ -126,7 +198,7 @@ struct PacketLane : Lane {
 // traversal proxy), otherwise against the float ray's own (tnear, tfar).
 bool candidateTfar(const Lane& L, RTCRayN* ray, unsigned n, unsigned lane, double t, float& tf) {
   if (L.dctx) {
-    tf = roundUp((t - L.dctx->floatShift) / L.dctx->floatScale);
+    tf = roundUp(((t - L.dctx->floatShift) - L.dctx->floatShiftLow) / L.dctx->floatScale);
     return t < L.tfarD;
   }
   tf = static_cast<float>(t);
@@ -179,8 +251,9 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   const auto* args = static_cast<const RTCIntersectFunctionNArguments*>(L.args);
   const unsigned n = args->N, lane = L.lane;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
+  const double t = L.dctx ? L.tBase + (L.tBaseLow + h.t) : h.t;  // (no adds on a float ray's path)
   float tf;
-  if (!candidateTfar(L, ray, n, lane, h.t, tf)) return false;
+  if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
   // ---- The candidate, as Embree would write it ---------------------------------------
   glm::dvec3 ng(0.0);
   glm::vec3 ngFloat;
@@ -222,7 +295,7 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   writeCandidate(candidate.hitN(), n, lane, ngFloat, uf, vf, args->primID, args->geomID, args->context);
   // ---- Host filter (geometry filter, then context filter): the filter sees the
   // candidate t as the ray's tfar and may reject it by clearing valid[lane] -------------
-  int valid[kMaxN] = {};
+  alignas(64) int valid[kMaxN] = {};  // Embree may load the mask as one vector
   valid[lane] = -1;
   const float oldTfar = RTCRayN_tfar(ray, n, lane);
   RTCRayN_tfar(ray, n, lane) = tf;
@@ -240,13 +313,13 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   if (L.dctx) {
     HitD& hit = *L.dctx->hit;
     hit.hit = true;
-    hit.t = h.t;
+    hit.t = t;
     hit.Ng = ng;
     hit.u = u;
     hit.v = v;
     hit.geomID = args->geomID;
     hit.primID = args->primID;
-    L.tfarD = h.t;
+    L.tfarD = t;
   }
   return true;
 }
@@ -258,13 +331,14 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   const auto* args = static_cast<const RTCOccludedFunctionNArguments*>(L.args);
   const unsigned n = args->N, lane = L.lane;
   RTCRayN* ray = args->ray;
+  const double t = L.dctx ? L.tBase + (L.tBaseLow + h.t) : h.t;  // (no adds on a float ray's path)
   float tf;
-  if (!candidateTfar(L, ray, n, lane, h.t, tf)) return false;
+  if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
   // Occlusion computes no normal: Ng, u, v are zero for the filter.
   HitBuffer candidate;
   writeCandidate(candidate.hitN(), n, lane, glm::vec3(0.0f), 0.0f, 0.0f, args->primID, args->geomID,
                  args->context);
-  int valid[kMaxN] = {};
+  alignas(64) int valid[kMaxN] = {};  // Embree may load the mask as one vector
   valid[lane] = -1;
   const float oldTfar = RTCRayN_tfar(ray, n, lane);
   RTCRayN_tfar(ray, n, lane) = tf;
@@ -281,7 +355,7 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   if (L.dctx) {
     HitD& hit = *L.dctx->hit;
     hit.hit = true;
-    hit.t = h.t;
+    hit.t = t;
     hit.geomID = args->geomID;
     hit.primID = args->primID;
   }
@@ -296,9 +370,13 @@ KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L) {
   KernelRay kr;
   if (L.dctx) {
     const RayD& r = *L.dctx->ray;
-    L.tfarD = std::min(r.tfar, L.dctx->floatShift + L.dctx->floatScale * RTCRayN_tfar(ray, n, lane));
+    L.tfarD = std::min(r.tfar, L.dctx->floatShift + (L.dctx->floatShiftLow +
+                                                     L.dctx->floatScale * RTCRayN_tfar(ray, n, lane)));
     if (L.dctx->hit->hit) L.tfarD = std::min(L.tfarD, L.dctx->hit->t);
-    kr = objectRay(data, r.org, r.dir, r.tnear, L.tfarD, kUnitRoundoff, r.orgError);
+    glm::dvec3 org = r.org;
+    double orgError = r.orgError;
+    L.tBase = rebaseFarOrigin(data, org, r.dir, orgError, L.tBaseLow);
+    kr = objectRay(data, org, r.dir, (r.tnear - L.tBase) - L.tBaseLow, (L.tfarD - L.tBase) - L.tBaseLow, kUnitRoundoff, orgError);
     kr.hasTraversalRay = true;
     kr.travOrg = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane), RTCRayN_org_z(ray, n, lane));
     kr.travDir = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
@@ -546,16 +624,21 @@ namespace {
 // normalised and, for an origin outside the cube |x_i| <= 1.5e18, the origin moved along
 // the line to where it enters that cube (never before tnear; a line that misses the cube
 // is empty). Every surface lies within 1e18 (checkEmbreeRange, surface_geometry.cpp), so
-// no point a ray can hit is skipped. t = shift + scale * t_float.
+// no point a ray can hit is skipped. t = shift + (shiftLow + scale * t_float). The move
+// is made as rebaseFarOrigin's (error-free steps, repeated): one rounded step from an
+// origin at 1e150 lands anywhere within 1e134 of the cube's face along the line, also
+// past the scene.
 // Embree's traversal also replaces every direction component below 1e-18 in magnitude by
 // +1e-18 (rcp_safe: the sign is lost), so a ray whose whole direction is that small (a
 // scene at the scale of 1e-20) would pass beside the boxes it crosses. Such a direction
 // is scaled by a power of two to a largest component in [1, 2): t = scale * t_float,
 // exact both ways.
 struct FloatMap {
-  double shift = 0, scale = 1;
+  double shift = 0, shiftLow = 0, scale = 1;
+  glm::dvec3 origin{0.0};  // o + (shift + shiftLow) d, when shift != 0
   bool empty = false;
 };
+
 FloatMap floatMap(const RayD& r) {
   constexpr double kBig = 1e17, kTiny = 0x1p-20, kCube = 1.5e18;
   static_assert(kCube > kEmbreeReach && kCube < 1.8e18);
@@ -573,24 +656,36 @@ FloatMap floatMap(const RayD& r) {
     return m;
   }
   const glm::dvec3 u = r.dir / len;
-  // Arc lengths along u: the part of the line inside the cube, from tnear on.
-  double a = std::max(r.tnear, 0.0) * len, b = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 3; ++i) {
-    if (u[i] == 0.0) {
-      if (std::abs(r.org[i]) > kCube) m.empty = true;
-      continue;
-    }
-    double s0 = (-kCube - r.org[i]) / u[i], s1 = (kCube - r.org[i]) / u[i];
-    if (s0 > s1) std::swap(s0, s1);
-    a = std::max(a, s0);
-    b = std::min(b, s1);
-  }
-  if (m.empty || !(a <= b)) {
-    m.empty = true;
-    return m;
-  }
-  m.shift = a / len;
   m.scale = 1.0 / len;
+  glm::dvec3 p = r.org;
+  for (int move = 0; move < kMaxMoves; ++move) {
+    // Arc lengths along u from p: the part of the line inside the cube, from tnear on.
+    double a = ((r.tnear - m.shift) - m.shiftLow) * len, b = std::numeric_limits<double>::infinity();
+    if (move == 0) a = std::max(a, 0.0);  // an origin inside the cube stays (unless tnear > 0)
+    for (int i = 0; i < 3; ++i) {
+      if (u[i] == 0.0) {
+        if (std::abs(p[i]) > kCube) m.empty = true;
+        continue;
+      }
+      double s0 = (-kCube - p[i]) / u[i], s1 = (kCube - p[i]) / u[i];
+      if (s0 > s1) std::swap(s0, s1);
+      a = std::max(a, s0);
+      b = std::min(b, s1);
+    }
+    if (m.empty || !(a <= b)) {
+      m.empty = true;
+      return m;
+    }
+    // Within 2^-30 of the cube's size of the entry (float's rounding of the origin is
+    // 2^-24 of it), inside float's range and before every surface.
+    if (!(std::abs(a) > 0x1p-30 * kCube)) break;
+    const double t = a / len;
+    const glm::dvec3 next = pointOnLine(p, r.dir, t);
+    if (next == p) break;
+    p = next;
+    addExact(m.shift, m.shiftLow, t);
+  }
+  m.origin = p;
   return m;
 }
 }  // namespace
@@ -608,20 +703,21 @@ void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit)
   context->hostFilter = nullptr;
   const FloatMap m = ray ? floatMap(*ray) : FloatMap{};
   context->floatShift = m.shift;
+  context->floatShiftLow = m.shiftLow;
   context->floatScale = m.scale;
   if (hit) *hit = HitD{};
 }
 
 double fromFloatParameter(const RayD& ray, double tFloat) {
   const FloatMap m = floatMap(ray);
-  return m.shift + m.scale * tFloat;
+  return m.shift + (m.shiftLow + m.scale * tFloat);
 }
 
 RTCRayHit makeRayHit(const RayD& r) {
   constexpr float kInfF = std::numeric_limits<float>::infinity();
   RTCRayHit rh{};
   const FloatMap m = floatMap(r);
-  const glm::dvec3 o = m.shift == 0.0 ? r.org : r.org + m.shift * r.dir;
+  const glm::dvec3 o = m.shift == 0.0 ? r.org : m.origin;
   const glm::dvec3 d = m.scale == 1.0 ? r.dir : r.dir * m.scale;
   rh.ray.org_x = static_cast<float>(o.x);
   rh.ray.org_y = static_cast<float>(o.y);
@@ -629,7 +725,7 @@ RTCRayHit makeRayHit(const RayD& r) {
   rh.ray.dir_x = static_cast<float>(d.x);
   rh.ray.dir_y = static_cast<float>(d.y);
   rh.ray.dir_z = static_cast<float>(d.z);
-  const double tnear = (r.tnear - m.shift) / m.scale, tfar = (r.tfar - m.shift) / m.scale;
+  const double tnear = ((r.tnear - m.shift) - m.shiftLow) / m.scale, tfar = ((r.tfar - m.shift) - m.shiftLow) / m.scale;
   float tn = static_cast<float>(tnear);
   if (static_cast<double>(tn) > tnear) tn = std::nextafter(tn, -kInfF);
   rh.ray.tnear = std::max(tn, 0.0f);  // Embree requires tnear >= 0

@@ -251,6 +251,11 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
     boxHi = b.hi;
   }
   data->selfRootRadius2 = (data->radius * (1.0 + 0x1p-9)) * (data->radius * (1.0 + 0x1p-9));
+  // The Frobenius norm bounds A's spectral norm; 2^-20 covers the rounding of both.
+  data->worldCentre = data->a * data->centre + data->b;
+  const double normA = std::sqrt(glm::dot(data->a[0], data->a[0]) + glm::dot(data->a[1], data->a[1]) +
+                                 glm::dot(data->a[2], data->a[2]));
+  data->worldRadius = normA * data->radius * (1.0 + 0x1p-20);
   const SurfaceOptions& opt = data->desc.options;
   if (opt.useCells) {
     CellOptions cellOptions;
