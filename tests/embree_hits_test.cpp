@@ -503,6 +503,41 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
   SurfaceDesc projective = desc;
   projective.transform[0][3] = 0.5;
   EXPECT_THROW(make(projective), Error);
+  // Scales far from 1 are not singular: 1e80 with a clip radius of 1.5e-80 is a surface
+  // of world size ~1 (it hits where the unscaled one does); the same at 1e110 is refused
+  // for its object space (SurfaceGeometry's range, 1e-90 .. 1e90), and 1e200 for its
+  // world size, beyond Embree's reach.
+  SurfaceDesc tiny = desc;
+  tiny.transform = glm::dmat4(glm::dmat3(1e80));
+  tiny.polynomial = spherePolynomial(1e-80);
+  tiny.clip = ClipSphere{{0, 0, 0}, 1.5e-80};
+  SurfaceDesc tinier = desc;
+  tinier.transform = glm::dmat4(glm::dmat3(1e110));
+  tinier.polynomial = spherePolynomial(1e-110);
+  tinier.clip = ClipSphere{{0, 0, 0}, 1.5e-110};
+  try {
+    make(tinier);
+    ADD_FAILURE() << "an object space of size 1e-110 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("object space"), std::string::npos) << e.what();
+  }
+  {
+    SurfaceGeometry g(device, tiny);
+    Scene scene(device);
+    scene.attach(g.geometry());
+    scene.commit();
+    const RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
+    EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+    EXPECT_NEAR(rh.ray.tfar, 4.0f, 1e-5f);
+  }
+  SurfaceDesc huge = desc;
+  huge.transform = glm::dmat4(glm::dmat3(1e200));
+  try {
+    make(huge);
+    ADD_FAILURE() << "a surface of world size 1e200 was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find("singular"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(SurfaceGeometry(nullptr, desc), Error);
 }
 

@@ -96,8 +96,8 @@ inline bool occluded1(RTCScene scene, RTCRay ray) {
 inline HitD intersectD(RTCScene scene, const RayD& ray, RTCRayHit* out = nullptr) {
   HitD hit;
   IntersectContext context;
-  initIntersectContext(&context, &ray, &hit);
-  RTCRayHit rh = makeRayHit(ray);
+  initIntersectContext(&context, &ray, &hit, scene);
+  RTCRayHit rh = makeRayHit(ray, scene);
   rtcIntersect1(scene, &context.base, &rh);
   if (out) *out = rh;
   return hit;

@@ -289,7 +289,7 @@ void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double
   opt.positionNoise = 0.0;  // no singular curves on these surfaces; |o| would swamp it
   std::vector<RayD> rays;
   const glm::dvec3 dirs[] = {{1, 0, 0}, {0, 0, -1}, {3, 4, 0}, {3, -4, 12}, {-2, 1, 2}, {1, 1, 1}};
-  for (const double k : {0x1p30, 0x1p40, 0x1p50, 0x1p60, 0x1p100, 0x1p300, 0x1p500})
+  for (const double k : {0x1p30, 0x1p40, 0x1p50, 0x1p56, 0x1p60, 0x1p100, 0x1p300, 0x1p500})
     for (const glm::dvec3& d : dirs) {
       rays.push_back(rayD(-k * d, d));  // through the world origin
       glm::dvec3 p(0.0);                // through a point off it, in the free coordinates
@@ -298,7 +298,7 @@ void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double
     }
   std::mt19937_64 rng(17);
   std::normal_distribution<double> normal;
-  for (const double dist : {1e9, 1e12, 1e14})
+  for (const double dist : {1e6, 1e9, 1e12, 1e14})
     for (int k = 0; k < 12; ++k) {
       const glm::dvec3 o = dist * refRadius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
       const glm::dvec3 aim = 0.3 * refRadius * glm::dvec3{normal(rng), normal(rng), normal(rng)};
@@ -322,11 +322,24 @@ void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double
     EXPECT_NEAR(hit->t * len, ref.t * len, kContract * refRadius + 4 * kUnitRoundoff * std::abs(ref.t) * len) << what;
   }
   EXPECT_GT(compared, 100) << name;
-  EXPECT_GT(hits, 60) << name;
+  EXPECT_GT(hits, 40) << name;
 }
 
 TEST(StressFar, SphereBeyondTheResolutionOfT) {
   expectVeryFarRays(describe(spherePolynomial(1.0), 1.5), spherePolynomial(1.0), 1.5, "sphere");
+}
+
+// A thin torus in cells of depth 3, so small that Embree must traverse the float proxy
+// of a far double ray accurately: it starts near the scene (the scene overloads of
+// makeRayHit and initIntersectContext; from the cube of 1.5e18, or from 1e9 radii, float's
+// rounding of its origin passed it beside the cells the double ray crosses: 90 % of the
+// hits from 1e9 radii were lost) and its direction is long (Embree replaces zero
+// components by 1e-18: from 1e17 an axis ray drifted 0.1 sideways).
+TEST(StressFar, ThinTorusInCellsBeyondTheResolutionOfT) {
+  const Polynomial f = torusPolynomial(0.8, 0.3);
+  SurfaceDesc desc = describe(f, 2.0);
+  desc.options.cellDepth = 3;
+  expectVeryFarRays(desc, f, 2.0, "thin torus in cells");
 }
 
 // The torus under a shear, a scale by 2 and a translation (all exact in double, so the
@@ -384,6 +397,30 @@ TEST(StressScale, SphereAndTorusAt1eMinus6And1e6) {
       EXPECT_NEAR(exit->t, 2.0 * r, 1e-8 * scale);
       // Through the hole: no hit.
       EXPECT_FALSE(s.intersect(rayD({0, 0, 2.0 * scale}, {0, 0, -1}), "through the hole")) << scale;
+    }
+  }
+}
+
+// Direction lengths from 1e-300 to 1e300 through the double channel: t scales as 1 / |d|
+// (dot(d, d) alone overflows from 1e154 and underflows below 1e-160). Expected: closed
+// forms for the unit direction divided by the length: the sphere (quadric path) from
+// (0.1, 0.2, -5) along +z, t = 5 - sqrt(1 - 0.05); the torus (generic walk) from
+// (1, 0, -5) along +z through its tube, t = 5 - 0.4.
+TEST(StressScale, DirectionLengthsFrom1eMinus300To1e300) {
+  OneSurface sphere(describe(spherePolynomial(1.0), 1.5));
+  OneSurface torus(describe(torusPolynomial(1.0, 0.4), 1.6));
+  const double tSphere = 5.0 - std::sqrt(0.95L), tTorus = 4.6;
+  for (const double len : {1e-300, 1e-200, 1e-160, 1e-100, 1e-20, 1.0, 1e20, 1e100, 1e160, 1e200, 1e300}) {
+    for (int which = 0; which < 2; ++which) {
+      OneSurface& s = which == 0 ? sphere : torus;
+      const RayD ray = which == 0 ? rayD({0.1, 0.2, -5}, {0, 0, len}) : rayD({1, 0, -5}, {0, 0, len});
+      const double expected = (which == 0 ? tSphere : tTorus) / len;
+      const std::string what = std::string(which == 0 ? "sphere" : "torus") + ", |d| = " + std::to_string(len);
+      const auto hit = s.intersect(ray, what);
+      ASSERT_TRUE(hit) << what;
+      EXPECT_NEAR(hit->t, expected, 1e-12 * expected) << what;
+      EXPECT_TRUE(s.occluded(ray)) << what;
+      EXPECT_FALSE(s.occluded(rayD(ray.org, ray.dir, 0.0, 0.99 * expected))) << what << ", ending before the hit";
     }
   }
 }

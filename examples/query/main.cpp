@@ -63,19 +63,19 @@ query::QueryHit trace(RTCScene scene, unsigned geomID, const RayD& ray, bool use
   query::QueryHit out;
   glm::dvec3 ng(0.0);
   if (useFloat) {
-    RTCRayHit rh = makeRayHit(ray);
+    RTCRayHit rh = makeRayHit(ray, scene);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect1(scene, &context, &rh);
     if (rh.hit.geomID != geomID) return out;
     out.hit = true;
-    out.t = fromFloatParameter(ray, rh.ray.tfar);  // the float ray may be re-parametrised
+    out.t = fromFloatParameter(ray, rh.ray.tfar, scene);  // the float ray may be re-parametrised
     ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
   } else {
     HitD hit;
     IntersectContext context;
-    initIntersectContext(&context, &ray, &hit);
-    RTCRayHit rh = makeRayHit(ray);
+    initIntersectContext(&context, &ray, &hit, scene);
+    RTCRayHit rh = makeRayHit(ray, scene);
     rtcIntersect1(scene, &context.base, &rh);
     if (!hit.hit || rh.hit.geomID != geomID) return out;
     out.hit = true;

@@ -160,15 +160,25 @@ struct IntersectContext {
 };
 // Initialises base (rtcInitIntersectContext) and marks the context as algray's.
 void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit);
+// The same for a ray traced in `scene` (committed): with the scene, a ray from far outside
+// it (beyond 4096 times its extent) is handed to Embree starting near the scene's bounds,
+// where float resolves the scene's boxes; without it, such a float proxy starts where
+// the line enters Embree's range (1.5e18), and from ~1e6 object sizes on Embree may
+// traverse boxes beside the ones the double ray crosses (missed or later hits on
+// surfaces split into cells). Use the scene overloads of initIntersectContext,
+// makeRayHit and fromFloatParameter together (they must agree on the float ray).
+void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit, RTCScene scene);
 // The float ray for Embree: origin and direction rounded to nearest, tnear rounded down
 // and tfar rounded up (the double interval is re-applied in the callbacks), mask ~0u,
 // hit ids invalid.
 RTCRayHit makeRayHit(const RayD& ray);
+RTCRayHit makeRayHit(const RayD& ray, RTCScene scene);
 // The parameter along `ray` of a parameter of makeRayHit(ray)'s float ray (its tfar after
 // rtcIntersect1 without the double channel). The float ray is `ray` itself unless Embree
 // could not take it as it is: components beyond 1e17 (origin moved along the line,
 // direction normalised) or a direction below 2^-20 (scaled by a power of two: Embree
 // treats direction components below 1e-18 as +1e-18).
 double fromFloatParameter(const RayD& ray, double tFloat);
+double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene);
 
 }  // namespace algray

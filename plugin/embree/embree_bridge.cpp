@@ -178,9 +178,10 @@ struct Lane {
   unsigned lane;
   IntersectContext* dctx;
   double tfarD;  // the double channel's current far end
-  // The double channel's far origins (rebaseFarOrigin): the kernels' t is
-  // tBase + tBaseLow less.
+  // The double channel's kernel ray (laneRay): host t = 2^-tExp (tBase + tBaseLow +
+  // kernel t), for far origins (rebaseFarOrigin) and directions far from unit length.
   double tBase = 0.0, tBaseLow = 0.0;
+  int tExp = 0;
 };
 // A lane of a packet through quadric_packet.cpp: surfaceUVFloat's u, v (before the cast)
 // of the hit at t = uvT and its float normal at t = nT, computed with the packet's lanes
@@ -192,6 +193,12 @@ struct PacketLane : Lane {
   double nT = std::numeric_limits<double>::quiet_NaN();
   glm::vec3 normal{0.0f};
 };
+
+// A double-channel kernel t as the host's t (see Lane::tExp).
+double hostParameter(const Lane& L, double t) {
+  const double shifted = L.tBase + (L.tBaseLow + t);
+  return L.tExp == 0 ? shifted : std::ldexp(shifted, -L.tExp);
+}
 
 // The candidate's float tfar, and whether it lies inside the ray's current interval: in
 // the double channel against the double far end (the float ray is only Embree's
@@ -251,7 +258,7 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   const auto* args = static_cast<const RTCIntersectFunctionNArguments*>(L.args);
   const unsigned n = args->N, lane = L.lane;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
-  const double t = L.dctx ? L.tBase + (L.tBaseLow + h.t) : h.t;  // (no adds on a float ray's path)
+  const double t = L.dctx ? hostParameter(L, h.t) : h.t;  // (nothing added on a float ray's path)
   float tf;
   if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
   // ---- The candidate, as Embree would write it ---------------------------------------
@@ -331,7 +338,7 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   const auto* args = static_cast<const RTCOccludedFunctionNArguments*>(L.args);
   const unsigned n = args->N, lane = L.lane;
   RTCRayN* ray = args->ray;
-  const double t = L.dctx ? L.tBase + (L.tBaseLow + h.t) : h.t;  // (no adds on a float ray's path)
+  const double t = L.dctx ? hostParameter(L, h.t) : h.t;  // (nothing added on a float ray's path)
   float tf;
   if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
   // Occlusion computes no normal: Ng, u, v are zero for the filter.
@@ -373,10 +380,25 @@ KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L) {
     L.tfarD = std::min(r.tfar, L.dctx->floatShift + (L.dctx->floatShiftLow +
                                                      L.dctx->floatScale * RTCRayN_tfar(ray, n, lane)));
     if (L.dctx->hit->hit) L.tfarD = std::min(L.tfarD, L.dctx->hit->t);
+    // A direction far from unit length is scaled by a power of two first, and t with it
+    // (exact): dot(d, d) overflows from |d| ~ 1e154 and underflows below ~1e-160, and the
+    // kernels' clip and restriction multiply several such products (every ray of
+    // lengths 1e-200 or 1e200 missed). Kernel t = 2^tExp host t.
+    glm::dvec3 dir = r.dir;
+    double tnear = r.tnear, tfar = L.tfarD;
+    const double md = std::max({std::abs(dir.x), std::abs(dir.y), std::abs(dir.z)});
+    L.tExp = 0;
+    if (md > 0.0 && std::isfinite(md) && (md > 0x1p100 || md < 0x1p-100)) {
+      L.tExp = std::ilogb(md);
+      dir = glm::dvec3(std::ldexp(dir.x, -L.tExp), std::ldexp(dir.y, -L.tExp), std::ldexp(dir.z, -L.tExp));
+      tnear = std::ldexp(tnear, L.tExp);
+      tfar = std::ldexp(tfar, L.tExp);
+    }
     glm::dvec3 org = r.org;
     double orgError = r.orgError;
-    L.tBase = rebaseFarOrigin(data, org, r.dir, orgError, L.tBaseLow);
-    kr = objectRay(data, org, r.dir, (r.tnear - L.tBase) - L.tBaseLow, (L.tfarD - L.tBase) - L.tBaseLow, kUnitRoundoff, orgError);
+    L.tBase = rebaseFarOrigin(data, org, dir, orgError, L.tBaseLow);
+    kr = objectRay(data, org, dir, (tnear - L.tBase) - L.tBaseLow, (tfar - L.tBase) - L.tBaseLow, kUnitRoundoff,
+                   orgError);
     kr.hasTraversalRay = true;
     kr.travOrg = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane), RTCRayN_org_z(ray, n, lane));
     kr.travDir = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
@@ -619,11 +641,15 @@ RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
 }
 
 namespace {
-// Embree's ray.valid() requires |org|, |dir| <= FLT_LARGE (1.8e18) per component. A double
-// ray with a component beyond 1e17 is handed to Embree re-parametrised: the direction
-// normalised and, for an origin outside the cube |x_i| <= 1.5e18, the origin moved along
-// the line to where it enters that cube (never before tnear; a line that misses the cube
-// is empty). Every surface lies within 1e18 (checkEmbreeRange, surface_geometry.cpp), so
+// Embree's ray.valid() requires |org|, |dir| <= FLT_LARGE (1.8e18) per component, and its
+// traversal replaces direction components below 1e-18 by 1e-18 (rcp_safe), so a ray along
+// an axis drifts sideways by 1e-18 t: from 1e17 away, enough to pass beside the cells
+// the double ray crosses (a torus from 1e17 was missed). A double ray with an origin
+// component beyond 2^40 or a direction component beyond 1e17 is therefore handed to
+// Embree re-parametrised: the direction scaled to length 2^56 (t_float, and the drift
+// with it, stays below ~30) and, for an origin outside the cube |x_i| <= 1.5e18, the
+// origin moved along the line to where it enters that cube (never before tnear; a line
+// that misses the cube is empty). Every surface lies within 1e18 (checkEmbreeRange, surface_geometry.cpp), so
 // no point a ray can hit is skipped. t = shift + (shiftLow + scale * t_float). The move
 // is made as rebaseFarOrigin's (error-free steps, repeated): one rounded step from an
 // origin at 1e150 lands anywhere within 1e134 of the cube's face along the line, also
@@ -639,12 +665,47 @@ struct FloatMap {
   bool empty = false;
 };
 
-FloatMap floatMap(const RayD& r) {
-  constexpr double kBig = 1e17, kTiny = 0x1p-20, kCube = 1.5e18;
+// The box a far origin is moved to: the cube, or with the host's scene (its bounds,
+// rtcGetSceneBounds) that box widened by its own extent: then the float proxy starts a
+// scene's size before the scene instead of 1.5e18 away, and float resolves the scene as
+// well as it resolves the scene itself (from the cube, or from a camera 1e9 scene sizes
+// away, float's rounding of the proxy's origin, u_float |o|, was larger than small cells:
+// the traversal visited other cells than the double ray crosses, and 90 % of a torus's
+// hits in cells of depth 3 were lost from 1e9 radii; from 1e6, some rays got a later root).
+struct MoveBox {
+  glm::dvec3 lo{0.0}, hi{0.0};
+  bool scene = false;
+};
+
+MoveBox moveBox(const RTCBounds* bounds) {
+  constexpr double kCube = 1.5e18;
   static_assert(kCube > kEmbreeReach && kCube < 1.8e18);
+  MoveBox box{glm::dvec3(-kCube), glm::dvec3(kCube), false};
+  if (!bounds) return box;
+  const glm::dvec3 lo(bounds->lower_x, bounds->lower_y, bounds->lower_z);
+  const glm::dvec3 hi(bounds->upper_x, bounds->upper_y, bounds->upper_z);
+  if (!finite(lo) || !finite(hi) || !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return box;  // empty scene
+  const glm::dvec3 pad = glm::max(hi - lo, glm::dvec3(0x1p-20 * std::max(glm::length(lo), glm::length(hi))));
+  box.lo = glm::max(lo - pad, glm::dvec3(-kCube));
+  box.hi = glm::min(hi + pad, glm::dvec3(kCube));
+  box.scene = true;
+  return box;
+}
+
+FloatMap floatMap(const RayD& r, const RTCBounds* sceneBounds) {
+  constexpr double kFar = 0x1p40, kBig = 1e17, kTiny = 0x1p-20, kLength = 0x1p56, kSceneFar = 0x1p12;
+  static_assert(kLength < kBig);
   FloatMap m;
+  const MoveBox box = moveBox(sceneBounds);
   bool big = false;
-  for (int i = 0; i < 3; ++i) big = big || std::abs(r.org[i]) > kBig || std::abs(r.dir[i]) > kBig;
+  for (int i = 0; i < 3; ++i) big = big || std::abs(r.org[i]) > kFar || std::abs(r.dir[i]) > kBig;
+  if (box.scene) {
+    // Far from the scene: 2^12 of its extent outside its box (the proxy's rounding is then
+    // over 2^-12 of it); nearer, the float ray is the ray itself.
+    const glm::dvec3 extent = box.hi - box.lo;
+    for (int i = 0; i < 3; ++i)
+      big = big || r.org[i] < box.lo[i] - kSceneFar * extent[i] || r.org[i] > box.hi[i] + kSceneFar * extent[i];
+  }
   if (!big) {
     const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
     if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
@@ -656,18 +717,19 @@ FloatMap floatMap(const RayD& r) {
     return m;
   }
   const glm::dvec3 u = r.dir / len;
-  m.scale = 1.0 / len;
+  m.scale = kLength / len;
   glm::dvec3 p = r.org;
+  const double size = std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
   for (int move = 0; move < kMaxMoves; ++move) {
-    // Arc lengths along u from p: the part of the line inside the cube, from tnear on.
+    // Arc lengths along u from p: the part of the line inside the box, from tnear on.
     double a = ((r.tnear - m.shift) - m.shiftLow) * len, b = std::numeric_limits<double>::infinity();
-    if (move == 0) a = std::max(a, 0.0);  // an origin inside the cube stays (unless tnear > 0)
+    if (move == 0) a = std::max(a, 0.0);  // an origin inside the box stays (unless tnear > 0)
     for (int i = 0; i < 3; ++i) {
       if (u[i] == 0.0) {
-        if (std::abs(p[i]) > kCube) m.empty = true;
+        if (p[i] < box.lo[i] || p[i] > box.hi[i]) m.empty = true;
         continue;
       }
-      double s0 = (-kCube - p[i]) / u[i], s1 = (kCube - p[i]) / u[i];
+      double s0 = (box.lo[i] - p[i]) / u[i], s1 = (box.hi[i] - p[i]) / u[i];
       if (s0 > s1) std::swap(s0, s1);
       a = std::max(a, s0);
       b = std::min(b, s1);
@@ -676,9 +738,9 @@ FloatMap floatMap(const RayD& r) {
       m.empty = true;
       return m;
     }
-    // Within 2^-30 of the cube's size of the entry (float's rounding of the origin is
+    // Within 2^-30 of the box's size of the entry (float's rounding of the origin is
     // 2^-24 of it), inside float's range and before every surface.
-    if (!(std::abs(a) > 0x1p-30 * kCube)) break;
+    if (!(std::abs(a) > 0x1p-30 * size)) break;
     const double t = a / len;
     const glm::dvec3 next = pointOnLine(p, r.dir, t);
     if (next == p) break;
@@ -688,6 +750,12 @@ FloatMap floatMap(const RayD& r) {
   m.origin = p;
   return m;
 }
+
+RTCBounds sceneBounds(RTCScene scene) {
+  RTCBounds b{};
+  rtcGetSceneBounds(scene, &b);
+  return b;
+}
 }  // namespace
 
 KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
@@ -695,28 +763,52 @@ KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm:
   return objectRay(data, o, d, tnear, tfar, roundoff, orgError);
 }
 
-void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit) {
+namespace {
+void initContext(IntersectContext* context, const RayD* ray, HitD* hit, const RTCBounds* bounds) {
   rtcInitIntersectContext(&context->base);
   context->base.filter = &markerFilter;
   context->ray = ray;
   context->hit = hit;
   context->hostFilter = nullptr;
-  const FloatMap m = ray ? floatMap(*ray) : FloatMap{};
+  const FloatMap m = ray ? floatMap(*ray, bounds) : FloatMap{};
   context->floatShift = m.shift;
   context->floatShiftLow = m.shiftLow;
   context->floatScale = m.scale;
   if (hit) *hit = HitD{};
 }
 
+RTCRayHit floatRayHit(const RayD& r, const RTCBounds* bounds);
+}  // namespace
+
+void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit) {
+  initContext(context, ray, hit, nullptr);
+}
+void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit, RTCScene scene) {
+  const RTCBounds b = sceneBounds(scene);
+  initContext(context, ray, hit, &b);
+}
+
 double fromFloatParameter(const RayD& ray, double tFloat) {
-  const FloatMap m = floatMap(ray);
+  const FloatMap m = floatMap(ray, nullptr);
+  return m.shift + (m.shiftLow + m.scale * tFloat);
+}
+double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene) {
+  const RTCBounds b = sceneBounds(scene);
+  const FloatMap m = floatMap(ray, &b);
   return m.shift + (m.shiftLow + m.scale * tFloat);
 }
 
-RTCRayHit makeRayHit(const RayD& r) {
+RTCRayHit makeRayHit(const RayD& r) { return floatRayHit(r, nullptr); }
+RTCRayHit makeRayHit(const RayD& r, RTCScene scene) {
+  const RTCBounds b = sceneBounds(scene);
+  return floatRayHit(r, &b);
+}
+
+namespace {
+RTCRayHit floatRayHit(const RayD& r, const RTCBounds* bounds) {
   constexpr float kInfF = std::numeric_limits<float>::infinity();
   RTCRayHit rh{};
-  const FloatMap m = floatMap(r);
+  const FloatMap m = floatMap(r, bounds);
   const glm::dvec3 o = m.shift == 0.0 ? r.org : m.origin;
   const glm::dvec3 d = m.scale == 1.0 ? r.dir : r.dir * m.scale;
   rh.ray.org_x = static_cast<float>(o.x);
@@ -753,5 +845,6 @@ RTCRayHit makeRayHit(const RayD& r) {
   }
   return rh;
 }
+}  // namespace
 
 }  // namespace algray

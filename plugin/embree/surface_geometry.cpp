@@ -43,15 +43,29 @@ void validate(const SurfaceDesc& desc) {
   if (f.isZero()) fail("the polynomial is zero (every point would be on the surface)");
   if (!f.isFinite()) fail("the polynomial has a non-finite coefficient");
   if (f.degree() < 1) fail("the polynomial is a non-zero constant (the surface is empty)");
+  double size = 0.0;  // of the clip region in object space
   if (const auto* s = std::get_if<ClipSphere>(&desc.clip)) {
     if (!finite(s->center)) fail("clip sphere centre is not finite: " + str(s->center));
     if (!(std::isfinite(s->radius) && s->radius > 0.0))
       fail("clip sphere radius must be finite and > 0, got " + std::to_string(s->radius));
+    size = s->radius;
   } else {
     const auto& b = std::get<ClipBox>(desc.clip);
     if (!finite(b.lo) || !finite(b.hi)) fail("clip box is not finite: " + str(b.lo) + " " + str(b.hi));
     if (!(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z))
       fail("clip box is empty (need lo < hi on every axis): " + str(b.lo) + " " + str(b.hi));
+    size = std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
+  }
+  // Object space far from unit size, reachable only through a transform that undoes it
+  // (the world is held to Embree's range below): the kernels' products of coefficients,
+  // directions and error bounds leave double's range from ~1e+-104 on (a unit sphere
+  // drawn as x^2+y^2+z^2-1e-220 under a scale of 1e110 was missed by every ray).
+  // Measured working to 1e+-100; refused beyond 2^+-300 (~1e+-90) with the remedy.
+  if (!(size >= 0x1p-300 && size <= 0x1p300)) {
+    std::ostringstream os;
+    os << "the clip region's size in object space is " << size
+       << ", outside 1e-90 .. 1e90: scale the polynomial's variables instead of undoing it by the transform";
+    fail(os.str());
   }
   const glm::dmat4& m = desc.transform;
   for (int c = 0; c < 4; ++c)
@@ -61,7 +75,16 @@ void validate(const SurfaceDesc& desc) {
     fail("the transform is not affine (last row must be 0 0 0 1)");
   // Singular relative to its own scale: |det A| against the product of the column
   // lengths (Hadamard's bound), so that a uniformly tiny but well-shaped transform passes.
-  const glm::dmat3 a(m);
+  // Each column is first scaled by a power of two to a largest entry in [1, 2): the ratio
+  // does not change, and neither product over- or underflows (a scale of 1e200 or 1e-110
+  // was called singular).
+  glm::dmat3 a(m);
+  for (int c = 0; c < 3; ++c) {
+    const double mc = std::max({std::abs(a[c].x), std::abs(a[c].y), std::abs(a[c].z)});
+    if (!(mc > 0.0)) fail("the transform is singular (column " + std::to_string(c) + " is zero)");
+    const int e = std::ilogb(mc);
+    a[c] = glm::dvec3(std::ldexp(a[c].x, -e), std::ldexp(a[c].y, -e), std::ldexp(a[c].z, -e));
+  }
   const double hadamard = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
   if (!(std::abs(glm::determinant(a)) > 64.0 * kUnitRoundoff * hadamard))
     fail("the transform is singular");

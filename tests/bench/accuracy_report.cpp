@@ -119,15 +119,15 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
     o.ref = test::referenceFirstHit(s.f, ray.org, ray.dir, ray.tnear, ray.tfar, glm::dvec3(0.0), s.radius,
                                     refOptions);
     IntersectContext context;
-    initIntersectContext(&context, &ray, &o.hit);
-    RTCRayHit rh = makeRayHit(ray);
+    initIntersectContext(&context, &ray, &o.hit, scene);
+    RTCRayHit rh = makeRayHit(ray, scene);
     rtcIntersect1(scene, &context.base, &rh);
     if (rh.hit.geomID != id) o.hit.hit = false;
     RTCIntersectContext plain;
     rtcInitIntersectContext(&plain);
-    RTCRayHit fh = makeRayHit(ray);
+    RTCRayHit fh = makeRayHit(ray, scene);
     rtcIntersect1(scene, &plain, &fh);
-    if (fh.hit.geomID == id) o.floatT = fh.ray.tfar;
+    if (fh.hit.geomID == id) o.floatT = fromFloatParameter(ray, fh.ray.tfar, scene);
     if (!o.hit.hit) return;
     // ---- Leaving rays from the hit point, with its error bound (pbrt-v4 Sec. 6.8.6) --
     const glm::dvec3 p = ray.org + o.hit.t * ray.dir;
@@ -142,8 +142,8 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
       RayD leave{p, d, 0.0, std::numeric_limits<double>::infinity(), pError};
       HitD lh;
       IntersectContext lc;
-      initIntersectContext(&lc, &leave, &lh);
-      RTCRayHit lr = makeRayHit(leave);
+      initIntersectContext(&lc, &leave, &lh, scene);
+      RTCRayHit lr = makeRayHit(leave, scene);
       rtcIntersect1(scene, &lc.base, &lr);
       ++o.leaving;
       if (lh.hit && lr.hit.geomID == id && lh.t * glm::length(d) < kSelfDistance * s.radius) ++o.self;

@@ -90,17 +90,17 @@ struct TraceResult {
 
 TraceResult traceOne(RTCScene scene, const RayD& ray, bool floatRays) {
   TraceResult r;
-  RTCRayHit rh = makeRayHit(ray);
+  RTCRayHit rh = makeRayHit(ray, scene);
   if (floatRays) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect1(scene, &context, &rh);
     r.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    r.t = rh.ray.tfar;
+    r.t = fromFloatParameter(ray, rh.ray.tfar, scene);
   } else {
     HitD hit;
     IntersectContext context;
-    initIntersectContext(&context, &ray, &hit);
+    initIntersectContext(&context, &ray, &hit, scene);
     rtcIntersect1(scene, &context.base, &rh);
     r.hit = hit.hit;
     r.t = hit.t;

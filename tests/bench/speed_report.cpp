@@ -246,8 +246,8 @@ std::vector<ShadowRay> algrayShadows(RTCScene scene, const View& v) {
     ray.tfar = INFINITY;
     HitD hit;
     IntersectContext context;
-    initIntersectContext(&context, &ray, &hit);
-    RTCRayHit rh = makeRayHit(ray);
+    initIntersectContext(&context, &ray, &hit, scene);
+    RTCRayHit rh = makeRayHit(ray, scene);
     rtcIntersect1(scene, &context.base, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || !hit.hit) continue;
     const glm::vec3 p(ray.org + hit.t * ray.dir);

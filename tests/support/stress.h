@@ -50,18 +50,18 @@ class OneSurface {
   }
   // The plain float path (no double channel): the float hit's t along `ray`.
   std::optional<double> intersectFloat(const RayD& ray, const std::string& what = "") {
-    RTCRayHit rh = makeRayHit(ray);
+    RTCRayHit rh = makeRayHit(ray, scene_);
     rh = intersect1(scene_, rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     EXPECT_TRUE(std::isfinite(rh.ray.tfar) && std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) << what;
-    return fromFloatParameter(ray, rh.ray.tfar);
+    return fromFloatParameter(ray, rh.ray.tfar, scene_);
   }
   // Occlusion through the double channel.
   bool occluded(const RayD& ray) {
     HitD hit;
     IntersectContext context;
-    initIntersectContext(&context, &ray, &hit);
-    RTCRayHit rh = makeRayHit(ray);
+    initIntersectContext(&context, &ray, &hit, scene_);
+    RTCRayHit rh = makeRayHit(ray, scene_);
     const float before = rh.ray.tfar;  // -inf already means "occluded" to Embree
     rtcOccluded1(scene_, &context.base, &rh.ray);
     return before != -std::numeric_limits<float>::infinity() && rh.ray.tfar == -std::numeric_limits<float>::infinity();
