@@ -16,7 +16,9 @@
 // coefficient carries a running error bound gamma_k * M (Higham ch. 3), and after each
 // operation a coefficient with |c| <= 2 gamma_k M is set to exactly 0. So
 // (x+0.1)^2 - x^2 - 0.2*x - 0.01 is the zero polynomial while (x+1e-8)^3 - x^3 keeps its
-// three small coefficients.
+// three small coefficients. A folded constant whose bound swallows a value that is not
+// rounding junk of a zero (tan at a pole within rounding, a power whose rounding error
+// exceeds its value) is a ParseError at the call or the '^', never a silent 0.
 #include "algray/polynomial.h"
 
 #include <map>

@@ -85,6 +85,15 @@ class Parser {
     fail(at, "the value is not finite (" + formatNumber(v.value) + ")");
   }
 
+  // A power of constants whose bound swallowed its non-zero value (tracked_value.h, fold
+  // rule): reported rather than pruned to a silent 0.
+  void checkFold(detail::Fold fold, const TrackedValue& base, const TrackedValue& exponent, const Token& caret) const {
+    if (fold != detail::Fold::undetermined) return;
+    fail(caret, "power too large for the base's accuracy: " + formatNumber(base.value) + "^" +
+                    formatNumber(exponent.value) +
+                    " has no correct digit (the rounding error of its operands is amplified beyond its value)");
+  }
+
   void checkDegree(long long degree, const Token& at) const {
     if (degree > maxDegree_)
       fail(at, "degree " + std::to_string(degree) + " exceeds the limit " + std::to_string(maxDegree_));
@@ -166,10 +175,11 @@ class Parser {
     const double e = exponent.value;
     TrackedValue result;
     if (!base.hasVariables) {
-      result = detail::constantPower(base, exponent);
+      const detail::Fold fold = detail::constantPower(base, exponent, result);
       if (std::isnan(result.value) && std::isfinite(base.value) && std::isfinite(e))
         fail(caret, "power of a negative number to a non-integer exponent is not real");
       if (std::isinf(result.value) && base.value == 0.0) fail(caret, "division by zero (zero to a negative power)");
+      checkFold(fold, base, exponent, caret);
     } else {
       if (!(e >= 0.0) || e != std::floor(e))
         fail(exponentStart, "exponent must be a non-negative integer (it is " + formatNumber(e) +
@@ -177,7 +187,9 @@ class Parser {
       const int degree = base.degree();
       if (degree <= 0) {
         // x - x + 2 and the like: a polynomial that reduced to a constant.
-        result = detail::promoted(detail::constantPower(base.asConstant(), exponent));
+        const TrackedValue constantBase = base.asConstant();
+        checkFold(detail::constantPower(constantBase, exponent, result), constantBase, exponent, caret);
+        result = detail::promoted(result);
       } else {
         if (e * degree > maxDegree_)
           fail(caret, e * degree < 1e6 ? "degree " + std::to_string(static_cast<long long>(e) * degree) +
@@ -269,12 +281,20 @@ class Parser {
     if (argument.hasVariables)
       fail(t, std::string(name) + "() of an expression in x, y, z is not a polynomial");
     TrackedValue result;
-    detail::applyFunction(name, argument, result);
+    const detail::Fold fold = detail::applyFunction(name, argument, result);
     if (!std::isfinite(result.value) || !std::isfinite(result.magnitude)) {
       const std::string value = formatNumber(argument.value);
       if ((name == "sqrt" && argument.value < 0.0) || ((name == "log" || name == "ln") && argument.value <= 0.0))
         fail(t, std::string(name) + "(" + value + ") is not a finite real number");
       fail(t, "the value of " + std::string(name) + "(" + value + ") is not finite");
+    }
+    if (fold == detail::Fold::undetermined) {
+      // The fold rule (tracked_value.h): the value's bound is not rounding junk of a zero.
+      const std::string call = std::string(name) + "(" + formatNumber(argument.value) + ")";
+      if (name == "tan")
+        fail(t, call + " is at a pole within rounding: its value " + formatNumber(result.value) +
+                    " has no correct digit");
+      fail(t, call + " has no correct digit: the argument's rounding error is too large for " + std::string(name));
     }
     return result;
   }
