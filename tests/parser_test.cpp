@@ -304,12 +304,39 @@ TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
 }
 
 TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
+  // A bad parameter is a ParameterError naming it (not a ParseError at a column of the
+  // equation), whether or not the equation uses it.
+  struct BadParameter {
+    const char* name;
+    double value;
+    const char* equation;
+    const char* message;
+  };
+  const BadParameter bad[] = {
+      {"a", std::nan(""), "z + a", "is not finite"}, {"b", INFINITY, "z*b", "is not finite"},
+      {"b", -INFINITY, "z", "is not finite"},       {"x", 2.0, "c*x", "clashes with the built-in name 'x'"},
+      {"z", 2.0, "x + y", "clashes"},               {"pi", 3.0, "x", "clashes"},
+      {"e", 3.0, "e*x", "clashes"},                 {"sqrt", 3.0, "x", "clashes"},
+      {"ln", 3.0, "x", "clashes"},
+  };
+  for (const BadParameter& b : bad) {
+    ParseOptions o;
+    o.parameters = {{"c", 1.0}, {b.name, b.value}};
+    try {
+      parsePolynomial(b.equation, o);
+      ADD_FAILURE() << "accepted parameter " << b.name;
+    } catch (const ParameterError& e) {
+      EXPECT_EQ(e.name(), b.name);
+      EXPECT_NE(e.message().find(b.message), std::string::npos) << e.message();
+      EXPECT_EQ(std::string(e.what()), "parameter '" + std::string(b.name) + "': " + e.message());
+    } catch (const ParseError& e) {
+      ADD_FAILURE() << b.name << " reported in the equation: " << e.what();
+    }
+  }
   ParseOptions o;
-  o.parameters = {{"a", std::nan("")}, {"b", INFINITY}, {"c", 1.0}, {"x", 2.0}};
-  expectRejected({"z + a", 5, "parameter 'a' is not finite"}, o);
-  expectRejected({"z*b", 3, "parameter 'b' is not finite"}, o);
-  expectRejected({"z + d", 5, "unknown name 'd' (parameters: a b c x)"}, o);
-  expectRejected({"c*x", 3, "clashes with the built-in name 'x'"}, o);
+  o.parameters = {{"a", 0.5}, {"c", 1.0}, {"X", 2.0}, {"pi2", 3.0}};
+  expectRejected({"z + d", 5, "unknown name 'd' (parameters: X a c pi2)"}, o);
+  EXPECT_EQ(parsePolynomial("c*x + X*pi2*y", o), parsePolynomial("x + 6*y"));
   ParseOptions low;
   low.maxDegree = 4;
   expectRejected({"x^5", 2, "degree 5 exceeds the limit 4"}, low);

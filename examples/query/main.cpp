@@ -125,6 +125,8 @@ int run(int argc, char** argv) {
   SurfaceDesc desc;
   try {
     desc.polynomial = parsePolynomial(equation, parseOptions);
+  } catch (const ParameterError& e) {
+    throw UsageError("--param " + e.name() + ": " + e.message());
   } catch (const ParseError& e) {
     throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() + "\n  " + equation +
                      "\n  " + std::string(std::max(0, e.column() - 1), ' ') + "^");

@@ -26,6 +26,9 @@ namespace algray {
 ParseError::ParseError(int column, const std::string& message)
     : Error("column " + std::to_string(column) + ": " + message), column_(column), message_(message) {}
 
+ParameterError::ParameterError(const std::string& name, const std::string& message)
+    : Error("parameter '" + name + "': " + message), name_(name), message_(message) {}
+
 namespace {
 
 using detail::Token;
@@ -244,18 +247,13 @@ class Parser {
 
   TrackedValue parseName(const Token& t) {
     const std::string_view name = spelling(t);
+    // Parameters are checked up front (checkParameters): none shadows a built-in.
     const auto parameter = options_.parameters.find(name);
-    const bool reserved = name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" ||
-                          detail::isFunctionName(name);
-    if (reserved && parameter != options_.parameters.end())
-      fail(t, "parameter '" + std::string(name) + "' clashes with the built-in name '" + std::string(name) + "'");
     if (name == "x" || name == "y" || name == "z") return TrackedValue::variable(name[0] - 'x');
     if (name == "pi") return TrackedValue::constant(std::numbers::pi);
     if (name == "e") return TrackedValue::constant(std::numbers::e);
     if (detail::isFunctionName(name)) return parseFunction(t, name);
     if (parameter != options_.parameters.end()) {
-      if (!std::isfinite(parameter->second))
-        fail(t, "parameter '" + std::string(name) + "' is not finite (" + formatNumber(parameter->second) + ")");
       return TrackedValue::constant(parameter->second);
     }
     std::string message = "unknown name '" + std::string(name) + "'";
@@ -308,9 +306,20 @@ class Parser {
   static constexpr int kMaxNesting = 256;  // far beyond real equations; small stack frames even under ASan
 };
 
+// Before the equation is read, so that a bad parameter is reported as such (by name)
+// whether or not the equation uses it, and never at a column of the equation.
+void checkParameters(const ParseOptions& options) {
+  for (const auto& [name, value] : options.parameters) {
+    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" || detail::isFunctionName(name))
+      throw ParameterError(name, "clashes with the built-in name '" + name + "'");
+    if (!std::isfinite(value)) throw ParameterError(name, "is not finite (" + formatNumber(value) + ")");
+  }
+}
+
 }  // namespace
 
 Polynomial parsePolynomial(std::string_view text, const ParseOptions& options) {
+  checkParameters(options);
   return Parser(text, options).parseEquation();
 }
 
