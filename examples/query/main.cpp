@@ -120,7 +120,11 @@ int run(int argc, char** argv) {
   for (const std::string& p : params) {
     const size_t eq = p.find('=');
     if (eq == std::string::npos || eq == 0) throw UsageError("--param '" + p + "': expected NAME=VALUE");
-    parseOptions.parameters[p.substr(0, eq)] = parseNumber(p.substr(eq + 1), "--param " + p.substr(0, eq));
+    const std::string name = p.substr(0, eq);
+    const double value = parseNumber(p.substr(eq + 1), "--param " + name);
+    // A second value would silently win: which one the user meant is not ours to guess.
+    if (!parseOptions.parameters.emplace(name, value).second)
+      throw UsageError("--param " + name + ": given more than once");
   }
   SurfaceDesc desc;
   try {
