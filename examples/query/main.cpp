@@ -101,7 +101,7 @@ int run(int argc, char** argv) {
   auto* sphereOpt = app.add_option("--clip-sphere", clipSphere, "clip sphere radius about the origin")->expected(1);
   auto* boxOpt = app.add_option("--clip-box", clipBox, "clip box X0,Y0,Z0,X1,Y1,Z1");
   sphereOpt->excludes(boxOpt);
-  app.add_option("--rays", raysPath, "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar")->required();
+  app.add_option("--rays", raysPath, "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar (direction non-zero, 0 <= tnear <= tfar, tfar may be inf)")->required();
   app.add_option("--out", outPath, "output CSV: hit,t,nx,ny,nz")->required();
   app.add_flag("--float", useFloat, "trace Embree's float rays instead of algray's double channel");
   app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));

@@ -81,6 +81,10 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
       v[c] = field.empty() ? 0.0 : std::strtod(field.c_str(), &end);
       if (field.empty() || end != field.c_str() + field.size())
         fail(name, lineNo, at + ": not a number: '" + field + "'");
+      // strtod reports a literal outside double's range with ERANGE: an overflow returns
+      // inf, an underflow 0 or a subnormal. Only the subnormal is the literal's value.
+      if (errno == ERANGE && std::isinf(v[c])) fail(name, lineNo, at + ": '" + field + "' overflows double");
+      if (errno == ERANGE && v[c] == 0.0) fail(name, lineNo, at + ": '" + field + "' underflows to 0 in double");
       if (std::isnan(v[c])) fail(name, lineNo, at + ": NaN is not a valid value");
       const bool isTfar = kColumns[c] == "tfar";
       if (std::isinf(v[c]) && !(isTfar && v[c] > 0)) fail(name, lineNo, at + ": must be finite: '" + field + "'");
@@ -90,7 +94,18 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
     ray.dir = {v[3], v[4], v[5]};
     ray.tnear = v[6];
     ray.tfar = v[7];
-    if (ray.tnear < 0.0) fail(name, lineNo, "column 'tnear': must be >= 0");
+    auto columns = [&](size_t first, size_t last) {  // "column 'dx' (field 4)", ...
+      std::string s;
+      for (size_t c = first; c <= last; ++c)
+        s += std::string(c > first ? ", " : "") + "column '" + std::string(kColumns[c]) + "' (field " +
+             std::to_string(where[c] + 1) + ")";
+      return s;
+    };
+    // A zero direction has no ray to trace; a negative or reversed interval none to search
+    // (tfar may be inf, tnear must be finite, both checked above).
+    if (ray.dir == glm::dvec3(0.0)) fail(name, lineNo, columns(3, 5) + ": the direction is zero");
+    if (ray.tnear < 0.0) fail(name, lineNo, columns(6, 6) + ": must be >= 0");
+    if (ray.tfar < ray.tnear) fail(name, lineNo, columns(7, 7) + ": must be >= tnear");
     rays.push_back(ray);
   }
   return rays;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -209,6 +210,17 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {sphere + common(write("d.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,nan,0,0,1,0,inf\n")), "d.csv:2: column 'oz'"},
       {sphere + common(write("e.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,inf,0,1,0,inf\n")), "e.csv:2: column 'dx'"},
       {sphere + common(write("f.csv", "")), "f.csv"},
+      // Degenerate rays: zero direction (also by underflow), reversed or negative interval.
+      {sphere + common(write("g.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,-5,0,0,0,0,inf\n")),
+       "g.csv:3: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the direction is zero"},
+      {sphere + common(write("h.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1e-400,0,inf\n")),
+       "h.csv:2: column 'dz' (field 6): '1e-400' underflows to 0"},
+      {sphere + common(write("i.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,-1\n")),
+       "i.csv:2: column 'tfar' (field 8): must be >= tnear"},
+      {sphere + common(write("j.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,3,2\n")),
+       "j.csv:2: column 'tfar' (field 8): must be >= tnear"},
+      {sphere + common(write("k.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,1e400\n")),
+       "k.csv:2: column 'tfar' (field 8): '1e400' overflows"},
       {"--surface \"x^2+y^2+*z\" --clip-sphere 2 " + common(good), "column 9"},
       {"--surface \"x^2+y^2+z^2-a\" --clip-sphere 2 " + common(good), "column"},
       {"--surface \"x^2-a\" --param a --clip-sphere 2 " + common(good), "--param"},
@@ -252,6 +264,40 @@ TEST(RayCsv, ReaderParsesAndRejects) {
   EXPECT_THROW(algray::query::readRays(dup, "dup.csv"), algray::query::CsvError);
   std::istringstream neg("ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,0,1,0,0,-1,1\n");
   EXPECT_THROW(algray::query::readRays(neg, "neg.csv"), algray::query::CsvError);
+}
+
+bool startsWith(const std::string& s, const std::string& prefix) { return s.starts_with(prefix); }
+
+std::string csvError(const std::string& text) {
+  std::istringstream in(text);
+  try {
+    algray::query::readRays(in, "t.csv");
+  } catch (const algray::query::CsvError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(RayCsv, RejectsDegenerateRaysAndOutOfRangeLiterals) {
+  const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,0,0,inf\n"),
+            "t.csv:2: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the direction is zero");
+  EXPECT_PRED2(startsWith, csvError(header + "0,0,-5,0,-0,0,0,inf\n"), "t.csv:2:");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1e-400,0,inf\n"), "t.csv:2: column 'dz' (field 6): '1e-400' underflows to 0 in double");
+  EXPECT_PRED2(startsWith, csvError(header + "0,0,-5,0,0,1,-1e-400,inf\n"), "t.csv:2: column 'tnear' (field 7): '-1e-400' un");
+  EXPECT_EQ(csvError(header + "1e999,0,-5,0,0,1,0,inf\n"), "t.csv:2: column 'ox' (field 1): '1e999' overflows double");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,1e400\n"), "t.csv:2: column 'tfar' (field 8): '1e400' overflows double");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,-1\n"), "t.csv:2: column 'tfar' (field 8): must be >= tnear");
+  EXPECT_EQ(csvError(header + "\n0,0,-5,0,0,1,2,1\n"), "t.csv:3: column 'tfar' (field 8): must be >= tnear");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,-1,1\n"), "t.csv:2: column 'tnear' (field 7): must be >= 0");
+  // Still accepted: a subnormal direction (strtod's ERANGE for a non-zero result), an
+  // empty interval tnear = tfar, tfar = inf.
+  std::istringstream ok(header + "0,0,-5,0,0,4.9e-324,0,inf\n0,0,-5,1,0,0,2,2\n");
+  const auto rays = algray::query::readRays(ok, "ok.csv");
+  ASSERT_EQ(rays.size(), 2u);
+  EXPECT_EQ(rays[0].dir.z, std::numeric_limits<double>::denorm_min());
+  EXPECT_EQ(rays[1].tnear, 2.0);
+  EXPECT_EQ(rays[1].tfar, 2.0);
 }
 
 }  // namespace
