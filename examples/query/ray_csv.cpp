@@ -1,5 +1,6 @@
 #include "ray_csv.h"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -47,6 +48,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
   size_t fieldCount = 0;
   while (std::getline(in, text)) {
     ++lineNo;
+    // A UTF-8 byte order mark, as Excel writes it, is not part of the first column name.
+    if (lineNo == 1 && text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
     if (trim(text).empty()) continue;
     const auto fields = split(text);
     fieldCount = fields.size();
@@ -58,7 +61,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
         }
     break;
   }
-  if (fieldCount == 0) fail(name, lineNo, "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
+  // Lines are 1-based: a file without a single line is reported at line 1.
+  if (fieldCount == 0) fail(name, std::max(lineNo, 1L), "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
   for (size_t c = 0; c < kColumns.size(); ++c)
     if (where[c] < 0)
       fail(name, lineNo, "the header has no column '" + std::string(kColumns[c]) +

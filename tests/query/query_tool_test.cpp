@@ -209,7 +209,7 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {sphere + common(write("c.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0\n")), "c.csv:2: expected 8 fields"},
       {sphere + common(write("d.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,nan,0,0,1,0,inf\n")), "d.csv:2: column 'oz'"},
       {sphere + common(write("e.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,inf,0,1,0,inf\n")), "e.csv:2: column 'dx'"},
-      {sphere + common(write("f.csv", "")), "f.csv"},
+      {sphere + common(write("f.csv", "")), "f.csv:1: empty file"},
       // Degenerate rays: zero direction (also by underflow), reversed or negative interval.
       {sphere + common(write("g.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,-5,0,0,0,0,inf\n")),
        "g.csv:3: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the direction is zero"},
@@ -249,8 +249,12 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
     EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << "\nstderr: " << r.err;
   }
-  // And the good file works.
+  // And the good file works, also behind a UTF-8 byte order mark (Excel's CSV UTF-8).
   EXPECT_EQ(run(sphere + common(good)).exitCode, 0);
+  const RunResult bom = run(sphere + common(write("bom.csv", "\xef\xbb\xbfox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n")));
+  EXPECT_EQ(bom.exitCode, 0) << bom.err;
+  ASSERT_EQ(bom.rows.size(), 1u);
+  EXPECT_EQ(bom.rows[0][1], 4.0);  // the unit sphere from z = -5 along +z
 }
 
 TEST(RayCsv, ReaderParsesAndRejects) {
@@ -298,6 +302,20 @@ TEST(RayCsv, RejectsDegenerateRaysAndOutOfRangeLiterals) {
   EXPECT_EQ(rays[0].dir.z, std::numeric_limits<double>::denorm_min());
   EXPECT_EQ(rays[1].tnear, 2.0);
   EXPECT_EQ(rays[1].tfar, 2.0);
+}
+
+TEST(RayCsv, ByteOrderMarkAndEmptyFile) {
+  // Excel's "CSV UTF-8" starts with a byte order mark.
+  std::istringstream bom("\xef\xbb\xbfox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
+  const auto rays = algray::query::readRays(bom, "bom.csv");
+  ASSERT_EQ(rays.size(), 1u);
+  EXPECT_EQ(rays[0].org, glm::dvec3(0, 0, -5));
+  // Only at the start of the file: elsewhere it is part of a field.
+  EXPECT_PRED2(startsWith, csvError("ox,oy,oz,dx,dy,dz,tnear,tfar\n\xef\xbb\xbf" "0,0,-5,0,0,1,0,inf\n"),
+            "t.csv:2: column 'ox' (field 1): not a");
+  EXPECT_EQ(csvError(""), "t.csv:1: empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
+  EXPECT_PRED2(startsWith, csvError("\xef\xbb\xbf"), "t.csv:1: empty file:");
+  EXPECT_PRED2(startsWith, csvError("\n\n"), "t.csv:2: empty file:");
 }
 
 }  // namespace
