@@ -101,6 +101,10 @@ TEST(Jsurf, EquationErrorsPointIntoTheFile) {
   const JsurfFile g = JsurfFile::parse("surface_parameter_a=abc\nsurface_equation=x+a\n", "g.jsurf");
   EXPECT_NE(expectError([&] { g.polynomial(); }).find("g.jsurf:1: surface_parameter_a: 'abc' is not a finite number"),
             std::string::npos);
+  // A parameter named after a built-in is reported at its own line, not in the equation.
+  const JsurfFile h = JsurfFile::parse("surface_equation=x^2+y^2-1\n\nsurface_parameter_x=1\n", "h.jsurf");
+  EXPECT_NE(expectError([&] { h.polynomial(); }).find("h.jsurf:3: surface_parameter_x: clashes with the built-in name 'x'"),
+            std::string::npos);
 }
 
 TEST(Jsurf, ParametersFeedTheEquation) {

@@ -274,13 +274,69 @@ TEST(Parser, RejectsWithColumnAndMessage) {
   for (const Rejection& r : cases) expectRejected(r);
 }
 
+TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
+  // A function at a pole or a power whose rounding error exceeds its value is reported
+  // at the call or the '^' instead of being pruned to 0 like rounding junk.
+  const Rejection cases[] = {
+      {"x - tan(pi/2)", 5, "tan(1.5707963267948966) is at a pole within rounding"},
+      {"x*tan(pi/2)+y", 3, "at a pole within rounding"},
+      {"tan(pi/2)*x^2+y^2+z^2-1", 1, "at a pole within rounding"},
+      {"tan(-pi/2)*x", 1, "at a pole within rounding"},
+      {"y + tan(3*pi/2)*x", 5, "at a pole within rounding"},
+      {"1.0000000000000002^1e16*x", 19, "power too large for the base's accuracy"},
+      {"y + (x-x+1.0000000000000002)^1e16*x", 29, "power too large for the base's accuracy"},
+      {"sin(1e17)*x + y", 1, "sin(1e+17) has no correct digit"},
+  };
+  for (const Rejection& r : cases) expectRejected(r);
+  // Near those limits the values are kept, and agree with references computed without the
+  // parser: the libm tangent, and (1 + 2^-52)^1e15 = exp(1e15 log1p(2^-52)).
+  EXPECT_EQ(parsePolynomial("tan(1.5707963)*x").coeff(1, 0, 0), std::tan(1.5707963));
+  EXPECT_NEAR(parsePolynomial("1.0000000000000002^1e15*x").coeff(1, 0, 0),
+              std::exp(1e15 * std::log1p(0x1p-52)), 1e-6);
+  // Exact cancellations of functions at their zeros stay exact zeros (sin(k pi), cos at
+  // odd multiples of pi/2, tan(k pi), log(1 + u)).
+  for (const char* zero : {"sin(pi)*x", "cos(pi/2)*x", "x + cos(3*pi/2) - x", "sin(2*pi)*x + sin(-pi)",
+                           "tan(pi)*x", "tan(-2*pi)", "log(1.0000000000000002)*x", "ln(0.9999999999999999)*y"})
+    EXPECT_TRUE(parsePolynomial(zero).isZero()) << zero;
+  EXPECT_EQ(parsePolynomial("sin(pi)*x + y"), Polynomial::variable(1));
+  EXPECT_TRUE(parsePolynomial("x - x").isZero());
+  EXPECT_TRUE(parsePolynomial("(x+1)^2 - x^2 - 2*x - 1").isZero());
+}
+
 TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
+  // A bad parameter is a ParameterError naming it (not a ParseError at a column of the
+  // equation), whether or not the equation uses it.
+  struct BadParameter {
+    const char* name;
+    double value;
+    const char* equation;
+    const char* message;
+  };
+  const BadParameter bad[] = {
+      {"a", std::nan(""), "z + a", "is not finite"}, {"b", INFINITY, "z*b", "is not finite"},
+      {"b", -INFINITY, "z", "is not finite"},       {"x", 2.0, "c*x", "clashes with the built-in name 'x'"},
+      {"z", 2.0, "x + y", "clashes"},               {"pi", 3.0, "x", "clashes"},
+      {"e", 3.0, "e*x", "clashes"},                 {"sqrt", 3.0, "x", "clashes"},
+      {"ln", 3.0, "x", "clashes"},
+  };
+  for (const BadParameter& b : bad) {
+    ParseOptions o;
+    o.parameters = {{"c", 1.0}, {b.name, b.value}};
+    try {
+      parsePolynomial(b.equation, o);
+      ADD_FAILURE() << "accepted parameter " << b.name;
+    } catch (const ParameterError& e) {
+      EXPECT_EQ(e.name(), b.name);
+      EXPECT_NE(e.message().find(b.message), std::string::npos) << e.message();
+      EXPECT_EQ(std::string(e.what()), "parameter '" + std::string(b.name) + "': " + e.message());
+    } catch (const ParseError& e) {
+      ADD_FAILURE() << b.name << " reported in the equation: " << e.what();
+    }
+  }
   ParseOptions o;
-  o.parameters = {{"a", std::nan("")}, {"b", INFINITY}, {"c", 1.0}, {"x", 2.0}};
-  expectRejected({"z + a", 5, "parameter 'a' is not finite"}, o);
-  expectRejected({"z*b", 3, "parameter 'b' is not finite"}, o);
-  expectRejected({"z + d", 5, "unknown name 'd' (parameters: a b c x)"}, o);
-  expectRejected({"c*x", 3, "clashes with the built-in name 'x'"}, o);
+  o.parameters = {{"a", 0.5}, {"c", 1.0}, {"X", 2.0}, {"pi2", 3.0}};
+  expectRejected({"z + d", 5, "unknown name 'd' (parameters: X a c pi2)"}, o);
+  EXPECT_EQ(parsePolynomial("c*x + X*pi2*y", o), parsePolynomial("x + 6*y"));
   ParseOptions low;
   low.maxDegree = 4;
   expectRejected({"x^5", 2, "degree 5 exceeds the limit 4"}, low);

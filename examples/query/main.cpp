@@ -101,7 +101,7 @@ int run(int argc, char** argv) {
   auto* sphereOpt = app.add_option("--clip-sphere", clipSphere, "clip sphere radius about the origin")->expected(1);
   auto* boxOpt = app.add_option("--clip-box", clipBox, "clip box X0,Y0,Z0,X1,Y1,Z1");
   sphereOpt->excludes(boxOpt);
-  app.add_option("--rays", raysPath, "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar")->required();
+  app.add_option("--rays", raysPath, "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar (direction non-zero, 0 <= tnear <= tfar, tfar may be inf)")->required();
   app.add_option("--out", outPath, "output CSV: hit,t,nx,ny,nz")->required();
   app.add_flag("--float", useFloat, "trace Embree's float rays instead of algray's double channel");
   app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
@@ -120,11 +120,17 @@ int run(int argc, char** argv) {
   for (const std::string& p : params) {
     const size_t eq = p.find('=');
     if (eq == std::string::npos || eq == 0) throw UsageError("--param '" + p + "': expected NAME=VALUE");
-    parseOptions.parameters[p.substr(0, eq)] = parseNumber(p.substr(eq + 1), "--param " + p.substr(0, eq));
+    const std::string name = p.substr(0, eq);
+    const double value = parseNumber(p.substr(eq + 1), "--param " + name);
+    // A second value would silently win: which one the user meant is not ours to guess.
+    if (!parseOptions.parameters.emplace(name, value).second)
+      throw UsageError("--param " + name + ": given more than once");
   }
   SurfaceDesc desc;
   try {
     desc.polynomial = parsePolynomial(equation, parseOptions);
+  } catch (const ParameterError& e) {
+    throw UsageError("--param " + e.name() + ": " + e.message());
   } catch (const ParseError& e) {
     throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() + "\n  " + equation +
                      "\n  " + std::string(std::max(0, e.column() - 1), ' ') + "^");

@@ -1,5 +1,6 @@
 #include "ray_csv.h"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -47,6 +48,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
   size_t fieldCount = 0;
   while (std::getline(in, text)) {
     ++lineNo;
+    // A UTF-8 byte order mark, as Excel writes it, is not part of the first column name.
+    if (lineNo == 1 && text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
     if (trim(text).empty()) continue;
     const auto fields = split(text);
     fieldCount = fields.size();
@@ -58,7 +61,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
         }
     break;
   }
-  if (fieldCount == 0) fail(name, lineNo, "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
+  // Lines are 1-based: a file without a single line is reported at line 1.
+  if (fieldCount == 0) fail(name, std::max(lineNo, 1L), "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
   for (size_t c = 0; c < kColumns.size(); ++c)
     if (where[c] < 0)
       fail(name, lineNo, "the header has no column '" + std::string(kColumns[c]) +
@@ -81,6 +85,10 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
       v[c] = field.empty() ? 0.0 : std::strtod(field.c_str(), &end);
       if (field.empty() || end != field.c_str() + field.size())
         fail(name, lineNo, at + ": not a number: '" + field + "'");
+      // strtod reports a literal outside double's range with ERANGE: an overflow returns
+      // inf, an underflow 0 or a subnormal. Only the subnormal is the literal's value.
+      if (errno == ERANGE && std::isinf(v[c])) fail(name, lineNo, at + ": '" + field + "' overflows double");
+      if (errno == ERANGE && v[c] == 0.0) fail(name, lineNo, at + ": '" + field + "' underflows to 0 in double");
       if (std::isnan(v[c])) fail(name, lineNo, at + ": NaN is not a valid value");
       const bool isTfar = kColumns[c] == "tfar";
       if (std::isinf(v[c]) && !(isTfar && v[c] > 0)) fail(name, lineNo, at + ": must be finite: '" + field + "'");
@@ -90,7 +98,18 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
     ray.dir = {v[3], v[4], v[5]};
     ray.tnear = v[6];
     ray.tfar = v[7];
-    if (ray.tnear < 0.0) fail(name, lineNo, "column 'tnear': must be >= 0");
+    auto columns = [&](size_t first, size_t last) {  // "column 'dx' (field 4)", ...
+      std::string s;
+      for (size_t c = first; c <= last; ++c)
+        s += std::string(c > first ? ", " : "") + "column '" + std::string(kColumns[c]) + "' (field " +
+             std::to_string(where[c] + 1) + ")";
+      return s;
+    };
+    // A zero direction has no ray to trace; a negative or reversed interval none to search
+    // (tfar may be inf, tnear must be finite, both checked above).
+    if (ray.dir == glm::dvec3(0.0)) fail(name, lineNo, columns(3, 5) + ": the direction is zero");
+    if (ray.tnear < 0.0) fail(name, lineNo, columns(6, 6) + ": must be >= 0");
+    if (ray.tfar < ray.tnear) fail(name, lineNo, columns(7, 7) + ": must be >= tnear");
     rays.push_back(ray);
   }
   return rays;

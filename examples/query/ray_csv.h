@@ -1,8 +1,9 @@
 #pragma once
 // Ray and hit tables of algray-query as CSV.
 //   rays: header naming ox,oy,oz,dx,dy,dz,tnear,tfar in any order (other columns are
-//         ignored), then one ray per line; numbers as strtod reads them ("inf" allowed
-//         for tfar only).
+//         ignored), then one ray per line; numbers as strtod reads them, within double's
+//         range; a non-zero direction and 0 <= tnear <= tfar ("inf" allowed for tfar
+//         only). A leading UTF-8 byte order mark is skipped.
 //   hits: hit,t,nx,ny,nz, one row per ray in input order; zeros on a miss.
 #include "algray/embree.h"
 

@@ -16,7 +16,9 @@
 // coefficient carries a running error bound gamma_k * M (Higham ch. 3), and after each
 // operation a coefficient with |c| <= 2 gamma_k M is set to exactly 0. So
 // (x+0.1)^2 - x^2 - 0.2*x - 0.01 is the zero polynomial while (x+1e-8)^3 - x^3 keeps its
-// three small coefficients.
+// three small coefficients. A folded constant whose bound swallows a value that is not
+// rounding junk of a zero (tan at a pole within rounding, a power whose rounding error
+// exceeds its value) is a ParseError at the call or the '^', never a silent 0.
 #include "algray/polynomial.h"
 
 #include <map>
@@ -37,13 +39,30 @@ class ParseError : public Error {
   std::string message_;
 };
 
+// A rejected entry of ParseOptions::parameters: a name that clashes with a built-in (x, y,
+// z, pi, e, a function) or a value that is not finite. It is about the parameter, not a
+// place in the equation, so it names the parameter instead of a column, and callers can
+// report it where the parameter came from (an option, a JSON key, a file line). Every
+// parameter is checked before the equation is read, used or not.
+class ParameterError : public Error {
+ public:
+  ParameterError(const std::string& name, const std::string& message);
+  const std::string& name() const { return name_; }
+  const std::string& message() const { return message_; }  // without the name; what() has both
+
+ private:
+  std::string name_;
+  std::string message_;
+};
+
 struct ParseOptions {
   std::map<std::string, double, std::less<>> parameters;  // named constants: a, b, ...
   int maxDegree = kMaxDegree;  // clamped to [0, kMaxDegree]
 };
 
-// Parses "lhs = rhs" (meaning lhs - rhs) or a single expression. Throws ParseError with
-// the 1-based column (in code points) of the offending character; what() is
+// Parses "lhs = rhs" (meaning lhs - rhs) or a single expression. Throws ParameterError
+// for a bad parameter (what() is "parameter 'NAME': message"), else ParseError with the
+// 1-based column (in code points) of the offending character; what() is
 // "column N: message". Never crashes or hangs on any input (nesting depth is bounded).
 Polynomial parsePolynomial(std::string_view text, const ParseOptions& options = {});
 

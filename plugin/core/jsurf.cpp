@@ -208,6 +208,11 @@ Polynomial JsurfFile::polynomial(int maxDegree) const {
   options.maxDegree = maxDegree;
   try {
     return parsePolynomial(it->second.value, options);
+  } catch (const ParameterError& e) {
+    // At the line of the parameter's own key, not in the equation.
+    const std::string key = "surface_parameter_" + e.name();
+    const auto p = entries_.find(key);
+    throw Error((p != entries_.end() ? where(p->second) : name_) + ": " + key + ": " + e.message());
   } catch (const ParseError& e) {
     throw Error(where(it->second, e.column()) + ": " + e.message());
   }

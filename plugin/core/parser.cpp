@@ -26,6 +26,9 @@ namespace algray {
 ParseError::ParseError(int column, const std::string& message)
     : Error("column " + std::to_string(column) + ": " + message), column_(column), message_(message) {}
 
+ParameterError::ParameterError(const std::string& name, const std::string& message)
+    : Error("parameter '" + name + "': " + message), name_(name), message_(message) {}
+
 namespace {
 
 using detail::Token;
@@ -83,6 +86,15 @@ class Parser {
     if (v.hasVariables)
       fail(at, "coefficient overflow: the expansion is not finite in double precision");
     fail(at, "the value is not finite (" + formatNumber(v.value) + ")");
+  }
+
+  // A power of constants whose bound swallowed its non-zero value (tracked_value.h, fold
+  // rule): reported rather than pruned to a silent 0.
+  void checkFold(detail::Fold fold, const TrackedValue& base, const TrackedValue& exponent, const Token& caret) const {
+    if (fold != detail::Fold::undetermined) return;
+    fail(caret, "power too large for the base's accuracy: " + formatNumber(base.value) + "^" +
+                    formatNumber(exponent.value) +
+                    " has no correct digit (the rounding error of its operands is amplified beyond its value)");
   }
 
   void checkDegree(long long degree, const Token& at) const {
@@ -166,10 +178,11 @@ class Parser {
     const double e = exponent.value;
     TrackedValue result;
     if (!base.hasVariables) {
-      result = detail::constantPower(base, exponent);
+      const detail::Fold fold = detail::constantPower(base, exponent, result);
       if (std::isnan(result.value) && std::isfinite(base.value) && std::isfinite(e))
         fail(caret, "power of a negative number to a non-integer exponent is not real");
       if (std::isinf(result.value) && base.value == 0.0) fail(caret, "division by zero (zero to a negative power)");
+      checkFold(fold, base, exponent, caret);
     } else {
       if (!(e >= 0.0) || e != std::floor(e))
         fail(exponentStart, "exponent must be a non-negative integer (it is " + formatNumber(e) +
@@ -177,7 +190,9 @@ class Parser {
       const int degree = base.degree();
       if (degree <= 0) {
         // x - x + 2 and the like: a polynomial that reduced to a constant.
-        result = detail::promoted(detail::constantPower(base.asConstant(), exponent));
+        const TrackedValue constantBase = base.asConstant();
+        checkFold(detail::constantPower(constantBase, exponent, result), constantBase, exponent, caret);
+        result = detail::promoted(result);
       } else {
         if (e * degree > maxDegree_)
           fail(caret, e * degree < 1e6 ? "degree " + std::to_string(static_cast<long long>(e) * degree) +
@@ -232,18 +247,13 @@ class Parser {
 
   TrackedValue parseName(const Token& t) {
     const std::string_view name = spelling(t);
+    // Parameters are checked up front (checkParameters): none shadows a built-in.
     const auto parameter = options_.parameters.find(name);
-    const bool reserved = name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" ||
-                          detail::isFunctionName(name);
-    if (reserved && parameter != options_.parameters.end())
-      fail(t, "parameter '" + std::string(name) + "' clashes with the built-in name '" + std::string(name) + "'");
     if (name == "x" || name == "y" || name == "z") return TrackedValue::variable(name[0] - 'x');
     if (name == "pi") return TrackedValue::constant(std::numbers::pi);
     if (name == "e") return TrackedValue::constant(std::numbers::e);
     if (detail::isFunctionName(name)) return parseFunction(t, name);
     if (parameter != options_.parameters.end()) {
-      if (!std::isfinite(parameter->second))
-        fail(t, "parameter '" + std::string(name) + "' is not finite (" + formatNumber(parameter->second) + ")");
       return TrackedValue::constant(parameter->second);
     }
     std::string message = "unknown name '" + std::string(name) + "'";
@@ -269,12 +279,20 @@ class Parser {
     if (argument.hasVariables)
       fail(t, std::string(name) + "() of an expression in x, y, z is not a polynomial");
     TrackedValue result;
-    detail::applyFunction(name, argument, result);
+    const detail::Fold fold = detail::applyFunction(name, argument, result);
     if (!std::isfinite(result.value) || !std::isfinite(result.magnitude)) {
       const std::string value = formatNumber(argument.value);
       if ((name == "sqrt" && argument.value < 0.0) || ((name == "log" || name == "ln") && argument.value <= 0.0))
         fail(t, std::string(name) + "(" + value + ") is not a finite real number");
       fail(t, "the value of " + std::string(name) + "(" + value + ") is not finite");
+    }
+    if (fold == detail::Fold::undetermined) {
+      // The fold rule (tracked_value.h): the value's bound is not rounding junk of a zero.
+      const std::string call = std::string(name) + "(" + formatNumber(argument.value) + ")";
+      if (name == "tan")
+        fail(t, call + " is at a pole within rounding: its value " + formatNumber(result.value) +
+                    " has no correct digit");
+      fail(t, call + " has no correct digit: the argument's rounding error is too large for " + std::string(name));
     }
     return result;
   }
@@ -288,9 +306,20 @@ class Parser {
   static constexpr int kMaxNesting = 256;  // far beyond real equations; small stack frames even under ASan
 };
 
+// Before the equation is read, so that a bad parameter is reported as such (by name)
+// whether or not the equation uses it, and never at a column of the equation.
+void checkParameters(const ParseOptions& options) {
+  for (const auto& [name, value] : options.parameters) {
+    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" || detail::isFunctionName(name))
+      throw ParameterError(name, "clashes with the built-in name '" + name + "'");
+    if (!std::isfinite(value)) throw ParameterError(name, "is not finite (" + formatNumber(value) + ")");
+  }
+}
+
 }  // namespace
 
 Polynomial parsePolynomial(std::string_view text, const ParseOptions& options) {
+  checkParameters(options);
   return Parser(text, options).parseEquation();
 }
 

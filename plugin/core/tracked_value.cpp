@@ -24,6 +24,16 @@ double conditionOf(const TrackedValue& c) {
   return c.value != 0.0 ? std::max(1.0, c.magnitude / std::abs(c.value)) : 1.0;
 }
 
+// The fold rule of tracked_value.h applied to r = f(c): `zeroLike` says that f has zeros
+// with unit slope and the slope at c is at most 2; `argumentError` is 2 gamma_k Mc.
+Fold pruneFold(TrackedValue& r, bool zeroLike, double argumentError) {
+  const double g2 = 2.0 * gammaOf(r.roundings);
+  const bool swallowed = r.value != 0.0 && std::isfinite(r.magnitude) && std::abs(r.value) <= g2 * r.magnitude;
+  if (swallowed && !(zeroLike && argumentError <= 1.0)) return Fold::undetermined;
+  prune(r);
+  return Fold::ok;
+}
+
 }  // namespace
 
 TrackedValue promoted(const TrackedValue& c) {
@@ -209,8 +219,10 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
   }
   if (!a.hasVariables || a.degree() <= 0) {
     // A constant (or a polynomial that reduced to one): exact repeated products would be
-    // slow for x^0*... ^1000000; pow is within one ulp.
-    TrackedValue c = constantPower(a.asConstant(), TrackedValue::constant(n, 0));
+    // slow for x^0*... ^1000000; pow is within one ulp. (The parser folds constant powers
+    // itself and reports Fold::undetermined; here the unpruned value is kept.)
+    TrackedValue c;
+    constantPower(a.asConstant(), TrackedValue::constant(n, 0), c);
     if (!a.hasVariables) return c;
     return promoted(c);
   }
@@ -260,8 +272,8 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
   return r;
 }
 
-TrackedValue constantPower(const TrackedValue& c, const TrackedValue& e) {
-  TrackedValue r;
+Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& r) {
+  r = TrackedValue{};
   r.value = std::pow(c.value, e.value);
   r.roundings = addCounts(std::max(c.roundings, e.roundings), 2);
   if (c.value == 0.0) {
@@ -270,14 +282,14 @@ TrackedValue constantPower(const TrackedValue& c, const TrackedValue& e) {
     else if (e.value >= 1.0) r.magnitude = std::pow(c.magnitude, e.value);
     else r.magnitude = std::pow(c.magnitude, e.value) * std::pow(gammaOf(c.roundings), e.value - 1.0);
     if (!std::isfinite(r.magnitude)) r.magnitude = std::abs(r.value);
-    return r;
+    return Fold::ok;
   }
   // d(c^e)/(c^e) = e dc/c + ln|c| de: relative error |e| gamma_kc rho_c + |ln c| gamma_ke Me.
   const double logc = std::abs(std::log(std::abs(c.value)));
   r.magnitude = std::abs(r.value) *
                 (std::max(1.0, std::abs(e.value)) * conditionOf(c) + logc * e.magnitude + 1.0);
-  prune(r);
-  return r;
+  // A power of a non-zero base has no zeros: a value within its bound has lost every digit.
+  return pruneFold(r, /*zeroLike=*/false, 0.0);
 }
 
 bool isFunctionName(std::string_view name) {
@@ -285,7 +297,7 @@ bool isFunctionName(std::string_view name) {
          name == "log" || name == "ln" || name == "abs";
 }
 
-bool applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r) {
+Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r) {
   const double x = c.value, mx = c.magnitude;
   r = TrackedValue{};
   r.roundings = addCounts(c.roundings, 2);
@@ -297,7 +309,7 @@ bool applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
       // most sqrt(gamma_k Mc) = gamma_k * sqrt(Mc / gamma_k).
       const double g = gammaOf(c.roundings);
       r.magnitude = g > 0.0 ? std::sqrt(mx / g) : 0.0;
-      return true;
+      return Fold::ok;
     }
     slope = 0.5 / r.value;
   } else if (name == "sin") {
@@ -319,13 +331,15 @@ bool applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
     r.value = std::abs(x);
     r.magnitude = mx;
     r.roundings = c.roundings;
-    return true;
+    return Fold::ok;
   } else {
-    return false;
+    return Fold::unknownFunction;
   }
   r.magnitude = std::abs(r.value) + slope * mx;
-  prune(r);
-  return true;
+  // sqrt's only zero is at 0 (handled above; elsewhere it is pruned like any function whose
+  // argument is tiny but real); exp has none.
+  const bool hasUnitSlopeZeros = name != "exp";
+  return pruneFold(r, hasUnitSlopeZeros && slope <= 2.0, 2.0 * gammaOf(c.roundings) * mx);
 }
 
 void prune(TrackedValue& v) {

@@ -82,11 +82,32 @@ TrackedValue divide(const TrackedValue& a, const TrackedValue& d);
 TrackedValue integerPower(const TrackedValue& a, int n);
 // The constant c as a polynomial of degree <= 0 with the same bound.
 TrackedValue promoted(const TrackedValue& c);
+// The outcome of folding a function or a power of constants (the fold rule below).
+enum class Fold {
+  ok,            // result holds the value, pruned as usual (it may be non-finite)
+  undetermined,  // the bound swallows a value that cannot be rounding junk of a zero:
+                 // result holds the unpruned value, the parser reports it
+  unknownFunction,
+};
+
+// Fold rule. The bound of a fold f(c) is first order: gamma_k (|f(c)| + |f'(c)| Mc). Pruning
+// it to 0 claims that the exact value is a zero of f blurred by rounding; that holds when
+// f has zeros with unit slope (sin, cos, tan and log all have |f'| = 1 at every zero) and
+// the bound is at the rounding level of the argument: |f'(c)| <= 2 (the slope of a
+// nearby zero, up to the factor 2 the pruning rule keeps for second-order terms) and
+// 2 gamma_k Mc <= 1 (the argument is known to within a radian, or a factor e for log, so
+// f is close to its tangent there). sin(pi), cos(pi/2), tan(pi) qualify. Otherwise the
+// large bound is not rounding junk but a sign that the value has no correct digit: a
+// pole within the argument's rounding (tan(pi/2): |f'| = tan^2 ~ 1e32), an argument whose
+// error spans several periods (sin(1e17)), or a function without zeros (exp, c^e with
+// c != 0: any perturbation of a non-zero base keeps the power non-zero) whose relative
+// error has reached 100 % (1.0000000000000002^1e16). Those are Fold::undetermined.
+
 // c^e for constants; may be non-finite (the parser checks).
-TrackedValue constantPower(const TrackedValue& c, const TrackedValue& e);
-// f(c) for f in sqrt, sin, cos, tan, exp, log (ln), abs; c constant. Returns false for an
-// unknown function name. The result may be non-finite (the parser checks).
-bool applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& result);
+Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& result);
+// f(c) for f in sqrt, sin, cos, tan, exp, log (ln), abs; c constant. The result may be
+// non-finite (the parser checks).
+Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& result);
 bool isFunctionName(std::string_view name);
 
 // The pruning rule above, in place.

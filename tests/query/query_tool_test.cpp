@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -208,11 +209,29 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {sphere + common(write("c.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0\n")), "c.csv:2: expected 8 fields"},
       {sphere + common(write("d.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,nan,0,0,1,0,inf\n")), "d.csv:2: column 'oz'"},
       {sphere + common(write("e.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,inf,0,1,0,inf\n")), "e.csv:2: column 'dx'"},
-      {sphere + common(write("f.csv", "")), "f.csv"},
+      {sphere + common(write("f.csv", "")), "f.csv:1: empty file"},
+      // Degenerate rays: zero direction (also by underflow), reversed or negative interval.
+      {sphere + common(write("g.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,-5,0,0,0,0,inf\n")),
+       "g.csv:3: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the direction is zero"},
+      {sphere + common(write("h.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1e-400,0,inf\n")),
+       "h.csv:2: column 'dz' (field 6): '1e-400' underflows to 0"},
+      {sphere + common(write("i.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,-1\n")),
+       "i.csv:2: column 'tfar' (field 8): must be >= tnear"},
+      {sphere + common(write("j.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,3,2\n")),
+       "j.csv:2: column 'tfar' (field 8): must be >= tnear"},
+      {sphere + common(write("k.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,1e400\n")),
+       "k.csv:2: column 'tfar' (field 8): '1e400' overflows"},
       {"--surface \"x^2+y^2+*z\" --clip-sphere 2 " + common(good), "column 9"},
       {"--surface \"x^2+y^2+z^2-a\" --clip-sphere 2 " + common(good), "column"},
       {"--surface \"x^2-a\" --param a --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2-a\" --param a=zz --clip-sphere 2 " + common(good), "--param"},
+      {"--surface \"x^2+y^2+z^2-1\" --param x=1 --clip-sphere 2 " + common(good),
+       "algray-query: --param x: clashes with the built-in name 'x'\n"},
+      {"--surface \"x^2+y^2+z^2-1\" --param sin=1 --clip-sphere 2 " + common(good), "--param sin: clashes"},
+      {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param a=4 --clip-sphere 2 " + common(good),
+       "--param a: given more than once"},
+      {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param b=2 --param a=1 --clip-sphere 2 " + common(good),
+       "--param a: given more than once"},
       {"--surface \"x^2+y^2+z^2-1\" " + common(good), "--clip-sphere"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere -1 " + common(good), "--clip-sphere"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-box 1,2,3 " + common(good), "--clip-box"},
@@ -230,8 +249,12 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
     EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << "\nstderr: " << r.err;
   }
-  // And the good file works.
+  // And the good file works, also behind a UTF-8 byte order mark (Excel's CSV UTF-8).
   EXPECT_EQ(run(sphere + common(good)).exitCode, 0);
+  const RunResult bom = run(sphere + common(write("bom.csv", "\xef\xbb\xbfox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n")));
+  EXPECT_EQ(bom.exitCode, 0) << bom.err;
+  ASSERT_EQ(bom.rows.size(), 1u);
+  EXPECT_EQ(bom.rows[0][1], 4.0);  // the unit sphere from z = -5 along +z
 }
 
 TEST(RayCsv, ReaderParsesAndRejects) {
@@ -245,6 +268,54 @@ TEST(RayCsv, ReaderParsesAndRejects) {
   EXPECT_THROW(algray::query::readRays(dup, "dup.csv"), algray::query::CsvError);
   std::istringstream neg("ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,0,1,0,0,-1,1\n");
   EXPECT_THROW(algray::query::readRays(neg, "neg.csv"), algray::query::CsvError);
+}
+
+bool startsWith(const std::string& s, const std::string& prefix) { return s.starts_with(prefix); }
+
+std::string csvError(const std::string& text) {
+  std::istringstream in(text);
+  try {
+    algray::query::readRays(in, "t.csv");
+  } catch (const algray::query::CsvError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(RayCsv, RejectsDegenerateRaysAndOutOfRangeLiterals) {
+  const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,0,0,inf\n"),
+            "t.csv:2: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the direction is zero");
+  EXPECT_PRED2(startsWith, csvError(header + "0,0,-5,0,-0,0,0,inf\n"), "t.csv:2:");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1e-400,0,inf\n"), "t.csv:2: column 'dz' (field 6): '1e-400' underflows to 0 in double");
+  EXPECT_PRED2(startsWith, csvError(header + "0,0,-5,0,0,1,-1e-400,inf\n"), "t.csv:2: column 'tnear' (field 7): '-1e-400' un");
+  EXPECT_EQ(csvError(header + "1e999,0,-5,0,0,1,0,inf\n"), "t.csv:2: column 'ox' (field 1): '1e999' overflows double");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,1e400\n"), "t.csv:2: column 'tfar' (field 8): '1e400' overflows double");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,-1\n"), "t.csv:2: column 'tfar' (field 8): must be >= tnear");
+  EXPECT_EQ(csvError(header + "\n0,0,-5,0,0,1,2,1\n"), "t.csv:3: column 'tfar' (field 8): must be >= tnear");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,-1,1\n"), "t.csv:2: column 'tnear' (field 7): must be >= 0");
+  // Still accepted: a subnormal direction (strtod's ERANGE for a non-zero result), an
+  // empty interval tnear = tfar, tfar = inf.
+  std::istringstream ok(header + "0,0,-5,0,0,4.9e-324,0,inf\n0,0,-5,1,0,0,2,2\n");
+  const auto rays = algray::query::readRays(ok, "ok.csv");
+  ASSERT_EQ(rays.size(), 2u);
+  EXPECT_EQ(rays[0].dir.z, std::numeric_limits<double>::denorm_min());
+  EXPECT_EQ(rays[1].tnear, 2.0);
+  EXPECT_EQ(rays[1].tfar, 2.0);
+}
+
+TEST(RayCsv, ByteOrderMarkAndEmptyFile) {
+  // Excel's "CSV UTF-8" starts with a byte order mark.
+  std::istringstream bom("\xef\xbb\xbfox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
+  const auto rays = algray::query::readRays(bom, "bom.csv");
+  ASSERT_EQ(rays.size(), 1u);
+  EXPECT_EQ(rays[0].org, glm::dvec3(0, 0, -5));
+  // Only at the start of the file: elsewhere it is part of a field.
+  EXPECT_PRED2(startsWith, csvError("ox,oy,oz,dx,dy,dz,tnear,tfar\n\xef\xbb\xbf" "0,0,-5,0,0,1,0,inf\n"),
+            "t.csv:2: column 'ox' (field 1): not a");
+  EXPECT_EQ(csvError(""), "t.csv:1: empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
+  EXPECT_PRED2(startsWith, csvError("\xef\xbb\xbf"), "t.csv:1: empty file:");
+  EXPECT_PRED2(startsWith, csvError("\n\n"), "t.csv:2: empty file:");
 }
 
 }  // namespace
