@@ -1,25 +1,34 @@
 #include "camera.h"
 
 #include "sampling.h"
+#include "value_checks.h"
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace algray::render {
 
 Camera::Camera(const CameraDesc& desc, int width, int height)
     : desc_(desc), width_(width), height_(height) {
-  glm::dvec3 f = desc.lookAt - desc.position;
-  double dist = glm::length(f);
-  if (!(dist > 0) || !std::isfinite(dist))
-    throw std::runtime_error("camera: position and look_at must differ and be finite");
-  forward_ = f / dist;
-  glm::dvec3 r = glm::cross(forward_, desc.up);
-  if (!(glm::length(r) > 1e-9 * glm::length(desc.up)))
+  // safeNormalize: glm::normalize of a difference below ~1e-154 or beyond ~1e154 gives
+  // NaN, which then looked like a bad up vector. The loaders report these with a location;
+  // this guards the other callers.
+  const glm::dvec3 f = desc.lookAt - desc.position;
+  const std::optional<glm::dvec3> forward = safeNormalize(f);
+  if (!forward) throw std::runtime_error("camera: position and look_at must differ and be finite");
+  forward_ = *forward;
+  const double dist = glm::length(f);
+  const std::optional<glm::dvec3> up = safeNormalize(desc.up);
+  if (!up) throw std::runtime_error("camera: up must be a finite non-zero vector");
+  const std::optional<glm::dvec3> r = safeNormalize(glm::cross(forward_, *up));
+  if (!r || !(glm::length(glm::cross(forward_, *up)) > 1e-9))
     throw std::runtime_error("camera: up must not be parallel to the view direction");
-  right_ = glm::normalize(r);
+  right_ = *r;
   upv_ = glm::cross(right_, forward_);
   double aspect = static_cast<double>(width) / height;
   if (desc.type == CameraDesc::Type::Perspective) {
@@ -30,7 +39,8 @@ Camera::Camera(const CameraDesc& desc, int width, int height)
     halfH_ = 0.5 * desc.height;
   }
   halfW_ = halfH_ * aspect;
-  focus_ = desc.focusDistance > 0 ? desc.focusDistance : dist;
+  // dist may overflow for far-apart points; the focus plane then is as far as a double goes.
+  focus_ = desc.focusDistance > 0 ? desc.focusDistance : std::min(dist, std::numeric_limits<double>::max());
 }
 
 CameraRay Camera::generateRay(glm::dvec2 film, glm::dvec2 lens) const {

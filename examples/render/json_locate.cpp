@@ -21,7 +21,8 @@ namespace {
 
 class Scanner {
  public:
-  Scanner(std::string_view text, std::map<std::string, size_t>& out) : s_(text), out_(out) {}
+  Scanner(std::string_view text, std::map<std::string, size_t>& out, std::vector<DuplicateKey>* duplicates)
+      : s_(text), out_(out), duplicates_(duplicates) {}
 
   void value(const std::string& pointer) {
     skipSpace();
@@ -32,13 +33,18 @@ class Scanner {
       ++i_;
       skipSpace();
       if (peek('}')) return void(++i_);
+      std::map<std::string, size_t> keys;  // key -> offset of its string, for duplicates
       while (i_ < s_.size()) {
         skipSpace();
+        const size_t keyStart = i_;
         std::string key = string();
+        const std::string child = pointer + "/" + jsonPointerToken(key);
+        if (auto [it, fresh] = keys.emplace(key, keyStart); !fresh && duplicates_)
+          duplicates_->push_back({child, key, it->second, keyStart});
         skipSpace();
         if (!peek(':')) return;
         ++i_;
-        value(pointer + "/" + escape(key));
+        value(child);
         skipSpace();
         if (peek(',')) {
           ++i_;
@@ -75,40 +81,118 @@ class Scanner {
   void skipSpace() {
     while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
   }
-  // A string token; escapes are kept only as far as keys need them (\" and \\).
+  // A string token, decoded as nlohmann decodes it (keys must compare equal to its keys).
   std::string string() {
     std::string r;
     if (!peek('"')) return r;
     ++i_;
     while (i_ < s_.size() && s_[i_] != '"') {
-      if (s_[i_] == '\\' && i_ + 1 < s_.size()) ++i_;
-      r += s_[i_++];
+      if (s_[i_] != '\\' || i_ + 1 >= s_.size()) {
+        r += s_[i_++];
+        continue;
+      }
+      const char e = s_[i_ + 1];
+      i_ += 2;
+      switch (e) {
+        case 'b': r += '\b'; break;
+        case 'f': r += '\f'; break;
+        case 'n': r += '\n'; break;
+        case 'r': r += '\r'; break;
+        case 't': r += '\t'; break;
+        case 'u': appendUtf8(r, codePoint()); break;
+        default: r += e;  // \" \\ \/
+      }
     }
     ++i_;
     return r;
   }
-  // RFC 6901: '~' -> "~0", '/' -> "~1".
-  static std::string escape(const std::string& key) {
-    std::string r;
-    for (char c : key) {
-      if (c == '~') r += "~0";
-      else if (c == '/') r += "~1";
-      else r += c;
+  // The XXXX of \uXXXX at i_ (a surrogate pair joined with the \uXXXX after it).
+  unsigned codePoint() {
+    auto hex4 = [&](unsigned& v) {
+      if (i_ + 4 > s_.size()) return false;
+      v = 0;
+      for (int k = 0; k < 4; ++k) {
+        const char c = s_[i_ + k];
+        const int d = std::isdigit(static_cast<unsigned char>(c)) ? c - '0'
+                      : std::isxdigit(static_cast<unsigned char>(c))
+                          ? std::tolower(static_cast<unsigned char>(c)) - 'a' + 10
+                          : -1;
+        if (d < 0) return false;
+        v = v * 16 + static_cast<unsigned>(d);
+      }
+      i_ += 4;
+      return true;
+    };
+    unsigned v = 0;
+    if (!hex4(v)) return 0xFFFD;
+    if (v >= 0xD800 && v < 0xDC00 && i_ + 6 <= s_.size() && s_[i_] == '\\' && s_[i_ + 1] == 'u') {
+      i_ += 2;
+      unsigned low = 0;
+      if (hex4(low) && low >= 0xDC00 && low < 0xE000) return 0x10000 + ((v - 0xD800) << 10) + (low - 0xDC00);
     }
-    return r;
+    return v;
+  }
+  static void appendUtf8(std::string& r, unsigned c) {
+    if (c < 0x80) {
+      r += static_cast<char>(c);
+    } else if (c < 0x800) {
+      r += static_cast<char>(0xC0 | (c >> 6));
+      r += static_cast<char>(0x80 | (c & 0x3F));
+    } else if (c < 0x10000) {
+      r += static_cast<char>(0xE0 | (c >> 12));
+      r += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+      r += static_cast<char>(0x80 | (c & 0x3F));
+    } else {
+      r += static_cast<char>(0xF0 | (c >> 18));
+      r += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+      r += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+      r += static_cast<char>(0x80 | (c & 0x3F));
+    }
   }
 
   std::string_view s_;
   std::map<std::string, size_t>& out_;
+  std::vector<DuplicateKey>* duplicates_;
   size_t i_ = 0;
 };
 
 }  // namespace
 
-std::map<std::string, size_t> locateJsonValues(std::string_view text) {
+std::map<std::string, size_t> locateJsonValues(std::string_view text, std::vector<DuplicateKey>* duplicates) {
   std::map<std::string, size_t> out;
-  Scanner(text, out).value("");
+  Scanner(text, out, duplicates).value("");
   return out;
+}
+
+std::string jsonPointerToken(std::string_view key) {
+  std::string r;
+  for (char c : key) {
+    if (c == '~') r += "~0";
+    else if (c == '/') r += "~1";
+    else r += c;
+  }
+  return r;
+}
+
+size_t locateNumberLiteral(std::string_view text, std::string_view literal) {
+  auto numberChar = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+';
+  };
+  for (size_t i = 0; i < text.size();) {
+    if (text[i] == '"') {  // skip the string, escapes included
+      for (++i; i < text.size() && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+      ++i;
+    } else if (numberChar(text[i])) {
+      size_t end = i;
+      while (end < text.size() && numberChar(text[end])) ++end;
+      if (text.substr(i, end - i) == literal) return i;
+      i = end;
+    } else {
+      ++i;
+    }
+  }
+  return std::string_view::npos;
 }
 
 }  // namespace algray::render

@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace algray::render {
 
@@ -17,8 +18,28 @@ struct TextLocation {
 // Byte offset -> line and column.
 TextLocation locateOffset(std::string_view text, size_t offset);
 
+// A key that occurs twice in one object (nlohmann keeps the last one silently).
+struct DuplicateKey {
+  std::string pointer;  // JSON pointer of the (second) value
+  std::string key;      // decoded
+  size_t first = 0;     // byte offsets of the two key strings
+  size_t second = 0;
+};
+
 // JSON pointer of every value -> byte offset of its first character. Only valid JSON
-// is expected (the scanner stops quietly at anything else).
-std::map<std::string, size_t> locateJsonValues(std::string_view text);
+// is expected (the scanner stops quietly at anything else). Keys are decoded (every
+// escape, \uXXXX included) and escaped with jsonPointerToken, as the loader builds its
+// pointers. With `duplicates`, keys repeated within an object are reported there.
+std::map<std::string, size_t> locateJsonValues(std::string_view text,
+                                               std::vector<DuplicateKey>* duplicates = nullptr);
+
+// One reference token of a JSON pointer (RFC 6901: '~' -> "~0", '/' -> "~1"). The loader
+// and the scanner must build pointers the same way, or a key with '/' or '~' has no
+// location.
+std::string jsonPointerToken(std::string_view key);
+
+// Byte offset of a number token spelled exactly `literal` outside strings, or npos: for
+// nlohmann's number overflow error, which quotes the literal but gives no position.
+size_t locateNumberLiteral(std::string_view text, std::string_view literal);
 
 }  // namespace algray::render

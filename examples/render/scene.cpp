@@ -1,6 +1,7 @@
 #include "scene.h"
 
 #include "sampling.h"
+#include "value_checks.h"
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -42,6 +43,19 @@ void deviceError(void* userPtr, RTCError code, const char* str) {
 std::string gEmbreeError;
 
 constexpr double kFloatEps = 0x1p-24;  // unit roundoff of float (Embree's ray precision)
+
+// Embree's ray.valid(): every component of the float origin and direction within
+// +-FLT_LARGE (1.844e18) and tnear, tfar not NaN; a ray outside it aborts the process on
+// an assertion inside rtcIntersect1/rtcOccluded1. The loaders keep scenes far inside this
+// range (value_checks.h); this is the safety net for whatever still gets here (a NaN
+// from a degenerate sample, a film corner of an extreme orthographic camera): such a ray
+// sees nothing.
+bool embreeAccepts(const RTCRay& ray) {
+  constexpr float kLarge = 1.8e18f;
+  for (float v : {ray.org_x, ray.org_y, ray.org_z, ray.dir_x, ray.dir_y, ray.dir_z})
+    if (!(std::abs(v) <= kLarge)) return false;
+  return !std::isnan(ray.tnear) && !std::isnan(ray.tfar);
+}
 
 }  // namespace
 
@@ -188,6 +202,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
   rh.ray.mask = 0xFFFFFFFFu;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  if (!embreeAccepts(rh.ray)) return std::nullopt;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   rtcIntersect1(scene_, &context, &rh);
@@ -257,6 +272,7 @@ bool Scene::occluded(const glm::dvec3& org, const glm::dvec3& dir, double tnear,
   ray.tnear = static_cast<float>(tnear);
   ray.tfar = static_cast<float>(tfar);
   ray.mask = 0xFFFFFFFFu;
+  if (!embreeAccepts(ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   rtcOccluded1(scene_, &context, &ray);
@@ -315,7 +331,11 @@ std::optional<LightSample> Scene::sampleLight(int index, const glm::dvec3& p, gl
     }
     case Light::Type::Directional: {
       const DirectionalLight& dl = desc_.directionalLights[light.index];
-      s.wi = glm::normalize(dl.direction);
+      // The loaders check that the direction normalises; safeNormalize also where a
+      // glm::normalize would overflow or underflow (components beyond 1e154 or below 1e-154).
+      const std::optional<glm::dvec3> wi = safeNormalize(dl.direction);
+      if (!wi) return std::nullopt;
+      s.wi = *wi;
       s.distance = std::numeric_limits<double>::infinity();
       s.radiance = dl.irradiance;
       s.pdf = select;

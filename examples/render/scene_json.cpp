@@ -1,6 +1,7 @@
 #include "scene_json.h"
 
 #include "json_locate.h"
+#include "value_checks.h"
 
 #include <algray/gallery.h>
 #include <algray/parser.h>
@@ -10,6 +11,7 @@
 
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -45,8 +47,31 @@ class Loader {
       auto colon = what.find(": ", what.find("parse error"));
       throw SceneError(name_, loc.line, loc.column,
                        colon == std::string::npos ? what : what.substr(colon + 2));
+    } catch (const json::exception& e) {
+      // Other parse failures carry no position: out_of_range.406 "number overflow parsing
+      // '1e400'" quotes the literal, which is then found in the text.
+      std::string what = e.what();
+      if (auto close = what.find("] "); what.rfind("[json.exception.", 0) == 0 && close != std::string::npos)
+        what = what.substr(close + 2);
+      size_t at = std::string::npos;
+      if (auto open = what.find('\''), end = what.rfind('\''); open != std::string::npos && end > open)
+        at = locateNumberLiteral(text_, std::string_view(what).substr(open + 1, end - open - 1));
+      if (at == std::string::npos) throw SceneError(name_, 0, 0, what);
+      TextLocation loc = locateOffset(text_, at);
+      throw SceneError(name_, loc.line, loc.column,
+                       what.find("overflow") != std::string::npos ? what + " (beyond the range of a double)" : what);
     }
-    offsets_ = locateJsonValues(text_);
+    std::vector<DuplicateKey> duplicates;
+    offsets_ = locateJsonValues(text_, &duplicates);
+    if (!duplicates.empty()) {
+      // nlohmann keeps the last of repeated keys without a word: a typo'd copy-paste would
+      // silently override the first value.
+      const DuplicateKey& d = duplicates.front();
+      TextLocation first = locateOffset(text_, d.first), second = locateOffset(text_, d.second);
+      throw SceneError(name_, second.line, second.column,
+                       "duplicate key '" + d.key + "' (first at line " + std::to_string(first.line) + ", column " +
+                           std::to_string(first.column) + ")");
+    }
     SceneDesc scene;
     scene.name = name_;
     if (!root_.is_object()) fail("", "a scene is a JSON object");
@@ -58,7 +83,7 @@ class Loader {
       const json& ms = root_["materials"];
       if (!ms.is_object()) fail("/materials", "materials is an object of named materials");
       for (auto it = ms.begin(); it != ms.end(); ++it)
-        named_[it.key()] = scene.addMaterial(readMaterial(it.value(), "/materials/" + it.key()));
+        named_[it.key()] = scene.addMaterial(readMaterial(it.value(), "/materials/" + jsonPointerToken(it.key())));
     }
     if (root_.contains("environment")) readEnvironment(root_["environment"], "/environment", scene);
     if (root_.contains("background")) {
@@ -88,10 +113,17 @@ class Loader {
     TextLocation loc = locateOffset(text_, it->second);
     throw SceneError(name_, loc.line, loc.column + extraColumns, message);
   }
+  // "file:line:column" of a value, for labels of items whose errors come later (Scene).
+  std::string where(const std::string& pointer) const {
+    auto it = offsets_.find(pointer);
+    if (it == offsets_.end()) return name_;
+    TextLocation loc = locateOffset(text_, it->second);
+    return name_ + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.column);
+  }
   void allowKeys(const json& j, const std::string& p, std::initializer_list<const char*> keys) const {
     std::set<std::string> allowed(keys.begin(), keys.end());
     for (auto it = j.begin(); it != j.end(); ++it)
-      if (!allowed.count(it.key())) fail(p + "/" + it.key(), "unknown key '" + it.key() + "'");
+      if (!allowed.count(it.key())) fail(p + "/" + jsonPointerToken(it.key()), "unknown key '" + it.key() + "'");
   }
   const json& object(const json& j, const std::string& p) const {
     if (!j.is_object()) fail(p, "expected an object");
@@ -130,7 +162,30 @@ class Loader {
   glm::dvec3 color(const json& j, const std::string& p) const {
     glm::dvec3 c = j.is_number() ? glm::dvec3(number(j, p)) : vec3(j, p);
     if (c.r < 0 || c.g < 0 || c.b < 0) fail(p, "colour components must not be negative");
+    // The image is float: a larger component would render as inf.
+    if (!isFloatColor(c)) fail(p, "colour components must be at most 3.4e38 (the largest float)");
     return c;
+  }
+  // A position-like value that rays are built from (value_checks.h): the offending
+  // component is named.
+  glm::dvec3 coordinate(const json& j, const std::string& p) const {
+    glm::dvec3 v = vec3(j, p);
+    for (int i = 0; i < 3; ++i)
+      if (!withinCoordinateRange(v[i])) fail(p + "/" + std::to_string(i), tooFar);
+    return v;
+  }
+  double length(const json& j, const std::string& p) const {
+    double v = positive(j, p);
+    if (!withinCoordinateRange(v)) fail(p, tooFar);
+    return v;
+  }
+  static constexpr const char* tooFar =
+      "magnitude beyond 1e17, outside the range Embree's float rays can trace (1.8e18): scale the scene down";
+  // A direction: normalised here, where a zero or non-finite one can still be reported.
+  glm::dvec3 direction(const json& j, const std::string& p) const {
+    std::optional<glm::dvec3> d = safeNormalize(vec3(j, p));
+    if (!d) fail(p, "direction must not be zero");
+    return *d;
   }
   std::string path(const json& j, const std::string& p) const {
     std::filesystem::path file = string(j, p);
@@ -177,21 +232,25 @@ class Loader {
       else if (v == "orthographic") c.type = CameraDesc::Type::Orthographic;
       else fail(p + "/type", "camera type must be \"perspective\" or \"orthographic\"");
     }
-    if (j.contains("position")) c.position = vec3(j["position"], p + "/position");
-    if (j.contains("look_at")) c.lookAt = vec3(j["look_at"], p + "/look_at");
-    if (j.contains("up")) c.up = vec3(j["up"], p + "/up");
+    if (j.contains("position")) c.position = coordinate(j["position"], p + "/position");
+    if (j.contains("look_at")) c.lookAt = coordinate(j["look_at"], p + "/look_at");
+    if (j.contains("up")) c.up = direction(j["up"], p + "/up");
     if (j.contains("fov")) {
       c.fovY = number(j["fov"], p + "/fov");
       if (!(c.fovY > 0 && c.fovY < 180)) fail(p + "/fov", "fov must be in (0, 180) degrees");
     }
-    if (j.contains("height")) c.height = positive(j["height"], p + "/height");
-    if (j.contains("aperture")) c.aperture = number(j["aperture"], p + "/aperture");
-    if (j.contains("focus_distance")) c.focusDistance = positive(j["focus_distance"], p + "/focus_distance");
-    if (c.aperture < 0) fail(p + "/aperture", "aperture must not be negative");
+    if (j.contains("height")) c.height = length(j["height"], p + "/height");
+    if (j.contains("aperture")) {
+      c.aperture = number(j["aperture"], p + "/aperture");
+      if (c.aperture < 0) fail(p + "/aperture", "aperture must not be negative");
+      if (!withinCoordinateRange(c.aperture)) fail(p + "/aperture", tooFar);
+    }
+    if (j.contains("focus_distance")) c.focusDistance = length(j["focus_distance"], p + "/focus_distance");
     if (c.position == c.lookAt) fail(p, "camera position and look_at coincide");
     // The camera's own test (camera.cpp), here so that the message has the file position.
-    const glm::dvec3 forward = glm::normalize(c.lookAt - c.position);
-    if (!(glm::length(glm::cross(forward, c.up)) > 1e-9 * glm::length(c.up)))
+    const std::optional<glm::dvec3> forward = safeNormalize(c.lookAt - c.position);
+    if (!forward) fail(p, "camera position and look_at are too close to give a view direction");
+    if (!(glm::length(glm::cross(*forward, c.up)) > 1e-9 * glm::length(c.up)))
       fail(p + (j.contains("up") ? "/up" : ""), "up must not be parallel to the view direction (position to look_at)");
   }
 
@@ -285,6 +344,7 @@ class Loader {
   ClipRegion readClip(const json& j, const std::string& p) const {
     object(j, p);
     allowKeys(j, p, {"sphere", "box"});
+    if (j.contains("sphere") && j.contains("box")) fail(p + "/box", "clip takes exactly one of sphere, box");
     if (j.contains("sphere")) {
       const json& s = object(j["sphere"], p + "/sphere");
       allowKeys(s, p + "/sphere", {"center", "radius"});
@@ -323,13 +383,13 @@ class Loader {
       item.polynomial = g->build();
       item.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
       hasClip = true;
-      item.label = name_ + ": gallery surface '" + name + "'";
+      item.label = where(p) + ": gallery surface '" + name + "'";
     } else {
       ParseOptions options;
       if (j.contains("parameters")) {
         const json& params = object(j["parameters"], p + "/parameters");
         for (auto it = params.begin(); it != params.end(); ++it)
-          options.parameters[it.key()] = number(it.value(), p + "/parameters/" + it.key());
+          options.parameters[it.key()] = number(it.value(), p + "/parameters/" + jsonPointerToken(it.key()));
       }
       std::string text = string(j["equation"], p + "/equation");
       try {
@@ -340,9 +400,10 @@ class Loader {
       } catch (const std::exception& e) {
         fail(p + "/equation", e.what());
       }
-      item.label = name_ + ": surface " + text;
+      item.label = where(p) + ": surface " + text;
     }
-    if (j.contains("name")) item.label = name_ + ": surface '" + string(j["name"], p + "/name") + "'";
+    // The label leads Scene's errors (the plugin refusing the surface) with this position.
+    if (j.contains("name")) item.label = where(p) + ": surface '" + string(j["name"], p + "/name") + "'";
     if (j.contains("clip")) {
       item.clip = readClip(j["clip"], p + "/clip");
       hasClip = true;
@@ -366,7 +427,7 @@ class Loader {
       } catch (const std::exception& e) {
         fail(p + "/obj", e.what());
       }
-      item.label = name_ + ": mesh " + file;
+      item.label = where(p) + ": mesh " + file;
     } else {
       std::string shape = string(j["shape"], p + "/shape");
       double size = j.contains("size") ? positive(j["size"], p + "/size") : 1.0;
@@ -382,9 +443,9 @@ class Loader {
       } else {
         fail(p + "/shape", "shape must be plane, box or icosphere");
       }
-      item.label = name_ + ": mesh " + shape;
+      item.label = where(p) + ": mesh " + shape;
     }
-    if (j.contains("name")) item.label = name_ + ": mesh '" + string(j["name"], p + "/name") + "'";
+    if (j.contains("name")) item.label = where(p) + ": mesh '" + string(j["name"], p + "/name") + "'";
     if (j.contains("transform")) item.transform = readTransform(j["transform"], p + "/transform");
     item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene) : defaultMaterial(scene);
     if (j.contains("back_material")) item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
@@ -398,13 +459,12 @@ class Loader {
     if (type == "point") {
       allowKeys(j, p, {"type", "position", "intensity"});
       if (!j.contains("position")) fail(p, "a point light needs \"position\"");
-      scene.pointLights.push_back({vec3(j["position"], p + "/position"),
+      scene.pointLights.push_back({coordinate(j["position"], p + "/position"),
                                    j.contains("intensity") ? color(j["intensity"], p + "/intensity") : glm::dvec3(1.0)});
     } else if (type == "directional") {
       allowKeys(j, p, {"type", "direction", "irradiance"});
       if (!j.contains("direction")) fail(p, "a directional light needs \"direction\" (towards the light)");
-      glm::dvec3 d = vec3(j["direction"], p + "/direction");
-      if (d == glm::dvec3(0.0)) fail(p + "/direction", "direction must not be zero");
+      glm::dvec3 d = direction(j["direction"], p + "/direction");
       scene.directionalLights.push_back({d, j.contains("irradiance") ? color(j["irradiance"], p + "/irradiance") : glm::dvec3(1.0)});
     } else if (type == "quad" || type == "sphere") {
       // Area lights are emissive meshes: found by light sampling and by BSDF rays.
@@ -416,17 +476,18 @@ class Loader {
         allowKeys(j, p, {"type", "corner", "edge1", "edge2", "radiance"});
         for (const char* k : {"corner", "edge1", "edge2"})
           if (!j.contains(k)) fail(p, std::string("a quad light needs \"") + k + "\"");
-        item.mesh = makeQuad(vec3(j["corner"], p + "/corner"), vec3(j["edge1"], p + "/edge1"), vec3(j["edge2"], p + "/edge2"));
+        item.mesh = makeQuad(coordinate(j["corner"], p + "/corner"), coordinate(j["edge1"], p + "/edge1"),
+                             coordinate(j["edge2"], p + "/edge2"));
       } else {
         allowKeys(j, p, {"type", "center", "radius", "radiance"});
         if (!j.contains("center") || !j.contains("radius")) fail(p, "a sphere light needs \"center\" and \"radius\"");
         item.mesh = makeIcosphere(3);
-        item.transform = glm::scale(glm::translate(glm::dmat4(1.0), vec3(j["center"], p + "/center")),
-                                    glm::dvec3(positive(j["radius"], p + "/radius")));
+        item.transform = glm::scale(glm::translate(glm::dmat4(1.0), coordinate(j["center"], p + "/center")),
+                                    glm::dvec3(length(j["radius"], p + "/radius")));
       }
       m.emission = color(j["radiance"], p + "/radiance");
       item.material = scene.addMaterial(m);
-      item.label = name_ + ": " + type + " light";
+      item.label = where(p) + ": " + type + " light";
       scene.meshes.push_back(std::move(item));
     } else {
       fail(p + "/type", "light type must be point, directional, quad or sphere");
@@ -455,6 +516,9 @@ SceneDesc loadSceneText(std::string_view text, const std::string& name,
 }
 
 SceneDesc loadSceneFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  // An ifstream opens a directory and reads nothing: it would be a JSON syntax error.
+  if (std::filesystem::is_directory(path, ec)) throw SceneError(path.string(), 0, 0, "is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path.string(), 0, 0, "cannot open the scene file");
   std::stringstream buffer;

@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <string>
+#include <sys/wait.h>
 
 namespace algray::render {
 namespace {
@@ -82,6 +85,135 @@ TEST(JsurfImport, BrokenFileNamesFileAndLine) {
     EXPECT_NE(what.find("algray_broken.jsurf:3"), std::string::npos) << what;
   }
   std::filesystem::remove(file);
+}
+
+// A sphere file with `extra` as its last lines (from line 3 on).
+std::filesystem::path writeJsurf(const std::string& name, const std::string& extra) {
+  std::filesystem::path file = std::filesystem::temp_directory_path() / name;
+  std::FILE* f = std::fopen(file.c_str(), "w");
+  if (!f) return file;
+  std::fputs(("surface_equation=x^2+y^2+z^2-1\nlight_status_0=ON\n" + extra + "\n").c_str(), f);
+  std::fclose(f);
+  return file;
+}
+
+// The error jsurfScene raises for a file, or "".
+std::string jsurfError(const std::string& extra) {
+  const std::filesystem::path file = writeJsurf("algray_bad_values.jsurf", extra);
+  std::string what;
+  try {
+    jsurfScene(file);
+  } catch (const std::exception& e) {
+    what = e.what();
+  }
+  std::filesystem::remove(file);
+  return what;
+}
+
+// Values SURFER never writes: each is an error at the line of its key (they aborted in
+// Embree, rendered inf/negative pixels with exit code 0, or failed later without a line).
+TEST(JsurfImport, BadValuesAreErrorsAtTheirLine) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"camera_height=1e30", ":3: camera_height"},
+      {"camera_height=0", ":3: camera_height"},
+      {"camera_height=-2", ":3: camera_height"},
+      {"camera_type=PERSPECTIVE_CAMERA\ncamera_fov_y=0", ":4: camera_fov_y"},
+      {"camera_type=PERSPECTIVE_CAMERA\ncamera_fov_y=180", ":4: camera_fov_y"},
+      {"camera_type=PERSPECTIVE_CAMERA\ncamera_fov_y=-60", ":4: camera_fov_y"},
+      {"camera_type=FISHEYE_CAMERA", ":3: camera_type"},
+      {"camera_transform=1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1", ":3: camera_transform"},
+      {"camera_transform=1 0 0 0 0 1 0 0 0 0 1 -1 0 0 1 1", ":3: camera_transform"},
+      {"camera_transform=1 0 0 0 0 1 0 0 0 0 1 -1e30 0 0 0 1", ":3: camera_transform"},
+      {"rotation_matrix=1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1", ":3: rotation_matrix"},
+      {"rotation_matrix=1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\nscale_factor=-400", ":4: scale_factor"},
+      {"scale_factor=400", ":3: scale_factor"},
+      {"scale_factor=-150", ":3: scale_factor"},
+      {"front_material_color=-1 -1 -1", ":3: front_material_color"},
+      {"back_material_color=1e39 0 0", ":3: back_material_color"},
+      {"front_material_diffuse_intensity=-1", ":3: front_material_diffuse_intensity"},
+      {"front_material_ambient_intensity=-5", ":3: front_material_ambient_intensity"},
+      {"background_color=-1 0 0", ":3: background_color"},
+      {"light_position_0=0 0 1\nlight_intensity_0=-100", ":4: light_intensity_0"},
+      {"light_position_0=0 0 1\nlight_color_0=1e308 1 1", ":4: light_color_0"},
+      {"light_color_0=1e38 1 1\nlight_intensity_0=100", ":4: light_intensity_0"},
+  };
+  for (const auto& [extra, expected] : cases) {
+    const std::string what = jsurfError(extra);
+    EXPECT_NE(what.find("algray_bad_values.jsurf" + expected), std::string::npos) << extra << ": " << what;
+  }
+}
+
+// Light positions glm::normalize cannot normalise (NaN rays aborted Embree) and the ends
+// of the scale_factor range load and render.
+TEST(JsurfImport, ExtremeButValidValuesRender) {
+  for (const char* extra : {"light_position_0=1e-200 0 1e-200", "light_position_0=1e308 1e308 1e308",
+                            "scale_factor=100", "scale_factor=-100"}) {
+    SCOPED_TRACE(extra);
+    const std::filesystem::path file = writeJsurf("algray_extreme_values.jsurf", extra);
+    SceneDesc desc = jsurfScene(file);
+    std::filesystem::remove(file);
+    for (const DirectionalLight& l : desc.directionalLights) EXPECT_NEAR(glm::length(l.direction), 1.0, 1e-12);
+    Image image = renderSmall(desc, 8);
+    for (const glm::vec3& c : image.color) EXPECT_TRUE(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b));
+  }
+}
+
+// The program: exit code 2 and file:line (camera errors exited with 1 and no line, the
+// light positions with 134), an upper-case .JSURF is a jsurf file, a directory says so.
+TEST(JsurfImport, ProgramExitsWithCode2AndLine) {
+  auto run = [](const std::string& args) {
+    const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + args + " --width 8 --height 8 -q 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    std::string out;
+    if (!pipe) return std::pair{-2, out};
+    char buf[512];
+    while (fgets(buf, sizeof buf, pipe)) out += buf;
+    const int status = pclose(pipe);
+    return std::pair{WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  };
+  const std::filesystem::path image = std::filesystem::temp_directory_path() / "algray_jsurf_program.png";
+  for (const char* extra : {"camera_height=0", "camera_type=PERSPECTIVE_CAMERA\ncamera_fov_y=180", "camera_height=1e30"}) {
+    const std::filesystem::path file = writeJsurf("algray_program.jsurf", extra);
+    auto [code, out] = run(file.string() + " -o " + image.string());
+    EXPECT_EQ(code, 2) << extra << ": " << out;
+    EXPECT_NE(out.find(file.string() + ":"), std::string::npos) << extra << ": " << out;
+    std::filesystem::remove(file);
+  }
+  {
+    const std::filesystem::path file = writeJsurf("algray_program.jsurf", "light_position_0=1e-200 0 1e-200");
+    auto [code, out] = run(file.string() + " -o " + image.string());
+    EXPECT_EQ(code, 0) << out;
+    std::filesystem::remove(file);
+  }
+  {
+    // Upper case: read as jsurf (as JSON it was a syntax error at 1:1).
+    const std::filesystem::path file = writeJsurf("ALGRAY_PROGRAM.JSURF", "camera_height=0");
+    auto [code, out] = run(file.string() + " -o " + image.string());
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find("ALGRAY_PROGRAM.JSURF:3: camera_height"), std::string::npos) << out;
+    std::filesystem::remove(file);
+  }
+  {
+    // The surface's own errors (raised when Scene builds it) name the equation's line.
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "algray_constant.jsurf";
+    std::FILE* f = std::fopen(file.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("# constant\nsurface_equation=1\n", f);
+    std::fclose(f);
+    auto [code, out] = run(file.string() + " -o " + image.string());
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find("algray_constant.jsurf:2:"), std::string::npos) << out;
+    std::filesystem::remove(file);
+  }
+  {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "algray_dir.jsurf";
+    std::filesystem::create_directories(dir);
+    auto [code, out] = run(dir.string() + " -o " + image.string());
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find("is a directory"), std::string::npos) << out;
+    std::filesystem::remove(dir);
+  }
+  std::filesystem::remove(image);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -125,6 +126,189 @@ TEST(SceneJson, ExampleScenesLoad) {
     ++count;
   }
   EXPECT_GE(count, 3);
+}
+
+// Where `needle` starts in `text`, as the 1-based column of a one-line scene.
+int columnOf(const std::string& text, const std::string& needle) {
+  return static_cast<int>(text.find(needle)) + 1;
+}
+
+// Values Embree cannot trace (it aborted the process on an assertion) and directions
+// that do not normalise: errors at the offending value.
+TEST(SceneJson, OutOfRangeCameraAndLightValuesAreErrors) {
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"camera": {"position": [0, -1e19, 0]}})", "-1e19"},
+      {R"({"camera": {"position": [0, -1e30, 0]}})", "-1e30"},
+      {R"({"camera": {"look_at": [1e18, 0, 0]}})", "1e18"},
+      {R"({"camera": {"aperture": 1e19}})", "1e19"},
+      {R"({"camera": {"focus_distance": 1e19}})", "1e19"},
+      {R"({"camera": {"type": "orthographic", "height": 1e19}})", "1e19"},
+      {R"({"lights": [{"type": "point", "position": [0, 0, 1e20]}]})", "1e20"},
+      {R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})", "[0, 0, 0]"},
+      {R"({"camera": {"up": [0, 0, 0]}})", "[0, 0, 0]"},
+  };
+  for (const auto& [text, value] : cases) {
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.line(), 1) << text << ": " << e.what();
+    EXPECT_EQ(e.column(), columnOf(text, value)) << text << ": " << e.what();
+  }
+  EXPECT_NE(errorOf(R"({"camera": {"position": [0, -1e19, 0]}})").message().find("1e17"), std::string::npos);
+  // Tiny and huge directions are fine: normalised without underflow or overflow.
+  SceneDesc d = loadSceneText(R"({"lights": [{"type": "directional", "direction": [1e-160, -1e-160, 1e-160]},
+                                             {"type": "directional", "direction": [1e300, 0, 0]}]})",
+                              "t.json", ".");
+  ASSERT_EQ(d.directionalLights.size(), 2u);
+  EXPECT_NEAR(d.directionalLights[0].direction.x, 1 / std::sqrt(3.0), 1e-15);
+  EXPECT_EQ(d.directionalLights[1].direction, glm::dvec3(1, 0, 0));
+  // Position and look_at 1e-200 apart: their difference normalises (was NaN, reported as
+  // "up must not be parallel").
+  EXPECT_NO_THROW(loadSceneText(R"({"camera": {"position": [0, -1e-200, 0], "look_at": [0, 0, 0]}})", "t.json", "."));
+}
+
+// nlohmann's number overflow ("number overflow parsing '1e400'") had no position.
+TEST(SceneJson, NumberOverflowHasLineAndColumn) {
+  SceneError e = errorOf("{\n  \"camera\": {\"fov\": 1e400}\n}");
+  EXPECT_EQ(e.file(), "t.json");
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.column(), 21);
+  EXPECT_NE(e.message().find("1e400"), std::string::npos) << e.what();
+  // The same digits inside a string do not mislead the search.
+  SceneError f = errorOf("{\"description\": \"1e400\",\n \"camera\": {\"fov\": -1e400}}");
+  EXPECT_EQ(f.line(), 2);
+  EXPECT_EQ(f.column(), 20);
+}
+
+// Keys with '/', '~' or \u escapes: the loader's pointers and the scanner's agree.
+TEST(SceneJson, KeysWithSlashTildeOrEscapesHaveLocations) {
+  const std::string a = R"({"materials": {"a/b": {"type": "bogus"}}})";
+  EXPECT_EQ(errorOf(a).column(), columnOf(a, "\"bogus\"")) << errorOf(a).what();
+  const std::string b = R"({"materials": {"a~1\u0041\n\/": {"type": "bogus"}}})";
+  EXPECT_EQ(errorOf(b).column(), columnOf(b, "\"bogus\"")) << errorOf(b).what();
+  const std::string c = R"({"surfaces": [{"equation": "x^2 + y^2 + z^2 - r", "parameters": {"r/\u00e9": "one"}}]})";
+  EXPECT_EQ(errorOf(c).column(), columnOf(c, "\"one\"")) << errorOf(c).what();
+  const std::string d = R"({"camera": {"fo\u0076": 30, "bad~key": 1}})";
+  EXPECT_EQ(errorOf(d).column(), columnOf(d, "1}")) << errorOf(d).what();
+}
+
+// Colours become float pixels: beyond 3.4e38 they were inf, with exit code 0.
+TEST(SceneJson, ColoursBeyondFloatAreErrors) {
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"environment": {"color": 1e308}})", "1e308"},
+      {R"({"background": [0, 1e39, 0]})", "1e39"},
+      {R"({"lights": [{"type": "point", "position": [0, 0, 3], "intensity": 1e308}]})", "1e308"},
+      {R"({"materials": {"m": {"type": "emissive", "emission": 1e308}}})", "1e308"},
+      {R"({"lights": [{"type": "directional", "direction": [0, 0, 1], "irradiance": [1, 1, 1e300]}]})", "1e300"},
+      {R"({"environment": {"color": -1}})", "-1"},
+  };
+  for (const auto& [text, value] : cases) {
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.line(), 1) << text << ": " << e.what();
+    // A one-number colour points at the number, an array at its component or the array.
+    EXPECT_GE(e.column(), columnOf(text, value) - (value == "1e39" ? 4 : value == "1e300" ? 7 : 0)) << text;
+    EXPECT_LE(e.column(), columnOf(text, value)) << text;
+    EXPECT_NE(e.message().find("colour"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneJson, ClipWithBothSphereAndBoxIsAnError) {
+  const std::string text =
+      R"({"surfaces": [{"equation": "x", "clip": {"sphere": {"radius": 2}, "box": {"min": [0, 0, 0], "max": [1, 1, 1]}}}]})";
+  SceneError e = errorOf(text);
+  EXPECT_EQ(e.column(), columnOf(text, "{\"min\"")) << e.what();
+  EXPECT_NE(e.message().find("exactly one of sphere, box"), std::string::npos) << e.what();
+}
+
+// nlohmann keeps the last of repeated keys; the loader refuses them.
+TEST(SceneJson, DuplicateKeysAreErrors) {
+  SceneError e = errorOf("{\"camera\": {\"fov\": 30,\n  \"fov\": 40}}");
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.column(), 3);
+  EXPECT_NE(e.message().find("duplicate key 'fov'"), std::string::npos) << e.what();
+  // The same key in different objects, and escapes spelling the same key.
+  EXPECT_NO_THROW(loadSceneText(R"({"render": {"width": 8}, "camera": {"fov": 30}, "description": "width"})", "t.json", "."));
+  EXPECT_EQ(errorOf(R"({"render": {"width": 8, "w\u0069dth": 9}})").column(), 25);
+}
+
+TEST(SceneJson, DirectoryIsNotASceneFile) {
+  try {
+    loadSceneFile(std::filesystem::temp_directory_path());
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+}
+
+// Runs algray-render with `args`; returns the exit code (-1: killed by a signal) and the
+// output (stdout and stderr).
+std::pair<int, std::string> runRender(const std::string& args) {
+  const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return {-2, "popen failed"};
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// A scene file of one sphere plus `extra` members, written to a temporary file.
+std::filesystem::path sphereScene(const std::string& name, const std::string& extra) {
+  std::filesystem::path file = std::filesystem::temp_directory_path() / name;
+  std::ofstream(file) << "{\"surfaces\": [{\"equation\": \"x^2+y^2+z^2-1\", \"clip\": {\"sphere\": {\"radius\": 2}}}]"
+                      << (extra.empty() ? "" : ",\n") << extra << "}\n";
+  return file;
+}
+
+// The adversarial sweep's reproducers: each aborted (exit 134), printed no position, or
+// rendered inf pixels with exit code 0. Now: exit code 2 and file:line:column.
+TEST(RenderProgram, OutOfRangeSceneValuesExitWithCode2AndLocation) {
+  const std::pair<const char*, const char*> cases[] = {
+      {R"("camera": {"position": [0, -1e19, 0]})", ":2:28:"},
+      {R"("camera": {"aperture": 1e19})", ":2:24:"},
+      {R"("camera": {"type": "orthographic", "height": 1e19})", ":2:46:"},
+      {R"("camera": {"fov": 1e400})", ":2:19:"},
+      {R"("environment": {"color": 1e308})", ":2:26:"},
+      {R"("lights": [{"type": "directional", "direction": [0, 0, 0]}])", ":2:49:"},
+  };
+  for (const auto& [extra, where] : cases) {
+    const std::filesystem::path file = sphereScene("algray_range_scene.json", extra);
+    auto [code, out] = runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o /dev/null");
+    EXPECT_EQ(code, 2) << extra << ": " << out;
+    EXPECT_NE(out.find(file.string() + where), std::string::npos) << extra << ": " << out;
+    std::filesystem::remove(file);
+  }
+  // A tiny directional light direction renders (was an Embree abort from a NaN ray).
+  const std::filesystem::path file =
+      sphereScene("algray_range_scene.json", R"("lights": [{"type": "directional", "direction": [1e-160, -1e-160, 1e-160]}])");
+  const std::filesystem::path image = std::filesystem::temp_directory_path() / "algray_range_scene.png";
+  auto [code, out] = runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o " + image.string());
+  EXPECT_EQ(code, 0) << out;
+  std::filesystem::remove(file);
+  std::filesystem::remove(image);
+}
+
+// Errors the plugin raises while Scene builds a surface name the surface's position.
+TEST(RenderProgram, SurfaceBuildErrorsHaveTheSurfacesLocation) {
+  const char* surfaces[] = {
+      R"({"equation": "1", "clip": {"sphere": {"radius": 2}}})",
+      R"({"equation": "x^2+y^2+z^2-1", "clip": {"sphere": {"radius": 1e300}}})",
+      R"({"equation": "x^2+y^2+z^2-1", "clip": {"sphere": {"radius": 2}}, "transform": {"scale": 1e200}})",
+  };
+  for (const char* surface : surfaces) {
+    std::filesystem::path file = std::filesystem::temp_directory_path() / "algray_surface_error.json";
+    std::ofstream(file) << "{\n  \"surfaces\": [\n    " << surface << "]}\n";
+    auto [code, out] = runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o /dev/null");
+    EXPECT_EQ(code, 2) << surface << ": " << out;
+    EXPECT_NE(out.find(file.string() + ":3:5: surface"), std::string::npos) << surface << ": " << out;
+    std::filesystem::remove(file);
+  }
+}
+
+TEST(RenderProgram, DirectoryAsSceneFileIsAnError) {
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  auto [code, out] = runRender(dir + " -q -o /dev/null");
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("is a directory"), std::string::npos) << out;
 }
 
 // The program: a broken scene gives exit code 2 and "file:line:column: message".

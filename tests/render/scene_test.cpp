@@ -1,0 +1,87 @@
+// Scene's guards for values that reach it without a loader's checks (SceneDesc built in
+// code): rays Embree would reject and directions glm::normalize cannot normalise.
+#include "render.h"
+#include "scene.h"
+#include "value_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <algray/parser.h>
+
+#include <cmath>
+#include <limits>
+
+namespace algray::render {
+namespace {
+
+SceneDesc unitSphere() {
+  SceneDesc s;
+  s.settings.width = 8;
+  s.settings.height = 8;
+  s.settings.spp = 1;
+  SurfaceItem item;
+  item.label = "sphere";
+  item.polynomial = parsePolynomial("x^2 + y^2 + z^2 - 1");
+  item.clip = ClipSphere{glm::dvec3(0.0), 2.0};
+  s.surfaces.push_back(item);
+  return s;
+}
+
+// Embree asserts ray.valid() (|org|, |dir| <= 1.8e18 per component, no NaN) and aborted
+// the process; such rays now see nothing.
+TEST(Scene, RaysEmbreeWouldRejectMiss) {
+  Scene scene(unitSphere());
+  RayCounter counter;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // A sane ray hits, so the misses below are the guard's.
+  EXPECT_TRUE(scene.intersect({0, -5, 0}, {0, 1, 0}, 0.0, counter).has_value());
+  EXPECT_FALSE(scene.intersect({0, -1e19, 0}, {0, 1, 0}, 0.0, counter).has_value());
+  EXPECT_FALSE(scene.intersect({0, -5, 0}, {0, 1e30, 0}, 0.0, counter).has_value());
+  EXPECT_FALSE(scene.intersect({0, -5, 0}, {nan, 1, 0}, 0.0, counter).has_value());
+  EXPECT_FALSE(scene.intersect({0, -5, 0}, {0, 1, 0}, nan, counter).has_value());
+  EXPECT_TRUE(scene.occluded({0, -5, 0}, {0, 1, 0}, 0.0, 10.0, counter));
+  EXPECT_FALSE(scene.occluded({0, -1e19, 0}, {0, 1, 0}, 0.0, 1e20, counter));
+  EXPECT_FALSE(scene.occluded({nan, -5, 0}, {0, 1, 0}, 0.0, 10.0, counter));
+}
+
+// A camera far beyond Embree's range (the loaders refuse it; built here directly) renders
+// the background instead of aborting.
+TEST(Scene, FarCameraRendersWithoutAbort) {
+  SceneDesc desc = unitSphere();
+  desc.camera.position = {0, -1e19, 0};
+  desc.hasBackground = true;
+  desc.background = glm::dvec3(0.25);
+  Scene scene(desc);
+  Image image;
+  render(scene, image);
+  for (const glm::vec3& c : image.color) EXPECT_EQ(c, glm::vec3(0.25f));
+}
+
+// glm::normalize of a direction with components of 1e-160 (or 1e200) gives NaN: the
+// light's direction must still be a unit vector.
+TEST(Scene, DirectionalLightWithTinyOrHugeDirection) {
+  for (double m : {1e-160, 1e-300, 1e200}) {
+    SceneDesc desc = unitSphere();
+    desc.directionalLights.push_back({glm::dvec3(m, -m, m), glm::dvec3(1.0)});
+    Scene scene(desc);
+    auto s = scene.sampleLight(0, {0, 0, 0}, {0.5, 0.5});
+    ASSERT_TRUE(s.has_value()) << m;
+    EXPECT_NEAR(glm::length(s->wi), 1.0, 1e-15) << m;
+    EXPECT_NEAR(s->wi.x, 1 / std::sqrt(3.0), 1e-15) << m;
+  }
+}
+
+TEST(ValueChecks, SafeNormalize) {
+  EXPECT_FALSE(safeNormalize(glm::dvec3(0.0)).has_value());
+  EXPECT_FALSE(safeNormalize({std::numeric_limits<double>::infinity(), 0, 0}).has_value());
+  EXPECT_FALSE(safeNormalize({std::numeric_limits<double>::quiet_NaN(), 1, 0}).has_value());
+  auto v = safeNormalize({1e308, 1e308, 0});
+  ASSERT_TRUE(v.has_value());
+  EXPECT_NEAR(v->x, std::sqrt(0.5), 1e-15);
+  EXPECT_TRUE(isFloatColor(glm::dvec3(3e38)));
+  EXPECT_FALSE(isFloatColor(glm::dvec3(1e39)));
+  EXPECT_FALSE(isFloatColor({1, -1e-300, 1}));
+}
+
+}  // namespace
+}  // namespace algray::render
