@@ -505,7 +505,7 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
   EXPECT_THROW(make(projective), Error);
   // Scales far from 1 are not singular: 1e80 with a clip radius of 1.5e-80 is a surface
   // of world size ~1 (it hits where the unscaled one does); the same at 1e110 is refused
-  // for its object space (SurfaceGeometry's range, 1e-90 .. 1e90), and 1e200 for its
+  // for its object space (SurfaceGeometry's range, 1e-100 .. 1e100), and 1e200 for its
   // world size, beyond Embree's reach.
   SurfaceDesc tiny = desc;
   tiny.transform = glm::dmat4(glm::dmat3(1e80));

@@ -107,7 +107,8 @@ int main(int argc, char** argv) {
           size_t used = 0;
           double v = std::stod(p.substr(eq + 1), &used);
           if (used != p.size() - eq - 1) throw std::invalid_argument(p);
-          q.parameters[p.substr(0, eq)] = v;
+          if (!q.parameters.emplace(p.substr(0, eq), v).second)
+            throw SceneError("--param", 0, 0, p.substr(0, eq) + ": given more than once");
         } catch (const std::logic_error&) {
           throw SceneError("--param", 0, 0, "not a number in '" + p + "'");
         }
@@ -115,6 +116,8 @@ int main(int argc, char** argv) {
       if (clipSphere) q.clipRadius = *clipSphere;
       try {
         desc = quickScene(q);
+      } catch (const algray::ParameterError& e) {
+        throw SceneError("--param", 0, 0, e.name() + ": " + e.message());
       } catch (const algray::ParseError& e) {
         throw SceneError("--surface", 1, e.column(), e.message());
       }

@@ -394,6 +394,8 @@ class Loader {
       std::string text = string(j["equation"], p + "/equation");
       try {
         item.polynomial = parsePolynomial(text, options);
+      } catch (const ParameterError& e) {
+        fail(p + "/parameters/" + jsonPointerToken(e.name()), e.message());
       } catch (const ParseError& e) {
         // +1 for the opening quote; exact when the string has no escapes.
         fail(p + "/equation", e.message(), e.column());

@@ -60,11 +60,12 @@ void validate(const SurfaceDesc& desc) {
   // (the world is held to Embree's range below): the kernels' products of coefficients,
   // directions and error bounds leave double's range from ~1e+-104 on (a unit sphere
   // drawn as x^2+y^2+z^2-1e-220 under a scale of 1e110 was missed by every ray).
-  // Measured working to 1e+-100; refused beyond 2^+-300 (~1e+-90) with the remedy.
-  if (!(size >= 0x1p-300 && size <= 0x1p300)) {
+  // Measured working to 1e+-100 (a sphere's clip radius of 1.5e+-100); refused beyond,
+  // with the remedy.
+  if (!(size >= 1e-100 && size <= 1e100)) {
     std::ostringstream os;
     os << "the clip region's size in object space is " << size
-       << ", outside 1e-90 .. 1e90: scale the polynomial's variables instead of undoing it by the transform";
+       << ", outside 1e-100 .. 1e100: scale the polynomial's variables instead of undoing it by the transform";
     fail(os.str());
   }
   const glm::dmat4& m = desc.transform;

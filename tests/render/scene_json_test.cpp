@@ -97,6 +97,13 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
   SceneError u = errorOf("{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]}}");
   EXPECT_EQ(u.column(), 64);
   EXPECT_NE(u.message().find("parallel"), std::string::npos);
+  // A parameter named after a variable: its value on line 2, not the equation.
+  SceneError v = errorOf(
+      "{\"surfaces\": [{\"equation\": \"x^2 + y^2 + z^2 - 1\", \"clip\": {\"sphere\": {\"radius\": 2}},\n"
+      "  \"parameters\": {\"x\": 1}}]}");
+  EXPECT_EQ(v.line(), 2);
+  EXPECT_EQ(v.column(), 23);
+  EXPECT_NE(v.message().find("x"), std::string::npos);
 }
 
 TEST(SceneJson, EquationErrorPointsIntoTheString) {
@@ -341,6 +348,9 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--surface x^41", "degree 41"},
       {"--surface sphere -o /nonexistent/dir/a.png", "cannot write there"},
       {"--surface sphere -o algray_test_image.xyz", "unsupported image format"},
+      // A parameter named after a variable, or given twice: the option, not the equation.
+      {"--surface x^2+y^2+z^2-1 --param x=1", "--param: x: "},
+      {"--surface x^2+y^2+z^2-a --param a=1 --param a=2", "--param: a: given more than once"},
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
