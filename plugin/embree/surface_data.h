@@ -92,10 +92,6 @@ struct SurfaceData {
   glm::dvec3 centre{0.0};
   double radius = 1.0;
   double selfRootRadius2 = 1.0;  // (radius (1 + 2^-9))^2: see restrictQuadricRay
-  // A ball holding the clip region in world space (the double channel's far origins):
-  // a centre and a radius rounded up.
-  glm::dvec3 worldCentre{0.0};
-  double worldRadius = 1.0;
   std::vector<SurfaceCell> cells;
   // The cells' grid (they are one level of a regular subdivision of the box around the
   // clip region): box corner, size and cells per axis, and the cell of each grid key.
@@ -105,6 +101,10 @@ struct SurfaceData {
   RTCGeometry geometry = nullptr;
   std::uint64_t id = 0;  // unique per process: keys the per-thread origin cache
   mutable std::atomic<unsigned long long> errors{0};
+  // A ball holding the clip region in world space (the double channel's far origins):
+  // a centre and a radius rounded up.
+  glm::dvec3 worldCentre{0.0};
+  double worldRadius = 1.0;
 };
 
 // A ray in the surface's object space.
