@@ -84,7 +84,7 @@ std::vector<Config> configurations() {
 struct TraceResult {
   bool hit = false;
   double t = 0;
-  float tf = 0;
+  double tf = 0;  // Embree's float tfar as t along the ray (fromFloatParameter)
   bool finite = true;
 };
 
@@ -107,7 +107,7 @@ TraceResult traceOne(RTCScene scene, const RayD& ray, bool floatRays) {
     r.finite = !hit.hit || (std::isfinite(hit.t) && std::isfinite(hit.Ng.x) && std::isfinite(hit.Ng.y) &&
                             std::isfinite(hit.Ng.z));
   }
-  r.tf = rh.ray.tfar;
+  r.tf = fromFloatParameter(ray, rh.ray.tfar, scene);
   if (r.hit && !std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) r.finite = false;
   return r;
 }
