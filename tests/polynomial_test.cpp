@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -96,6 +97,29 @@ TEST(Polynomial, DegreeLimitThrows) {
   EXPECT_NO_THROW(X.pow(20) * Y.pow(20));
   Polynomial f;
   EXPECT_THROW(f.setCoeff(kMaxDegree, 1, 0, 1.0), Error);
+  // degree * exponent beyond int: still the degree error, at once.
+  EXPECT_THROW(X.pow(std::numeric_limits<int>::max()), Error);
+  EXPECT_THROW((X * Y).pow(1 << 30), Error);
+}
+
+// Misuse that used to write outside the coefficient storage (found by ASan): negative
+// exponents in setCoeff (index(-1, 2, 0) is one past a degree-1 block), an axis other
+// than 0, 1, 2 in derivative (no exponent lowered: a degree-n index into degree n - 1)
+// and variable (which returned the constant 1).
+TEST(Polynomial, BadExponentsAndAxesThrow) {
+  Polynomial f;
+  EXPECT_THROW(f.setCoeff(-1, 2, 0, 1.0), Error);
+  EXPECT_THROW(f.setCoeff(5, -3, 0, 1.0), Error);
+  EXPECT_THROW(f.setCoeff(0, 0, -1, 1.0), Error);
+  EXPECT_TRUE(f.isZero());
+  EXPECT_THROW(X.derivative(5), Error);
+  EXPECT_THROW(X.derivative(-1), Error);
+  EXPECT_THROW(Polynomial::variable(3), Error);
+  EXPECT_THROW(Polynomial::variable(-1), Error);
+  // A constant's power is computed as a number, not by 2^31 multiplications.
+  EXPECT_EQ(Polynomial(1.0).pow(std::numeric_limits<int>::max()).coeff(0, 0, 0), 1.0);
+  EXPECT_EQ(Polynomial(2.0).pow(10).coeff(0, 0, 0), 1024.0);
+  EXPECT_TRUE(Polynomial().pow(7).isZero());
 }
 
 TEST(Polynomial, EvaluationErrorBoundHoldsNearTheSurface) {

@@ -659,6 +659,28 @@ TEST(RootsContract, ScaleInvariance) {
   }
 }
 
+// Coefficients spread beyond double's exponent range in the local frame: 1e-300 + 1e300 v^4
+// has no real root (its constant flushed to 0 in the frame gave a 4-fold root at 0,
+// reported as tangent); with the constant negative it has two, at +-1e-150. The methods
+// of the contract (Sturm and Bernstein, kept for comparison, resolve roots only down to
+// their interval's scale, roots.h), on (-1, 1), and on (-1e10, 1e10) for 1 + 1e300 v^4
+// (the frame's scaling by 2^(4e) is what underflows there).
+TEST(RootsContract, CoefficientsBeyondTheFramesRange) {
+  for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel, RootMethod::ClosedForm}) {
+    RootOptions o;
+    o.method = m;
+    const std::vector<double> none = {1e-300, 0, 0, 0, 1e300}, wide = {1, 0, 0, 0, 1e300};
+    EXPECT_FALSE(firstRoot(none, {}, -1.0, 1.0, o)) << static_cast<int>(m);
+    EXPECT_FALSE(hasRoot(none, {}, -1.0, 1.0, o)) << static_cast<int>(m);
+    EXPECT_FALSE(firstRoot(wide, {}, -1e10, 1e10, o)) << static_cast<int>(m);
+    const std::vector<double> two = {-1e-300, 0, 0, 0, 1e300};
+    const auto r = firstRoot(two, {}, -1.0, 1.0, o);
+    ASSERT_TRUE(r) << static_cast<int>(m);
+    EXPECT_LT(*r, 0.0);
+    EXPECT_GT(*r, -1e-60);  // -1e-150, moved by at most the frame's smallest normal
+  }
+}
+
 TEST(RootsContract, QuadraticFastPathIsFirstRoot) {
   // firstRootQuadratic promises firstRoot's answer bit for bit (the frame scaling it
   // skips is exact). Random quadratics of every shape the quadric path produces: two

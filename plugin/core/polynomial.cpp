@@ -37,7 +37,14 @@ Polynomial::Polynomial(double constant) {
   }
 }
 
+namespace {
+void checkAxis(int axis) {
+  if (axis < 0 || axis > 2) throw Error("axis " + std::to_string(axis) + " is not 0, 1 or 2 (x, y, z)");
+}
+}  // namespace
+
 Polynomial Polynomial::variable(int axis) {
+  checkAxis(axis);
   Polynomial p;
   p.setCoeff(axis == 0, axis == 1, axis == 2, 1.0);
   return p;
@@ -49,6 +56,10 @@ double Polynomial::coeff(int i, int j, int k) const {
 }
 
 void Polynomial::setCoeff(int i, int j, int k, double value) {
+  // (coeff() reads negative exponents as 0; a write there would land outside the storage.)
+  if (i < 0 || j < 0 || k < 0)
+    throw Error("negative exponent in setCoeff(" + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                std::to_string(k) + ")");
   const int n = i + j + k;
   checkDegree(n);
   if (n > degree_) {
@@ -128,7 +139,12 @@ Polynomial operator*(const Polynomial& a, const Polynomial& b) {
 Polynomial Polynomial::pow(int exponent) const {
   if (exponent < 0) throw Error("negative exponent of a polynomial");
   if (exponent == 0) return Polynomial(1.0);
-  if (degree_ > 0) checkDegree(degree_ * exponent);
+  // A constant's power is a number (the loop below would run `exponent` times); the
+  // degree check in 64 bits (degree * exponent overflows int for exponents near 2^31).
+  if (degree_ <= 0) return isZero() ? Polynomial() : Polynomial(std::pow(coeffs_[0], exponent));
+  if (static_cast<long long>(degree_) * exponent > kMaxDegree)
+    throw Error("polynomial degree " + std::to_string(static_cast<long long>(degree_) * exponent) +
+                " exceeds the limit " + std::to_string(kMaxDegree));
   // Repeated multiplication by the base rather than binary powering: the product skips
   // zero terms, so multiplying by a sparse base costs nnz(acc) * nnz(base), whereas
   // squaring multiplies two dense intermediates. Measured in polynomial_bench
@@ -139,6 +155,7 @@ Polynomial Polynomial::pow(int exponent) const {
 }
 
 Polynomial Polynomial::derivative(int axis) const {
+  checkAxis(axis);
   Polynomial r;
   if (degree_ <= 0) return r;
   r.resizeToDegree(degree_ - 1);

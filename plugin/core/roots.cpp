@@ -158,6 +158,16 @@ bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly
     }
   }
   if (!finiteNoise) return false;
+  // Coefficients the scaling took below the normal range (a spread of more than ~2^1000
+  // between the terms) are kept as +-the smallest normal number: a non-zero term still
+  // counts where it dominates. (1e-300 + 1e300 v^4 has no real root; with its constant
+  // flushed to 0 it had a 4-fold root at 0, which the tangent rule reported.) The change,
+  // below 2^-1022 against a largest coefficient in [1, 2), moves only roots that tiny.
+  for (int j = 0; j <= n; ++j)
+    if (c[j] != 0 && std::abs(g.c[j]) < Limits::min()) {
+      g.c[j] = std::copysign(Limits::min(), c[j]);
+      g.noise[j] = std::max(g.noise[j], gEval * Limits::min());
+    }
 
   // ---- Drop leading coefficients that are noise -------------------------------------
   // On [-1, 1], |C_n v^n| <= |C_n| |v|^k for k < n, so a leading coefficient with
