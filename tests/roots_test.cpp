@@ -262,6 +262,24 @@ TEST(RootsKnown, BernsteinRelativeToInterval) {
   EXPECT_GT(checked, 100);
 }
 
+// Roots on the Bernstein solver's split points (1/2, 1/4, 3/4, 1/8, ...): the node ending
+// there held its own root and the split point's, and the bracket's Newton converged to
+// the split point, so the first root was lost and the split point's reported twice.
+// Expected: the known roots, each once.
+TEST(RootsComparison, BernsteinRootsOnSplitPoints) {
+  const std::vector<std::vector<double>> cases = {
+      {0.1, 0.5, 0.9}, {0.1, 0.5, 0.9, 1.3}, {0.25, 0.5, 0.75}, {0.125, 0.25, 0.375, 0.5, 0.625}};
+  for (const auto& roots : cases) {
+    const Problem p = fromRoots("split points", roots, {}, 0.0, 1.0);
+    std::vector<double> expected;
+    for (double r : roots)
+      if (r < 1.0) expected.push_back(r);
+    const auto all = solveAll(p, RootMethod::Bernstein);
+    ASSERT_EQ(all.size(), expected.size()) << ::testing::PrintToString(all);
+    for (size_t i = 0; i < all.size(); ++i) EXPECT_NEAR(all[i], expected[i], 1e-12);
+  }
+}
+
 TEST(RootsComparison, EndRulesSturmBernstein) {
   // The endpoint rules of roots.h hold for the comparison solvers too: a root on lo is not
   // reported, one on hi is, and walking with lo = the previous root gives every root once.

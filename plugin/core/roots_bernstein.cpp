@@ -66,14 +66,15 @@ void toBernstein(const LocalPoly<double>& g, double* b) {
   }
 }
 
-// de Casteljau at 1/2: left into l, right into r.
-void split(const double* b, int n, double* l, double* r) {
+// de Casteljau at the dyadic ratio f: left into l, right into r.
+void split(const double* b, int n, double f, double* l, double* r) {
   double t[kMaxDegree + 1];
   copyCoeffs(b, n + 1, t);
+  const double e = 1 - f;  // exact for the ratios used
   l[0] = t[0];
   r[n] = t[n];
   for (int k = 1; k <= n; ++k) {
-    for (int i = 0; i <= n - k; ++i) t[i] = (t[i] + t[i + 1]) / 2;
+    for (int i = 0; i <= n - k; ++i) t[i] = e * t[i] + f * t[i + 1];
     l[k] = t[0];
     r[n - k] = t[n - k];
   }
@@ -126,9 +127,22 @@ int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>
     // Replace the node by its right half and push the left half on top.
     Node& right = nd;
     Node& left = stack[top];
+    // Split at the middle unless G is within its noise there: a root at a split point is
+    // an end of both halves, where the one-variation bracket's Newton converged to it
+    // from the left half (not monotone there: the half's own root was lost) and the right
+    // half reported it again ((s - 0.1)(s - 0.5)(s - 0.9) on (0, 1) gave 0.5 twice and no
+    // 0.1). The same off-centre ratios as the subdivision of roots_subdivide.h.
+    double f = 0.5;
+    for (const double ratio : {0.5, 0.4375, 0.5625, 0.375, 0.625}) {
+      const double vm = g.lo + (g.hi - g.lo) * (nd.u0 + (nd.u1 - nd.u0) * ratio);
+      if (std::abs(horner(c, n, vm)) > hornerAbs(g.noise.data(), n, vm)) {
+        f = ratio;
+        break;
+      }
+    }
     double l[kMaxDegree + 1], r[kMaxDegree + 1];
-    split(nd.b, n, l, r);
-    const double mid = nd.u0 + (nd.u1 - nd.u0) / 2;
+    split(nd.b, n, f, l, r);
+    const double mid = nd.u0 + (nd.u1 - nd.u0) * f;
     copyCoeffs(l, n + 1, left.b);
     left.u0 = nd.u0;
     left.u1 = mid;
