@@ -60,6 +60,9 @@ struct Case {
   Polynomial f;
   ClipRegion clip;
   glm::dmat4 transform;
+  // A singular point (world space) rays may leave from, rounded to float (the self-root
+  // window of its lanes); NaN: none.
+  glm::vec3 node{std::numeric_limits<float>::quiet_NaN()};
 };
 
 std::vector<Case> cases() {
@@ -82,6 +85,9 @@ std::vector<Case> cases() {
       {"saddle", x * y + y * z + x * z - 0.2 * x + Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0)},
       {"cylinder", x * x + y * y - Polynomial(0.5), ClipSphere{{0, 0, 0}, 1.0}, glm::dmat4(1.0)},
       {"huge sphere", 1e200 * spherePolynomial(1.0), ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
+      {"cone", (x - Polynomial(0.1)) * (x - Polynomial(0.1)) + (y - Polynomial(0.2)) * (y - Polynomial(0.2)) -
+                   (z - Polynomial(0.3)) * (z - Polynomial(0.3)),
+       ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0), glm::vec3(0.1f, 0.2f, 0.3f)},
   };
 }
 
@@ -97,7 +103,9 @@ class EmbreePacket : public ::testing::Test {
   // self-root rule skips (restrictQuadricRay's far origins). None for bounded surfaces
   // inside the ball.
   std::vector<glm::vec3> outside;
+  glm::vec3 node{std::numeric_limits<float>::quiet_NaN()};  // the case's (Case::node)
   void findOutsidePoints(const Case& c) {
+    node = c.node;
     outside.clear();
     glm::dvec3 lo, hi;
     clipRegionBox(c.clip, lo, hi);
@@ -130,7 +138,7 @@ class EmbreePacket : public ::testing::Test {
   // lanes: Embree 3 asserts on them before any user geometry sees them.)
   RTCRay randomRay(RTCScene scene, const glm::vec3& eye, float scale, const glm::mat4& world) {
     auto target = [&] { return glm::vec3(world * glm::vec4(uniform(-1.3f, 1.3f) * randomDir(), 1)); };
-    const int kind = std::uniform_int_distribution<int>(0, 12)(rng);
+    const int kind = std::uniform_int_distribution<int>(0, 13)(rng);
     glm::vec3 o = eye, d = target() - eye;
     float tnear = 0.0f, tfar = kInf;
     switch (kind) {
@@ -168,6 +176,11 @@ class EmbreePacket : public ::testing::Test {
         break;
       case 10:
         d *= 1e-30f;
+        break;
+      case 12:
+        if (std::isnan(node.x)) break;  // else: leaving the case's singular point
+        o = node;
+        d = randomDir();
         break;
       case 11:
         if (outside.empty()) break;  // else: on the surface outside the clip ball, inwards

@@ -152,6 +152,47 @@ TEST(StressNodes, CayleyCubicFourNodes) {
   expectNodeHits(s, {{1, 1, -1}, {1, -1, 1}, {-1, 1, 1}, {-1, -1, -1}}, 2.5, "cayley");
 }
 
+// Rays leaving a singular point whose coordinates are not doubles: a float host's hit at a
+// cone's apex is the apex rounded to float, 1e-8 off it. A line through the exact apex
+// meets the cone nowhere else; through the rounded one it meets it twice more near the
+// apex, at ~1e-8 / (its angle to the cone), mostly inside the origin's uncertainty (the
+// float ray's, 16 u_float (|o| + R) ~ 2e-6, or orgError = 1e-7 in the double channel).
+// Expected: no hit within that uncertainty (a self-hit; hits beyond it, along directions
+// close to the cone's generators, are the exact line's). The quadric path, the generic
+// walk (with the quadric's closed-form restriction) and a quartic cone (generic
+// restriction). Before the self-root window (selfRootWindow, surface_data.h) about half of
+// the directions hit the apex again at t = 3e-8..5e-8.
+TEST(StressNodes, RaysLeavingASingularPointFromARoundedOrigin) {
+  const Polynomial x = X() - Polynomial(0.1), y = Y() - Polynomial(0.2), z = Z() - Polynomial(0.3);
+  const Polynomial cone = x * x + y * y - z * z, quartic = x.pow(4) + y.pow(4) - z.pow(4);
+  SurfaceDesc generic = describe(cone, 1.5);
+  generic.options.quadricCallbacks = false;
+  const std::pair<SurfaceDesc, const char*> cases[] = {
+      {describe(cone, 1.5), "cone, quadric path"}, {generic, "cone, generic walk"}, {describe(quartic, 1.5), "quartic cone"}};
+  const glm::dvec3 apex(glm::vec3(0.1f, 0.2f, 0.3f));
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  for (const auto& [desc, name] : cases) {
+    OneSurface s(desc);
+    int floatHits = 0, doubleHits = 0;
+    for (int k = 0; k < 400; ++k) {
+      const glm::dvec3 d = glm::normalize(glm::dvec3(normal(rng), normal(rng), normal(rng)));
+      const RayD floatRay = rayD(glm::dvec3(glm::vec3(apex)), glm::dvec3(glm::vec3(d)));
+      if (const auto t = s.intersectFloat(floatRay, name); t && *t < 1e-6) {
+        ++floatHits;
+        ADD_FAILURE() << name << ": float ray " << k << " hit its origin at t = " << *t;
+      }
+      RayD doubleRay = rayD(apex, d);
+      doubleRay.orgError = 1e-7;
+      if (const auto hit = s.intersect(doubleRay, name); hit && hit->t < 1e-7) {
+        ++doubleHits;
+        ADD_FAILURE() << name << ": double ray " << k << " hit its origin at t = " << hit->t;
+      }
+      if (floatHits + doubleHits > 4) break;
+    }
+  }
+}
+
 // Kummer's quartic (x^2+y^2+z^2-mu^2)^2 - lambda p q r s with the SURFER tetrahedron
 // planes. Along an edge of the tetrahedron two planes vanish, so p q r s and its gradient
 // vanish there; where the edge meets the sphere r^2 = mu^2 the first term and its

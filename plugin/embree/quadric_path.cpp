@@ -231,6 +231,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   g.err[0] = at.error + shiftError0;
   g.err[1] = gamma(7) * glm::dot(2.0 * q.mulAbsA<kDiagonal>(absP) + q.absB, absD) + shiftError1;
   g.err[2] = gamma(5) * glm::dot(absD, q.mulAbsA<kDiagonal>(absD));
+  g.selfRoot = onSurface;
   if (onSurface) deflateAtZero(g.degree, g.c, g.err);
 }
 }  // namespace
@@ -436,6 +437,7 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
   if (q.g.degree < 1) return false;
   q.slo = lo - q.g.tShift;
   q.shi = hi - q.g.tShift;
+  if (q.g.selfRoot) q.slo = std::max(q.slo, selfRootWindow(ray));
   return q.slo < q.shi;
 }
 

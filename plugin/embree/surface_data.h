@@ -175,6 +175,21 @@ inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, 
   return glm::dot(oc, oc) > data.selfRootRadius2 && orgError <= 0x1p-11 * data.radius;
 }
 
+// After the self-root rule divided out the root at an origin judged on the surface, the
+// ray parameter below which a root is still that origin's own: within the origin's
+// uncertainty (orgError plus the rounding of its coordinates), twice over. Near a singular
+// point the line through an uncertain origin meets the surface again within that
+// distance (a float ray leaving a cone's apex found the apex again at t = 3e-8..5e-8 on
+// half of its directions; Barth's and Cayley's nodes alike), which no coefficient test
+// can tell from the origin. pbrt-v4 offsets a spawned ray's origin by its error bound for
+// the same reason (Sec. 6.8.6); a legitimate hit that close to the origin is
+// indistinguishable from it.
+inline double selfRootWindow(const KernelRay& ray) {
+  const glm::dvec3& o = ray.org;
+  const double dist = 2.0 * (ray.orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)));
+  return dist / std::sqrt(glm::dot(ray.dir, ray.dir));
+}
+
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
 bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
 
@@ -211,6 +226,7 @@ struct QuadricRay {
   double tShift = 0;
   double c[3] = {0, 0, 0};
   double err[3] = {0, 0, 0};
+  bool selfRoot = false;  // the origin was on the surface and its root divided out
 };
 // About the origin when it lies on the surface (the self-root rule: the root at s = 0 is
 // divided out), else about the point of [r0, r1] closest to the clip centre. closest: that

@@ -182,7 +182,7 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
 // Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
 // no expansion, no cache and no polish (the stable quadratic formula is accurate to the
 // conditioning of g, and the normal is 2 A x + b at the hit).
-void restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
+bool restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
   QuadricRay q;
   restrictQuadricRay(data, ray, r0, r1, q);
   g.degree = q.degree;
@@ -191,6 +191,7 @@ void restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, d
     g.coeff[i] = q.c[i];
     g.error[i] = q.err[i];
   }
+  return q.selfRoot;
 }
 
 // ---- Restriction and roots, once per ray -------------------------------------------------
@@ -208,6 +209,8 @@ struct RayRoots {
   RayPolynomial g;
   double r0 = 0, r1 = 0;                  // the region span in t
   double slo = 0, shi = 0;                // the same in s
+  double selfWindow = 0;                  // > 0: the self-root rule applied (selfRootWindow)
+  bool closedLo = true;                   // slo is the region's start (regionRoots), not the window
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
   bool complete = false;
@@ -227,12 +230,15 @@ void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::
   restrictToRay(data.horner, o, d, tShift, g);
 }
 
-// Returns the cache entry when g came from it.
-CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
+// Returns the cache entry when g came from it; selfWindow > 0 when the self-root rule
+// divided out the origin's root (selfRootWindow), else 0.
+CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g,
+                     double& selfWindow) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
+  selfWindow = 0.0;
   if (data.quadric) {
-    restrictQuadric(data, ray, r0, r1, g);
+    if (restrictQuadric(data, ray, r0, r1, g)) selfWindow = selfRootWindow(ray);
     return nullptr;
   }
   // Outside the clip ball (originOutsideClipBall, as the quadric path) the self-root rule
@@ -243,6 +249,7 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
   if (!originOutsideClipBall(data, o, ray.orgError) && originOnSurface(data, ray)) {
     restrictToRay(data.horner, o, d, 0.0, g);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
+    selfWindow = selfRootWindow(ray);
     return nullptr;
   }
   if (CacheEntry* entry = data.desc.options.originCache ? cachedExpansion(data, o) : nullptr) {
@@ -259,9 +266,10 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
 // rays entering the clip ball 1e-4 to 1e-3 before the plane x^m = 0 missed it, 12 % at
 // m = 4 and all of them for m = 6 to 10). Degree 2 (the
 // quadratic fast path) stays open: a double root's noise region is far inside the 2^-20
-// by which the region is widened.
-RootOptions regionRoots(RootOptions options) {
-  options.closedLo = true;
+// by which the region is widened. After the self-root rule the span starts at the
+// self-root window instead (closedLo false: a root within noise of it is the origin's).
+RootOptions regionRoots(RootOptions options, bool closedLo) {
+  options.closedLo = closedLo;
   return options;
 }
 
@@ -310,8 +318,16 @@ bool keepsDigits(const RayPolynomial& g, double r0, double r1) {
 }
 
 // The first root of rr.g in the region span (rr.count = 0 or 1).
-void solveFirst(const SurfaceData& data, RayRoots& rr) {
+// The roots' lower end in s: the region's start, or past the self-root window (then an
+// open end: a root within noise of it is the origin's, not one to report there).
+void regionStart(RayRoots& rr) {
   rr.slo = rr.r0 - rr.g.tShift;
+  rr.closedLo = !(rr.selfWindow > 0.0 && rr.selfWindow > rr.slo);
+  if (!rr.closedLo) rr.slo = rr.selfWindow;
+}
+
+void solveFirst(const SurfaceData& data, RayRoots& rr) {
+  regionStart(rr);
   rr.shi = rr.r1 - rr.g.tShift;
   rr.count = 0;
   rr.complete = true;
@@ -324,7 +340,7 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
                          opt.roots.method == RootMethod::Auto && opt.roots.relTolerance == 0.0;
   const auto s = quadratic ? firstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
                                                 std::span<const double, 3>(rr.g.error.data(), 3), rr.slo, rr.shi)
-                           : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots), opt.singlePrecision);
+                           : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots, rr.closedLo), opt.singlePrecision);
   if (s) {
     rr.roots[0] = *s;
     rr.count = 1;
@@ -340,7 +356,7 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   rr.id = 0;  // invalid until complete (restriction may throw)
   rr.r0 = r0;
   rr.r1 = r1;
-  CacheEntry* entry = restrict(data, ray, r0, r1, rr.g);
+  CacheEntry* entry = restrict(data, ray, r0, r1, rr.g, rr.selfWindow);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
     ++entry->failures;
@@ -385,14 +401,14 @@ void completeRoots(const SurfaceData& data, RayRoots& rr) {
     const double tFirst = rr.g.tShift + rr.roots[0];
     restrictRecentred(data, rr.org, rr.dir, rr.r0, rr.r1, rr.g);
     rr.fromCache = false;
-    rr.slo = rr.r0 - rr.g.tShift;
+    regionStart(rr);
     rr.shi = rr.r1 - rr.g.tShift;
     rr.roots[0] = tFirst - rr.g.tShift;
   }
   const RayPolynomial& g = rr.g;
   const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
   std::array<double, kMaxDegree> all{};
-  const int n = allRoots(c, err, rr.slo, rr.shi, all, regionRoots(data.desc.options.roots));
+  const int n = allRoots(c, err, rr.slo, rr.shi, all, regionRoots(data.desc.options.roots, rr.closedLo));
   const double first = rr.roots[0];
   int closest = -1;
   for (int i = 0; i < n; ++i)
