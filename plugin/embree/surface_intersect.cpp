@@ -209,6 +209,7 @@ struct RayRoots {
   RayPolynomial g;
   double r0 = 0, r1 = 0;                  // the region span in t
   double slo = 0, shi = 0;                // the same in s
+  double tnear = 0, tfar = 0;             // the ray's interval the roots were found for
   double selfWindow = 0;                  // > 0: the self-root rule applied (selfRootWindow)
   bool closedLo = true;                   // slo is the region's start (regionRoots), not the window
   std::array<double, kMaxDegree> roots{};  // in s, increasing
@@ -317,18 +318,25 @@ bool keepsDigits(const RayPolynomial& g, double r0, double r1) {
   return noise <= 1e-6 * value;
 }
 
-// The first root of rr.g in the region span (rr.count = 0 or 1).
-// The roots' lower end in s: the region's start, or past the self-root window (then an
-// open end: a root within noise of it is the origin's, not one to report there).
-void regionStart(RayRoots& rr) {
-  rr.slo = rr.r0 - rr.g.tShift;
-  rr.closedLo = !(rr.selfWindow > 0.0 && rr.selfWindow > rr.slo);
-  if (!rr.closedLo) rr.slo = rr.selfWindow;
+// The span in s the roots are searched in: the region's span cut to the ray's (tnear,
+// tfar) (no work on roots the ray cannot report: a ray starting inside the region found
+// the roots behind it first and then had to find them all, measured: shadow rays leaving
+// the gallery surfaces took twice as long), and past the self-root window. Only the
+// region's own start is a closed end (regionRoots); tnear and the window are open: a root
+// within noise of them is the origin's, not one to report there.
+void searchSpan(RayRoots& rr) {
+  rr.slo = std::max(rr.r0, rr.tnear) - rr.g.tShift;
+  rr.shi = std::min(rr.r1, rr.tfar) - rr.g.tShift;
+  rr.closedLo = !(rr.tnear > rr.r0);
+  if (rr.selfWindow > 0.0 && rr.selfWindow > rr.slo) {
+    rr.slo = rr.selfWindow;
+    rr.closedLo = false;
+  }
 }
 
+// The first root of rr.g in the search span (rr.count = 0 or 1).
 void solveFirst(const SurfaceData& data, RayRoots& rr) {
-  regionStart(rr);
-  rr.shi = rr.r1 - rr.g.tShift;
+  searchSpan(rr);
   rr.count = 0;
   rr.complete = true;
   rr.firstPolished = false;
@@ -350,12 +358,16 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
 
 RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1) {
   RayRoots& rr = tlsRayRoots;
+  // (A later cell of the same ray has the same tnear and at most the same tfar: Embree
+  // only shortens the ray.)
   if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir && rr.orgRoundoff == ray.orgRoundoff &&
-      rr.orgError == ray.orgError)
+      rr.orgError == ray.orgError && rr.tnear == ray.tnear && ray.tfar <= rr.tfar)
     return rr;
   rr.id = 0;  // invalid until complete (restriction may throw)
   rr.r0 = r0;
   rr.r1 = r1;
+  rr.tnear = ray.tnear;
+  rr.tfar = ray.tfar;
   CacheEntry* entry = restrict(data, ray, r0, r1, rr.g, rr.selfWindow);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
@@ -401,8 +413,7 @@ void completeRoots(const SurfaceData& data, RayRoots& rr) {
     const double tFirst = rr.g.tShift + rr.roots[0];
     restrictRecentred(data, rr.org, rr.dir, rr.r0, rr.r1, rr.g);
     rr.fromCache = false;
-    regionStart(rr);
-    rr.shi = rr.r1 - rr.g.tShift;
+    searchSpan(rr);
     rr.roots[0] = tFirst - rr.g.tShift;
   }
   const RayPolynomial& g = rr.g;
