@@ -464,6 +464,10 @@ void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
   QuadricSpan q;
   double s;
   if (!quadricSpan(*data, kr, q) || !quadricRoot(q, q.slo, s)) return;
+  // A first root within the self-root window is the origin's own (selfRootWindow): the
+  // roots from the window on.
+  if (q.g.selfRoot && withinSelfRootWindow(kr, s) && !quadricRoot(q, std::max(q.slo, selfRootWindow(kr)), s))
+    return;
   offerQuadricRoots<kOcclusion>(L, kr, q, s);
 }
 

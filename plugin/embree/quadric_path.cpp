@@ -437,7 +437,6 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
   if (q.g.degree < 1) return false;
   q.slo = lo - q.g.tShift;
   q.shi = hi - q.g.tShift;
-  if (q.g.selfRoot) q.slo = std::max(q.slo, selfRootWindow(ray));
   return q.slo < q.shi;
 }
 
