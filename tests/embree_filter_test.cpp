@@ -199,6 +199,48 @@ TEST_F(EmbreeFilter, PlanesOnCellFacesOfferedOnce) {
   }
 }
 
+// The double channel from far away, through a grid edge: the float ray Embree traverses
+// with passes up to u_float |o| beside the double one, so the owner cell of a root may not
+// surely be reached and the cells around it claim it as an orphan (claimsRoot). Every
+// root must still reach the host's filter once per trace. The plane z = 0.1 in depth-3
+// cells, rays through points on the grid lines x = y = 0 (and 1e-7..1e-4 off them) from
+// 10 to 1000 box radii: one crossing each, closed form. Before the offered-roots mask a
+// rejecting filter saw it up to 7 times.
+TEST_F(EmbreeFilter, DoubleChannelOffersAnOrphanRootOnce) {
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial("z - 0.1");
+  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+  desc.options.cellDepth = 3;
+  FilteredSurface g(device, desc);
+  rtcSetGeometryOccludedFilterFunction(g.geometry.geometry(), &rejectingFilter);
+  rtcCommitGeometry(g.geometry.geometry());
+  g.scene.commit();
+  ASSERT_GT(g.geometry.primitiveCount(), 1u);
+  int rays = 0;
+  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
+    for (const double dist : {10.0, 100.0, 1000.0})
+      for (const glm::dvec3& dir : {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
+        for (const bool occlusion : {false, true}) {
+          const RayD ray{p - dist * d, d, 0.0, 1e30};
+          log = FilterLog{1 << 30, 0, {}};  // reject every candidate
+          HitD hit;
+          IntersectContext context;
+          initIntersectContext(&context, &ray, &hit, g.scene);
+          RTCRayHit rh = makeRayHit(ray, g.scene);
+          if (occlusion)
+            rtcOccluded1(g.scene, &context.base, &rh.ray);
+          else
+            rtcIntersect1(g.scene, &context.base, &rh);
+          ASSERT_EQ(log.seenT.size(), 1u) << "delta " << delta << " dist " << dist << " occlusion " << occlusion;
+          EXPECT_FALSE(hit.hit);
+          ++rays;
+        }
+      }
+  EXPECT_EQ(rays, 72);
+  EXPECT_EQ(g.geometry.callbackErrors(), 0u);
+}
+
 TEST_F(EmbreeFilter, TorusFilterWalksAllFourRoots) {
   SurfaceDesc desc;
   desc.polynomial = torusPolynomial(1.0, 0.4);

@@ -40,6 +40,7 @@
 #include <embree3/rtcore.h>
 #include <glm/mat4x4.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string_view>
 #include <variant>
@@ -156,6 +157,10 @@ struct IntersectContext {
   // own ulps). Set by initIntersectContext from the same ray.
   double floatShift = 0;
   double floatShiftLow = 0;
+  // Set by initIntersectContext, distinct for each call on a thread: the adapter offers
+  // each root of this trace to the host's filters once (several cells may claim a root
+  // the float ray passes beside, see surface_intersect.cpp).
+  std::uint64_t trace = 0;
   double floatScale = 1;
 };
 // Initialises base (rtcInitIntersectContext) and marks the context as algray's.

@@ -400,6 +400,7 @@ template <class Args>
   KernelRay kr = objectRay(data, org, dir, (tnear - L.tBase) - L.tBaseLow, (tfar - L.tBase) - L.tBaseLow,
                            kUnitRoundoff, orgError);
   kr.hasTraversalRay = true;
+  kr.trace = L.dctx->trace;
   kr.travOrg = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane), RTCRayN_org_z(ray, n, lane));
   kr.travDir = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
   return kr;
@@ -780,6 +781,8 @@ void initContext(IntersectContext* context, const RayD* ray, HitD* hit, const RT
   context->hit = hit;
   context->hostFilter = nullptr;
   const FloatMap m = ray ? floatMap(*ray, bounds) : FloatMap{};
+  thread_local std::uint64_t traces = 0;
+  context->trace = ++traces;
   context->floatShift = m.shift;
   context->floatShiftLow = m.shiftLow;
   context->floatScale = m.scale;

@@ -120,6 +120,7 @@ struct KernelRay {
   // The float ray Embree traverses with (geometry space), when it differs from this one
   // (the double channel): a root is owned by a cell that Embree can reach.
   bool hasTraversalRay = false;
+  std::uint64_t trace = 0;  // the double channel's IntersectContext::trace (0: none)
   glm::dvec3 travOrg{0.0}, travDir{0.0};
 };
 

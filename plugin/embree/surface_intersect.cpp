@@ -212,6 +212,9 @@ struct RayRoots {
   double tnear = 0, tfar = 0;             // the ray's interval the roots were found for
   double selfWindow = 0;                  // > 0: the self-root rule applied (selfRootWindow)
   bool closedLo = true;                   // slo is the region's start (regionRoots), not the window
+  // The roots (bit i: roots[i]) already offered to the host in the double channel's trace
+  // offeredTrace (see walkRoots).
+  std::uint64_t offeredTrace = 0, offered = 0;
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
   bool complete = false;
@@ -610,6 +613,17 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
       if (s >= shi && !ray.hasTraversalRay) break;
       continue;
     }
+    // In the double channel the orphan rule of claimsRoot may let several cells take a
+    // root (its owner not surely reached by the float ray): each is offered once per
+    // trace (an any-hit filter saw a root on a grid edge 7 times from 100 box radii).
+    const std::uint64_t bit = i < 64 ? std::uint64_t{1} << i : 0;
+    if (ray.trace != 0) {
+      if (rr.offeredTrace != ray.trace) {
+        rr.offeredTrace = ray.trace;
+        rr.offered = 0;
+      }
+      if ((rr.offered & bit) != 0) continue;
+    }
     // Polish within the whole span (a root near a cell face may move across it; the
     // owner was decided on the unpolished value). A cache root was polished already.
     if (i == 0 && rr.firstPolished)
@@ -618,7 +632,9 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
       hit.gradient = occlusion ? glm::dvec3(0.0) : data.quadric->gradient(hit.point);
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), 1e-4 * (r1 - r0), hit);
-    if (hit.t > ray.tnear && hit.t < ray.tfar && accept(user, hit)) return true;
+    if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
+    if (ray.trace != 0) rr.offered |= bit;
+    if (accept(user, hit)) return true;
   }
   return false;
 }
