@@ -1084,6 +1084,39 @@ TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
 // SurfaceOptions::uv off: every hit field as with the default except u = v = 0, for
 // single float rays, 8-ray packets (the quadric's SIMD lanes and the generic walk's lane
 // loop) and the double channel; and the default's u, v are not all zero (the test can fail).
+// A double surface, (x^2 + y^2 - 1/2)^2 = 0: its gradient 2 g grad g vanishes on it, so the
+// hit's gradient is zero or rounding noise. Ng must still be a usable direction (a host
+// normalises it): finite and non-zero in both channels, and where the gradient was
+// exactly zero, the reversed ray direction.
+TEST_F(EmbreeHits, ZeroGradientGivesAUsableNormal) {
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial("(x^2 + y^2 - 0.5)^2");
+  desc.clip = ClipSphere{{0, 0, 0}, 1.5};
+  SurfaceGeometry g(device, desc);
+  Scene scene(device);
+  scene.attach(g.geometry());
+  scene.commit();
+  int hits = 0, facing = 0;
+  for (int k = 0; k < 48; ++k) {
+    // Oblique rays, and rays along x at y = 0.5, whose hits (-0.5, 0.5, z) have g = 0
+    // exactly (x^2 + y^2 = 0.5 in double) and so a gradient of exactly zero.
+    const bool exact = k >= 40;
+    const glm::dvec3 o(-3.0, exact ? 0.5 : 0.02 * k - 0.4, exact ? 0.125 * (k - 44) : 0.3);
+    const glm::dvec3 d = exact ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(1.0, 0.05, 0.01 * k);
+    const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
+    const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d)));
+    if (!hit.hit) continue;
+    ++hits;
+    EXPECT_TRUE(std::isfinite(hit.Ng.x) && std::isfinite(hit.Ng.y) && std::isfinite(hit.Ng.z)) << k;
+    EXPECT_GT(glm::length(hit.Ng), 0.0) << k;
+    if (hit.Ng == -d) ++facing;
+    ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << k;
+    EXPECT_GT(std::abs(rh.hit.Ng_x) + std::abs(rh.hit.Ng_y) + std::abs(rh.hit.Ng_z), 0.0f) << k;
+  }
+  EXPECT_GT(hits, 20);
+  EXPECT_GT(facing, 0);  // the case the rule is for occurs
+}
+
 TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
   std::uniform_real_distribution<float> u(-1.3f, 1.3f);
   for (const bool quadric : {true, false}) {

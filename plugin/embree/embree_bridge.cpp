@@ -276,6 +276,17 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
     ng = L.data->identity ? h.gradient : L.data->aInvT * h.gradient;
     ngFloat = floatNormal(ng);
   }
+  // A gradient that is exactly zero (a hit on a singular point, or on a double surface
+  // such as (x^2 + y^2 - 1)^2 = 0, where grad f = 2 g grad g vanishes everywhere) has no
+  // direction; a host normalising it gets NaN. Ng is then the ray's reversed direction
+  // (facing the ray: the surface has no normal of its own there).
+  if (!(ngFloat.x != 0.0f || ngFloat.y != 0.0f || ngFloat.z != 0.0f)) {
+    if (L.dctx)
+      ng = -L.dctx->ray->dir;
+    else
+      ng = -lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
+    ngFloat = floatNormal(ng);
+  }
   // u, v in double for the double channel, else to float accuracy (surfaceUVFloat);
   // none (0, 0, as Embree's own sphere) when the host switched them off.
   double u = 0, v = 0;
