@@ -97,7 +97,7 @@ inline HitD intersectD(RTCScene scene, const RayD& ray, RTCRayHit* out = nullptr
   HitD hit;
   IntersectContext context;
   initIntersectContext(&context, &ray, &hit, scene);
-  RTCRayHit rh = makeRayHit(ray, scene);
+  RTCRayHit rh = makeRayHit(context);
   rtcIntersect1(scene, &context.base, &rh);
   if (out) *out = rh;
   return hit;

@@ -75,7 +75,7 @@ query::QueryHit trace(RTCScene scene, unsigned geomID, const RayD& ray, bool use
     HitD hit;
     IntersectContext context;
     initIntersectContext(&context, &ray, &hit, scene);
-    RTCRayHit rh = makeRayHit(ray, scene);
+    RTCRayHit rh = makeRayHit(context);
     rtcIntersect1(scene, &context.base, &rh);
     if (!hit.hit || rh.hit.geomID != geomID) return out;
     out.hit = true;

@@ -157,6 +157,8 @@ struct IntersectContext {
   // own ulps). Set by initIntersectContext from the same ray.
   double floatShift = 0;
   double floatShiftLow = 0;
+  glm::dvec3 floatOrigin{0.0};  // the float ray's origin when floatShift != 0
+  bool floatEmpty = false;      // the float ray has an empty span (no point it can hit)
   // Set by initIntersectContext, distinct for each call on a thread: the adapter offers
   // each root of this trace to the host's filters once (several cells may claim a root
   // the float ray passes beside, see surface_intersect.cpp).
@@ -178,6 +180,9 @@ void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit,
 // hit ids invalid.
 RTCRayHit makeRayHit(const RayD& ray);
 RTCRayHit makeRayHit(const RayD& ray, RTCScene scene);
+// The float ray of the context's ray, as initIntersectContext mapped it (with or without
+// the scene): the same as makeRayHit(ray[, scene]), without computing the map again.
+RTCRayHit makeRayHit(const IntersectContext& context);
 // The parameter along `ray` of a parameter of makeRayHit(ray)'s float ray (its tfar after
 // rtcIntersect1 without the double channel). The float ray is `ray` itself unless Embree
 // could not take it as it is: components beyond 1e17 (origin moved along the line,
@@ -185,5 +190,7 @@ RTCRayHit makeRayHit(const RayD& ray, RTCScene scene);
 // treats direction components below 1e-18 as +1e-18).
 double fromFloatParameter(const RayD& ray, double tFloat);
 double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene);
+// The same with the map initIntersectContext stored in the context.
+double fromFloatParameter(const IntersectContext& context, double tFloat);
 
 }  // namespace algray

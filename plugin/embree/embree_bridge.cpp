@@ -713,21 +713,27 @@ MoveBox moveBox(const RTCBounds* bounds) {
   return box;
 }
 
+// Whether o lies farther than 2^12 times the scene's largest extent outside its bounds:
+// then float's rounding of the proxy's origin is over 2^-12 of the scene; nearer, the
+// float ray is the ray itself. (From the raw bounds: the padded box of moveBox is built
+// only for far rays.)
+bool farFromScene(const glm::dvec3& o, const RTCBounds* b) {
+  constexpr double kSceneFar = 0x1p12;
+  const double extent = std::max({b->upper_x - b->lower_x, b->upper_y - b->lower_y, b->upper_z - b->lower_z});
+  if (!(extent >= 0.0)) return false;  // empty scene (or NaN bounds)
+  const double reach = kSceneFar * extent;
+  return o.x < b->lower_x - reach || o.x > b->upper_x + reach || o.y < b->lower_y - reach ||
+         o.y > b->upper_y + reach || o.z < b->lower_z - reach || o.z > b->upper_z + reach;
+}
+
 FloatMap floatMap(const RayD& r, const RTCBounds* sceneBounds) {
-  constexpr double kFar = 0x1p40, kBig = 1e17, kTiny = 0x1p-20, kLength = 0x1p56, kSceneFar = 0x1p12;
+  constexpr double kFar = 0x1p40, kBig = 1e17, kTiny = 0x1p-20, kLength = 0x1p56;
   static_assert(kLength < kBig);
   FloatMap m;
-  const MoveBox box = moveBox(sceneBounds);
   bool big = false;
   for (int i = 0; i < 3; ++i) big = big || std::abs(r.org[i]) > kFar || std::abs(r.dir[i]) > kBig;
-  if (box.scene) {
-    // Far from the scene: 2^12 of its extent outside its box (the proxy's rounding is then
-    // over 2^-12 of it); nearer, the float ray is the ray itself.
-    const glm::dvec3 extent = box.hi - box.lo;
-    for (int i = 0; i < 3; ++i)
-      big = big || r.org[i] < box.lo[i] - kSceneFar * extent[i] || r.org[i] > box.hi[i] + kSceneFar * extent[i];
-  }
-  if (!big) {
+  const bool far = sceneBounds && farFromScene(r.org, sceneBounds);
+  if (!big && !far) {
     const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
     if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
     return m;
@@ -739,6 +745,7 @@ FloatMap floatMap(const RayD& r, const RTCBounds* sceneBounds) {
   }
   const glm::dvec3 u = r.dir / len;
   m.scale = kLength / len;
+  const MoveBox box = moveBox(far ? sceneBounds : nullptr);
   glm::dvec3 p = r.org;
   const double size = std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
   for (int move = 0; move < kMaxMoves; ++move) {
@@ -797,10 +804,12 @@ void initContext(IntersectContext* context, const RayD* ray, HitD* hit, const RT
   context->floatShift = m.shift;
   context->floatShiftLow = m.shiftLow;
   context->floatScale = m.scale;
+  context->floatOrigin = m.origin;
+  context->floatEmpty = m.empty;
   if (hit) *hit = HitD{};
 }
 
-RTCRayHit floatRayHit(const RayD& r, const RTCBounds* bounds);
+RTCRayHit floatRayHit(const RayD& r, const FloatMap& m);
 }  // namespace
 
 void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit) {
@@ -821,17 +830,29 @@ double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene) {
   return m.shift + (m.shiftLow + m.scale * tFloat);
 }
 
-RTCRayHit makeRayHit(const RayD& r) { return floatRayHit(r, nullptr); }
+double fromFloatParameter(const IntersectContext& context, double tFloat) {
+  return context.floatShift + (context.floatShiftLow + context.floatScale * tFloat);
+}
+
+RTCRayHit makeRayHit(const RayD& r) { return floatRayHit(r, floatMap(r, nullptr)); }
 RTCRayHit makeRayHit(const RayD& r, RTCScene scene) {
   const RTCBounds b = sceneBounds(scene);
-  return floatRayHit(r, &b);
+  return floatRayHit(r, floatMap(r, &b));
+}
+RTCRayHit makeRayHit(const IntersectContext& context) {
+  FloatMap m;
+  m.shift = context.floatShift;
+  m.shiftLow = context.floatShiftLow;
+  m.scale = context.floatScale;
+  m.origin = context.floatOrigin;
+  m.empty = context.floatEmpty;
+  return context.ray ? floatRayHit(*context.ray, m) : floatRayHit(RayD{}, FloatMap{});
 }
 
 namespace {
-RTCRayHit floatRayHit(const RayD& r, const RTCBounds* bounds) {
+RTCRayHit floatRayHit(const RayD& r, const FloatMap& m) {
   constexpr float kInfF = std::numeric_limits<float>::infinity();
   RTCRayHit rh{};
-  const FloatMap m = floatMap(r, bounds);
   const glm::dvec3 o = m.shift == 0.0 ? r.org : m.origin;
   const glm::dvec3 d = m.scale == 1.0 ? r.dir : r.dir * m.scale;
   rh.ray.org_x = static_cast<float>(o.x);

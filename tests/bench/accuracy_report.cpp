@@ -120,7 +120,7 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
                                     refOptions);
     IntersectContext context;
     initIntersectContext(&context, &ray, &o.hit, scene);
-    RTCRayHit rh = makeRayHit(ray, scene);
+    RTCRayHit rh = makeRayHit(context);
     rtcIntersect1(scene, &context.base, &rh);
     if (rh.hit.geomID != id) o.hit.hit = false;
     RTCIntersectContext plain;
@@ -143,7 +143,7 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
       HitD lh;
       IntersectContext lc;
       initIntersectContext(&lc, &leave, &lh, scene);
-      RTCRayHit lr = makeRayHit(leave, scene);
+      RTCRayHit lr = makeRayHit(lc);
       rtcIntersect1(scene, &lc.base, &lr);
       ++o.leaving;
       if (lh.hit && lr.hit.geomID == id && lh.t * glm::length(d) < kSelfDistance * s.radius) ++o.self;

@@ -90,24 +90,26 @@ struct TraceResult {
 
 TraceResult traceOne(RTCScene scene, const RayD& ray, bool floatRays) {
   TraceResult r;
-  RTCRayHit rh = makeRayHit(ray, scene);
+  // The double channel's context also carries the float ray's map (makeRayHit,
+  // fromFloatParameter), which the float rays use without tracing through it.
+  HitD hit;
+  IntersectContext context;
+  initIntersectContext(&context, &ray, &hit, scene);
+  RTCRayHit rh = makeRayHit(context);
   if (floatRays) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcIntersect1(scene, &context, &rh);
+    RTCIntersectContext plain;
+    rtcInitIntersectContext(&plain);
+    rtcIntersect1(scene, &plain, &rh);
     r.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    r.t = fromFloatParameter(ray, rh.ray.tfar, scene);
+    r.t = fromFloatParameter(context, rh.ray.tfar);
   } else {
-    HitD hit;
-    IntersectContext context;
-    initIntersectContext(&context, &ray, &hit, scene);
     rtcIntersect1(scene, &context.base, &rh);
     r.hit = hit.hit;
     r.t = hit.t;
     r.finite = !hit.hit || (std::isfinite(hit.t) && std::isfinite(hit.Ng.x) && std::isfinite(hit.Ng.y) &&
                             std::isfinite(hit.Ng.z));
   }
-  r.tf = fromFloatParameter(ray, rh.ray.tfar, scene);
+  r.tf = fromFloatParameter(context, rh.ray.tfar);
   if (r.hit && !std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) r.finite = false;
   return r;
 }

@@ -247,7 +247,7 @@ std::vector<ShadowRay> algrayShadows(RTCScene scene, const View& v) {
     HitD hit;
     IntersectContext context;
     initIntersectContext(&context, &ray, &hit, scene);
-    RTCRayHit rh = makeRayHit(ray, scene);
+    RTCRayHit rh = makeRayHit(context);
     rtcIntersect1(scene, &context.base, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || !hit.hit) continue;
     const glm::vec3 p(ray.org + hit.t * ray.dir);

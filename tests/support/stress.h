@@ -61,7 +61,7 @@ class OneSurface {
     HitD hit;
     IntersectContext context;
     initIntersectContext(&context, &ray, &hit, scene_);
-    RTCRayHit rh = makeRayHit(ray, scene_);
+    RTCRayHit rh = makeRayHit(context);
     const float before = rh.ray.tfar;  // -inf already means "occluded" to Embree
     rtcOccluded1(scene_, &context.base, &rh.ray);
     return before != -std::numeric_limits<float>::infinity() && rh.ray.tfar == -std::numeric_limits<float>::infinity();
