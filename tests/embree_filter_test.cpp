@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -239,6 +241,58 @@ TEST_F(EmbreeFilter, DoubleChannelOffersAnOrphanRootOnce) {
       }
   EXPECT_EQ(rays, 72);
   EXPECT_EQ(g.geometry.callbackErrors(), 0u);
+}
+
+// The offered-roots mask belongs to one surface's roots: in the same trace another
+// surface's root with the same index must still be offered. A quartic blob inside a
+// torus's hole, seen from the torus's centre: the blob's first root, t = 0.7 (closed
+// form: (x - 1)^4 = 0.0081), not its second; and behind a torus whose filter rejects every
+// root, the surface x = 5 at t = 15, in both queries. (The mask kept across surfaces
+// reported t = 1.3 and no hit at all.)
+TEST_F(EmbreeFilter, OfferedRootsAreOneSurfacesOwn) {
+  const auto add = [&](Scene& scene, const char* equation, glm::dvec3 centre, double radius) {
+    SurfaceDesc desc;
+    desc.polynomial = parsePolynomial(equation);
+    desc.clip = ClipSphere{centre, radius};
+    auto g = std::make_unique<SurfaceGeometry>(device, desc);
+    scene.attach(g->geometry());
+    return g;
+  };
+  {
+    Scene scene(device);
+    const auto torus = add(scene, "(x^2+y^2+z^2+8)^2 - 36*(x^2+y^2)", {0, 0, 0}, 4.5);
+    const auto blob = add(scene, "(x-1)^4 + y^4 + z^4 - 0.0081", {1, 0, 0}, 0.5);
+    scene.commit();
+    const HitD hit = intersectD(scene, RayD{{0, 0, 0}, {1, 0, 0}, 0.0, kInfF});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 0.7, 1e-12);
+    EXPECT_EQ(hit.geomID, 1u);
+  }
+  {
+    Scene scene(device);
+    const auto torus = add(scene, "(x^2+y^2+z^2+8)^2 - 36*(x^2+y^2)", {0, 0, 0}, 4.5);
+    rtcSetGeometryIntersectFilterFunction(torus->geometry(), &rejectingFilter);
+    rtcSetGeometryOccludedFilterFunction(torus->geometry(), &rejectingFilter);
+    rtcCommitGeometry(torus->geometry());
+    const auto wall = add(scene, "x - 5 + 0.01*(y^4 + z^4)", {5, 0, 0}, 1.0);
+    scene.commit();
+    log = FilterLog{1 << 30, 0, {}};
+    const RayD ray{{-10, 0, 0}, {1, 0, 0}, 0.0, kInfF};
+    const HitD hit = intersectD(scene, ray);
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 15.0, 1e-12);
+    EXPECT_EQ(hit.geomID, 1u);
+    EXPECT_EQ(log.seenT.size(), 4u);  // the torus's four roots, each once
+    log = FilterLog{1 << 30, 0, {}};
+    HitD occ;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &occ, scene);
+    RTCRayHit rh = makeRayHit(context);
+    rtcOccluded1(scene, &context.base, &rh.ray);
+    EXPECT_EQ(rh.ray.tfar, -kInfF);
+    EXPECT_TRUE(occ.hit);
+    EXPECT_NEAR(occ.t, 15.0, 1e-12);
+  }
 }
 
 TEST_F(EmbreeFilter, TorusFilterWalksAllFourRoots) {

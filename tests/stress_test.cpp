@@ -193,6 +193,30 @@ TEST(StressNodes, RaysLeavingASingularPointFromARoundedOrigin) {
   }
 }
 
+// A ray leaving the surface with tnear < 0 (a host asking for hits on both sides of its
+// origin): the self-root window must drop only the origin's own root, not those behind
+// it. Torus R = 2, r = 0.5 from (-1.5, 0, 0), on its inner equator, along +x: roots at
+// t = -1 (x = -2.5), 0 (the origin), 3 and 4; the first in (-10, inf) is -1. The generic
+// walk (cells on and off) and, for comparison, the sphere's quadric path (from (1, 0, 0):
+// -2).
+TEST(StressNodes, NegativeTnearFromASurfacePoint) {
+  for (const bool cells : {false, true}) {
+    SurfaceDesc desc = describe(torusPolynomial(2.0, 0.5), 3.0);
+    desc.options.useCells = cells;
+    OneSurface s(desc);
+    const auto hit = s.intersect(rayD({-1.5, 0, 0}, {1, 0, 0}, -10.0, kInfD), "torus");
+    ASSERT_TRUE(hit) << cells;
+    EXPECT_NEAR(hit->t, -1.0, 1e-12) << cells;
+    const auto ahead = s.intersect(rayD({-1.5, 0, 0}, {1, 0, 0}, 0.0, kInfD), "torus ahead");
+    ASSERT_TRUE(ahead) << cells;
+    EXPECT_NEAR(ahead->t, 3.0, 1e-12) << cells;
+  }
+  OneSurface sphere(describe(spherePolynomial(1.0), 1.5));
+  const auto hit = sphere.intersect(rayD({1, 0, 0}, {1, 0, 0}, -10.0, kInfD), "sphere");
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, -2.0, 1e-12);
+}
+
 // Kummer's quartic (x^2+y^2+z^2-mu^2)^2 - lambda p q r s with the SURFER tetrahedron
 // planes. Along an edge of the tetrahedron two planes vanish, so p q r s and its gradient
 // vanish there; where the edge meets the sphere r^2 = mu^2 the first term and its

@@ -185,9 +185,12 @@ RTCRayHit makeRayHit(const RayD& ray, RTCScene scene);
 RTCRayHit makeRayHit(const IntersectContext& context);
 // The parameter along `ray` of a parameter of makeRayHit(ray)'s float ray (its tfar after
 // rtcIntersect1 without the double channel). The float ray is `ray` itself unless Embree
-// could not take it as it is: components beyond 1e17 (origin moved along the line,
-// direction normalised) or a direction below 2^-20 (scaled by a power of two: Embree
-// treats direction components below 1e-18 as +1e-18).
+// could not take it as it is: an origin component beyond 2^40 or a direction component
+// beyond 1e17 (origin moved along the line to where it enters Embree's range, or with the
+// scene to near the scene's bounds when it is more than 4096 scene extents away;
+// direction scaled to length 2^56), or a direction below 2^-20 (scaled by a power of two:
+// Embree treats direction components below 1e-18 as +1e-18). A host reading the float
+// tfar must map it with this function.
 double fromFloatParameter(const RayD& ray, double tFloat);
 double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene);
 // The same with the map initIntersectContext stored in the context.
