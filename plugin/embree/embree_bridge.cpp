@@ -388,8 +388,7 @@ template <class Args>
   const SurfaceData& data = *L.data;
   const unsigned n = args->N;
   const RayD& r = *L.dctx->ray;
-  L.tfarD = std::min(r.tfar, L.dctx->floatShift + (L.dctx->floatShiftLow +
-                                                   L.dctx->floatScale * RTCRayN_tfar(ray, n, lane)));
+  L.tfarD = std::min(r.tfar, fromFloatParameter(*L.dctx, RTCRayN_tfar(ray, n, lane)));
   if (L.dctx->hit->hit) L.tfarD = std::min(L.tfarD, L.dctx->hit->t);
   // A direction far from unit length is scaled by a power of two first, and t with it
   // (exact): dot(d, d) overflows from |d| ~ 1e154 and underflows below ~1e-160, and the
@@ -820,14 +819,14 @@ void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit,
   initContext(context, ray, hit, &b);
 }
 
-double fromFloatParameter(const RayD& ray, double tFloat) {
-  const FloatMap m = floatMap(ray, nullptr);
-  return m.shift + (m.shiftLow + m.scale * tFloat);
-}
+namespace {
+double fromFloat(const FloatMap& m, double tFloat) { return m.shift + (m.shiftLow + m.scale * tFloat); }
+}  // namespace
+
+double fromFloatParameter(const RayD& ray, double tFloat) { return fromFloat(floatMap(ray, nullptr), tFloat); }
 double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene) {
   const RTCBounds b = sceneBounds(scene);
-  const FloatMap m = floatMap(ray, &b);
-  return m.shift + (m.shiftLow + m.scale * tFloat);
+  return fromFloat(floatMap(ray, &b), tFloat);
 }
 
 double fromFloatParameter(const IntersectContext& context, double tFloat) {
