@@ -153,8 +153,8 @@ struct IntersectContext {
   RTCFilterFunctionN hostFilter = nullptr;  // the host's context filter, chained
   // The float ray of makeRayHit is the double ray re-parametrised when Embree could not
   // take it as it is (see fromFloatParameter): t = floatShift + (floatShiftLow + floatScale
-  // * t_float), the shift an unevaluated sum (an origin beyond 1e17 moves by many of its
-  // own ulps). Set by initIntersectContext from the same ray.
+  // * t_float), the shift an unevaluated sum (a far origin moves by many of its own
+  // ulps). Set by initIntersectContext from the same ray (and scene).
   double floatShift = 0;
   double floatShiftLow = 0;
   glm::dvec3 floatOrigin{0.0};  // the float ray's origin when floatShift != 0
