@@ -694,13 +694,12 @@ struct FloatMap {
 // hits in cells of depth 3 were lost from 1e9 radii; from 1e6, some rays got a later root).
 struct MoveBox {
   glm::dvec3 lo{0.0}, hi{0.0};
-  bool scene = false;
 };
 
 MoveBox moveBox(const RTCBounds* bounds) {
   constexpr double kCube = 1.5e18;
   static_assert(kCube > kEmbreeReach && kCube < 1.8e18);
-  MoveBox box{glm::dvec3(-kCube), glm::dvec3(kCube), false};
+  MoveBox box{glm::dvec3(-kCube), glm::dvec3(kCube)};
   if (!bounds) return box;
   const glm::dvec3 lo(bounds->lower_x, bounds->lower_y, bounds->lower_z);
   const glm::dvec3 hi(bounds->upper_x, bounds->upper_y, bounds->upper_z);
@@ -708,7 +707,6 @@ MoveBox moveBox(const RTCBounds* bounds) {
   const glm::dvec3 pad = glm::max(hi - lo, glm::dvec3(0x1p-20 * std::max(glm::length(lo), glm::length(hi))));
   box.lo = glm::max(lo - pad, glm::dvec3(-kCube));
   box.hi = glm::min(hi + pad, glm::dvec3(kCube));
-  box.scene = true;
   return box;
 }
 
@@ -725,13 +723,13 @@ bool farFromScene(const glm::dvec3& o, const RTCBounds* b) {
          o.y > b->upper_y + reach || o.z < b->lower_z - reach || o.z > b->upper_z + reach;
 }
 
-FloatMap floatMap(const RayD& r, const RTCBounds* sceneBounds) {
+FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
   constexpr double kFar = 0x1p40, kBig = 1e17, kTiny = 0x1p-20, kLength = 0x1p56;
   static_assert(kLength < kBig);
   FloatMap m;
   bool big = false;
   for (int i = 0; i < 3; ++i) big = big || std::abs(r.org[i]) > kFar || std::abs(r.dir[i]) > kBig;
-  const bool far = sceneBounds && farFromScene(r.org, sceneBounds);
+  const bool far = bounds && farFromScene(r.org, bounds);
   if (!big && !far) {
     const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
     if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
@@ -744,7 +742,7 @@ FloatMap floatMap(const RayD& r, const RTCBounds* sceneBounds) {
   }
   const glm::dvec3 u = r.dir / len;
   m.scale = kLength / len;
-  const MoveBox box = moveBox(far ? sceneBounds : nullptr);
+  const MoveBox box = moveBox(far ? bounds : nullptr);
   glm::dvec3 p = r.org;
   const double size = std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
   for (int move = 0; move < kMaxMoves; ++move) {
