@@ -13,8 +13,8 @@
 //    differences have one sign beyond 2E the node is one monotone piece, and the sweep of
 //    roots_scan.h runs on it with no critical point (Newton on the power form G itself);
 //  * one root: if every b_i clears E plus the noise bound and they change sign exactly once,
-//    the node holds exactly one simple root (Descartes' rule, oneVariation below), and the
-//    same sweep brackets it.
+//    the node holds exactly one simple root (Descartes' rule, oneVariation below), and its
+//    ends b_0 = G(va), b_n = G(vb) bracket it for the safeguarded Newton of the sweep.
 // Anything else is split by de Casteljau's algorithm, left half first, so the first node
 // with a root ends a First/Any query (Lane and Riesenfeld, "Bounds on a polynomial", BIT
 // 21, 1981; Farin, "Curves and Surfaces for CAGD", Sec. 4.2). A node still undecided at
