@@ -83,9 +83,24 @@ inline T evenOddHorner(const T* a, int m, T x, T x2) {
   return e + o * x;
 }
 
+// A degree known at compile time (Deg<N>: Auto's solvers up to degree 20) takes the
+// even/odd passes; a run-time degree (int: Sturm, Bernstein, Auto above 20) plain
+// Horner, whose one simple loop measured faster there (with run-time trip counts the
+// two strided loops cost more than their shorter chain saves: Sturm's real rays of
+// degrees 10-16 took 1.1-2.3x as long). Within a solver every evaluation of G takes
+// the same form, so a polished root and the end rules' test of it agree.
+template <class D>
+inline constexpr bool kStaticDegree = !std::is_same_v<D, int>;
+
 template <class T, class D>
 inline T horner(const T* c, D deg, T x) {
-  return evenOddHorner(c, static_cast<int>(deg), x, x * x);
+  if constexpr (kStaticDegree<D>) {
+    return evenOddHorner(c, static_cast<int>(deg), x, x * x);
+  } else {
+    T r = c[deg];
+    for (int i = deg - 1; i >= 0; --i) r = r * x + c[i];
+    return r;
+  }
 }
 
 // The polish's rows, prepared once per bracket from p and its noise bound: the Taylor
@@ -99,13 +114,36 @@ struct PolishRows {
 
 // Value f, derivative df, the Taylor coefficients dd = f''/2 and d3 = f'''/6, the
 // noise bound nb at x and its slope nbSlope (the bound the coefficients' noise puts on
-// f'(x)): six independent even/odd passes, which an out-of-order core overlaps. Session
+// f'(x)). With the degree known at compile time: six independent even/odd passes, which
+// an out-of-order core overlaps. Session
 // 8 replaced the one fused Horner pass (each derivative's recurrence fed by the one
 // below) by these: a polish iteration is a chain of dependent evaluations, and each got
 // 1.3-1.5x faster at degrees 6-12 (a latency-bound loop of evaluations, ns: 17-20 ->
 // 12, 30 -> 22, 32-36 -> 22); with horner and hornerAbs as even/odd passes too, whole
 // rays 4-7 % faster and cells 3-4 % (rays with a root 5-8 %), Sturm 2-5 %; the worst
 // error of tests/roots_test.cpp's random roots moved from 1.74 to 2.25 u cond (target 4).
+// With a run-time degree: one fused Horner pass (each derivative's recurrence fed by
+// the one below), the form of plain horner().
+template <class T>
+inline void hornerNewton(const T* c, const T* noise, int n, T x, T& f, T& df, T& dd, T& d3, T& nb,
+                         T& nbSlope) {
+  const T ax = std::abs(x);
+  f = c[n];
+  df = 0;
+  dd = 0;
+  d3 = 0;
+  nb = noise[n];
+  nbSlope = 0;
+  for (int i = n - 1; i >= 0; --i) {
+    d3 = d3 * x + dd;
+    dd = dd * x + df;
+    df = df * x + f;
+    f = f * x + c[i];
+    nbSlope = nbSlope * ax + nb;
+    nb = nb * ax + noise[i];
+  }
+}
+
 template <class T, class D>
 inline void hornerNewton(const T* c, const T* noise, const PolishRows<T>& r, D deg, T x, T& f, T& df, T& dd,
                          T& d3, T& nb, T& nbSlope) {
@@ -123,7 +161,13 @@ inline void hornerNewton(const T* c, const T* noise, const PolishRows<T>& r, D d
 template <class T, class D>
 inline T hornerAbs(const T* a, D deg, T x) {
   const T ax = std::abs(x);
-  return evenOddHorner(a, static_cast<int>(deg), ax, ax * ax);
+  if constexpr (kStaticDegree<D>) {
+    return evenOddHorner(a, static_cast<int>(deg), ax, ax * ax);
+  } else {
+    T r = a[deg];
+    for (int i = deg - 1; i >= 0; --i) r = r * ax + a[i];
+    return r;
+  }
 }
 
 // Derivative coefficients divided by the degree (d[i] = (i+1) c[i+1] / n): the same roots
@@ -220,7 +264,7 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
   const bool negA = signBit(fa);
   T stepOld = b - a;
   PolishRows<T> rows;
-  {
+  if constexpr (kStaticDegree<D>) {
     const int n = deg;
     for (int i = 0; i < n; ++i) {
       rows.d1[i] = T(i + 1) * p[i + 1];
@@ -231,7 +275,10 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
   }
   for (int it = 0; it < kMaxNewton; ++it) {
     T f, df, dd, d3, nb, nbSlope;
-    hornerNewton(p, noise, rows, deg, x, f, df, dd, d3, nb, nbSlope);
+    if constexpr (kStaticDegree<D>)
+      hornerNewton(p, noise, rows, deg, x, f, df, dd, d3, nb, nbSlope);
+    else
+      hornerNewton(p, noise, static_cast<int>(deg), x, f, df, dd, d3, nb, nbSlope);
     if (f == 0) return x;
     if (signBit(f) == negA)
       a = x;
