@@ -25,9 +25,11 @@ TEST(RangeBound, NoRootTestsSurviveUnderflow) {
   for (int trial = 0; trial < 20000; ++trial) {
     const double a = 8.0 * slope(rng) * (trial % 2 ? 1 : -1), r = small(rng) / 8.0;  // a r integer
     std::vector<double> g = {-a * r * tiny, a * tiny};
-    if (trial % 3 == 0) g = {a * r * r * tiny, -2 * a * r * tiny, a * tiny};  // a (s - r)^2 / 2^1074
+    // Every third: a (s - r)^2 / 2^1074, a double root.
+    if (trial % 3 == 0) g = {a * r * r * tiny, -2 * a * r * tiny, a * tiny};
     const double lo = r - reach(rng), hi = r + reach(rng);
-    SCOPED_TRACE(testing::Message() << "root " << r << " in [" << lo << ", " << hi << "], degree " << g.size() - 1);
+    SCOPED_TRACE(testing::Message() << "root " << r << " in [" << lo << ", " << hi << "], degree "
+                                    << g.size() - 1);
     EXPECT_FALSE(quickNoRoot(g, {}, lo, hi));
     EXPECT_FALSE(provablyNoRoot(g, {}, lo, hi));
   }
