@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <random>
 #include <vector>
@@ -32,6 +33,30 @@ TEST(RangeBound, NoRootTestsSurviveUnderflow) {
                                     << g.size() - 1);
     EXPECT_FALSE(quickNoRoot(g, {}, lo, hi));
     EXPECT_FALSE(provablyNoRoot(g, {}, lo, hi));
+  }
+}
+
+// BoxPolynomial::subBox scales the coefficient of w^e by 2^-(e * splits): for a degree-40
+// surface 29 levels deep that power is 2^-1160, below the smallest double, yet the
+// coefficient times it need not be (a box of half-width 2^20 brings h^40 = 2^800). With
+// f = x^40, F(w) = 2^800 w^40 and the sub-box at centre 1/2, 29 halvings has
+//   G(w) = 2^800 (1/2 + 2^-29 w)^40,  coefficient of w^e = C(40, e) 2^(800 - (40 - e) - 29 e),
+// every one a normal double: each interval must contain it.
+TEST(RangeBound, SubBoxKeepsCoefficientsWhosePowerOfTwoUnderflows) {
+  Polynomial f;
+  f.setCoeff(40, 0, 0, 1.0);
+  const MonomialTables tables(40);
+  const BoxPolynomial box(f, glm::dvec3(0.0), glm::dvec3(0x1p20), tables);
+  const int splits[3] = {29, 0, 0};
+  BoxPolynomial sub;
+  box.subBox(glm::dvec3(0.5, 0.0, 0.0), splits, sub);
+  double binomial = 1.0;  // C(40, e), exact in double
+  for (int e = 0; e <= 40; ++e) {
+    const double exact = std::ldexp(binomial, 800 - (40 - e) - 29 * e);
+    const Interval c = sub.coeffs()[Polynomial::index(e, 0, 0)];
+    EXPECT_TRUE(c.contains(exact)) << "w^" << e << ": [" << c.lower() << ", " << c.upper()
+                                   << "] misses " << exact;
+    binomial = binomial * (40 - e) / (e + 1);
   }
 }
 

@@ -2,6 +2,7 @@
 // references).
 #include "algray/range_bound.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -120,7 +121,20 @@ void BoxPolynomial::subBox(const glm::dvec3& centre, const int splits[3],
       const int* idx = t.columnIndex[a].data() + begin;
       for (int e = 0; e <= n; ++e) col[e] = out.coeffs_[idx[e]];
       if (centre[a] != 0.0) taylorShift(col, n, centre[a]);
-      for (int e = 0; e <= n; ++e) out.coeffs_[idx[e]] = col[e] * std::ldexp(1.0, -e * splits[a]);
+      for (int e = 0; e <= n; ++e) {
+        // 2^-(e splits) in factors of at most 2^-1000: beyond 2^-1074 the power itself
+        // would round to 0 and make the product an exact 0, although the coefficient times
+        // it need not even be subnormal (h^40 of a large box times 2^-1160 is ~1e-81).
+        // (One product at least, as before, when the power is a normal double.)
+        Interval scaled = col[e];
+        int left = e * splits[a];
+        do {
+          const int step = std::min(left, 1000);
+          scaled = scaled * std::ldexp(1.0, -step);
+          left -= step;
+        } while (left > 0);
+        out.coeffs_[idx[e]] = scaled;
+      }
     }
   }
 }
