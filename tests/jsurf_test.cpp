@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -88,6 +89,17 @@ TEST(Jsurf, NumberErrorsCarryFileAndLine) {
   EXPECT_NE(expectError([&] { signs.getNumbers("b"); }).find("'++2' is not a finite number"),
             std::string::npos);
   EXPECT_EQ(signs.getNumbers("c"), (std::vector<double>{2.0, -2.0}));
+  // Below half the smallest subnormal (2^-1075 ~ 2.47e-324) a number rounds to +-0, as in
+  // Java and in the equation's literals; only overflow is refused.
+  const JsurfFile tiny = JsurfFile::parse("t=1e-400 -1e-400 1e-5000 3e-324\nh=1e400\n", "t.jsurf");
+  const std::vector<double> t = tiny.getNumbers("t");
+  ASSERT_EQ(t.size(), 4u);
+  EXPECT_EQ(t[0], 0.0);
+  EXPECT_TRUE(t[1] == 0.0 && std::signbit(t[1]));
+  EXPECT_EQ(t[2], 0.0);
+  EXPECT_EQ(t[3], std::numeric_limits<double>::denorm_min());  // 3e-324 > 2^-1075
+  EXPECT_NE(expectError([&] { tiny.getNumbers("h"); }).find("t.jsurf:2: h: '1e400' is not"),
+            std::string::npos);
 }
 
 // Java strings are UTF-16, so java.util.Properties escapes a character beyond U+FFFF as a

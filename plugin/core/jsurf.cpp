@@ -200,7 +200,24 @@ std::vector<double> JsurfFile::getNumbers(std::string_view key, int expected) co
     // (only one sign: "+-2" is not a number for Java either).
     const size_t from = v[i] == '+' ? i + 1 : i;
     const bool secondSign = from > i && from < j && (v[from] == '-' || v[from] == '+');
-    const auto [ptr, ec] = std::from_chars(v.data() + from, v.data() + j, d);
+    auto [ptr, ec] = std::from_chars(v.data() + from, v.data() + j, d);
+    if (ec == std::errc::result_out_of_range && ptr == v.data() + j) {
+      // Below the subnormals Java's Double.parseDouble (and the equation's literals) round
+      // to +-0; only an overflow is an error. from_chars says neither which nor the sign:
+      // a long double (wider exponent range) tells, and beyond even its range a negative
+      // decimal exponent does.
+      long double wide = 0.0L;
+      const auto r = std::from_chars(v.data() + from, v.data() + j, wide);
+      const std::string_view token(v.data() + from, j - from);
+      const size_t exponent = token.find_first_of("eE");
+      const bool negativeExponent = exponent != std::string_view::npos &&
+                                    exponent + 1 < token.size() && token[exponent + 1] == '-';
+      const bool tiny = r.ec == std::errc() ? std::abs(wide) < 1.0L : negativeExponent;
+      if (tiny) {
+        d = token.front() == '-' ? -0.0 : 0.0;
+        ec = std::errc();
+      }
+    }
     if (secondSign || ec != std::errc() || ptr != v.data() + j || !std::isfinite(d))
       throw Error(where(it->second) + ": " + std::string(key) + ": '" + v.substr(i, j - i) +
                   "' is not a finite number");
