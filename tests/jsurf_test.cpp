@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -80,6 +81,39 @@ TEST(Jsurf, NumberErrorsCarryFileAndLine) {
             std::string::npos);
   EXPECT_NE(expectError([] { JsurfFile::parse("k=\\uZZZZ\n", "u.jsurf"); }).find("malformed"), std::string::npos);
   EXPECT_NE(expectError([] { JsurfFile::read("/nonexistent/dir/f.jsurf"); }).find("cannot read"),
+            std::string::npos);
+  // One sign only, as Java's Double.parseDouble: "+-2" and "++2" are not numbers.
+  const JsurfFile signs = JsurfFile::parse("a=+-2\nb=++2\nc=+2 -2\n", "s.jsurf");
+  EXPECT_NE(expectError([&] { signs.getNumbers("a"); }).find("s.jsurf:1: a: '+-2' is not a finite"),
+            std::string::npos);
+  EXPECT_NE(expectError([&] { signs.getNumbers("b"); }).find("'++2' is not a finite number"),
+            std::string::npos);
+  EXPECT_EQ(signs.getNumbers("c"), (std::vector<double>{2.0, -2.0}));
+  // Below half the smallest subnormal (2^-1075 ~ 2.47e-324) a number rounds to +-0, as in
+  // Java and in the equation's literals; only overflow is refused.
+  const JsurfFile tiny = JsurfFile::parse("t=1e-400 -1e-400 1e-5000 3e-324\nh=1e400\n", "t.jsurf");
+  const std::vector<double> t = tiny.getNumbers("t");
+  ASSERT_EQ(t.size(), 4u);
+  EXPECT_EQ(t[0], 0.0);
+  EXPECT_TRUE(t[1] == 0.0 && std::signbit(t[1]));
+  EXPECT_EQ(t[2], 0.0);
+  EXPECT_EQ(t[3], std::numeric_limits<double>::denorm_min());  // 3e-324 > 2^-1075
+  EXPECT_NE(expectError([&] { tiny.getNumbers("h"); }).find("t.jsurf:2: h: '1e400' is not"),
+            std::string::npos);
+}
+
+// Java strings are UTF-16, so java.util.Properties escapes a character beyond U+FFFF as a
+// surrogate pair: it is one character, whose UTF-8 form is the 4 bytes of RFC 3629
+// (U+1F600 = F0 9F 98 80). A lone surrogate has no UTF-8 form: U+FFFD (EF BF BD).
+TEST(Jsurf, SurrogatePairsBecomeOneCharacter) {
+  const JsurfFile f = JsurfFile::parse(
+      "pair=\\uD83D\\uDE00!\nlone=\\uD83Dx\\uDE00\nsurface_equation=\\uD83D\\uDE00 + q\n",
+      "p.jsurf");
+  EXPECT_EQ(f.get("pair"), "\xF0\x9F\x98\x80!");
+  EXPECT_EQ(f.get("lone"), "\xEF\xBF\xBDx\xEF\xBF\xBD");
+  // One character, shown whole in the message, at the column of its escape.
+  EXPECT_NE(expectError([&] { f.polynomial(); })
+                .find("p.jsurf:3:18: unexpected character '\xF0\x9F\x98\x80'"),
             std::string::npos);
 }
 

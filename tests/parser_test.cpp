@@ -274,6 +274,17 @@ TEST(Parser, RejectsWithColumnAndMessage) {
   for (const Rejection& r : cases) expectRejected(r);
 }
 
+// Leading zeros change neither the value nor whether a literal under- or overflows:
+// 1e-330 is below half the smallest subnormal (2^-1075 ~ 2.5e-324), so it rounds to 0,
+// however many zeros precede it; 1e309 is above DBL_MAX however written.
+TEST(Parser, LeadingZerosDoNotTurnAnUnderflowIntoAnOverflow) {
+  const std::string zeros(400, '0');
+  EXPECT_EQ(parsePolynomial(zeros + "1e-330*x + 1"), Polynomial(1.0));
+  EXPECT_EQ(parsePolynomial(zeros + "1.5e-300*x").coeff(1, 0, 0), 1.5e-300);
+  EXPECT_EQ(parsePolynomial(zeros + "." + zeros + "1e-300*x + 1"), Polynomial(1.0));
+  expectRejected({("x + " + zeros + "1e309").c_str(), 5, "is too large for double"});
+}
+
 TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
   // A function at a pole or a power whose rounding error exceeds its value is reported
   // at the call or the '^' instead of being pruned to 0 like rounding junk.
@@ -342,6 +353,13 @@ TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
   expectRejected({"x^5", 2, "degree 5 exceeds the limit 4"}, low);
   expectRejected({"x^2*y^2*z", 8, "degree 5 exceeds the limit 4"}, low);
   EXPECT_EQ(parsePolynomial("x^2*y^2", low).degree(), 4);
+  // Limit 0 (and anything below, clamped to 0): a bare variable is already degree 1.
+  for (int limit : {0, -3}) {
+    ParseOptions constantOnly;
+    constantOnly.maxDegree = limit;
+    expectRejected({"2 + y", 5, "degree 1 exceeds the limit 0"}, constantOnly);
+    EXPECT_EQ(parsePolynomial("2*pi - 1", constantOnly).degree(), 0);
+  }
 }
 
 TEST(Parser, DeepNestingIsAnErrorNotACrash) {

@@ -139,6 +139,23 @@ TEST(Polynomial, EvaluationErrorBoundHoldsNearTheSurface) {
   }
 }
 
+// Products below the smallest normal double lose absolute digits (Higham Eq. (2.8)), and
+// a large coefficient multiplies the loss: 1e300 x^2 at x = 1e-170 (x^2 subnormal) once
+// came with a bound of 0 and no correct digit.
+TEST(Polynomial, EvaluationErrorBoundCoversUnderflow) {
+  const Polynomial polys[] = {1e300 * X.pow(2), 1e300 * X.pow(2) * Y - Polynomial(1e-200),
+                              1e250 * (X + Y + Z).pow(4), X * Y * Z + 1e-300 * X};
+  std::mt19937_64 rng(3);
+  for (const Polynomial& f : polys)
+    for (double radius : {1e-100, 1e-150, 1e-160, 1e-170, 1e-200, 1e-300})
+      for (int trial = 0; trial < 20; ++trial) {
+        const glm::dvec3 p = randomPoint(rng, radius);
+        const auto e = f.evaluateWithBound(p);
+        const Mp err = abs(Mp(e.value) - mpEvaluate(f, p));
+        ASSERT_LE(mpfr_cmp_d(err.get(), e.valueError), 0) << f.toString() << " at |p| ~ " << radius;
+      }
+}
+
 TEST(Polynomial, ProductAndPowerEvaluateToProducts) {
   std::mt19937_64 rng(11);
   for (int trial = 0; trial < 20; ++trial) {

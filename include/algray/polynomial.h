@@ -82,8 +82,9 @@ class Polynomial {
   // surface in the world (f_world(p) = f(M^-1 p)) and to re-centre.
   Polynomial composeAffine(const glm::dmat3& a, const glm::dvec3& b) const;
   // u -> f(o + u): the Taylor expansion about o, i.e. all derivative tensors
-  // D^n f(o)/n! (the homogeneous parts of the result). Exact up to rounding; see
-  // translateErrorBound() for its bound.
+  // D^n f(o)/n! (the homogeneous parts of the result). Exact up to rounding: three
+  // Taylor shifts by synthetic division, componentwise within gamma_{6m} of the same shift
+  // of |f| by |o| (the bound OriginExpansion in taylor.cpp computes and uses).
   Polynomial translate(const glm::dvec3& o) const;
 
   double evaluate(const glm::dvec3& p) const;

@@ -28,7 +28,8 @@ Token readNumber(std::string_view text, size_t start) {
   size_t i = start;
   int mantissaDigits = 0;
   // Decimal exponent of the first non-zero digit relative to the point, to tell an
-  // underflow (rounds to 0, accepted) from an overflow (rejected) below.
+  // underflow (rounds to 0, accepted) from an overflow (rejected) below. Leading zeros
+  // do not count: "000...01e-330" is as small as "1e-330".
   long firstNonZero = 0;
   bool seenNonZero = false, seenPoint = false;
   long digitsBeforePoint = 0, zerosAfterPoint = 0;
@@ -36,7 +37,7 @@ Token readNumber(std::string_view text, size_t start) {
     const char c = text[i];
     if (isDigit(c)) {
       ++mantissaDigits;
-      if (!seenPoint) ++digitsBeforePoint;
+      if (!seenPoint && (seenNonZero || c != '0')) ++digitsBeforePoint;
       if (c != '0' && !seenNonZero) {
         seenNonZero = true;
         firstNonZero = seenPoint ? -(zerosAfterPoint + 1) : 0;

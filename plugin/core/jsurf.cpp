@@ -32,12 +32,20 @@ void appendUtf8(std::string& out, unsigned code) {
   } else if (code < 0x800) {
     out += static_cast<char>(0xC0 | (code >> 6));
     out += static_cast<char>(0x80 | (code & 0x3F));
-  } else {
+  } else if (code < 0x10000) {
     out += static_cast<char>(0xE0 | (code >> 12));
+    out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (code & 0x3F));
+  } else {
+    out += static_cast<char>(0xF0 | (code >> 18));
+    out += static_cast<char>(0x80 | ((code >> 12) & 0x3F));
     out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
     out += static_cast<char>(0x80 | (code & 0x3F));
   }
 }
+
+bool isHighSurrogate(unsigned code) { return code >= 0xD800 && code <= 0xDBFF; }
+bool isLowSurrogate(unsigned code) { return code >= 0xDC00 && code <= 0xDFFF; }
 
 // Splits the text into logical lines (continuations joined, comments dropped).
 std::vector<std::vector<SourceChar>> logicalLines(std::string_view text) {
@@ -99,15 +107,32 @@ JsurfFile JsurfFile::parse(std::string_view text, std::string name) {
         if (k >= line.size()) return;  // a lone trailing backslash at the end of the file
         const char e = line[k++].c;
         if (e == 'u') {
-          unsigned code = 0;
-          if (k + 4 > line.size())
-            throw Error(file.name_ + ":" + std::to_string(sc.line) + ": malformed \\uXXXX escape");
-          std::string hex;
-          for (int d = 0; d < 4; ++d) hex += line[k + d].c;
-          const auto [ptr, ec] = std::from_chars(hex.data(), hex.data() + 4, code, 16);
-          if (ec != std::errc() || ptr != hex.data() + 4)
-            throw Error(file.name_ + ":" + std::to_string(sc.line) + ": malformed \\uXXXX escape");
+          // Four hex digits at line[at..at+4): one UTF-16 code unit.
+          auto hexUnit = [&](size_t at) {
+            const Error malformed(file.name_ + ":" + std::to_string(sc.line) +
+                                  ": malformed \\uXXXX escape");
+            unsigned code = 0;
+            if (at + 4 > line.size()) throw malformed;
+            std::string hex;
+            for (int d = 0; d < 4; ++d) hex += line[at + d].c;
+            const auto [ptr, ec] = std::from_chars(hex.data(), hex.data() + 4, code, 16);
+            if (ec != std::errc() || ptr != hex.data() + 4) throw malformed;
+            return code;
+          };
+          unsigned code = hexUnit(k);
           k += 4;
+          // Java strings are UTF-16: a character beyond U+FFFF is escaped as a surrogate
+          // pair, which is one code point (encoding each half on its own would give
+          // invalid UTF-8). A lone surrogate has no UTF-8 form: U+FFFD.
+          if (isHighSurrogate(code) && k + 6 <= line.size() && line[k].c == '\\' &&
+              line[k + 1].c == 'u') {
+            const unsigned low = hexUnit(k + 2);
+            if (isLowSurrogate(low)) {
+              code = 0x10000 + ((code - 0xD800) << 10) + (low - 0xDC00);
+              k += 6;
+            }
+          }
+          if (isHighSurrogate(code) || isLowSurrogate(code)) code = 0xFFFD;
           appendUtf8(out.value, code);
         } else {
           out.value += e == 't' ? '\t' : e == 'n' ? '\n' : e == 'r' ? '\r' : e == 'f' ? '\f' : e;
@@ -171,10 +196,29 @@ std::vector<double> JsurfFile::getNumbers(std::string_view key, int expected) co
     size_t j = i;
     while (j < v.size() && !(isBlank(v[j]) || v[j] == '\n' || v[j] == '\r')) ++j;
     double d = 0.0;
-    // Java writes "1.0E-4"; from_chars reads it, and a leading '+' is skipped by hand.
+    // Java writes "1.0E-4"; from_chars reads it, and a leading '+' is skipped by hand
+    // (only one sign: "+-2" is not a number for Java either).
     const size_t from = v[i] == '+' ? i + 1 : i;
-    const auto [ptr, ec] = std::from_chars(v.data() + from, v.data() + j, d);
-    if (ec != std::errc() || ptr != v.data() + j || !std::isfinite(d))
+    const bool secondSign = from > i && from < j && (v[from] == '-' || v[from] == '+');
+    auto [ptr, ec] = std::from_chars(v.data() + from, v.data() + j, d);
+    if (ec == std::errc::result_out_of_range && ptr == v.data() + j) {
+      // Below the subnormals Java's Double.parseDouble (and the equation's literals) round
+      // to +-0; only an overflow is an error. from_chars says neither which nor the sign:
+      // a long double (wider exponent range) tells, and beyond even its range a negative
+      // decimal exponent does.
+      long double wide = 0.0L;
+      const auto r = std::from_chars(v.data() + from, v.data() + j, wide);
+      const std::string_view token(v.data() + from, j - from);
+      const size_t exponent = token.find_first_of("eE");
+      const bool negativeExponent = exponent != std::string_view::npos &&
+                                    exponent + 1 < token.size() && token[exponent + 1] == '-';
+      const bool tiny = r.ec == std::errc() ? std::abs(wide) < 1.0L : negativeExponent;
+      if (tiny) {
+        d = token.front() == '-' ? -0.0 : 0.0;
+        ec = std::errc();
+      }
+    }
+    if (secondSign || ec != std::errc() || ptr != v.data() + j || !std::isfinite(d))
       throw Error(where(it->second) + ": " + std::string(key) + ": '" + v.substr(i, j - i) +
                   "' is not a finite number");
     numbers.push_back(d);

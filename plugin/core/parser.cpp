@@ -249,7 +249,12 @@ class Parser {
     const std::string_view name = spelling(t);
     // Parameters are checked up front (checkParameters): none shadows a built-in.
     const auto parameter = options_.parameters.find(name);
-    if (name == "x" || name == "y" || name == "z") return TrackedValue::variable(name[0] - 'x');
+    if (name == "x" || name == "y" || name == "z") {
+      // A bare variable is the one place the degree grows without a product or a power:
+      // with maxDegree 0 it is already over the limit.
+      checkDegree(1, t);
+      return TrackedValue::variable(name[0] - 'x');
+    }
     if (name == "pi") return TrackedValue::constant(std::numbers::pi);
     if (name == "e") return TrackedValue::constant(std::numbers::e);
     if (detail::isFunctionName(name)) return parseFunction(t, name);

@@ -235,7 +235,21 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
   powers(p.x, m, px);
   powers(p.y, m, py);
   powers(p.z, m, pz);
-  double sumAbsPartial = 0.0;
+  // Underflow (Higham, Eq. (2.8)): a product may also err by an absolute 2^-1075, which
+  // the relative gamma below does not cover, and the later factors (a coefficient up to
+  // 1e308) amplify it: 1e300 x^2 at x = 1e-170 lost every digit with a bound of 0. So
+  // the bound runs each product on magnitudes plus kFloor (as HornerForm does): gamma_1
+  // kFloor > 2^-1075 absorbs the absolute error of that product wherever it travels.
+  // kFloor changes the bound only where the terms are below ~1e-290.
+  constexpr double kFloor = 0x1p-1000;
+  double fx[kMaxDegree + 1], fy[kMaxDegree + 1], fz[kMaxDegree + 1];
+  fx[0] = fy[0] = fz[0] = 1.0;
+  for (int i = 1; i <= m; ++i) {
+    fx[i] = fx[i - 1] * std::abs(p.x) + kFloor;
+    fy[i] = fy[i - 1] * std::abs(p.y) + kFloor;
+    fz[i] = fz[i - 1] * std::abs(p.z) + kFloor;
+  }
+  double sumAbsPartial = 0.0, floored = 0.0;
   for (int n = 0; n <= m; ++n)
     forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
       const double c = coeffs_[idx];
@@ -244,16 +258,18 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
       const double t = c * px[i] * yz;
       e.value += t;
       e.magnitude += std::abs(t);
+      floored += (std::abs(c) * fx[i] + kFloor) * (fy[j] * fz[k] + kFloor) + kFloor;
       sumAbsPartial += std::abs(e.value);
       if (i) e.gradient.x += c * i * px[i - 1] * yz;
       if (j) e.gradient.y += c * j * px[i] * py[j - 1] * pz[k];
       if (k) e.gradient.z += c * k * px[i] * py[j] * pz[k - 1];
     });
   // Each term is a product of at most m + 2 rounded factors (powers and the coefficient):
-  // relative error gamma_{m+2}. Recursive summation adds u |partial sum| per addition
-  // (running error bound, Higham Sec. 3.1). The final (1 + 2u) covers the rounding of
-  // the bound itself.
-  e.valueError = (gamma(m + 2) * e.magnitude + kUnitRoundoff * sumAbsPartial) *
+  // relative error gamma_{m+2} of the floored magnitude (which is >= |term|). Recursive
+  // summation adds u |partial sum| per addition (running error bound, Higham Sec. 3.1;
+  // sums are exact when they underflow). The final (1 + 2u) covers the rounding of the
+  // bound itself.
+  e.valueError = (gamma(m + 2) * floored + kUnitRoundoff * sumAbsPartial) *
                  (1.0 + 2.0 * kUnitRoundoff);
   return e;
 }

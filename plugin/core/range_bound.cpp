@@ -2,6 +2,7 @@
 // references).
 #include "algray/range_bound.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -120,7 +121,20 @@ void BoxPolynomial::subBox(const glm::dvec3& centre, const int splits[3],
       const int* idx = t.columnIndex[a].data() + begin;
       for (int e = 0; e <= n; ++e) col[e] = out.coeffs_[idx[e]];
       if (centre[a] != 0.0) taylorShift(col, n, centre[a]);
-      for (int e = 0; e <= n; ++e) out.coeffs_[idx[e]] = col[e] * std::ldexp(1.0, -e * splits[a]);
+      for (int e = 0; e <= n; ++e) {
+        // 2^-(e splits) in factors of at most 2^-1000: beyond 2^-1074 the power itself
+        // would round to 0 and make the product an exact 0, although the coefficient times
+        // it need not even be subnormal (h^40 of a large box times 2^-1160 is ~1e-81).
+        // (One product at least, as before, when the power is a normal double.)
+        Interval scaled = col[e];
+        int left = e * splits[a];
+        do {
+          const int step = std::min(left, 1000);
+          scaled = scaled * std::ldexp(1.0, -step);
+          left -= step;
+        } while (left > 0);
+        out.coeffs_[idx[e]] = scaled;
+      }
     }
   }
 }
@@ -291,8 +305,10 @@ bool quickNoRoot(std::span<const double> c, std::span<const double> err, double 
   const double mid = 0.5 * lo + 0.5 * hi;
   const double r = halfWidth(lo, mid, hi);
   const double x0 = std::abs(mid), x1 = nextUp(x0 + r);
-  // v = g(mid); a = M(x1), b = M(x0) on the exact |c_i| + err_i; e = sum err_i x0^i.
-  double v = 0, a = 0, b = 0, e = 0;
+  // v = g(mid); a = M(x1), b = M(x0) on the exact |c_i| + err_i; e = sum err_i x0^i;
+  // w = sum_{i < n} max(1, x1)^i, the underflow weight below.
+  const double xw = std::max(1.0, x1);
+  double v = 0, a = 0, b = 0, e = 0, w = 0;
   for (int i = n; i >= 0; --i) {
     const double ei = i < static_cast<int>(err.size()) ? err[i] : 0.0;
     const double m = std::abs(c[i]) + ei;  // rounded: covered by the gamma factors below
@@ -300,12 +316,20 @@ bool quickNoRoot(std::span<const double> c, std::span<const double> err, double 
     a = a * x1 + m;
     b = b * x0 + m;
     e = e * x0 + ei;
+    if (i > 0) w = w * xw + 1.0;
   }
   // Each Horner result of non-negative terms is within gamma(2n + 2) relatively of the
   // exact one (Higham Eq. (5.3), one more rounding for |c_i| + err_i); the signed v is
   // within gamma(2n) M(x0) of g(mid) plus the coefficient errors e.
+  // Underflow (Higham Eq. (2.8)): a product may also err by an absolute 2^-1075, which no
+  // relative gamma covers (g = 2^-1074 (8 s - 7) on [0.86, 2.56] has the root 7/8, yet
+  // its subnormal values once "proved" none). Step i's error reaches the result times
+  // |t|^i <= max(1, x1)^i for each of the four schemes, so all of them together err by at
+  // most 4 * 2^-1075 w (1 + g) absolutely, and the few operations of the bound itself by
+  // a handful of 2^-1075 more: 3 * 2^-1074 (w + 2) covers both.
   const double g = gamma(2 * n + 2);
-  const double bound = (1 + g) * a - (1 - g) * b + g * b + (1 + g) * e;
+  const double underflow = 3.0 * std::numeric_limits<double>::denorm_min() * (w + 2.0);
+  const double bound = (1 + g) * a - (1 - g) * b + g * b + (1 + g) * e + underflow;
   // The bound's own few operations: one more relative gamma(4).
   return std::abs(v) > bound * (1 + gamma(4));  // false for NaN
 }
