@@ -137,7 +137,11 @@ struct RayD {
 };
 // Written by the callbacks of every algray geometry the ray reaches. After
 // rtcIntersect1 the HitD is the closest algray hit; it is the scene's closest hit when
-// rayhit.hit.geomID == hit.geomID (another geometry type may have been closer).
+// rayhit.hit.geomID == hit.geomID and rayhit.hit.instID[0] == hit.instID[0] (another
+// geometry type may have been closer; a geomID alone is ambiguous with instances, whose
+// scenes number their geometries from 0 again). A hit inside an instance is solved on
+// Embree's float ray (see RayD): its t is mapped to the double ray's parameter
+// (fromFloatParameter), Ng is in the instanced scene's space.
 struct HitD {
   bool hit = false;
   double t = 0;
@@ -145,6 +149,7 @@ struct HitD {
   double u = 0, v = 0;
   unsigned geomID = RTC_INVALID_GEOMETRY_ID;
   unsigned primID = RTC_INVALID_GEOMETRY_ID;
+  unsigned instID = RTC_INVALID_GEOMETRY_ID;  // as RTCHit::instID[0]
 };
 struct IntersectContext {
   RTCIntersectContext base;  // first member: Embree sees only this

@@ -42,6 +42,17 @@ IntersectContext* doubleContext(RTCIntersectContext* context, unsigned n) {
   return ic->ray && ic->hit ? ic : nullptr;
 }
 
+// The algray context of a single ray inside an instance, or nullptr: the float ray is
+// solved there, but the host still reads the HitD, which must not keep a farther hit
+// outside the instance (a host checking geomID and instID against it would take that
+// one for the scene's closest hit).
+IntersectContext* instanceDoubleContext(RTCIntersectContext* context, unsigned n) {
+  if (n != 1 || context->filter != &markerFilter) return nullptr;
+  if (context->instID[0] == RTC_INVALID_GEOMETRY_ID) return nullptr;
+  auto* ic = reinterpret_cast<IntersectContext*>(context);
+  return ic->ray && ic->hit ? ic : nullptr;
+}
+
 // ---- Rays into object space ------------------------------------------------------------
 KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
                     double tfar, double roundoff, double orgError) {
@@ -337,7 +348,19 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
     hit.v = v;
     hit.geomID = args->geomID;
     hit.primID = args->primID;
+    hit.instID = RTC_INVALID_GEOMETRY_ID;
     L.tfarD = t;
+  } else if (IntersectContext* ic = instanceDoubleContext(args->context, n)) {
+    // (A single ray: no packet lane, so ng was computed above.)
+    HitD& hit = *ic->hit;
+    hit.hit = true;
+    hit.t = fromFloatParameter(*ic, t);
+    hit.Ng = ng;
+    hit.u = hit.v = 0.0;
+    if (L.data->desc.options.uv) surfaceUV(*L.data, h.point, hit.u, hit.v);
+    hit.geomID = args->geomID;
+    hit.primID = args->primID;
+    hit.instID = args->context->instID[0];
   }
   return true;
 }
@@ -370,12 +393,14 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
     return false;
   }
   RTCRayN_tfar(ray, n, lane) = -std::numeric_limits<float>::infinity();
-  if (L.dctx) {
-    HitD& hit = *L.dctx->hit;
+  IntersectContext* ic = L.dctx ? L.dctx : instanceDoubleContext(args->context, n);
+  if (ic) {
+    HitD& hit = *ic->hit;
     hit.hit = true;
-    hit.t = t;
+    hit.t = L.dctx ? t : fromFloatParameter(*ic, t);
     hit.geomID = args->geomID;
     hit.primID = args->primID;
+    hit.instID = args->context->instID[0];
   }
   return true;
 }
