@@ -110,6 +110,7 @@ class SurfaceGeometry {
 
   RTCGeometry geometry() const;
   unsigned primitiveCount() const;
+  // The description as given to the constructor (a moved-from geometry's is empty).
   const SurfaceDesc& desc() const;
   // Number of exceptions caught inside Embree callbacks (each one counted as a miss);
   // stays 0 unless something is badly wrong. For tests and diagnostics.

@@ -73,7 +73,12 @@ struct QuadricForm {
 };
 
 struct SurfaceData {
+  // The description the kernels work with: the host's, with the clip region widened
+  // (widenedClip, surface_geometry.cpp).
   SurfaceDesc desc;
+  // The host's description as given, for SurfaceGeometry::desc() (a host cloning a
+  // surface from desc() would otherwise widen its clip region twice).
+  SurfaceDesc given;
   std::optional<QuadricForm> quadric;  // set when desc.polynomial has degree 2 exactly
   // The quadric path clips rays to cells.front(): the one cell is smaller than the clip
   // region (an ellipsoid's own box, boundedQuadricBox; or a cell the build shrank).
