@@ -8,7 +8,11 @@
 //   rtcAttachGeometry(scene, sphere.geometry());       // host keeps its filters/masks
 //
 // The SurfaceGeometry must outlive every scene it is attached to (like a host's shared
-// vertex buffers). Hits (written only for tnear < t < tfar, after the host's filters):
+// vertex buffers). Its Embree user data pointer is the adapter's (Embree 3 hands the
+// callbacks no other): a host must not replace it with rtcSetGeometryUserData (the
+// callbacks would read the host's data as theirs), and its filters receive it as
+// geometryUserPtr; per-geometry host data is found by geomID instead.
+// Hits (written only for tnear < t < tfar, after the host's filters):
 //   tfar    the ray parameter of the first accepted root;
 //   Ng      grad f at the hit, not normalised, in the space the geometry lives in (scaled
 //           by a power of two when its size is outside 1e-30..1e30, so that the float
