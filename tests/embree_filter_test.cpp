@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <string_view>
 #include <thread>
 
@@ -330,6 +331,56 @@ TEST_F(EmbreeFilter, ContextFilterIsChainedThroughAlgrayContext) {
   // A plain context on the same scene: no chaining needed, no crash.
   rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 4.0f);
+}
+
+// A host filter that throws (the first call only): the adapter counts it as a miss of
+// that surface. The ray must then go on as if the surface were not there: its far end
+// kept (so the unit sphere B behind, centred at z = 5, is hit at t = 9 from z = -5), and
+// an algray context still algray's for the rest of the trace (B's HitD written).
+void throwOnce(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0 && gLog->calls++ == 0) throw std::runtime_error("host filter");
+}
+
+TEST_F(EmbreeFilter, ThrowingHostFilterCountsAsAMiss) {
+  for (const bool quadricCallbacks : {true, false}) {
+    SCOPED_TRACE(quadricCallbacks ? "quadric callbacks" : "generic walk");
+    SurfaceDesc desc = sphereDesc(1.0, 1.5);
+    desc.options.quadricCallbacks = quadricCallbacks;
+    SurfaceGeometry a(device, desc);
+    rtcSetGeometryIntersectFilterFunction(a.geometry(), &throwOnce);
+    rtcSetGeometryOccludedFilterFunction(a.geometry(), &throwOnce);
+    rtcCommitGeometry(a.geometry());
+    desc.transform[3] = glm::dvec4(0, 0, 5, 1);
+    SurfaceGeometry b(device, desc);
+    Scene scene(device);
+    scene.attach(a.geometry());
+    const unsigned bId = scene.attach(b.geometry());
+    scene.commit();
+
+    log = FilterLog{};
+    const RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
+    EXPECT_EQ(rh.hit.geomID, bId);
+    EXPECT_FLOAT_EQ(rh.ray.tfar, 9.0f);
+    EXPECT_EQ(a.callbackErrors(), 1u);
+
+    log = FilterLog{};
+    RTCRay shadow = makeRay({0, 0, -5}, {0, 0, 1}, 0.0f, 8.0f).ray;  // ends before B
+    EXPECT_FALSE(occluded1(scene, shadow));
+
+    log = FilterLog{};
+    const RayD ray{{0, 0, -5}, {0, 0, 1}, 0, 100, 0};
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit, scene);
+    RTCRayHit drh = makeRayHit(context);
+    rtcIntersect1(scene, &context.base, &drh);
+    EXPECT_EQ(drh.hit.geomID, bId);
+    ASSERT_TRUE(hit.hit);
+    EXPECT_EQ(hit.geomID, bId);
+    EXPECT_DOUBLE_EQ(hit.t, 9.0);
+    EXPECT_NE(context.base.filter, nullptr);  // still recognised as algray's
+  }
 }
 
 TEST_F(EmbreeFilter, InstancesWithTransforms) {

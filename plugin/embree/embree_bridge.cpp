@@ -228,6 +228,18 @@ bool candidateTfar(const Lane& L, RTCRayN* ray, unsigned n, unsigned lane, doubl
 // call (Embree 3.13 runs, and asserts on, any non-null context filter from
 // rtcFilterIntersection whatever the scene flags) and the host's chained context filter,
 // if any, is called here instead.
+// Hides the marker for the host's geometry filter and puts it back when the filter
+// returns or throws: the callbacks count a throw as a miss, and the host's context must
+// stay algray's for the rest of the trace and for its next ones (without the marker the
+// double channel was silently off, its HitD no longer written).
+struct MarkerHidden {
+  RTCIntersectContext* context;
+  explicit MarkerHidden(RTCIntersectContext* c) : context(c) { context->filter = nullptr; }
+  ~MarkerHidden() { context->filter = &markerFilter; }
+  MarkerHidden(const MarkerHidden&) = delete;
+  MarkerHidden& operator=(const MarkerHidden&) = delete;
+};
+
 template <class Args, class Filter>
 void runFilters(const Args* args, RTCFilterFunctionNArguments* fargs, IntersectContext* marked,
                 Filter filter) {
@@ -236,9 +248,10 @@ void runFilters(const Args* args, RTCFilterFunctionNArguments* fargs, IntersectC
     filter(args, fargs);
     return;
   }
-  context->filter = nullptr;
-  filter(args, fargs);
-  context->filter = &markerFilter;
+  {
+    const MarkerHidden hidden(context);
+    filter(args, fargs);
+  }
   if (!marked || !marked->hostFilter) return;
   for (unsigned i = 0; i < fargs->N; ++i)
     if (fargs->valid[i] != 0) {
@@ -330,10 +343,17 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   RTCRayN_tfar(ray, n, lane) = tf;
   RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context,
                                     reinterpret_cast<RTCRayN*>(args->rayhit), candidate.hitN(), n};
-  runFilters(args, &fargs, markedContext(args->context),
-             [](const RTCIntersectFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
-               rtcFilterIntersection(a, f);
-             });
+  try {
+    runFilters(args, &fargs, markedContext(args->context),
+               [](const RTCIntersectFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
+                 rtcFilterIntersection(a, f);
+               });
+  } catch (...) {
+    // A throwing host filter counts as a miss (the callbacks catch it): the ray keeps its
+    // far end (else it ended at a hit that was never written, and hid the ones behind).
+    RTCRayN_tfar(ray, n, lane) = oldTfar;
+    throw;
+  }
   if (valid[lane] == 0) {
     RTCRayN_tfar(ray, n, lane) = oldTfar;
     return false;
@@ -384,10 +404,15 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   const float oldTfar = RTCRayN_tfar(ray, n, lane);
   RTCRayN_tfar(ray, n, lane) = tf;
   RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context, ray, candidate.hitN(), n};
-  runFilters(args, &fargs, markedContext(args->context),
-             [](const RTCOccludedFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
-               rtcFilterOcclusion(a, f);
-             });
+  try {
+    runFilters(args, &fargs, markedContext(args->context),
+               [](const RTCOccludedFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
+                 rtcFilterOcclusion(a, f);
+               });
+  } catch (...) {
+    RTCRayN_tfar(ray, n, lane) = oldTfar;  // a miss, as above
+    throw;
+  }
   if (valid[lane] == 0) {
     RTCRayN_tfar(ray, n, lane) = oldTfar;
     return false;
