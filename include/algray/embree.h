@@ -34,9 +34,11 @@
 // rtcIntersect1/rtcOccluded1; the callbacks then read the double ray and write the double
 // hit. A plain RTCIntersectContext works as usual. The context is recognised by its
 // filter pointer; Embree 3.13 calls (and asserts the scene flag for) a non-null context
-// filter on its own geometry types, so a scene that mixes algray surfaces with
-// triangles, curves, ... and is traced with an algray::IntersectContext must have
-// RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION set (scenes of algray surfaces only need not).
+// filter on its own geometry types, so every scene holding triangles, curves, ... that an
+// algray::IntersectContext reaches must have RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION set:
+// the traced scene and each scene it instances, also one of Embree geometries only (it
+// sees the instance's context; without the flag Embree 3.13 aborts on its assertion).
+// Scenes of algray surfaces only need not.
 #include "algray/parser.h"
 #include "algray/polynomial.h"
 #include "algray/roots.h"
