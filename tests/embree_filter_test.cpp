@@ -244,6 +244,41 @@ TEST_F(EmbreeFilter, DoubleChannelOffersAnOrphanRootOnce) {
   EXPECT_EQ(g.geometry.callbackErrors(), 0u);
 }
 
+// An IntersectContext traced twice for the same ray (as Embree's own contexts are reused):
+// every trace gets the first root again. A torus (the generic walk) hit along x
+// at y = 0.1, z = 0.05 from x = -5: closed form t = 5 - sqrt((R + sqrt(r^2 - z^2))^2 - y^2).
+// (The offered-roots mask, kept by the context's trace id, gave the next root each time.)
+TEST_F(EmbreeFilter, ReusedContextFindsTheFirstRootAgain) {
+  for (const int depth : {-1, 2}) {  // one cell (automatic), a grid of them
+    SCOPED_TRACE(testing::Message() << "cell depth " << depth);
+    SurfaceDesc desc;
+    desc.polynomial = torusPolynomial(1.0, 0.4);
+    desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    desc.options.cellDepth = depth;
+    SurfaceGeometry torus(device, desc);
+    Scene scene(device);
+    scene.attach(torus.geometry());
+    scene.commit();
+    const double rho = 1.0 + std::sqrt(0.16 - 0.05 * 0.05), first = 5.0 - std::sqrt(rho * rho - 0.01);
+    const RayD ray{{-5, 0.1, 0.05}, {1, 0, 0}, 0, 100, 0};
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit, scene);
+    for (int trace = 0; trace < 4; ++trace) {  // as many as the ray has roots
+      hit = HitD{};
+      RTCRayHit rh = makeRayHit(context);
+      rtcIntersect1(scene, &context.base, &rh);
+      ASSERT_TRUE(hit.hit) << "trace " << trace;
+      EXPECT_NEAR(hit.t, first, 1e-12) << "trace " << trace;
+    }
+    hit = HitD{};  // (the HitD is the trace's running closest hit: reset, as above)
+    RTCRay shadow = makeRayHit(context).ray;  // any of the roots occludes
+    rtcOccluded1(scene, &context.base, &shadow);
+    EXPECT_EQ(shadow.tfar, -kInfF);
+    EXPECT_TRUE(hit.hit);
+  }
+}
+
 // The offered-roots mask belongs to one surface's roots: in the same trace another
 // surface's root with the same index must still be offered. A quartic blob inside a
 // torus's hole, seen from the torus's centre: the blob's first root, t = 0.7 (closed

@@ -177,7 +177,9 @@ struct IntersectContext {
   std::uint64_t trace = 0;
   double floatScale = 1;
 };
-// Initialises base (rtcInitIntersectContext) and marks the context as algray's.
+// Initialises base (rtcInitIntersectContext) and marks the context as algray's. A context
+// may serve several traces (as Embree's own are reused): the HitD is the running closest
+// hit of a trace (it bounds the double ray's far end), so reset it before each one.
 void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit);
 // The same for a ray traced in `scene` (committed): with the scene, a ray from far outside
 // it (beyond 4096 times its extent) is handed to Embree starting near the scene's bounds,

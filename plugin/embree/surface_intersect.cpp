@@ -213,8 +213,8 @@ struct RayRoots {
   double selfWindow = 0;                  // > 0: the self-root rule applied (selfRootWindow)
   bool closedLo = true;                   // slo is the region's start (regionRoots), not the window
   // The roots (bit i: roots[i]) already offered to the host in the double channel's trace
-  // offeredTrace (see walkRoots).
-  std::uint64_t offeredTrace = 0, offered = 0;
+  // offeredTrace, and those of them offered by a shared claim (see walkRoots).
+  std::uint64_t offeredTrace = 0, offered = 0, sharedOffered = 0;
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
   bool complete = false;
@@ -381,7 +381,7 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   // filter tracing rays of its own rebuilds the record too, so the outer trace may then
   // offer an orphan root twice; the mask must never hide another surface's root: surface
   // A's root i offered made surface B's root i invisible to that trace.)
-  rr.offeredTrace = rr.offered = 0;
+  rr.offeredTrace = rr.offered = rr.sharedOffered = 0;
   CacheEntry* entry = restrict(data, ray, r0, r1, rr.g, rr.selfWindow);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
@@ -466,14 +466,19 @@ bool surelyReached(const RTCBounds& b, const glm::dvec3& o, const glm::dvec3& d)
   return clipToBox(lo + margin, hi - margin, o, d, t0, t1) && t0 < t1;
 }
 
+// How a cell takes a root: not at all, as its one owner (Embree visits a primitive once
+// per trace), or shared with other cells that may take it in the same trace too.
+enum class Claim { kNone, kOwner, kShared };
+
 // Whether `cell` takes the root at p. inSpan: p is in the cell's span of the ray. The
 // owner takes it wherever the span ends (walkRoots offers it roots just outside the span,
 // which rounding puts there). Another cell takes a root outside its span only in the
 // double channel, as an orphan: its owner cell is not surely reached by the float ray
 // Embree traverses with (origins ~1e6 clip radii away), so the first cell Embree does
-// visit reports it.
-bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray, bool inSpan) {
-  if (data.cells.size() == 1 || data.cellOfKey.empty()) return inSpan;
+// visit reports it. A root whose grid box holds no cell is shared by the cells whose span
+// holds it.
+Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray, bool inSpan) {
+  if (data.cells.size() == 1 || data.cellOfKey.empty()) return inSpan ? Claim::kOwner : Claim::kNone;
   std::uint64_t key = 0;
   for (int a = 0; a < 3; ++a) {
     const double x = (p[a] - data.gridLo[a]) / data.gridSize[a] * data.gridN[a];
@@ -481,9 +486,11 @@ bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, con
     key = key * 65536u + static_cast<std::uint64_t>(k);
   }
   const auto it = data.cellOfKey.find(key);
-  if (it == data.cellOfKey.end()) return inSpan;
-  if (it->second == cell) return true;  // Embree reached the owner: wherever its span ends
-  return ray.hasTraversalRay && !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir);
+  if (it == data.cellOfKey.end()) return inSpan ? Claim::kShared : Claim::kNone;
+  if (it->second == cell) return Claim::kOwner;  // Embree reached the owner: wherever its span ends
+  return ray.hasTraversalRay && !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir)
+             ? Claim::kShared
+             : Claim::kNone;
 }
 
 }  // namespace
@@ -623,20 +630,24 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     KernelHit hit;
     hit.t = g.tShift + s;
     hit.point = o + hit.t * d;
-    if (!claimsRoot(data, cell, hit.point, ray, inSpan)) {
+    const Claim claim = claimsRoot(data, cell, hit.point, ray, inSpan);
+    if (claim == Claim::kNone) {
       if (s >= shi && !ray.hasTraversalRay) break;
       continue;
     }
     // In the double channel the orphan rule of claimsRoot may let several cells take a
     // root (its owner not surely reached by the float ray): each is offered once per
     // trace (an any-hit filter saw a root on a grid edge 7 times from 100 box radii).
+    // The owner, visited once per trace, defers only to a shared claim of this trace: the
+    // trace id is the context's, and a host tracing the same ray again with the same
+    // context got the next root each time (the owner skipped the roots offered before).
     const std::uint64_t bit = i < 64 ? std::uint64_t{1} << i : 0;
     if (ray.trace != 0) {
       if (rr.offeredTrace != ray.trace) {
         rr.offeredTrace = ray.trace;
-        rr.offered = 0;
+        rr.offered = rr.sharedOffered = 0;
       }
-      if ((rr.offered & bit) != 0) continue;
+      if (((claim == Claim::kOwner ? rr.sharedOffered : rr.offered) & bit) != 0) continue;
     }
     // Polish within the whole span (a root near a cell face may move across it; the
     // owner was decided on the unpolished value). A cache root was polished already.
@@ -647,7 +658,10 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), 1e-4 * (r1 - r0), hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
-    if (ray.trace != 0) rr.offered |= bit;
+    if (ray.trace != 0) {
+      rr.offered |= bit;
+      if (claim == Claim::kShared) rr.sharedOffered |= bit;
+    }
     if (accept(user, hit)) return true;
   }
   return false;
