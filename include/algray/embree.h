@@ -171,7 +171,8 @@ struct IntersectContext {
   double floatShiftLow = 0;
   glm::dvec3 floatOrigin{0.0};  // the float ray's origin when floatShift != 0
   bool floatEmpty = false;      // the float ray has an empty span (no point it can hit)
-  // Set by initIntersectContext, distinct for each call on a thread: the adapter offers
+  // Set by initIntersectContext, distinct for each call in the process (a context may be
+  // traced on another thread than the one that initialised it): the adapter offers
   // each root of this trace to the host's filters once (several cells may claim a root
   // the float ray passes beside, see surface_intersect.cpp).
   std::uint64_t trace = 0;

@@ -8,7 +8,9 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -839,6 +841,23 @@ KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm:
 }
 
 namespace {
+// A trace id unique in the process: a context may be initialised on one thread and traced
+// on another, whose per-thread root records hold ids of its own (with a counter per
+// thread, two contexts of one ray made on two threads had the same id, and the second
+// trace skipped the roots the first had offered: a far ray through a grid edge missed).
+// Each thread takes blocks of 2^20 ids from a global counter, so a trace touches no
+// shared cache line.
+std::uint64_t nextTraceId() {
+  constexpr std::uint64_t kBlock = std::uint64_t{1} << 20;
+  static std::atomic<std::uint64_t> nextBlock{1};
+  thread_local std::uint64_t next = 0, end = 0;
+  if (next == end) {
+    next = nextBlock.fetch_add(1, std::memory_order_relaxed) * kBlock;
+    end = next + kBlock;
+  }
+  return next++;
+}
+
 void initContext(IntersectContext* context, const RayD* ray, HitD* hit, const RTCBounds* bounds) {
   rtcInitIntersectContext(&context->base);
   context->base.filter = &markerFilter;
@@ -846,8 +865,7 @@ void initContext(IntersectContext* context, const RayD* ray, HitD* hit, const RT
   context->hit = hit;
   context->hostFilter = nullptr;
   const FloatMap m = ray ? floatMap(*ray, bounds) : FloatMap{};
-  thread_local std::uint64_t traces = 0;
-  context->trace = ++traces;
+  context->trace = nextTraceId();
   context->floatShift = m.shift;
   context->floatShiftLow = m.shiftLow;
   context->floatScale = m.scale;
