@@ -311,6 +311,54 @@ TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
       }
 }
 
+// Offers (geomID per candidate) seen by a filter that rejects every candidate.
+std::vector<unsigned> gOffers;
+void rejectAndLogGeometry(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0) {
+      gOffers.push_back(RTCHitN_geomID(args->hit, args->N, i));
+      args->valid[i] = 0;
+    }
+}
+
+// The orphan roots of DoubleChannelOffersAnOrphanRootOnce with two more planes in the
+// scene (z = -0.3, x = 0.2), whose cells Embree visits between the first plane's: every
+// plane's root still reaches the filter at most once per trace, the first plane's
+// exactly once. (With the offered-roots mask in the per-thread root record, which the
+// other planes' cells replaced, the first plane's root was offered up to 4 times, on 18
+// of these 60 rays.)
+TEST_F(EmbreeFilter, OrphanRootsOfferedOnceAmongSeveralSurfaces) {
+  SurfaceDesc desc;
+  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+  desc.options.cellDepth = 3;
+  std::vector<std::unique_ptr<SurfaceGeometry>> planes;
+  Scene scene(device);
+  for (const char* equation : {"z - 0.1", "z + 0.3", "x - 0.2"}) {
+    desc.polynomial = parsePolynomial(equation);
+    planes.push_back(std::make_unique<SurfaceGeometry>(device, desc));
+    rtcSetGeometryIntersectFilterFunction(planes.back()->geometry(), &rejectAndLogGeometry);
+    rtcCommitGeometry(planes.back()->geometry());
+    scene.attach(planes.back()->geometry());
+  }
+  scene.commit();
+  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
+    for (const double dist : {10.0, 100.0, 1000.0, 1e4, 1e5})
+      for (const glm::dvec3& dir : {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
+        const RayD ray{p - dist * d, d, 0.0, 1e30};
+        HitD hit;
+        IntersectContext context;
+        initIntersectContext(&context, &ray, &hit, scene);
+        RTCRayHit rh = makeRayHit(context);
+        gOffers.clear();
+        rtcIntersect1(scene, &context.base, &rh);
+        for (unsigned id = 0; id < 3; ++id)
+          EXPECT_LE(std::count(gOffers.begin(), gOffers.end(), id), 1)
+              << "plane " << id << " delta " << delta << " dist " << dist;
+        EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), 0u), 1) << "delta " << delta << " dist " << dist;
+      }
+}
+
 // The offered-roots mask belongs to one surface's roots: in the same trace another
 // surface's root with the same index must still be offered. A quartic blob inside a
 // torus's hole, seen from the torus's centre: the blob's first root, t = 0.7 (closed

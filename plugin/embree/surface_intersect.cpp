@@ -212,9 +212,6 @@ struct RayRoots {
   double tnear = 0;                       // the ray's (searchSpan, with selfWindow)
   double selfWindow = 0;                  // > 0: the self-root rule applied (selfRootWindow)
   bool closedLo = true;                   // slo is the region's start (regionRoots), not the window
-  // The roots (bit i: roots[i]) already offered to the host in the double channel's trace
-  // offeredTrace, and those of them offered by a shared claim (see walkRoots).
-  std::uint64_t offeredTrace = 0, offered = 0, sharedOffered = 0;
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
   bool complete = false;
@@ -377,11 +374,6 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   rr.r0 = r0;
   rr.r1 = r1;
   rr.tnear = ray.tnear;
-  // A new record (another surface, another ray): no root of it offered yet. (A host
-  // filter tracing rays of its own rebuilds the record too, so the outer trace may then
-  // offer an orphan root twice; the mask must never hide another surface's root: surface
-  // A's root i offered made surface B's root i invisible to that trace.)
-  rr.offeredTrace = rr.offered = rr.sharedOffered = 0;
   CacheEntry* entry = restrict(data, ray, r0, r1, rr.g, rr.selfWindow);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
@@ -417,6 +409,37 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   rr.orgError = ray.orgError;
   rr.id = data.id;
   return rr;
+}
+
+// ---- Offered roots (double channel) ------------------------------------------------------
+// Per surface, ray and trace: the roots (bit i: roots[i] of the ray's record, the same
+// list whenever it is rebuilt) offered to the host, and those offered by a shared claim
+// (walkRoots). Kept apart from the record, which the cells of other surfaces replace in
+// the same trace: masks kept in it were rebuilt empty on each visit back, and a plane's
+// orphan root reached an any-hit filter up to 4 times in a scene of three planes. (They
+// must never hide another surface's or ray's roots: the key.) An entry evicted early only
+// lets a root be offered again, never hides one.
+struct OfferedRoots {
+  std::uint64_t id = 0, trace = 0;
+  glm::dvec3 org{0.0}, dir{0.0};
+  double tnear = 0;
+  std::uint64_t offered = 0, shared = 0;
+};
+struct OfferedTable {
+  std::array<OfferedRoots, 16> entries{};
+  unsigned next = 0;
+};
+static_assert(std::is_trivially_destructible_v<OfferedTable>);  // see threadOriginCache
+thread_local OfferedTable tlsOffered;
+
+OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
+  OfferedTable& table = tlsOffered;
+  for (OfferedRoots& e : table.entries)
+    if (e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir && e.tnear == ray.tnear)
+      return e;
+  OfferedRoots& e = table.entries[table.next++ % table.entries.size()];
+  e = OfferedRoots{data.id, ray.trace, ray.org, ray.dir, ray.tnear, 0, 0};
+  return e;
 }
 
 // All roots, keeping the first one's value (cells may already have judged it).
@@ -643,11 +666,8 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     // context got the next root each time (the owner skipped the roots offered before).
     const std::uint64_t bit = i < 64 ? std::uint64_t{1} << i : 0;
     if (ray.trace != 0) {
-      if (rr.offeredTrace != ray.trace) {
-        rr.offeredTrace = ray.trace;
-        rr.offered = rr.sharedOffered = 0;
-      }
-      if (((claim == Claim::kOwner ? rr.sharedOffered : rr.offered) & bit) != 0) continue;
+      const OfferedRoots& seen = offeredRoots(data, ray);
+      if (((claim == Claim::kOwner ? seen.shared : seen.offered) & bit) != 0) continue;
     }
     // Polish within the whole span (a root near a cell face may move across it; the
     // owner was decided on the unpolished value). A cache root was polished already.
@@ -659,8 +679,9 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), 1e-4 * (r1 - r0), hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
     if (ray.trace != 0) {
-      rr.offered |= bit;
-      if (claim == Claim::kShared) rr.sharedOffered |= bit;
+      OfferedRoots& seen = offeredRoots(data, ray);
+      seen.offered |= bit;
+      if (claim == Claim::kShared) seen.shared |= bit;
     }
     if (accept(user, hit)) return true;
   }
