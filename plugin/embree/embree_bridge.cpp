@@ -320,14 +320,14 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   if (L.data->desc.options.uv) {
     if (L.dctx) {
       surfaceUV(*L.data, h.point, u, v);
-      uf = static_cast<float>(u);
+      uf = floatU(u);
       vf = static_cast<float>(v);
     } else {
       bool given = false;
       if constexpr (kPacketLane) {
         const auto& P = static_cast<const PacketLane&>(L);
         if (h.t == P.uvT) {
-          uf = static_cast<float>(P.uvU);
+          uf = floatU(P.uvU);
           vf = static_cast<float>(P.uvV);
           given = true;
         }

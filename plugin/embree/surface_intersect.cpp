@@ -564,7 +564,7 @@ void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, 
   if (!(rho2 + z2 > 0.0) || !std::isfinite(rho2 + z2)) {
     double ud, vd;
     surfaceUV(data, point, ud, vd);
-    u = static_cast<float>(ud);
+    u = floatU(ud);
     v = static_cast<float>(vd);
     return;
   }
@@ -590,7 +590,7 @@ void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, 
   if (std::signbit(r.z)) theta = kPi - theta;
   // Products with the rounded 1 / (2 pi) and 1 / pi (one more rounding, far below
   // float's; the quotients' latency came last on a hit's critical path, measured).
-  u = static_cast<float>(std::min(phi * kInvTwoPi, std::nextafter(1.0, 0.0)));
+  u = floatU(std::min(phi * kInvTwoPi, std::nextafter(1.0, 0.0)));
   v = static_cast<float>(std::min(std::max(theta * kInvPi, 0.0), 1.0));
 }
 
