@@ -259,7 +259,8 @@ TEST_F(EmbreeFilter, ReusedContextFindsTheFirstRootAgain) {
     Scene scene(device);
     scene.attach(torus.geometry());
     scene.commit();
-    const double rho = 1.0 + std::sqrt(0.16 - 0.05 * 0.05), first = 5.0 - std::sqrt(rho * rho - 0.01);
+    const double rho = 1.0 + std::sqrt(0.16 - 0.05 * 0.05);
+    const double first = 5.0 - std::sqrt(rho * rho - 0.01);
     const RayD ray{{-5, 0.1, 0.05}, {1, 0, 0}, 0, 100, 0};
     HitD hit;
     IntersectContext context;
@@ -295,7 +296,8 @@ TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
   scene.commit();
   for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
     for (const double dist : {10.0, 100.0, 1000.0, 1e4, 1e5})
-      for (const glm::dvec3& dir : {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+      for (const glm::dvec3& dir :
+           {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
         const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
         const RayD ray{p - dist * d, d, 0.0, 1e30};
         HitD hits[2];
@@ -343,7 +345,8 @@ TEST_F(EmbreeFilter, OrphanRootsOfferedOnceAmongSeveralSurfaces) {
   scene.commit();
   for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
     for (const double dist : {10.0, 100.0, 1000.0, 1e4, 1e5})
-      for (const glm::dvec3& dir : {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+      for (const glm::dvec3& dir :
+           {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
         const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
         const RayD ray{p - dist * d, d, 0.0, 1e30};
         HitD hit;
@@ -355,7 +358,8 @@ TEST_F(EmbreeFilter, OrphanRootsOfferedOnceAmongSeveralSurfaces) {
         for (unsigned id = 0; id < 3; ++id)
           EXPECT_LE(std::count(gOffers.begin(), gOffers.end(), id), 1)
               << "plane " << id << " delta " << delta << " dist " << dist;
-        EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), 0u), 1) << "delta " << delta << " dist " << dist;
+        EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), 0u), 1)
+            << "delta " << delta << " dist " << dist;
       }
 }
 

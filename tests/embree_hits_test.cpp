@@ -1135,13 +1135,14 @@ TEST_F(EmbreeHits, FloatUStaysBelowOneAtTheSeam) {
     Scene scene(device);
     scene.attach(g.geometry());
     scene.commit();
+    constexpr double kPi = 3.14159265358979323846;
     const float ys[4] = {-1e-9f, -1e-8f, -1e-7f, -1e-30f};
     alignas(16) RTCRayHit4 packet{};
     alignas(16) int valid[4] = {-1, -1, -1, -1};
     for (int l = 0; l < 4; ++l) {
       const float y = ys[l];
       const double x = surface == 2 ? 1.4 : 1.0;  // the hit's x: the outer radius
-      const double exact = 1.0 - std::atan(std::abs(double(y)) / x) / (2.0 * 3.14159265358979323846);
+      const double exact = 1.0 - std::atan(std::abs(double(y)) / x) / (2.0 * kPi);
       setPacketLane(packet.ray, l, makeRay({5, y, 0}, {-1, 0, 0}).ray);
       packet.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
       const RTCRayHit one = intersect1(scene, makeRay({5, y, 0}, {-1, 0, 0}));

@@ -435,7 +435,8 @@ thread_local OfferedTable tlsOffered;
 OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
   OfferedTable& table = tlsOffered;
   for (OfferedRoots& e : table.entries)
-    if (e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir && e.tnear == ray.tnear)
+    if (e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir &&
+        e.tnear == ray.tnear)
       return e;
   OfferedRoots& e = table.entries[table.next++ % table.entries.size()];
   e = OfferedRoots{data.id, ray.trace, ray.org, ray.dir, ray.tnear, 0, 0};
@@ -500,8 +501,10 @@ enum class Claim { kNone, kOwner, kShared };
 // Embree traverses with (origins ~1e6 clip radii away), so the first cell Embree does
 // visit reports it. A root whose grid box holds no cell is shared by the cells whose span
 // holds it.
-Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray, bool inSpan) {
-  if (data.cells.size() == 1 || data.cellOfKey.empty()) return inSpan ? Claim::kOwner : Claim::kNone;
+Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray,
+                 bool inSpan) {
+  if (data.cells.size() == 1 || data.cellOfKey.empty())
+    return inSpan ? Claim::kOwner : Claim::kNone;
   std::uint64_t key = 0;
   for (int a = 0; a < 3; ++a) {
     const double x = (p[a] - data.gridLo[a]) / data.gridSize[a] * data.gridN[a];
@@ -511,9 +514,9 @@ Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, co
   const auto it = data.cellOfKey.find(key);
   if (it == data.cellOfKey.end()) return inSpan ? Claim::kShared : Claim::kNone;
   if (it->second == cell) return Claim::kOwner;  // Embree reached the owner: wherever its span ends
-  return ray.hasTraversalRay && !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir)
-             ? Claim::kShared
-             : Claim::kNone;
+  const bool orphan = ray.hasTraversalRay &&
+                      !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir);
+  return orphan ? Claim::kShared : Claim::kNone;
 }
 
 }  // namespace
