@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <string_view>
 #include <thread>
 
@@ -243,6 +244,125 @@ TEST_F(EmbreeFilter, DoubleChannelOffersAnOrphanRootOnce) {
   EXPECT_EQ(g.geometry.callbackErrors(), 0u);
 }
 
+// An IntersectContext traced twice for the same ray (as Embree's own contexts are reused):
+// every trace gets the first root again. A torus (the generic walk) hit along x
+// at y = 0.1, z = 0.05 from x = -5: closed form t = 5 - sqrt((R + sqrt(r^2 - z^2))^2 - y^2).
+// (The offered-roots mask, kept by the context's trace id, gave the next root each time.)
+TEST_F(EmbreeFilter, ReusedContextFindsTheFirstRootAgain) {
+  for (const int depth : {-1, 2}) {  // one cell (automatic), a grid of them
+    SCOPED_TRACE(testing::Message() << "cell depth " << depth);
+    SurfaceDesc desc;
+    desc.polynomial = torusPolynomial(1.0, 0.4);
+    desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    desc.options.cellDepth = depth;
+    SurfaceGeometry torus(device, desc);
+    Scene scene(device);
+    scene.attach(torus.geometry());
+    scene.commit();
+    const double rho = 1.0 + std::sqrt(0.16 - 0.05 * 0.05);
+    const double first = 5.0 - std::sqrt(rho * rho - 0.01);
+    const RayD ray{{-5, 0.1, 0.05}, {1, 0, 0}, 0, 100, 0};
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit, scene);
+    for (int trace = 0; trace < 4; ++trace) {  // as many as the ray has roots
+      hit = HitD{};
+      RTCRayHit rh = makeRayHit(context);
+      rtcIntersect1(scene, &context.base, &rh);
+      ASSERT_TRUE(hit.hit) << "trace " << trace;
+      EXPECT_NEAR(hit.t, first, 1e-12) << "trace " << trace;
+    }
+    hit = HitD{};  // (the HitD is the trace's running closest hit: reset, as above)
+    RTCRay shadow = makeRayHit(context).ray;  // any of the roots occludes
+    rtcOccluded1(scene, &context.base, &shadow);
+    EXPECT_EQ(shadow.tfar, -kInfF);
+    EXPECT_TRUE(hit.hit);
+  }
+}
+
+// Contexts initialised on other threads than the one tracing them (a wavefront renderer's
+// batches): two contexts of the same far ray through a grid edge, each made on a thread
+// of its own, traced one after the other, both hit the plane z = 0.1 at t = dist (closed
+// form). With a trace id counted per thread both had id 1, and the second trace skipped
+// the orphan root the first had offered (24 of these 60 rays missed).
+TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial("z - 0.1");
+  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+  desc.options.cellDepth = 3;
+  SurfaceGeometry plane(device, desc);
+  Scene scene(device);
+  scene.attach(plane.geometry());
+  scene.commit();
+  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
+    for (const double dist : {10.0, 100.0, 1000.0, 1e4, 1e5})
+      for (const glm::dvec3& dir :
+           {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
+        const RayD ray{p - dist * d, d, 0.0, 1e30};
+        HitD hits[2];
+        IntersectContext contexts[2];
+        for (int k = 0; k < 2; ++k)
+          std::thread([&, k] { initIntersectContext(&contexts[k], &ray, &hits[k], scene); }).join();
+        for (int k = 0; k < 2; ++k) {
+          RTCRayHit rh = makeRayHit(contexts[k]);
+          rtcIntersect1(scene, &contexts[k].base, &rh);
+          ASSERT_TRUE(hits[k].hit) << "context " << k << " delta " << delta << " dist " << dist;
+          EXPECT_NEAR(hits[k].t, dist, 1e-12 * dist);
+        }
+      }
+}
+
+// Offers (geomID per candidate) seen by a filter that rejects every candidate.
+std::vector<unsigned> gOffers;
+void rejectAndLogGeometry(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0) {
+      gOffers.push_back(RTCHitN_geomID(args->hit, args->N, i));
+      args->valid[i] = 0;
+    }
+}
+
+// The orphan roots of DoubleChannelOffersAnOrphanRootOnce with two more planes in the
+// scene (z = -0.3, x = 0.2), whose cells Embree visits between the first plane's: every
+// plane's root still reaches the filter at most once per trace, the first plane's
+// exactly once. (With the offered-roots mask in the per-thread root record, which the
+// other planes' cells replaced, the first plane's root was offered up to 4 times, on 18
+// of these 60 rays.)
+TEST_F(EmbreeFilter, OrphanRootsOfferedOnceAmongSeveralSurfaces) {
+  SurfaceDesc desc;
+  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+  desc.options.cellDepth = 3;
+  std::vector<std::unique_ptr<SurfaceGeometry>> planes;
+  Scene scene(device);
+  for (const char* equation : {"z - 0.1", "z + 0.3", "x - 0.2"}) {
+    desc.polynomial = parsePolynomial(equation);
+    planes.push_back(std::make_unique<SurfaceGeometry>(device, desc));
+    rtcSetGeometryIntersectFilterFunction(planes.back()->geometry(), &rejectAndLogGeometry);
+    rtcCommitGeometry(planes.back()->geometry());
+    scene.attach(planes.back()->geometry());
+  }
+  scene.commit();
+  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
+    for (const double dist : {10.0, 100.0, 1000.0, 1e4, 1e5})
+      for (const glm::dvec3& dir :
+           {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
+        const RayD ray{p - dist * d, d, 0.0, 1e30};
+        HitD hit;
+        IntersectContext context;
+        initIntersectContext(&context, &ray, &hit, scene);
+        RTCRayHit rh = makeRayHit(context);
+        gOffers.clear();
+        rtcIntersect1(scene, &context.base, &rh);
+        for (unsigned id = 0; id < 3; ++id)
+          EXPECT_LE(std::count(gOffers.begin(), gOffers.end(), id), 1)
+              << "plane " << id << " delta " << delta << " dist " << dist;
+        EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), 0u), 1)
+            << "delta " << delta << " dist " << dist;
+      }
+}
+
 // The offered-roots mask belongs to one surface's roots: in the same trace another
 // surface's root with the same index must still be offered. A quartic blob inside a
 // torus's hole, seen from the torus's centre: the blob's first root, t = 0.7 (closed
@@ -330,6 +450,56 @@ TEST_F(EmbreeFilter, ContextFilterIsChainedThroughAlgrayContext) {
   // A plain context on the same scene: no chaining needed, no crash.
   rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 4.0f);
+}
+
+// A host filter that throws (the first call only): the adapter counts it as a miss of
+// that surface. The ray must then go on as if the surface were not there: its far end
+// kept (so the unit sphere B behind, centred at z = 5, is hit at t = 9 from z = -5), and
+// an algray context still algray's for the rest of the trace (B's HitD written).
+void throwOnce(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0 && gLog->calls++ == 0) throw std::runtime_error("host filter");
+}
+
+TEST_F(EmbreeFilter, ThrowingHostFilterCountsAsAMiss) {
+  for (const bool quadricCallbacks : {true, false}) {
+    SCOPED_TRACE(quadricCallbacks ? "quadric callbacks" : "generic walk");
+    SurfaceDesc desc = sphereDesc(1.0, 1.5);
+    desc.options.quadricCallbacks = quadricCallbacks;
+    SurfaceGeometry a(device, desc);
+    rtcSetGeometryIntersectFilterFunction(a.geometry(), &throwOnce);
+    rtcSetGeometryOccludedFilterFunction(a.geometry(), &throwOnce);
+    rtcCommitGeometry(a.geometry());
+    desc.transform[3] = glm::dvec4(0, 0, 5, 1);
+    SurfaceGeometry b(device, desc);
+    Scene scene(device);
+    scene.attach(a.geometry());
+    const unsigned bId = scene.attach(b.geometry());
+    scene.commit();
+
+    log = FilterLog{};
+    const RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
+    EXPECT_EQ(rh.hit.geomID, bId);
+    EXPECT_FLOAT_EQ(rh.ray.tfar, 9.0f);
+    EXPECT_EQ(a.callbackErrors(), 1u);
+
+    log = FilterLog{};
+    RTCRay shadow = makeRay({0, 0, -5}, {0, 0, 1}, 0.0f, 8.0f).ray;  // ends before B
+    EXPECT_FALSE(occluded1(scene, shadow));
+
+    log = FilterLog{};
+    const RayD ray{{0, 0, -5}, {0, 0, 1}, 0, 100, 0};
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit, scene);
+    RTCRayHit drh = makeRayHit(context);
+    rtcIntersect1(scene, &context.base, &drh);
+    EXPECT_EQ(drh.hit.geomID, bId);
+    ASSERT_TRUE(hit.hit);
+    EXPECT_EQ(hit.geomID, bId);
+    EXPECT_DOUBLE_EQ(hit.t, 9.0);
+    EXPECT_NE(context.base.filter, nullptr);  // still recognised as algray's
+  }
 }
 
 TEST_F(EmbreeFilter, InstancesWithTransforms) {

@@ -1117,6 +1117,53 @@ TEST_F(EmbreeHits, ZeroGradientGivesAUsableNormal) {
   EXPECT_GT(facing, 0);  // the case the rule is for occurs
 }
 
+// u lies in [0, 1) also just below the seam (y -> 0-, x > 0), where the exact u is
+// 1 - atan(|y| / x) / (2 pi) (closed form for a hit at (x, y, 0)): the float u must be below
+// 1 (a host indexing a texture by u * width) and within float's rounding of it. The cast
+// to float gave 1.0f for |y| below ~2e-7, in every path: quadric callbacks and packets,
+// the generic walk, a torus, and the double channel's float record.
+TEST_F(EmbreeHits, FloatUStaysBelowOneAtTheSeam) {
+  for (int surface = 0; surface < 3; ++surface) {
+    SCOPED_TRACE(testing::Message() << "surface " << surface);
+    SurfaceDesc desc = sphereDesc(1.0, 1.5);
+    desc.options.quadricCallbacks = surface == 0;
+    if (surface == 2) {
+      desc.polynomial = torusPolynomial(1.0, 0.4);
+      desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    }
+    SurfaceGeometry g(device, desc);
+    Scene scene(device);
+    scene.attach(g.geometry());
+    scene.commit();
+    constexpr double kPi = 3.14159265358979323846;
+    const float ys[4] = {-1e-9f, -1e-8f, -1e-7f, -1e-30f};
+    alignas(16) RTCRayHit4 packet{};
+    alignas(16) int valid[4] = {-1, -1, -1, -1};
+    for (int l = 0; l < 4; ++l) {
+      const float y = ys[l];
+      const double x = surface == 2 ? 1.4 : 1.0;  // the hit's x: the outer radius
+      const double exact = 1.0 - std::atan(std::abs(double(y)) / x) / (2.0 * kPi);
+      setPacketLane(packet.ray, l, makeRay({5, y, 0}, {-1, 0, 0}).ray);
+      packet.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+      const RTCRayHit one = intersect1(scene, makeRay({5, y, 0}, {-1, 0, 0}));
+      RTCRayHit viaDouble;
+      const HitD hit = intersectD(scene, RayD{{5, y, 0}, {-1, 0, 0}, 0, 100, 0}, &viaDouble);
+      ASSERT_NE(one.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+      ASSERT_TRUE(hit.hit);
+      for (const float u : {one.hit.u, viaDouble.hit.u}) {
+        EXPECT_LT(u, 1.0f) << "y " << y;
+        EXPECT_NEAR(u, exact, 1e-7) << "y " << y;
+      }
+      EXPECT_LT(hit.u, 1.0);
+      EXPECT_NEAR(hit.u, exact, 1e-12);
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect4(valid, scene, &context, &packet);
+    for (int l = 0; l < 4; ++l) EXPECT_LT(packet.hit.u[l], 1.0f) << "packet lane " << l;
+  }
+}
+
 TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
   std::uniform_real_distribution<float> u(-1.3f, 1.3f);
   for (const bool quadric : {true, false}) {

@@ -8,7 +8,11 @@
 //   rtcAttachGeometry(scene, sphere.geometry());       // host keeps its filters/masks
 //
 // The SurfaceGeometry must outlive every scene it is attached to (like a host's shared
-// vertex buffers). Hits (written only for tnear < t < tfar, after the host's filters):
+// vertex buffers). Its Embree user data pointer is the adapter's (Embree 3 hands the
+// callbacks no other): a host must not replace it with rtcSetGeometryUserData (the
+// callbacks would read the host's data as theirs), and its filters receive it as
+// geometryUserPtr; per-geometry host data is found by geomID instead.
+// Hits (written only for tnear < t < tfar, after the host's filters):
 //   tfar    the ray parameter of the first accepted root;
 //   Ng      grad f at the hit, not normalised, in the space the geometry lives in (scaled
 //           by a power of two when its size is outside 1e-30..1e30, so that the float
@@ -30,9 +34,11 @@
 // rtcIntersect1/rtcOccluded1; the callbacks then read the double ray and write the double
 // hit. A plain RTCIntersectContext works as usual. The context is recognised by its
 // filter pointer; Embree 3.13 calls (and asserts the scene flag for) a non-null context
-// filter on its own geometry types, so a scene that mixes algray surfaces with
-// triangles, curves, ... and is traced with an algray::IntersectContext must have
-// RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION set (scenes of algray surfaces only need not).
+// filter on its own geometry types, so every scene holding triangles, curves, ... that an
+// algray::IntersectContext reaches must have RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION set:
+// the traced scene and each scene it instances, also one of Embree geometries only (it
+// sees the instance's context; without the flag Embree 3.13 aborts on its assertion).
+// Scenes of algray surfaces only need not.
 #include "algray/parser.h"
 #include "algray/polynomial.h"
 #include "algray/roots.h"
@@ -110,6 +116,7 @@ class SurfaceGeometry {
 
   RTCGeometry geometry() const;
   unsigned primitiveCount() const;
+  // The description as given to the constructor (a moved-from geometry's is empty).
   const SurfaceDesc& desc() const;
   // Number of exceptions caught inside Embree callbacks (each one counted as a miss);
   // stays 0 unless something is badly wrong. For tests and diagnostics.
@@ -137,7 +144,11 @@ struct RayD {
 };
 // Written by the callbacks of every algray geometry the ray reaches. After
 // rtcIntersect1 the HitD is the closest algray hit; it is the scene's closest hit when
-// rayhit.hit.geomID == hit.geomID (another geometry type may have been closer).
+// rayhit.hit.geomID == hit.geomID and rayhit.hit.instID[0] == hit.instID[0] (another
+// geometry type may have been closer; a geomID alone is ambiguous with instances, whose
+// scenes number their geometries from 0 again). A hit inside an instance is solved on
+// Embree's float ray (see RayD): its t is mapped to the double ray's parameter
+// (fromFloatParameter), Ng is in the instanced scene's space.
 struct HitD {
   bool hit = false;
   double t = 0;
@@ -145,6 +156,7 @@ struct HitD {
   double u = 0, v = 0;
   unsigned geomID = RTC_INVALID_GEOMETRY_ID;
   unsigned primID = RTC_INVALID_GEOMETRY_ID;
+  unsigned instID = RTC_INVALID_GEOMETRY_ID;  // as RTCHit::instID[0]
 };
 struct IntersectContext {
   RTCIntersectContext base;  // first member: Embree sees only this
@@ -159,13 +171,16 @@ struct IntersectContext {
   double floatShiftLow = 0;
   glm::dvec3 floatOrigin{0.0};  // the float ray's origin when floatShift != 0
   bool floatEmpty = false;      // the float ray has an empty span (no point it can hit)
-  // Set by initIntersectContext, distinct for each call on a thread: the adapter offers
+  // Set by initIntersectContext, distinct for each call in the process (a context may be
+  // traced on another thread than the one that initialised it): the adapter offers
   // each root of this trace to the host's filters once (several cells may claim a root
   // the float ray passes beside, see surface_intersect.cpp).
   std::uint64_t trace = 0;
   double floatScale = 1;
 };
-// Initialises base (rtcInitIntersectContext) and marks the context as algray's.
+// Initialises base (rtcInitIntersectContext) and marks the context as algray's. A context
+// may serve several traces (as Embree's own are reused): the HitD is the running closest
+// hit of a trace (it bounds the double ray's far end), so reset it before each one.
 void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit);
 // The same for a ray traced in `scene` (committed): with the scene, a ray from far outside
 // it (beyond 4096 times its extent) is handed to Embree starting near the scene's bounds,

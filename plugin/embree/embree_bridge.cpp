@@ -8,7 +8,9 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -38,6 +40,17 @@ void markerFilter(const RTCFilterFunctionNArguments* args) {
 IntersectContext* doubleContext(RTCIntersectContext* context, unsigned n) {
   if (n != 1 || context->filter != &markerFilter) return nullptr;
   if (context->instID[0] != RTC_INVALID_GEOMETRY_ID) return nullptr;
+  auto* ic = reinterpret_cast<IntersectContext*>(context);
+  return ic->ray && ic->hit ? ic : nullptr;
+}
+
+// The algray context of a single ray inside an instance, or nullptr: the float ray is
+// solved there, but the host still reads the HitD, which must not keep a farther hit
+// outside the instance (a host checking geomID and instID against it would take that
+// one for the scene's closest hit).
+IntersectContext* instanceDoubleContext(RTCIntersectContext* context, unsigned n) {
+  if (n != 1 || context->filter != &markerFilter) return nullptr;
+  if (context->instID[0] == RTC_INVALID_GEOMETRY_ID) return nullptr;
   auto* ic = reinterpret_cast<IntersectContext*>(context);
   return ic->ray && ic->hit ? ic : nullptr;
 }
@@ -217,6 +230,18 @@ bool candidateTfar(const Lane& L, RTCRayN* ray, unsigned n, unsigned lane, doubl
 // call (Embree 3.13 runs, and asserts on, any non-null context filter from
 // rtcFilterIntersection whatever the scene flags) and the host's chained context filter,
 // if any, is called here instead.
+// Hides the marker for the host's geometry filter and puts it back when the filter
+// returns or throws: the callbacks count a throw as a miss, and the host's context must
+// stay algray's for the rest of the trace and for its next ones (without the marker the
+// double channel was silently off, its HitD no longer written).
+struct MarkerHidden {
+  RTCIntersectContext* context;
+  explicit MarkerHidden(RTCIntersectContext* c) : context(c) { context->filter = nullptr; }
+  ~MarkerHidden() { context->filter = &markerFilter; }
+  MarkerHidden(const MarkerHidden&) = delete;
+  MarkerHidden& operator=(const MarkerHidden&) = delete;
+};
+
 template <class Args, class Filter>
 void runFilters(const Args* args, RTCFilterFunctionNArguments* fargs, IntersectContext* marked,
                 Filter filter) {
@@ -225,9 +250,10 @@ void runFilters(const Args* args, RTCFilterFunctionNArguments* fargs, IntersectC
     filter(args, fargs);
     return;
   }
-  context->filter = nullptr;
-  filter(args, fargs);
-  context->filter = &markerFilter;
+  {
+    const MarkerHidden hidden(context);
+    filter(args, fargs);
+  }
   if (!marked || !marked->hostFilter) return;
   for (unsigned i = 0; i < fargs->N; ++i)
     if (fargs->valid[i] != 0) {
@@ -294,14 +320,14 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   if (L.data->desc.options.uv) {
     if (L.dctx) {
       surfaceUV(*L.data, h.point, u, v);
-      uf = static_cast<float>(u);
+      uf = floatU(u);
       vf = static_cast<float>(v);
     } else {
       bool given = false;
       if constexpr (kPacketLane) {
         const auto& P = static_cast<const PacketLane&>(L);
         if (h.t == P.uvT) {
-          uf = static_cast<float>(P.uvU);
+          uf = floatU(P.uvU);
           vf = static_cast<float>(P.uvV);
           given = true;
         }
@@ -319,10 +345,17 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   RTCRayN_tfar(ray, n, lane) = tf;
   RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context,
                                     reinterpret_cast<RTCRayN*>(args->rayhit), candidate.hitN(), n};
-  runFilters(args, &fargs, markedContext(args->context),
-             [](const RTCIntersectFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
-               rtcFilterIntersection(a, f);
-             });
+  try {
+    runFilters(args, &fargs, markedContext(args->context),
+               [](const RTCIntersectFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
+                 rtcFilterIntersection(a, f);
+               });
+  } catch (...) {
+    // A throwing host filter counts as a miss (the callbacks catch it): the ray keeps its
+    // far end (else it ended at a hit that was never written, and hid the ones behind).
+    RTCRayN_tfar(ray, n, lane) = oldTfar;
+    throw;
+  }
   if (valid[lane] == 0) {
     RTCRayN_tfar(ray, n, lane) = oldTfar;
     return false;
@@ -337,7 +370,19 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
     hit.v = v;
     hit.geomID = args->geomID;
     hit.primID = args->primID;
+    hit.instID = RTC_INVALID_GEOMETRY_ID;
     L.tfarD = t;
+  } else if (IntersectContext* ic = instanceDoubleContext(args->context, n)) {
+    // (A single ray: no packet lane, so ng was computed above.)
+    HitD& hit = *ic->hit;
+    hit.hit = true;
+    hit.t = fromFloatParameter(*ic, t);
+    hit.Ng = ng;
+    hit.u = hit.v = 0.0;
+    if (L.data->desc.options.uv) surfaceUV(*L.data, h.point, hit.u, hit.v);
+    hit.geomID = args->geomID;
+    hit.primID = args->primID;
+    hit.instID = args->context->instID[0];
   }
   return true;
 }
@@ -361,21 +406,28 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   const float oldTfar = RTCRayN_tfar(ray, n, lane);
   RTCRayN_tfar(ray, n, lane) = tf;
   RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context, ray, candidate.hitN(), n};
-  runFilters(args, &fargs, markedContext(args->context),
-             [](const RTCOccludedFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
-               rtcFilterOcclusion(a, f);
-             });
+  try {
+    runFilters(args, &fargs, markedContext(args->context),
+               [](const RTCOccludedFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
+                 rtcFilterOcclusion(a, f);
+               });
+  } catch (...) {
+    RTCRayN_tfar(ray, n, lane) = oldTfar;  // a miss, as above
+    throw;
+  }
   if (valid[lane] == 0) {
     RTCRayN_tfar(ray, n, lane) = oldTfar;
     return false;
   }
   RTCRayN_tfar(ray, n, lane) = -std::numeric_limits<float>::infinity();
-  if (L.dctx) {
-    HitD& hit = *L.dctx->hit;
+  IntersectContext* ic = L.dctx ? L.dctx : instanceDoubleContext(args->context, n);
+  if (ic) {
+    HitD& hit = *ic->hit;
     hit.hit = true;
-    hit.t = t;
+    hit.t = L.dctx ? t : fromFloatParameter(*ic, t);
     hit.geomID = args->geomID;
     hit.primID = args->primID;
+    hit.instID = args->context->instID[0];
   }
   return true;
 }
@@ -789,6 +841,23 @@ KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm:
 }
 
 namespace {
+// A trace id unique in the process: a context may be initialised on one thread and traced
+// on another, whose per-thread root records hold ids of its own (with a counter per
+// thread, two contexts of one ray made on two threads had the same id, and the second
+// trace skipped the roots the first had offered: a far ray through a grid edge missed).
+// Each thread takes blocks of 2^20 ids from a global counter, so a trace touches no
+// shared cache line.
+std::uint64_t nextTraceId() {
+  constexpr std::uint64_t kBlock = std::uint64_t{1} << 20;
+  static std::atomic<std::uint64_t> nextBlock{1};
+  thread_local std::uint64_t next = 0, end = 0;
+  if (next == end) {
+    next = nextBlock.fetch_add(1, std::memory_order_relaxed) * kBlock;
+    end = next + kBlock;
+  }
+  return next++;
+}
+
 void initContext(IntersectContext* context, const RayD* ray, HitD* hit, const RTCBounds* bounds) {
   rtcInitIntersectContext(&context->base);
   context->base.filter = &markerFilter;
@@ -796,8 +865,7 @@ void initContext(IntersectContext* context, const RayD* ray, HitD* hit, const RT
   context->hit = hit;
   context->hostFilter = nullptr;
   const FloatMap m = ray ? floatMap(*ray, bounds) : FloatMap{};
-  thread_local std::uint64_t traces = 0;
-  context->trace = ++traces;
+  context->trace = nextTraceId();
   context->floatShift = m.shift;
   context->floatShiftLow = m.shiftLow;
   context->floatScale = m.scale;

@@ -73,7 +73,12 @@ struct QuadricForm {
 };
 
 struct SurfaceData {
+  // The description the kernels work with: the host's, with the clip region widened
+  // (widenedClip, surface_geometry.cpp).
   SurfaceDesc desc;
+  // The host's description as given, for SurfaceGeometry::desc() (a host cloning a
+  // surface from desc() would otherwise widen its clip region twice).
+  SurfaceDesc given;
   std::optional<QuadricForm> quadric;  // set when desc.polynomial has degree 2 exactly
   // The quadric path clips rays to cells.front(): the one cell is smaller than the clip
   // region (an ellipsoid's own box, boundedQuadricBox; or a cell the build shrank).
@@ -153,6 +158,10 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v);
 // The same for Embree's float u, v: within 2e-10 of them, at a third of the cost.
 void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, float& v);
+// Embree's float u of a u in [0, 1): the cast rounds a u within 2^-25 of 1 (the seam's
+// far side, y -> 0-) up to 1.0f, which a host indexing a texture by u * width reads one
+// past the end of; the largest float below 1 instead.
+inline float floatU(double u) { return std::min(static_cast<float>(u), 0x1.fffffep-1f); }
 // surfaceUVFloat's 1 / (2 pi) and 1 / pi, rounded.
 inline constexpr double kInvTwoPi = 0.15915494309189535, kInvPi = 0.31830988618379069;
 // Its atan on [0, 1]: atan(t) = t p(t^2), p of degree 9 with these coefficients (the fit

@@ -241,6 +241,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   if (!device) fail("the RTCDevice is null");
   validate(desc);
   auto data = std::make_unique<SurfaceData>();
+  data->given = desc;
   data->desc = std::move(desc);
   data->desc.clip = widenedClip(data->desc.clip);
   data->id = nextSurfaceId.fetch_add(1);
@@ -338,7 +339,11 @@ RTCGeometry SurfaceGeometry::geometry() const { return data_ ? data_->geometry :
 unsigned SurfaceGeometry::primitiveCount() const {
   return data_ ? static_cast<unsigned>(data_->cells.size()) : 0u;
 }
-const SurfaceDesc& SurfaceGeometry::desc() const { return data_->desc; }
+const SurfaceDesc& SurfaceGeometry::desc() const {
+  // A moved-from geometry has no data: an empty description, as geometry() is null.
+  static const SurfaceDesc kEmpty;
+  return data_ ? data_->given : kEmpty;
+}
 unsigned long long SurfaceGeometry::callbackErrors() const { return data_ ? data_->errors.load() : 0ull; }
 
 }  // namespace algray

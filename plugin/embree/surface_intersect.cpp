@@ -212,9 +212,6 @@ struct RayRoots {
   double tnear = 0;                       // the ray's (searchSpan, with selfWindow)
   double selfWindow = 0;                  // > 0: the self-root rule applied (selfRootWindow)
   bool closedLo = true;                   // slo is the region's start (regionRoots), not the window
-  // The roots (bit i: roots[i]) already offered to the host in the double channel's trace
-  // offeredTrace (see walkRoots).
-  std::uint64_t offeredTrace = 0, offered = 0;
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
   bool complete = false;
@@ -377,11 +374,6 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   rr.r0 = r0;
   rr.r1 = r1;
   rr.tnear = ray.tnear;
-  // A new record (another surface, another ray): no root of it offered yet. (A host
-  // filter tracing rays of its own rebuilds the record too, so the outer trace may then
-  // offer an orphan root twice; the mask must never hide another surface's root: surface
-  // A's root i offered made surface B's root i invisible to that trace.)
-  rr.offeredTrace = rr.offered = 0;
   CacheEntry* entry = restrict(data, ray, r0, r1, rr.g, rr.selfWindow);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
@@ -417,6 +409,38 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   rr.orgError = ray.orgError;
   rr.id = data.id;
   return rr;
+}
+
+// ---- Offered roots (double channel) ------------------------------------------------------
+// Per surface, ray and trace: the roots (bit i: roots[i] of the ray's record, the same
+// list whenever it is rebuilt) offered to the host, and those offered by a shared claim
+// (walkRoots). Kept apart from the record, which the cells of other surfaces replace in
+// the same trace: masks kept in it were rebuilt empty on each visit back, and a plane's
+// orphan root reached an any-hit filter up to 4 times in a scene of three planes. (They
+// must never hide another surface's or ray's roots: the key.) An entry evicted early only
+// lets a root be offered again, never hides one.
+struct OfferedRoots {
+  std::uint64_t id = 0, trace = 0;
+  glm::dvec3 org{0.0}, dir{0.0};
+  double tnear = 0;
+  std::uint64_t offered = 0, shared = 0;
+};
+struct OfferedTable {
+  std::array<OfferedRoots, 16> entries{};
+  unsigned next = 0;
+};
+static_assert(std::is_trivially_destructible_v<OfferedTable>);  // see threadOriginCache
+thread_local OfferedTable tlsOffered;
+
+OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
+  OfferedTable& table = tlsOffered;
+  for (OfferedRoots& e : table.entries)
+    if (e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir &&
+        e.tnear == ray.tnear)
+      return e;
+  OfferedRoots& e = table.entries[table.next++ % table.entries.size()];
+  e = OfferedRoots{data.id, ray.trace, ray.org, ray.dir, ray.tnear, 0, 0};
+  return e;
 }
 
 // All roots, keeping the first one's value (cells may already have judged it).
@@ -466,14 +490,21 @@ bool surelyReached(const RTCBounds& b, const glm::dvec3& o, const glm::dvec3& d)
   return clipToBox(lo + margin, hi - margin, o, d, t0, t1) && t0 < t1;
 }
 
+// How a cell takes a root: not at all, as its one owner (Embree visits a primitive once
+// per trace), or shared with other cells that may take it in the same trace too.
+enum class Claim { kNone, kOwner, kShared };
+
 // Whether `cell` takes the root at p. inSpan: p is in the cell's span of the ray. The
 // owner takes it wherever the span ends (walkRoots offers it roots just outside the span,
 // which rounding puts there). Another cell takes a root outside its span only in the
 // double channel, as an orphan: its owner cell is not surely reached by the float ray
 // Embree traverses with (origins ~1e6 clip radii away), so the first cell Embree does
-// visit reports it.
-bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray, bool inSpan) {
-  if (data.cells.size() == 1 || data.cellOfKey.empty()) return inSpan;
+// visit reports it. A root whose grid box holds no cell is shared by the cells whose span
+// holds it.
+Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, const KernelRay& ray,
+                 bool inSpan) {
+  if (data.cells.size() == 1 || data.cellOfKey.empty())
+    return inSpan ? Claim::kOwner : Claim::kNone;
   std::uint64_t key = 0;
   for (int a = 0; a < 3; ++a) {
     const double x = (p[a] - data.gridLo[a]) / data.gridSize[a] * data.gridN[a];
@@ -481,9 +512,11 @@ bool claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, con
     key = key * 65536u + static_cast<std::uint64_t>(k);
   }
   const auto it = data.cellOfKey.find(key);
-  if (it == data.cellOfKey.end()) return inSpan;
-  if (it->second == cell) return true;  // Embree reached the owner: wherever its span ends
-  return ray.hasTraversalRay && !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir);
+  if (it == data.cellOfKey.end()) return inSpan ? Claim::kShared : Claim::kNone;
+  if (it->second == cell) return Claim::kOwner;  // Embree reached the owner: wherever its span ends
+  const bool orphan = ray.hasTraversalRay &&
+                      !surelyReached(data.cells[it->second].bounds, ray.travOrg, ray.travDir);
+  return orphan ? Claim::kShared : Claim::kNone;
 }
 
 }  // namespace
@@ -534,7 +567,7 @@ void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, 
   if (!(rho2 + z2 > 0.0) || !std::isfinite(rho2 + z2)) {
     double ud, vd;
     surfaceUV(data, point, ud, vd);
-    u = static_cast<float>(ud);
+    u = floatU(ud);
     v = static_cast<float>(vd);
     return;
   }
@@ -560,7 +593,7 @@ void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, 
   if (std::signbit(r.z)) theta = kPi - theta;
   // Products with the rounded 1 / (2 pi) and 1 / pi (one more rounding, far below
   // float's; the quotients' latency came last on a hit's critical path, measured).
-  u = static_cast<float>(std::min(phi * kInvTwoPi, std::nextafter(1.0, 0.0)));
+  u = floatU(std::min(phi * kInvTwoPi, std::nextafter(1.0, 0.0)));
   v = static_cast<float>(std::min(std::max(theta * kInvPi, 0.0), 1.0));
 }
 
@@ -623,20 +656,21 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     KernelHit hit;
     hit.t = g.tShift + s;
     hit.point = o + hit.t * d;
-    if (!claimsRoot(data, cell, hit.point, ray, inSpan)) {
+    const Claim claim = claimsRoot(data, cell, hit.point, ray, inSpan);
+    if (claim == Claim::kNone) {
       if (s >= shi && !ray.hasTraversalRay) break;
       continue;
     }
     // In the double channel the orphan rule of claimsRoot may let several cells take a
     // root (its owner not surely reached by the float ray): each is offered once per
     // trace (an any-hit filter saw a root on a grid edge 7 times from 100 box radii).
+    // The owner, visited once per trace, defers only to a shared claim of this trace: the
+    // trace id is the context's, and a host tracing the same ray again with the same
+    // context got the next root each time (the owner skipped the roots offered before).
     const std::uint64_t bit = i < 64 ? std::uint64_t{1} << i : 0;
     if (ray.trace != 0) {
-      if (rr.offeredTrace != ray.trace) {
-        rr.offeredTrace = ray.trace;
-        rr.offered = 0;
-      }
-      if ((rr.offered & bit) != 0) continue;
+      const OfferedRoots& seen = offeredRoots(data, ray);
+      if (((claim == Claim::kOwner ? seen.shared : seen.offered) & bit) != 0) continue;
     }
     // Polish within the whole span (a root near a cell face may move across it; the
     // owner was decided on the unpolished value). A cache root was polished already.
@@ -647,7 +681,11 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), 1e-4 * (r1 - r0), hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
-    if (ray.trace != 0) rr.offered |= bit;
+    if (ray.trace != 0) {
+      OfferedRoots& seen = offeredRoots(data, ray);
+      seen.offered |= bit;
+      if (claim == Claim::kShared) seen.shared |= bit;
+    }
     if (accept(user, hit)) return true;
   }
   return false;
