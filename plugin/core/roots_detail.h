@@ -60,73 +60,30 @@ inline void copyCoeffs(const T* from, int count, T* to) {
 }
 
 // ---- Evaluation -------------------------------------------------------------------
-// sum_{i <= m} a_i x^i as E(x^2) + x O(x^2), its even and odd parts by Horner in x^2
-// (second-order Horner; Knuth, TAOCP Vol. 2, Sec. 4.6.4): two independent chains of
-// half the length, so about half the latency of Horner's one chain, for one more
-// product. m < 0 gives 0; m <= 2 is plain Horner (quadric_path.cpp repeats its
-// arithmetic bit for bit). Each term passes at most 1.5 m + 2 roundings (x^2 counted in
-// its powers), within the gamma(2m + 1) of LocalPoly's noise bound for m >= 3. Every
-// evaluation of the solvers goes through it (horner, hornerAbs, the polish), so a root's
-// value and the end rules' test of it are the same computation.
-template <class T>
-inline T evenOddHorner(const T* a, int m, T x, T x2) {
-  if (m <= 2) {  // plain Horner: no latency to gain, and the quadric path's arithmetic
-    if (m < 0) return T(0);
-    T r = a[m];
-    for (int i = m - 1; i >= 0; --i) r = r * x + a[i];
-    return r;
-  }
-  const int topEven = m & ~1, topOdd = (m - 1) | 1;
-  T e = a[topEven], o = a[topOdd];
-  for (int i = topEven - 2; i >= 0; i -= 2) e = e * x2 + a[i];
-  for (int i = topOdd - 2; i >= 1; i -= 2) o = o * x2 + a[i];
-  return e + o * x;
-}
-
-// A degree known at compile time (Deg<N>: Auto's solvers up to degree 20) takes the
-// even/odd passes; a run-time degree (int: Sturm, Bernstein, Auto above 20) plain
-// Horner, whose one simple loop measured faster there (with run-time trip counts the
-// two strided loops cost more than their shorter chain saves: Sturm's real rays of
-// degrees 10-16 took 1.1-2.3x as long). Within a solver every evaluation of G takes
-// the same form, so a polished root and the end rules' test of it agree.
-template <class D>
-inline constexpr bool kStaticDegree = !std::is_same_v<D, int>;
-
+// Plain Horner everywhere, on purpose. Measured and reverted in session 8: the value and
+// the polish's derivatives as even/odd (second-order Horner) passes halve an evaluation's
+// dependency chain (a polish iteration 1.3-1.5x faster in a latency-bound loop; whole
+// rays 4-7 % and cells 3-4 % faster in roots_bench), but the value near a root then is
+// the small difference of two large sums, and the roots lost accuracy: roots_report's
+// p99 error rose from 0.2-0.6 to 0.7-2.6 u cond on cells and to 3.1 u cond on whole rays
+// at degree 14, beyond the Sturm solver's (0.1-1.2 u cond, whose evaluations stayed
+// Horner): faster, but no longer "at equal or better accuracy".
 template <class T, class D>
 inline T horner(const T* c, D deg, T x) {
-  if constexpr (kStaticDegree<D>) {
-    return evenOddHorner(c, static_cast<int>(deg), x, x * x);
-  } else {
-    T r = c[deg];
-    for (int i = deg - 1; i >= 0; --i) r = r * x + c[i];
-    return r;
-  }
+  const int n = deg;
+  T r = c[n];
+  for (int i = n - 1; i >= 0; --i) r = r * x + c[i];
+  return r;
 }
-
-// The polish's rows, prepared once per bracket from p and its noise bound: the Taylor
-// coefficients of the first, second and third derivative over 1!, 2!, 3! (d1, d2, d3)
-// and of the noise bound's slope (n1), each entry one rounded product by an exact
-// binomial.
-template <class T>
-struct PolishRows {
-  T d1[kMaxDegree], d2[kMaxDegree], d3[kMaxDegree], n1[kMaxDegree];
-};
 
 // Value f, derivative df, the Taylor coefficients dd = f''/2 and d3 = f'''/6, the
 // noise bound nb at x and its slope nbSlope (the bound the coefficients' noise puts on
-// f'(x)). With the degree known at compile time: six independent even/odd passes, which
-// an out-of-order core overlaps. Session
-// 8 replaced the one fused Horner pass (each derivative's recurrence fed by the one
-// below) by these: a polish iteration is a chain of dependent evaluations, and each got
-// 1.3-1.5x faster at degrees 6-12 (a latency-bound loop of evaluations, ns: 17-20 ->
-// 12, 30 -> 22, 32-36 -> 22); with horner and hornerAbs as even/odd passes too, whole
-// rays 4-7 % faster and cells 3-4 % (rays with a root 5-8 %), Sturm 2-5 %; the worst
-// error of tests/roots_test.cpp's random roots moved from 1.74 to 2.25 u cond (target 4).
-// With a run-time degree: one fused Horner pass (each derivative's recurrence fed by
-// the one below), the form of plain horner().
-template <class T>
-inline void hornerNewton(const T* c, const T* noise, int n, T x, T& f, T& df, T& dd, T& d3, T& nb,
-                         T& nbSlope) {
+// f'(x)) in one pass. The recurrences are independent from one step to
+// the next, so on a superscalar core the extra ones hide in the latency of the value
+// recurrence.
+template <class T, class D>
+inline void hornerNewton(const T* c, const T* noise, D deg, T x, T& f, T& df, T& dd, T& d3, T& nb, T& nbSlope) {
+  const int n = deg;
   const T ax = std::abs(x);
   f = c[n];
   df = 0;
@@ -144,30 +101,14 @@ inline void hornerNewton(const T* c, const T* noise, int n, T x, T& f, T& df, T&
   }
 }
 
-template <class T, class D>
-inline void hornerNewton(const T* c, const T* noise, const PolishRows<T>& r, D deg, T x, T& f, T& df, T& dd,
-                         T& d3, T& nb, T& nbSlope) {
-  const int n = deg;
-  const T ax = std::abs(x), x2 = x * x;
-  f = evenOddHorner(c, n, x, x2);
-  df = evenOddHorner(r.d1, n - 1, x, x2);
-  dd = evenOddHorner(r.d2, n - 2, x, x2);
-  d3 = evenOddHorner(r.d3, n - 3, x, x2);
-  nb = evenOddHorner(noise, n, ax, x2);
-  nbSlope = evenOddHorner(r.n1, n - 1, ax, x2);
-}
-
 // sum a_i |x|^i for non-negative a (a noise bound).
 template <class T, class D>
 inline T hornerAbs(const T* a, D deg, T x) {
+  const int n = deg;
   const T ax = std::abs(x);
-  if constexpr (kStaticDegree<D>) {
-    return evenOddHorner(a, static_cast<int>(deg), ax, ax * ax);
-  } else {
-    T r = a[deg];
-    for (int i = deg - 1; i >= 0; --i) r = r * ax + a[i];
-    return r;
-  }
+  T r = a[n];
+  for (int i = n - 1; i >= 0; --i) r = r * ax + a[i];
+  return r;
 }
 
 // Derivative coefficients divided by the degree (d[i] = (i+1) c[i+1] / n): the same roots
@@ -263,22 +204,9 @@ template <class T, class D>
 T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
   const bool negA = signBit(fa);
   T stepOld = b - a;
-  PolishRows<T> rows;
-  if constexpr (kStaticDegree<D>) {
-    const int n = deg;
-    for (int i = 0; i < n; ++i) {
-      rows.d1[i] = T(i + 1) * p[i + 1];
-      rows.n1[i] = T(i + 1) * noise[i + 1];
-    }
-    for (int i = 0; i + 2 <= n; ++i) rows.d2[i] = static_cast<T>(kBinomials.c[i + 2][2]) * p[i + 2];
-    for (int i = 0; i + 3 <= n; ++i) rows.d3[i] = static_cast<T>(kBinomials.c[i + 3][3]) * p[i + 3];
-  }
   for (int it = 0; it < kMaxNewton; ++it) {
     T f, df, dd, d3, nb, nbSlope;
-    if constexpr (kStaticDegree<D>)
-      hornerNewton(p, noise, rows, deg, x, f, df, dd, d3, nb, nbSlope);
-    else
-      hornerNewton(p, noise, static_cast<int>(deg), x, f, df, dd, d3, nb, nbSlope);
+    hornerNewton(p, noise, deg, x, f, df, dd, d3, nb, nbSlope);
     if (f == 0) return x;
     if (signBit(f) == negA)
       a = x;

@@ -119,11 +119,6 @@ int derivRootsDyn(const T* p, int n, T lo, T hi, T tol, T* out, int mono) {
 // bound (no root, no tangent candidate). Costs two Taylor shifts, O(n^2), against the
 // O(n^2) per derivative level it saves; short intervals (a ray's span inside one cell)
 // typically cut the recursion to a few levels.
-// (GCC 12 at -O3 sees t and ta as maybe uninitialised in some degrees' instances since
-// the evaluations became even/odd passes; midpointTaylor writes t[0..n] and ta[0..n],
-// the only entries read. Zeroing 2 x 41 entries per call would cost the cells' solves.)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 template <class T, class D>
 int rootFreeOrder(const LocalPoly<T>& g, D deg) {
   const int n = deg;
@@ -152,7 +147,6 @@ int rootFreeOrder(const LocalPoly<T>& g, D deg) {
   }
   return n;  // not reached: the order-n derivative is the constant n! C_n != 0
 }
-#pragma GCC diagnostic pop
 
 // Yuksel's sweep on (g.lo, g.hi), given rootFreeOrder(g) = order >= 1.
 template <class T, class D>
