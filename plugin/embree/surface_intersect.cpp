@@ -428,17 +428,25 @@ struct OfferedRoots {
 struct OfferedTable {
   std::array<OfferedRoots, 16> entries{};
   unsigned next = 0;
+  unsigned last = 0;  // the entry found last: a ray's roots ask for the same one in a row
 };
 static_assert(std::is_trivially_destructible_v<OfferedTable>);  // see threadOriginCache
 thread_local OfferedTable tlsOffered;
 
 OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
   OfferedTable& table = tlsOffered;
-  for (OfferedRoots& e : table.entries)
-    if (e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir &&
-        e.tnear == ray.tnear)
-      return e;
-  OfferedRoots& e = table.entries[table.next++ % table.entries.size()];
+  auto matches = [&](const OfferedRoots& e) {
+    return e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir &&
+           e.tnear == ray.tnear;
+  };
+  if (matches(table.entries[table.last])) return table.entries[table.last];
+  for (unsigned i = 0; i < table.entries.size(); ++i)
+    if (matches(table.entries[i])) {
+      table.last = i;
+      return table.entries[i];
+    }
+  table.last = table.next++ % table.entries.size();
+  OfferedRoots& e = table.entries[table.last];
   e = OfferedRoots{data.id, ray.trace, ray.org, ray.dir, ray.tnear, 0, 0};
   return e;
 }
