@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 namespace algray::test {
 namespace {
@@ -57,6 +58,26 @@ class EmbreeFilter : public ::testing::Test {
 };
 
 class EmbreeFilterCells : public EmbreeFilter, public ::testing::WithParamInterface<bool> {};
+
+// Far rays through a grid edge of depth-3 cells over [-1, 1]^3: through the points
+// (delta, delta, 0.1) on (or 1e-7..1e-4 off) the grid lines x = y = 0, from `dist` away
+// along three directions, so each crosses the plane z = 0.1 at t = dist (closed form).
+// The float ray Embree traverses with passes up to u_float |o| beside the double one
+// there, so the cells around a root's owner may claim it as an orphan (claimsRoot).
+struct GridEdgeRay {
+  RayD ray;
+  double delta, dist;
+};
+std::vector<GridEdgeRay> gridEdgeRays(std::initializer_list<double> dists) {
+  std::vector<GridEdgeRay> rays;
+  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
+    for (const double dist : dists)
+      for (const glm::dvec3& dir : {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
+        rays.push_back({RayD{p - dist * d, d, 0.0, 1e30}, delta, dist});
+      }
+  return rays;
+}
 
 // With cells (the default) the two roots come from different primitives and the axis
 // ray runs inside cell faces, where four cells touch it: each root must still be offered
@@ -220,26 +241,21 @@ TEST_F(EmbreeFilter, DoubleChannelOffersAnOrphanRootOnce) {
   g.scene.commit();
   ASSERT_GT(g.geometry.primitiveCount(), 1u);
   int rays = 0;
-  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
-    for (const double dist : {10.0, 100.0, 1000.0})
-      for (const glm::dvec3& dir : {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
-        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
-        for (const bool occlusion : {false, true}) {
-          const RayD ray{p - dist * d, d, 0.0, 1e30};
-          log = FilterLog{1 << 30, 0, {}};  // reject every candidate
-          HitD hit;
-          IntersectContext context;
-          initIntersectContext(&context, &ray, &hit, g.scene);
-          RTCRayHit rh = makeRayHit(ray, g.scene);
-          if (occlusion)
-            rtcOccluded1(g.scene, &context.base, &rh.ray);
-          else
-            rtcIntersect1(g.scene, &context.base, &rh);
-          ASSERT_EQ(log.seenT.size(), 1u) << "delta " << delta << " dist " << dist << " occlusion " << occlusion;
-          EXPECT_FALSE(hit.hit);
-          ++rays;
-        }
-      }
+  for (const auto& [ray, delta, dist] : gridEdgeRays({10.0, 100.0, 1000.0}))
+    for (const bool occlusion : {false, true}) {
+      log = FilterLog{1 << 30, 0, {}};  // reject every candidate
+      HitD hit;
+      IntersectContext context;
+      initIntersectContext(&context, &ray, &hit, g.scene);
+      RTCRayHit rh = makeRayHit(ray, g.scene);
+      if (occlusion)
+        rtcOccluded1(g.scene, &context.base, &rh.ray);
+      else
+        rtcIntersect1(g.scene, &context.base, &rh);
+      ASSERT_EQ(log.seenT.size(), 1u) << "delta " << delta << " dist " << dist << " occlusion " << occlusion;
+      EXPECT_FALSE(hit.hit);
+      ++rays;
+    }
   EXPECT_EQ(rays, 72);
   EXPECT_EQ(g.geometry.callbackErrors(), 0u);
 }
@@ -294,23 +310,18 @@ TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
   Scene scene(device);
   scene.attach(plane.geometry());
   scene.commit();
-  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
-    for (const double dist : {10.0, 100.0, 1000.0, 1e4, 1e5})
-      for (const glm::dvec3& dir :
-           {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
-        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
-        const RayD ray{p - dist * d, d, 0.0, 1e30};
-        HitD hits[2];
-        IntersectContext contexts[2];
-        for (int k = 0; k < 2; ++k)
-          std::thread([&, k] { initIntersectContext(&contexts[k], &ray, &hits[k], scene); }).join();
-        for (int k = 0; k < 2; ++k) {
-          RTCRayHit rh = makeRayHit(contexts[k]);
-          rtcIntersect1(scene, &contexts[k].base, &rh);
-          ASSERT_TRUE(hits[k].hit) << "context " << k << " delta " << delta << " dist " << dist;
-          EXPECT_NEAR(hits[k].t, dist, 1e-12 * dist);
-        }
-      }
+  for (const auto& [ray, delta, dist] : gridEdgeRays({10.0, 100.0, 1000.0, 1e4, 1e5})) {
+    HitD hits[2];
+    IntersectContext contexts[2];
+    for (int k = 0; k < 2; ++k)
+      std::thread([&, k] { initIntersectContext(&contexts[k], &ray, &hits[k], scene); }).join();
+    for (int k = 0; k < 2; ++k) {
+      RTCRayHit rh = makeRayHit(contexts[k]);
+      rtcIntersect1(scene, &contexts[k].base, &rh);
+      ASSERT_TRUE(hits[k].hit) << "context " << k << " delta " << delta << " dist " << dist;
+      EXPECT_NEAR(hits[k].t, dist, 1e-12 * dist);
+    }
+  }
 }
 
 // Offers (geomID per candidate) seen by a filter that rejects every candidate.
@@ -343,24 +354,19 @@ TEST_F(EmbreeFilter, OrphanRootsOfferedOnceAmongSeveralSurfaces) {
     scene.attach(planes.back()->geometry());
   }
   scene.commit();
-  for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
-    for (const double dist : {10.0, 100.0, 1000.0, 1e4, 1e5})
-      for (const glm::dvec3& dir :
-           {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
-        const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
-        const RayD ray{p - dist * d, d, 0.0, 1e30};
-        HitD hit;
-        IntersectContext context;
-        initIntersectContext(&context, &ray, &hit, scene);
-        RTCRayHit rh = makeRayHit(context);
-        gOffers.clear();
-        rtcIntersect1(scene, &context.base, &rh);
-        for (unsigned id = 0; id < 3; ++id)
-          EXPECT_LE(std::count(gOffers.begin(), gOffers.end(), id), 1)
-              << "plane " << id << " delta " << delta << " dist " << dist;
-        EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), 0u), 1)
-            << "delta " << delta << " dist " << dist;
-      }
+  for (const auto& [ray, delta, dist] : gridEdgeRays({10.0, 100.0, 1000.0, 1e4, 1e5})) {
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit, scene);
+    RTCRayHit rh = makeRayHit(context);
+    gOffers.clear();
+    rtcIntersect1(scene, &context.base, &rh);
+    for (unsigned id = 0; id < 3; ++id)
+      EXPECT_LE(std::count(gOffers.begin(), gOffers.end(), id), 1)
+          << "plane " << id << " delta " << delta << " dist " << dist;
+    EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), 0u), 1)
+        << "delta " << delta << " dist " << dist;
+  }
 }
 
 // The offered-roots mask belongs to one surface's roots: in the same trace another
