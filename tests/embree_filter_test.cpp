@@ -64,6 +64,14 @@ class EmbreeFilterCells : public EmbreeFilter, public ::testing::WithParamInterf
 // along three directions, so each crosses the plane z = 0.1 at t = dist (closed form).
 // The float ray Embree traverses with passes up to u_float |o| beside the double one
 // there, so the cells around a root's owner may claim it as an orphan (claimsRoot).
+// A plane (or any surface) in depth-3 cells over [-1, 1]^3, the grid of gridEdgeRays.
+SurfaceDesc inDepth3Cells(std::string_view equation) {
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial(equation);
+  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+  desc.options.cellDepth = 3;
+  return desc;
+}
 struct GridEdgeRay {
   RayD ray;
   double delta, dist;
@@ -231,11 +239,7 @@ TEST_F(EmbreeFilter, PlanesOnCellFacesOfferedOnce) {
 // 10 to 1000 box radii: one crossing each, closed form. Before the offered-roots mask a
 // rejecting filter saw it up to 7 times.
 TEST_F(EmbreeFilter, DoubleChannelOffersAnOrphanRootOnce) {
-  SurfaceDesc desc;
-  desc.polynomial = parsePolynomial("z - 0.1");
-  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
-  desc.options.cellDepth = 3;
-  FilteredSurface g(device, desc);
+  FilteredSurface g(device, inDepth3Cells("z - 0.1"));
   rtcSetGeometryOccludedFilterFunction(g.geometry.geometry(), &rejectingFilter);
   rtcCommitGeometry(g.geometry.geometry());
   g.scene.commit();
@@ -302,11 +306,7 @@ TEST_F(EmbreeFilter, ReusedContextFindsTheFirstRootAgain) {
 // form). With a trace id counted per thread both had id 1, and the second trace skipped
 // the orphan root the first had offered (24 of these 60 rays missed).
 TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
-  SurfaceDesc desc;
-  desc.polynomial = parsePolynomial("z - 0.1");
-  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
-  desc.options.cellDepth = 3;
-  SurfaceGeometry plane(device, desc);
+  SurfaceGeometry plane(device, inDepth3Cells("z - 0.1"));
   Scene scene(device);
   scene.attach(plane.geometry());
   scene.commit();
