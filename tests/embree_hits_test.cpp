@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -1077,6 +1081,80 @@ TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
       ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z)) << scale;
       const glm::dvec3 p = asD(rh, true) + (double)*ref * asD(rh, false);
       EXPECT_NEAR(glm::dot(glm::dvec3(n), glm::normalize(p)), 1.0, 1e-6) << scale;
+    }
+  }
+}
+
+// Flush-to-zero and denormals-are-zero for the scope: how Embree's TBB worker threads
+// (and so a host's tbb::parallel_for beside Embree, as algray-query's and algray-render's)
+// run, where a product below double's normal range becomes 0.
+struct FlushToZero {
+#if defined(__SSE__)
+  unsigned saved = _mm_getcsr();
+  FlushToZero() { _mm_setcsr(saved | 0x8040u); }  // FTZ (bit 15) | DAZ (bit 6)
+  ~FlushToZero() { _mm_setcsr(saved); }
+#endif
+};
+
+// f and c f are the same surface: a torus (generic walk) and a sphere (quadric path)
+// written with an overall factor from 2^-1000 to 1e300 get the unscaled polynomial's hits
+// (double channel, rays from inside the clip region in random directions, with and
+// without flush-to-zero): bit for bit for a power of two, within 1e-13 for a decimal
+// factor (its product rounds each coefficient). The kernels' products with small powers
+// of the ray left double's normal range before the surface scaled such a polynomial: in
+// algray-query's TBB threads a torus times 1e-300 moved 4 of 2000 hits by 1e-9 of the
+// radius (their noise bounds did not cover the flushed products).
+TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
+  for (const bool flush : {false, true}) {
+    std::optional<FlushToZero> mode;
+    if (flush) mode.emplace();
+    for (const std::string equation : {"(x^2+y^2+z^2+0.75)^2-4*(x^2+y^2)", "x^2+y^2+z^2-1"}) {
+      SurfaceDesc desc;
+      desc.polynomial = parsePolynomial(equation);
+      desc.clip = ClipSphere{glm::dvec3(0.0), 2.0};
+      SurfaceGeometry plain(device, desc);
+      Scene plainScene(device);
+      plainScene.attach(plain.geometry());
+      plainScene.commit();
+      for (const std::string factor : {"2^-1000", "2^600", "1e-300", "1e300", "1e-200"}) {
+        desc.polynomial = parsePolynomial(factor + "*(" + equation + ")");
+        SurfaceGeometry scaled(device, desc);
+        Scene scene(device);
+        scene.attach(scaled.geometry());
+        scene.commit();
+        const bool exact = factor.starts_with("2^");
+        std::mt19937 gen(77);  // the same rays for every factor
+        std::uniform_real_distribution<double> inside(-0.3, 0.3);
+        std::normal_distribution<double> gauss;
+        // Four rays that moved by 1e-9 with the factor 1e-300 (nearly level with the top of
+        // the torus's tube: tiny z components), then random ones.
+        std::vector<RayD> rays = {
+            {{-0.13531386707898133, -0.07028036420745126, 0.2884700727229584},
+             {0.9206835256510592, -0.05745529917409921, -0.010524355411913601}},
+            {{0.24776113862248778, 0.2424231251627968, 0.2988454288855132},
+             {0.2890713782858783, -0.2011776235580851, 0.00705369937711551}},
+            {{0.04738413386128504, -0.040137790762485304, -0.17436304477280892},
+             {-1.4962461339894435, 0.5400580211917891, 0.8834185494731329}},
+            {{0.08387603324281967, 0.2311673387930015, -0.29900011676272537},
+             {-0.3584908178481061, -0.09607198081603684, -0.006696342454642689}}};
+        for (int i = 0; i < 2000; ++i)
+          rays.push_back({{inside(gen), inside(gen), inside(gen)}, {gauss(gen), gauss(gen), gauss(gen)}});
+        int hits = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+          RayD ray = rays[i];
+          ray.tnear = 0.0;
+          ray.tfar = std::numeric_limits<double>::infinity();
+          const HitD want = intersectD(plainScene, ray), got = intersectD(scene, ray);
+          ASSERT_EQ(got.hit, want.hit) << factor << (flush ? " flush-to-zero" : "") << " ray " << i;
+          if (!want.hit) continue;
+          ++hits;
+          if (exact)
+            EXPECT_EQ(got.t, want.t) << factor << (flush ? " flush-to-zero" : "") << " ray " << i;
+          else
+            EXPECT_NEAR(got.t, want.t, 1e-13 * std::max(1.0, want.t)) << factor << (flush ? " flush-to-zero" : "") << " ray " << i;
+        }
+        EXPECT_GT(hits, 500) << factor;
+      }
     }
   }
 }

@@ -16,7 +16,8 @@
 //   tfar    the ray parameter of the first accepted root;
 //   Ng      grad f at the hit, not normalised, in the space the geometry lives in (scaled
 //           by a power of two when its size is outside 1e-30..1e30, so that the float
-//           keeps its direction)
+//           keeps its direction; a polynomial whose largest coefficient is outside
+//           2^-64..2^64 is scaled by a power of two to [1, 2) first, in both channels)
 //           (desc.transform applied: A^-T grad f_object). Inside an Embree instance this is
 //           the instanced scene's space, as for every Embree geometry;
 //   u, v    spherical coordinates of the object-space hit point about the clip centre,

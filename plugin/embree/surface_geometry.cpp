@@ -37,6 +37,22 @@ std::string str(double v) {
 
 [[noreturn]] void fail(const std::string& what) { throw Error("algray::SurfaceGeometry: " + what); }
 
+// f and 2^k f have the same surface, and every computation of the kernels (restriction
+// and its noise bounds, roots, self-root test, cell enclosures) is scaled exactly by a
+// power of two as long as it stays in double's normal range. A polynomial whose largest
+// coefficient lies far from 1 is therefore scaled to [1, 2) first: written as
+// 1e-300 * (...), a torus's products with small powers of the ray fell below the normal
+// range and 4 of 2000 hits moved by 1e-9 of the radius (their noise bounds no longer held),
+// and 1e300 * (...) or 1e-200 * (...) traced 4x slower than the same torus unscaled.
+// Within 2^-64 .. 2^64 nothing is scaled, so Ng stays grad f there (embree.h).
+void normaliseScale(Polynomial& f) {
+  const double largest = f.maxAbsCoeff();
+  const int e = std::ilogb(largest);
+  if (e >= -64 && e <= 64) return;
+  f *= std::ldexp(1.0, -e / 2);  // two halves: 2^-e alone may leave double's range
+  f *= std::ldexp(1.0, -(e - e / 2));
+}
+
 // ---- Validation ------------------------------------------------------------------------
 void validate(const SurfaceDesc& desc) {
   const Polynomial& f = desc.polynomial;
@@ -244,6 +260,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   data->given = desc;
   data->desc = std::move(desc);
   data->desc.clip = widenedClip(data->desc.clip);
+  normaliseScale(data->desc.polynomial);
   data->id = nextSurfaceId.fetch_add(1);
   data->horner = HornerForm(data->desc.polynomial);
   if (data->desc.polynomial.degree() == 2 && data->desc.options.quadricPath)
