@@ -300,6 +300,17 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"7\" --clip-sphere 2 " + common(good), "constant"},
       {sphere + "--rays " + good.string() + " --out /nonexistent/out.csv", "--out: cannot write"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1e30 " + common(good), "scale the scene down"},
+      // A directory as IN.csv (was "empty file"), a parameter or radius the user cannot
+      // have meant (1e-400 was silently 0, inf reached the library), and the library's own
+      // refusals with the options they concern.
+      {sphere + "--rays " + dir.string() + " --out " + (dir / "out.csv").string(),
+       "algray-query: --rays: '" + dir.string() + "' is a directory\n"},
+      {"--surface \"x^2+y^2+z^2-a\" --param a=1e-400 --clip-sphere 2 " + common(good),
+       "algray-query: --param a: '1e-400' underflows to 0 in double\n"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere inf " + common(good),
+       "algray-query: --clip-sphere: the radius must be finite and > 0\n"},
+      {"--surface \"x-x\" --clip-box -1,-1,-1,1,1,1 " + common(good), "algray-query: --surface, --clip-box: "},
+      {"--surface \"7\" --clip-sphere 2 " + common(good), "algray-query: --surface, --clip-sphere: "},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
