@@ -15,9 +15,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -34,15 +36,20 @@ struct UsageError : std::runtime_error {
 
 double parseNumber(const std::string& text, const std::string& what) {
   char* end = nullptr;
+  errno = 0;
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
     throw UsageError(what + ": not a finite number: '" + text + "'");
+  // As in IN.csv: a literal below double's range is refused, not silently 0 (--param
+  // a=1e-400 turned x^2+y^2+z^2-a into a point). A subnormal result is its value.
+  if (errno == ERANGE && v == 0.0) throw UsageError(what + ": '" + text + "' underflows to 0 in double");
   return v;
 }
 
 ClipRegion parseClip(const std::vector<double>& sphere, const std::string& box) {
   if (!sphere.empty()) {
-    if (!(sphere[0] > 0.0)) throw UsageError("--clip-sphere: the radius must be > 0");
+    if (!(sphere[0] > 0.0 && std::isfinite(sphere[0])))
+      throw UsageError("--clip-sphere: the radius must be finite and > 0");
     return ClipSphere{glm::dvec3(0.0), sphere[0]};
   }
   std::vector<double> v;
@@ -138,6 +145,9 @@ int run(int argc, char** argv) {
   desc.clip = parseClip(clipSphere, clipBox);
 
   // ---- Rays -----------------------------------------------------------------------------
+  // A directory opens as a stream that reads nothing: it was reported as an empty file.
+  std::error_code ec;
+  if (std::filesystem::is_directory(raysPath, ec)) throw UsageError("--rays: '" + raysPath + "' is a directory");
   std::ifstream in(raysPath);
   if (!in) throw UsageError("--rays: cannot open '" + raysPath + "'");
   std::vector<RayD> rays;
@@ -162,7 +172,9 @@ int run(int argc, char** argv) {
       surface = std::make_unique<SurfaceGeometry>(device, desc);
     } catch (const Error& e) {
       rtcReleaseDevice(device);
-      throw UsageError(e.what());
+      // The library's message names its own class; the user needs the options it came from.
+      throw UsageError(std::string("--surface, ") + (clipSphere.empty() ? "--clip-box" : "--clip-sphere") + ": " +
+                       e.what());
     }
     RTCScene scene = rtcNewScene(device);
     const unsigned geomID = rtcAttachGeometry(scene, surface->geometry());

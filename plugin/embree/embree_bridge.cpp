@@ -138,7 +138,15 @@ double rebaseFarOrigin(const SurfaceData& data, glm::dvec3& o, const glm::dvec3&
   for (int move = 0; move < kMaxMoves; ++move) {
     // To four radii before the point of the line closest to the centre; done when within
     // two radii of it (so two to six radii before that point, outside the ball).
-    const double t = -glm::dot(p - data.worldCentre, d) / dd - 4.0 * r / len;
+    // dot(p - c, d) on p - c scaled by a power of two (exact): unscaled it overflows for
+    // origins from ~1e308 / |d| (a diagonal ray from (-1e308, -1e308, -1e308) missed).
+    // By ldexp of each component, not a product with 2^-e: that factor is subnormal from
+    // e = 1023 and Embree's threads flush subnormals to zero.
+    const glm::dvec3 pc = p - data.worldCentre;
+    const double m = std::max({std::abs(pc.x), std::abs(pc.y), std::abs(pc.z)});
+    const int e = m > 0.0 ? std::ilogb(m) : 0;
+    const glm::dvec3 pcScaled(std::ldexp(pc.x, -e), std::ldexp(pc.y, -e), std::ldexp(pc.z, -e));
+    const double t = -std::ldexp(glm::dot(pcScaled, d) / dd, e) - 4.0 * r / len;
     if (!std::isfinite(t)) return 0.0;
     if (std::abs(t) * len <= 2.0 * r) break;
     const glm::dvec3 next = pointOnLine(p, d, t);
@@ -788,7 +796,9 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
     return m;
   }
   const double len = safeLength(r.dir);
-  if (!(len > 0.0 && std::isfinite(len)) || !std::isfinite(r.org.x + r.org.y + r.org.z)) {
+  // Component by component: the sum of finite components overflows from about 0.6e308
+  // (an origin at (-1e308, -1e308, -1e308) was refused as non-finite, its ray missed).
+  if (!(len > 0.0 && std::isfinite(len)) || !finite(r.org)) {
     m.empty = true;
     return m;
   }
@@ -811,10 +821,18 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
       a = std::max(a, s0);
       b = std::min(b, s1);
     }
-    if (m.empty || !(a <= b)) {
+    if (m.empty) return m;
+    // Far away each s above carries the rounding of |p| / |u_i|, more than the box's width
+    // from |p| ~ 2^50 box sizes on: the per-axis entries and exits of a line through the
+    // box then round to disagreeing numbers (a > b), and the ray was refused although it
+    // crosses the box (random directions through a sphere from 2^66 radii: 14-57 % missed).
+    // Within that rounding the crossing is undecided here: move to the nearer end and
+    // decide from there, where the numbers are 16 digits smaller.
+    if (!(a <= b) && !(a - b <= 0x1p-46 * std::max(std::abs(a), std::abs(b)))) {
       m.empty = true;
       return m;
     }
+    a = std::min(a, b);
     // Within 2^-30 of the box's size of the entry (float's rounding of the origin is
     // 2^-24 of it), inside float's range and before every surface.
     if (!(std::abs(a) > 0x1p-30 * size)) break;

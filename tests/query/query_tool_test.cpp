@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <random>
 #include <sstream>
 #include <vector>
 
@@ -196,6 +198,61 @@ TEST_F(QueryTool, FloatThreadsAndClipBox) {
   }
 }
 
+// Rays from 2^66 to 2^1000 radii and from (-1e308, -1e308, -1e308), each exactly
+// through the centre of the unit sphere (o = -2^k d, exact in double), in random
+// directions: each must hit at t = |o| / |d| - 1 / |d| in both channels. (From ~2^50
+// scene sizes the float proxy's per-axis box crossings round apart and 14-57 % of such
+// rays were refused as missing the scene; the diagonal 1e308 ray's origin failed a
+// finiteness test by a sum that overflows, and the double channel's re-basing overflowed
+// in dot(o, d).)
+TEST_F(QueryTool, FarOriginsThroughTheCentreHit) {
+  std::mt19937_64 rng(23);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> length(0.5, 2.0);
+  struct Ray {
+    double o[3], d[3], t;
+  };
+  std::vector<Ray> rays;
+  for (const int e : {66, 200, 600, 1000})
+    for (int i = 0; i < 25; ++i) {
+      Ray r{};
+      double n = 0;
+      for (double& c : r.d) {
+        c = normal(rng);
+        n += c * c;
+      }
+      const double scale = length(rng) / std::sqrt(n), k = std::ldexp(1.0, e);
+      for (int a = 0; a < 3; ++a) r.d[a] *= scale, r.o[a] = -k * r.d[a];
+      r.t = k;  // k - 1 / |d|, which rounds to k from 2^66 on
+      rays.push_back(r);
+    }
+  rays.push_back({{-1e308, -1e308, -1e308}, {1, 1, 1}, 1e308});
+  rays.push_back({{-1e308, -1e308, -1e308}, {1e300, 1e300, 1e300}, 1e8});
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  char buf[512];
+  for (const Ray& r : rays) {
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", r.o[0], r.o[1], r.o[2], r.d[0],
+                  r.d[1], r.d[2]);
+    csv += buf;
+  }
+  const fs::path file = write("far.csv", csv);
+  for (const std::string mode : {"", " --float"}) {
+    const RunResult r = run("--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 " + common(file) + mode);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(r.rows.size(), rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const Ray& ray = rays[i];
+      ASSERT_EQ(r.rows[i][0], 1.0) << "ray " << i << mode << " from |o| = " << std::abs(ray.o[0]);
+      EXPECT_NEAR(r.rows[i][1], ray.t, 4e-16 * ray.t) << "ray " << i << mode;
+      // The normal at the entry point is -d / |d| (d scaled first: 1e300 has no square).
+      const double m = std::max({std::abs(ray.d[0]), std::abs(ray.d[1]), std::abs(ray.d[2])});
+      const double u[3] = {ray.d[0] / m, ray.d[1] / m, ray.d[2] / m};
+      const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+      for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, 1e-6) << "ray " << i << mode;
+    }
+  }
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
@@ -243,6 +300,17 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"7\" --clip-sphere 2 " + common(good), "constant"},
       {sphere + "--rays " + good.string() + " --out /nonexistent/out.csv", "--out: cannot write"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1e30 " + common(good), "scale the scene down"},
+      // A directory as IN.csv (was "empty file"), a parameter or radius the user cannot
+      // have meant (1e-400 was silently 0, inf reached the library), and the library's own
+      // refusals with the options they concern.
+      {sphere + "--rays " + dir.string() + " --out " + (dir / "out.csv").string(),
+       "algray-query: --rays: '" + dir.string() + "' is a directory\n"},
+      {"--surface \"x^2+y^2+z^2-a\" --param a=1e-400 --clip-sphere 2 " + common(good),
+       "algray-query: --param a: '1e-400' underflows to 0 in double\n"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere inf " + common(good),
+       "algray-query: --clip-sphere: the radius must be finite and > 0\n"},
+      {"--surface \"x-x\" --clip-box -1,-1,-1,1,1,1 " + common(good), "algray-query: --surface, --clip-box: "},
+      {"--surface \"7\" --clip-sphere 2 " + common(good), "algray-query: --surface, --clip-sphere: "},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
