@@ -507,6 +507,16 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
   SurfaceDesc projective = desc;
   projective.transform[0][3] = 0.5;
   EXPECT_THROW(make(projective), Error);
+  for (const int depth : {-5, -2, 31, 1000}) {  // -1 and 0..30 only
+    SurfaceDesc badDepth = desc;
+    badDepth.options.cellDepth = depth;
+    EXPECT_THROW(make(badDepth), Error) << depth;
+  }
+  for (const int depth : {-1, 0, 3}) {
+    SurfaceDesc goodDepth = desc;
+    goodDepth.options.cellDepth = depth;
+    EXPECT_NO_THROW(make(goodDepth)) << depth;
+  }
   // Scales far from 1 are not singular: 1e80 with a clip radius of 1.5e-80 is a surface
   // of world size ~1 (it hits where the unscaled one does); the same at 1e110 is refused
   // for its object space (SurfaceGeometry's range, 1e-100 .. 1e100), and 1e200 for its

@@ -51,6 +51,7 @@ int main() {
     rh.ray.tfar = std::numeric_limits<float>::infinity();
     rh.ray.mask = ~0u;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;  // Embree's rule for every ray (instancing)
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect1(scene, &context, &rh);

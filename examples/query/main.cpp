@@ -52,6 +52,8 @@ ClipRegion parseClip(const std::vector<double>& sphere, const std::string& box) 
       throw UsageError("--clip-sphere: the radius must be finite and > 0");
     return ClipSphere{glm::dvec3(0.0), sphere[0]};
   }
+  // getline drops a trailing empty field: "1,2,3,4,5,6," would pass as six numbers.
+  if (!box.empty() && box.back() == ',') throw UsageError("--clip-box: a value is missing after the last ','");
   std::vector<double> v;
   std::stringstream s(box);
   std::string item;

@@ -69,7 +69,8 @@ struct SurfaceOptions {
   RootOptions roots;
   bool useCells = true;       // split the clip region into cells the surface may cross
   int cellDepth = -1;         // -1: chosen automatically per surface (cells.h), at most
-                              // 4096 cells (the adapter's cap)
+                              // 4096 cells (the adapter's cap); 0..30: that depth, within
+                              // cells.h's budget (anything else throws)
   bool originCache = false;   // per-thread expansion about the last ray origin (a camera's
                               // rays then evaluate its homogeneous parts only); off by
                               // default since the direct restriction of taylor_box.cpp

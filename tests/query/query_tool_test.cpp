@@ -293,6 +293,8 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere -1 " + common(good), "--clip-sphere"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-box 1,2,3 " + common(good), "--clip-box"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-box 1,1,1,0,2,2 " + common(good), "--clip-box"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box -2,-2,-2,2,2,2, " + common(good),
+       "algray-query: --clip-box: a value is missing after the last ','\n"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1 --clip-box -1,-1,-1,1,1,1 " + common(good), "clip"},
       {sphere + common(good) + " --threads 0", "--threads"},
       {sphere + common(good) + " --bogus", "bogus"},
