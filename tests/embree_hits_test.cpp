@@ -1119,19 +1119,13 @@ TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
     std::optional<FlushToZero> mode;
     if (flush) mode.emplace();
     for (const std::string equation : {"(x^2+y^2+z^2+0.75)^2-4*(x^2+y^2)", "x^2+y^2+z^2-1"}) {
-      SurfaceDesc desc;
-      desc.polynomial = parsePolynomial(equation);
-      desc.clip = ClipSphere{glm::dvec3(0.0), 2.0};
-      SurfaceGeometry plain(device, desc);
-      Scene plainScene(device);
-      plainScene.attach(plain.geometry());
-      plainScene.commit();
+      SurfaceDesc plain;
+      plain.polynomial = parsePolynomial(equation);
+      plain.clip = ClipSphere{glm::dvec3(0.0), 2.0};
       for (const std::string factor : {"2^-1000", "2^600", "1e-300", "1e300", "1e-200"}) {
-        desc.polynomial = parsePolynomial(factor + "*(" + equation + ")");
-        SurfaceGeometry scaled(device, desc);
-        Scene scene(device);
-        scene.attach(scaled.geometry());
-        scene.commit();
+        SurfaceDesc scaled = plain;
+        scaled.polynomial = parsePolynomial(factor + "*(" + equation + ")");
+        const ScenePair pair(device, plain, scaled);
         const bool exact = factor.starts_with("2^");
         std::mt19937 gen(77);  // the same rays for every factor
         std::uniform_real_distribution<double> inside(-0.3, 0.3);
@@ -1154,7 +1148,7 @@ TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
           RayD ray = rays[i];
           ray.tnear = 0.0;
           ray.tfar = std::numeric_limits<double>::infinity();
-          const HitD want = intersectD(plainScene, ray), got = intersectD(scene, ray);
+          const HitD want = intersectD(pair.sa, ray), got = intersectD(pair.sb, ray);
           ASSERT_EQ(got.hit, want.hit) << factor << (flush ? " flush-to-zero" : "") << " ray " << i;
           if (!want.hit) continue;
           ++hits;
