@@ -34,6 +34,10 @@ struct CellSphere {
   double radius = 1.0;
 };
 
+// The finest explicit depth (cells 2^-30 of the clip box: far below any use); deeper
+// requests are capped by buildCells and refused by SurfaceGeometry.
+inline constexpr int kMaxCellDepth = 30;
+
 struct CellOptions {
   // Resolution level: every edge of a cell is <= (longest clip-box edge) / 2^depth,
   // so depth d on a cube is an octree of depth d. -1: chosen automatically (cells.cpp,

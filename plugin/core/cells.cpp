@@ -16,7 +16,6 @@ namespace algray {
 
 namespace {
 
-constexpr int kMaxExplicitDepth = 30;  // cells 2^-30 of the clip box: far below any use
 constexpr int kMaxAutoDepth = 12;
 
 // ---- Automatic depth -------------------------------------------------------------------
@@ -348,7 +347,7 @@ std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const gl
 
   Builder builder(f, lo, hi, sphere, options.bound);
   const bool automatic = options.depth < 0;
-  int maxLevel = automatic ? kMaxAutoDepth : std::min(options.depth, kMaxExplicitDepth);
+  int maxLevel = automatic ? kMaxAutoDepth : std::min(options.depth, kMaxCellDepth);
   if (builder.flat()) maxLevel = 0;  // a point: nothing to split
   const long budget = automatic ? autoBudget(builder.tables(), options.maxCells, options.bound)
                                 : static_cast<long>(options.maxCells);

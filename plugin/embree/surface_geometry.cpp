@@ -60,9 +60,10 @@ void validate(const SurfaceDesc& desc) {
   if (!f.isFinite()) fail("the polynomial has a non-finite coefficient");
   if (f.degree() < 1) fail("the polynomial is a non-zero constant (the surface is empty)");
   // -1 is the automatic choice; other negative depths were taken for it and depths beyond
-  // cells.h's 30 silently capped: a caller's typo then builds something else than asked.
-  if (desc.options.cellDepth < -1 || desc.options.cellDepth > 30)
-    fail("options.cellDepth must be -1 (automatic) or 0..30, got " + std::to_string(desc.options.cellDepth));
+  // kMaxCellDepth silently capped: a caller's typo then builds something else than asked.
+  if (desc.options.cellDepth < -1 || desc.options.cellDepth > kMaxCellDepth)
+    fail("options.cellDepth must be -1 (automatic) or 0.." + std::to_string(kMaxCellDepth) + ", got " +
+         std::to_string(desc.options.cellDepth));
   double size = 0.0;  // of the clip region in object space
   if (const auto* s = std::get_if<ClipSphere>(&desc.clip)) {
     if (!finite(s->center)) fail("clip sphere centre is not finite: " + str(s->center));
