@@ -8,8 +8,15 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <random>
+#include <string>
 #include <vector>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include "algray/gallery.h"
 #include "support/box_reference.h"
@@ -265,6 +272,109 @@ TEST(Taylor, HomogeneousPartsAreTheDirectionalDerivatives) {
   EXPECT_NEAR(g.coeff[1], glm::dot(f.gradient(o), d), 1e-14);
   const RayPolynomial h = restrictToRay(f, o, d);
   for (int n = 0; n <= 4; ++n) EXPECT_NEAR(g.coeff[n], h.coeff[n], 1e-14) << n;
+}
+
+// Flush-to-zero and denormals-are-zero for the scope (MXCSR bits 15 and 6), as Embree's and
+// TBB's worker threads run: a result below double's normal range becomes 0, a subnormal
+// operand reads as 0.
+struct FlushToZero {
+#if defined(__SSE__)
+  unsigned saved = _mm_getcsr();
+  FlushToZero() { _mm_setcsr(saved | 0x8040u); }
+  ~FlushToZero() { _mm_setcsr(saved); }
+#endif
+};
+
+// |computed - exact| <= error for every coefficient of g against the MPFR expansion of f
+// about p (exact arithmetic on the double data: no underflow in MPFR's exponent range). A
+// non-finite coefficient (overflow) must come with an infinite bound. Returns how many
+// coefficients broke the bound and describes the first in `first`.
+int boundViolations(const RayPolynomial& g, const Polynomial& f, const glm::dvec3& p,
+                    const glm::dvec3& d, std::string& first, const std::string& what) {
+  const std::vector<Mp> ref = mpRestrict(f, p, d);
+  int bad = 0;
+  for (int n = 0; n <= f.degree(); ++n) {
+    const double c = n <= g.degree ? g.coeff[n] : 0.0;
+    const double bound = n <= g.degree ? g.error[n] : 0.0;
+    const bool ok = std::isfinite(c) ? std::abs((Mp(c) - ref[n]).toDouble()) <= bound
+                                     : bound == INFINITY;
+    if (ok) continue;
+    if (bad++ == 0) {
+      char buf[256];
+      std::snprintf(buf, sizeof buf, " coefficient %d: computed %.17g exact %.17g bound %.3g", n, c,
+                    ref[n].toDouble(), bound);
+      first = what + buf;
+    }
+  }
+  return bad;
+}
+
+// The bounds of both paths where products leave double's normal range: coefficients from
+// 1e-300 to 1e300, origins up to 1e150, directions from 1e-150 to 1e150 (the powers of a
+// small component underflow; under flush-to-zero each such product loses up to 2^-1022,
+// which a relative bound never covers), with gradual underflow and with FTZ/DAZ, against
+// MPFR; every fifth case with subnormal components of the ray and a subnormal coefficient,
+// which DAZ reads as 0. The first cases are the session notes' example: coefficients
+// ~1e-300, an origin ~1e100 and a direction ~1e-20 (before the underflow floor: bounds
+// 1e15 times too small there; 167 of the 800 cases and modes broke a bound).
+TEST(Taylor, BoundsHoldWhereProductsUnderflow) {
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto signedPow10 = [&](double lo, double hi) {
+    return (u(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, lo + (hi - lo) * u(rng));
+  };
+  int checked = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int m = 1 + trial % 6;
+    const double scale = trial < 20 ? 1e-300 : std::pow(10.0, -300.0 + 600.0 * u(rng));
+    Polynomial f;
+    for (int n = 0; n <= m; ++n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+        if (u(rng) < 0.7) f.setCoeff(i, j, k, scale * signedPow10(-3.0, 0.0));
+      });
+    f.setCoeff(0, 0, m, scale);
+    glm::dvec3 o, d;
+    const double oScale = trial < 20 ? 100.0 : -150.0 + 300.0 * u(rng);
+    const double dScale = trial < 20 ? -20.0 : -150.0 + 300.0 * u(rng);
+    for (int a = 0; a < 3; ++a) {
+      const double top = std::min(oScale, 150.0);
+      o[a] = u(rng) < 0.15 ? 0.0 : signedPow10(top - 4.0, top);
+      d[a] = u(rng) < 0.15 ? 0.0 : signedPow10(dScale - 4.0, dScale);
+    }
+    if (d == glm::dvec3(0.0)) d.x = std::pow(10.0, dScale);
+    if (trial % 5 == 4) {  // subnormal components and a subnormal coefficient (0 under DAZ)
+      for (int a = 0; a < 3; ++a) {
+        if (u(rng) < 0.3) o[a] = signedPow10(-322.0, -308.0);
+        if (u(rng) < 0.3) d[a] = signedPow10(-322.0, -308.0);
+      }
+      if (u(rng) < 0.5) f.setCoeff(0, 1, 0, signedPow10(-322.0, -308.0));
+    }
+    const HornerForm box(f);
+    double tShift = closestParameter(o, d, glm::dvec3(0.0));
+    if (!std::isfinite(tShift)) tShift = 0.0;
+    for (const bool flush : {false, true}) {
+      RayPolynomial direct, directBox, shifted, expansion;
+      glm::dvec3 pShift;
+      {
+        std::optional<FlushToZero> mode;
+        if (flush) mode.emplace();
+        direct = restrictToRay(f, o, d);
+        directBox = restrictToRay(box, o, d, tShift);
+        pShift = tShift == 0.0 ? o : o + tShift * d;  // as restrictToRay forms it, in this mode
+        shifted = restrictToRay(f, o, d, tShift);
+        expansion = OriginExpansion(f, o).restrict(d);
+      }
+      const std::string what = "trial " + std::to_string(trial) + (flush ? " FTZ/DAZ" : " gradual");
+      std::string first;
+      int bad = boundViolations(direct, f, o, d, first, what + " direct");
+      bad += boundViolations(directBox, f, pShift, d, first, what + " box, re-centred");
+      bad += boundViolations(shifted, f, pShift, d, first, what + " direct, re-centred");
+      bad += boundViolations(expansion, f, o, d, first, what + " origin expansion");
+      EXPECT_EQ(bad, 0) << first;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 800);
 }
 
 TEST(Taylor, EvaluateWithBoundCoversTheValue) {

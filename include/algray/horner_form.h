@@ -60,6 +60,9 @@ class HornerForm {
     double absC;  // |c| exactly, no floor
   };
   std::span<const SignedTerm> signedTerms() const { return signedTerms_; }
+  // sum |c| over the slots, added in their order (the direct restriction's underflow
+  // floor reads it, taylor.cpp).
+  double absCoeffSum() const { return absCoeffSum_; }
 
  private:
   std::vector<Slot> slots_;             // z-rows in evaluation order: i, j, k descending
@@ -67,6 +70,7 @@ class HornerForm {
   std::vector<std::uint8_t> rowLength_;  // per z-row, >= 1 (kMaxDegree + 1 fits)
   std::vector<std::uint8_t> blockRows_;  // per x-block (i descending): its y-rows, >= 1
   int degree_ = -1;
+  double absCoeffSum_ = 0;
   double errorFactor_ = 0;  // valueError = errorFactor_ * magnitude
 };
 

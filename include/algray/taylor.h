@@ -20,7 +20,10 @@
 namespace algray {
 
 // g(s) = sum_{i <= degree} coeff[i] s^i, where the ray parameter is t = tShift + s.
-// error[i] bounds |coeff[i] - exact coefficient| for the given (double) expansion point.
+// error[i] bounds |coeff[i] - exact coefficient| for the given (double) expansion point,
+// with gradual underflow and with flush-to-zero and denormals-are-zero alike (a floor of
+// order 2^-1022 times the powers of the ray that follow an underflow, taylor.cpp); it is
+// +inf where coeff[i] is not finite or the bound's own magnitudes overflowed.
 struct RayPolynomial {
   int degree = -1;
   double tShift = 0;
@@ -60,6 +63,14 @@ RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm:
 void restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift,
                    RayPolynomial& g);
 
+// The part of the direct restriction's bound that covers underflow (taylor.cpp,
+// "Underflow"): floor[r] for r = 0..f.degree(), which restrictToRay adds to the rounding
+// bound of coefficient r, for the expansion point p = o + tShift d as it forms it. For the
+// tests' reference of the kernels.
+std::array<double, kMaxDegree + 1> restrictionUnderflowFloor(const HornerForm& f,
+                                                             const glm::dvec3& p,
+                                                             const glm::dvec3& d);
+
 // Path (1): f expanded about o once; restrict(d) for every ray from o.
 class OriginExpansion {
  public:
@@ -87,8 +98,10 @@ class OriginExpansion {
     int n, i, j, k;
   };
   std::vector<SparseTerm> sparseTerms_;
-  // Per homogeneous block n: W_n with |error of H_n(d)| <= W_n max|d_i|^n (taylor.cpp).
+  // Per homogeneous block n: W_n with |error of H_n(d)| <= W_n max|d_i|^n plus the
+  // underflow floor F_n 2^-1022 max(1, max|d_i|)^n (taylor.cpp).
   std::array<double, kMaxDegree + 1> blockErrorWeight_{};
+  std::array<double, kMaxDegree + 1> blockFloorWeight_{};
 };
 
 }  // namespace algray

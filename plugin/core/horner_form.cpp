@@ -64,6 +64,7 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
         const double c = f.coeff(i, j, k);
         slots_.push_back({c, std::abs(c) + kUnderflowFloor});
         signedTerms_.push_back({c, std::abs(c)});
+        absCoeffSum_ += std::abs(c);
       }
     }
   }

@@ -11,7 +11,15 @@
 // advance in one SIMD operation and every load matches the width of the store that wrote
 // it. (With separate scalar arrays the compiler vectorised the additions, and 16-byte
 // loads of two 8-byte stores defeated store forwarding: a 3x slowdown, found by perf.)
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+
+#include "algray/polynomial.h"
 
 namespace algray::ray_horner {
 
@@ -38,6 +46,106 @@ inline void hornerStep(Pair* h, int& degH, double c, Pair p, Pair d) {
     h[0] += term(c);
   }
   ++degH;
+}
+
+// The relative bound's factor gamma_{3m+3} (1 + gamma_{3m+3}) of the direct restriction
+// (taylor.cpp) for every degree m, folded at compile time: gamma's division per call sat
+// on the path to the bound's stores once the underflow floor below joined them
+// (BM_GalleryDirect's sphere: 15 % of its samples on that division; same bits).
+inline constexpr auto kRestrictFactor = [] {
+  std::array<double, kMaxDegree + 1> f{};
+  for (int m = 0; m <= kMaxDegree; ++m) f[m] = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
+  return f;
+}();
+
+// ---- Underflow floor of the bound (derivation: taylor.cpp, "Underflow") ------------------
+// The smallest e >= 0 with 2^e > max(1, x) for x >= 0, from the biased exponent field E
+// (x < 2^(E - 1022)); 1025 for inf or NaN.
+inline int ceilExponent(double x) {
+  return std::max(0, static_cast<int>(std::bit_cast<std::uint64_t>(x) >> 52) - 1022);
+}
+
+// Whether a component is subnormal (non-zero with a zero exponent field), from its bits:
+// under DAZ a subnormal compares equal to 0.
+inline bool hasSubnormal(const glm::dvec3& v) {
+  bool any = false;
+  for (int a = 0; a < 3; ++a) {
+    const std::uint64_t b = std::bit_cast<std::uint64_t>(v[a]) << 1;  // without the sign
+    any |= b - 1 < (std::uint64_t{1} << 53) - 1;
+  }
+  return any;
+}
+
+// 2^e for e >= -1022 (a normal double, exact), +inf from e = 1024 on.
+inline double pow2(int e) {
+  return std::bit_cast<double>(static_cast<std::uint64_t>(std::min(e, 1024) + 1023) << 52);
+}
+
+// Binomial coefficients C(m, r), m <= kMaxDegree (exact doubles: C(40, 20) < 2^38).
+inline constexpr auto kBinomial = [] {
+  std::array<std::array<double, kMaxDegree + 1>, kMaxDegree + 1> c{};
+  for (int m = 0; m <= kMaxDegree; ++m) {
+    c[m][0] = 1.0;
+    for (int r = 1; r <= m; ++r) c[m][r] = c[m - 1][r - 1] + (r < m ? c[m - 1][r] : 0.0);
+  }
+  return c;
+}();
+
+// The floor's weight w_m C(m, r), w_m = 32 (m + 2) termCount(m + 1) (taylor.cpp: twice the
+// operations' term, so that it also covers the term of a subnormal p or d component
+// whenever 2 m sum|c| <= 16 (m + 2) termCount(m + 1), kFloorAbsSumLimit[m]).
+inline constexpr auto kFloorWeight = [] {
+  std::array<std::array<double, kMaxDegree + 1>, kMaxDegree + 1> w{};
+  for (int m = 0; m <= kMaxDegree; ++m)
+    for (int r = 0; r <= m; ++r)
+      w[m][r] = 32.0 * (m + 2) * Polynomial::termCount(m + 1) * kBinomial[m][r];
+  return w;
+}();
+inline constexpr auto kFloorAbsSumLimit = [] {
+  std::array<double, kMaxDegree + 1> a{};
+  for (int m = 1; m <= kMaxDegree; ++m) a[m] = 8.0 * (m + 2) * Polynomial::termCount(m + 1) / m;
+  a[0] = HUGE_VAL;  // no term at degree 0
+  return a;
+}();
+
+// A bound as computed, or +inf where it is NaN: magnitudes are never negative, so NaN
+// comes from inf * 0 (an overflowed magnitude times a zero factor), which bounds nothing.
+// (One minsd: NaN < inf is false.)
+inline double boundOrInfinity(double e) { return e < HUGE_VAL ? e : HUGE_VAL; }
+
+// The floor of the direct restriction of a degree-m f (absSum = sum |c| over its
+// coefficients) about p along d: what taylor.cpp's "Underflow" adds to the relative bound
+// of coefficient r is at(r), w_m C(m, r) 2^(a (m - r) + b r - 1022) with 2^a > P, 2^b > D,
+// the power of two formed from its exponent bits. Computed inside the caller's loop over
+// the coefficients: kept in an array, its 8-byte stores fed the 16-byte loads of that
+// vectorised loop and stalled store forwarding (perf, the sphere's restriction). Rare
+// inputs (a power beyond double's range, or a large sum|c| with a subnormal component)
+// take the general form, precomputed.
+struct UnderflowFloor {
+  const double* weight;
+  std::int64_t bits0, step;  // 2^e0 as bits, and e's step per r shifted into place
+  double at(int r) const { return weight[r] * std::bit_cast<double>(bits0 + r * step); }
+  double general[kMaxDegree + 1];  // the rare inputs' floors (then 2^e0 = 1, step 0)
+};
+inline void initUnderflowFloor(UnderflowFloor& f, int m, const glm::dvec3& p, const glm::dvec3& d,
+                               double absSum) {
+  const double pm = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  const double dm = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+  const int a = ceilExponent(pm), b = ceilExponent(dm);
+  f.weight = kFloorWeight[m].data();
+  // e = a (m - r) + b r - 1022 lies in [-1022, 1023] when max(a, b) m <= 2045.
+  f.bits0 = static_cast<std::int64_t>(a * m + 1) << 52;  // a m - 1022 + 1023
+  f.step = static_cast<std::int64_t>(b - a) << 52;
+  const bool subnormal = absSum > kFloorAbsSumLimit[m] && (hasSubnormal(p) || hasSubnormal(d));
+  if (std::max(a, b) * m <= 2045 && !subnormal) [[likely]]
+    return;
+  // NaN components (max drops them) leave NaN magnitudes, which the bound maps to inf.
+  const double extra = subnormal ? 1.0 + 2.0 * m * absSum / kFloorWeight[m][0] : 1.0;
+  for (int r = 0; r <= m; ++r)
+    f.general[r] = kFloorWeight[m][r] * extra * pow2(a * (m - r) + b * r - 1022);
+  f.weight = f.general;
+  f.bits0 = static_cast<std::int64_t>(1023) << 52;
+  f.step = 0;
 }
 
 }  // namespace algray::ray_horner

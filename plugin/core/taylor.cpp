@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
+#include <vector>
 
 #include "ray_horner.h"
 
@@ -97,6 +100,51 @@ void evaluateHomogeneousParts(const Polynomial& poly, const glm::dvec3& d, doubl
   }
 }
 
+// Polynomial::translate's three Taylor shifts on magnitudes: |f| shifted by a = |o| >= 0
+// with phi added to every coefficient slot first and to every result of the synthetic
+// division (c_i <- c_i + a c_(i+1) + phi); graded layout of f's degree.
+std::vector<double> flooredAbsShift(const Polynomial& f, const glm::dvec3& a, double phi) {
+  const int m = f.degree(), s = m + 1;
+  std::vector<double> cube(static_cast<std::size_t>(s) * s * s, 0.0);
+  auto at = [&](int i, int j, int k) -> double& {
+    return cube[(static_cast<std::size_t>(i) * s + j) * s + k];
+  };
+  for (int n = 0; n <= m; ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      at(i, j, k) = std::abs(f.coeffs()[idx]) + phi;
+    });
+  auto shift = [phi](double* c, int deg, std::ptrdiff_t stride, double x) {
+    for (int k = 0; k < deg; ++k)
+      for (int i = deg - 1; i >= k; --i)
+        c[i * stride] = c[i * stride] + x * c[(i + 1) * stride] + phi;
+  };
+  for (int j = 0; j <= m; ++j)
+    for (int k = 0; j + k <= m; ++k)
+      if (a.x != 0.0) shift(&at(0, j, k), m - j - k, static_cast<std::ptrdiff_t>(s) * s, a.x);
+  for (int i = 0; i <= m; ++i)
+    for (int k = 0; i + k <= m; ++k)
+      if (a.y != 0.0) shift(&at(i, 0, k), m - i - k, s, a.y);
+  for (int i = 0; i <= m; ++i)
+    for (int j = 0; i + j <= m; ++j)
+      if (a.z != 0.0) shift(&at(i, j, 0), m - i - j, 1, a.z);
+  std::vector<double> out(Polynomial::termCount(m));
+  for (int n = 0; n <= m; ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) { out[idx] = at(i, j, k); });
+  return out;
+}
+
+// sum |c| over f's coefficients in the order of HornerForm's box (i, j, k descending), so
+// that both direct paths take the same bound (HornerForm::absCoeffSum adds its slots in
+// that order).
+double absSumInBoxOrder(const Polynomial& f) {
+  double sum = 0.0;
+  const int m = f.degree();
+  for (int i = m; i >= 0; --i)
+    for (int j = m - i; j >= 0; --j)
+      for (int k = m - i - j; k >= 0; --k) sum += std::abs(f.coeff(i, j, k));
+  return sum;
+}
+
 }  // namespace
 
 double RayPolynomial::evaluate(double s) const {
@@ -145,10 +193,47 @@ RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm:
   // multiply and at most two additions, plus the coefficient itself: gamma_{3m+3} times
   // the same computation on absolute values bounds the rounding (Higham Sec. 5.1 applied
   // level by level). The abs computation itself rounds too: the final factor covers it.
+  //
+  // Underflow. The relative model above misses the absolute error eta of a result below
+  // double's normal range (Higham Eq. (2.8)): |eta| <= 2^-1075 for a product with gradual
+  // underflow, and |eta| < 2^-1022 for any product or sum where flush-to-zero is on
+  // (Embree's and TBB's worker threads set FTZ and DAZ), where a subnormal operand also
+  // reads as 0. Coefficients ~1e-300 times small powers of the ray lost every digit with
+  // a bound 15 orders of magnitude too small. Every operation here multiplies by a
+  // constant (p_a or d_a) or adds, so g is linear in the coefficients and in the etas:
+  // each eta reaches g_r through the operations after it, i.e. times a coefficient of a
+  // product of k linear factors (|p_a| + s |d_a|) <= (P + s D), P = max(1, |p_a|),
+  // D = max(1, |d_a|), entering at a position r0 no higher than its accumulator's degree,
+  // which plus k is at most m (every path ends in a monomial of degree <= m). Reaching r
+  // takes l = r - r0 of the factors' s-terms and k - l <= m - r of their constants:
+  // at most C(m, r) P^(m-r) D^r, times (1 + gamma) for the roundings after it.
+  // The operations: at most 4m + 3 per Horner step (a step multiplies an accumulator of
+  // degree <= m by a linear factor and adds), and at most termCount(m) + (m+1)(m+2)/2 +
+  // (m+1) <= termCount(m + 1) steps (slots, rows, blocks), so N <= 4(m+2) termCount(m+1),
+  // each eta < 2^-1022 (a subnormal coefficient read as 0 is one more per slot). The
+  // magnitudes' own etas make mag smaller by the same kind of amount times the factor
+  // above, < 1/2. So 4 N C(m, r) P^(m-r) D^r 2^-1022 bounds them all, with P, D rounded
+  // up to powers of two 2^a, 2^b: one product per coefficient, from a, b computed once
+  // per restriction (ray_horner.h, UnderflowFloor), never overflowing before the true
+  // floor does.
+  // A subnormal component of p or d reads as 0 under DAZ: the computation is then that
+  // of a ray moved by eps < 2^-1022 per component, whose restriction differs from p's by
+  // at most m sum|c| 2^-1022 C(m, r) P^(m-r) D^r (the difference of the products of
+  // factors telescopes into at most m terms, each a factor (eps_p + s eps_d) times m - 1
+  // others; the coefficient r of (1 + s)(P + s D)^(n-1) is at most C(n, r) P^(n-r) D^r).
+  // The floor's weight is 8 N, which covers that term too (doubled) while
+  // 2 m sum|c| <= 4 N (every polynomial the adapter scales to a largest coefficient in
+  // [1, 2)); a larger sum|c| adds it explicitly when a component is subnormal.
+  // Measured (tests/bench/taylor_bench, BM_GalleryDirect, HornerForm path, CPU medians):
+  // 4-8 ns per restriction, the same for every degree (sphere 40 -> 46, torus 68 -> 75,
+  // Barth's decic 231 -> 243 ns).
   const int m = f.degree();
-  const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
+  const double factor = ray_horner::kRestrictFactor[m];
+  ray_horner::UnderflowFloor floor;
+  ray_horner::initUnderflowFloor(floor, m, p, d, absSumInBoxOrder(f));
   g.degree = m;
-  for (int i = 0; i <= m; ++i) g.error[i] = factor * mag[i];
+  for (int i = 0; i <= m; ++i)
+    g.error[i] = ray_horner::boundOrInfinity(factor * mag[i] + floor.at(i));
   return g;
 }
 
@@ -180,21 +265,45 @@ OriginExpansion::OriginExpansion(const Polynomial& f, const glm::dvec3& o)
       });
   }
 
-  Polynomial absF;
-  for (int n = 0; n <= f.degree(); ++n)
-    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
-      absF.setCoeff(i, j, k, std::abs(f.coeffs()[idx]));
-    });
-  const Polynomial absShift = absF.translate(glm::abs(o));
+  // The shift of |f| by |o| on magnitudes, with a floor phi added at every slot and
+  // operation: an absolute error eta < 2^-1022 of an operation of the shift (underflow;
+  // see restrictToRay above) travels from its slot like a coefficient placed there, so
+  // shiftFactor * phi >= 8 * 2^-1022 covers the etas of the operation (a product and a
+  // sum), a subnormal coefficient read as 0 (DAZ) and the magnitudes' own etas (phi far
+  // above them). phi is 2^-966 / (6m + 6) or so: it matters only for polynomials whose
+  // values are all near double's underflow threshold.
   const double shiftFactor = gamma(6 * m + 6) * (1.0 + gamma(6 * m + 6));
+  const double phi = 8.0 * std::numeric_limits<double>::min() / shiftFactor;
+  const std::vector<double> absShift = flooredAbsShift(f, glm::abs(o), phi);
+  // A subnormal component of o reads as 0 under DAZ (translate() then skips that axis):
+  // f(o' + u) for o' within eps < 2^-1022 of o per component, whose coefficients differ
+  // from f(o + u)'s by at most m sum|c| 2^-1022 (2 max(1, |o_a|))^m in all (telescoped as
+  // in restrictToRay's floor), doubled, added to every block's weight in that case only.
+  double subnormalShift = 0.0;
+  if (ray_horner::hasSubnormal(o)) {
+    double absSum = 0.0;
+    for (const double c : f.coeffs()) absSum += std::abs(c);
+    const double om = std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z)});
+    subnormalShift =
+        2.0 * m * absSum * ray_horner::pow2(m * (ray_horner::ceilExponent(om) + 1) - 1022);
+  }
   for (int n = 0; n <= m; ++n) {
     const int blockSize = (n + 1) * (n + 2) / 2;
     const double evalFactor = gamma(n + 2 + blockSize);
-    double w = 0.0;
-    forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
-      w += shiftFactor * absShift.coeff(i, j, k) + evalFactor * std::abs(shifted_.coeff(i, j, k));
+    double w = 0.0, s = 0.0;
+    forEachMonomialOfDegree(n, [&](int, int, int, int idx) {
+      const double c = std::abs(shifted_.coeffs()[idx]);
+      w += shiftFactor * absShift[idx] + evalFactor * c;
+      s += c;
     });
-    blockErrorWeight_[n] = w * (1.0 + gamma(blockSize + 2));
+    blockErrorWeight_[n] = (w + subnormalShift) * (1.0 + gamma(blockSize + 2));
+    // Underflow in H_n(d) (restrict below): with D = max(1, max|d_i|), a power of a
+    // component errs by at most e eta D^(e-1) after e products, so a term c d^alpha by
+    // (n + 1) |c| eta D^n beyond its relative error, and each product c w, each sum and a
+    // shifted coefficient read as 0 add an eta times at most D^n; the bound's own
+    // W_n max|d_i|^n loses at most n W_n eta D^n when the power underflows. With eta <
+    // 2^-1022 and a factor 2 for the roundings: F_n 2^-1022 D^n, F_n below.
+    blockFloorWeight_[n] = 2.0 * ((n + 2) * (s + blockErrorWeight_[n]) + 4.0 * (blockSize + n + 1));
   }
 }
 
@@ -223,10 +332,17 @@ void OriginExpansion::restrict(const glm::dvec3& d, RayPolynomial& g, bool withE
     for (const SparseTerm& t : sparseTerms_) g.coeff[t.n] += t.c * px[t.i] * (py[t.j] * pz[t.k]);
   }
   if (withError) {
+    // The floor's D^n as 2^(b n) >= D^n, one exact power of two per block (no overflow
+    // before the floor's own). A coefficient that overflowed (its terms' sum, or a power
+    // of d) has no finite bound, though W_n max|d_i|^n may still be finite.
     const double dmax = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    const int b = ray_horner::ceilExponent(dmax);
     double dn = 1.0;
-    for (int n = 0; n <= g.degree; ++n, dn *= dmax)
-      g.error[n] = blockErrorWeight_[n] * dn * (1.0 + gamma(n + 2));
+    for (int n = 0; n <= g.degree; ++n, dn *= dmax) {
+      const double e = blockErrorWeight_[n] * dn * (1.0 + gamma(n + 2)) +
+                       blockFloorWeight_[n] * ray_horner::pow2(b * n - 1022);
+      g.error[n] = std::isfinite(g.coeff[n]) ? ray_horner::boundOrInfinity(e) : HUGE_VAL;
+    }
   }
   while (g.degree > 0 && g.coeff[g.degree] == 0.0 && g.error[g.degree] == 0.0) --g.degree;
 }

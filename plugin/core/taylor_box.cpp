@@ -257,6 +257,17 @@ int boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, Pai
 
 }  // namespace
 
+std::array<double, kMaxDegree + 1> restrictionUnderflowFloor(const HornerForm& f,
+                                                             const glm::dvec3& p,
+                                                             const glm::dvec3& d) {
+  std::array<double, kMaxDegree + 1> floor{};
+  if (f.degree() < 0) return floor;
+  ray_horner::UnderflowFloor u;
+  ray_horner::initUnderflowFloor(u, f.degree(), p, d, f.absCoeffSum());
+  for (int r = 0; r <= f.degree(); ++r) floor[r] = u.at(r);
+  return floor;
+}
+
 void restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift,
                    RayPolynomial& g) {
   g.tShift = tShift;
@@ -266,13 +277,16 @@ void restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d
   const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
   Pair gx[kMaxDegree + 2];
   const int degG = boxHorner(f, p, d, gx);
-  // The bound of restrictToRay(const Polynomial&, ...) (taylor.cpp): the same operations.
+  // The bound of restrictToRay(const Polynomial&, ...) (taylor.cpp): the same operations,
+  // and the same underflow floor (sum |c| added in the same order: the slots are the box).
   // Above G's degree coefficient and bound are +0, as RayPolynomial's initialiser
   // leaves them (factor * +0 before).
-  const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
+  const double factor = ray_horner::kRestrictFactor[m];
+  ray_horner::UnderflowFloor floor;
+  ray_horner::initUnderflowFloor(floor, m, p, d, f.absCoeffSum());
   for (int i = 0; i <= degG; ++i) {
     g.coeff[i] = gx[i][0];
-    g.error[i] = factor * gx[i][1];
+    g.error[i] = ray_horner::boundOrInfinity(factor * gx[i][1] + floor.at(i));
   }
   for (int i = std::max(degG + 1, 0); i <= m; ++i) g.coeff[i] = g.error[i] = 0.0;
 }

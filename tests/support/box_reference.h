@@ -78,8 +78,13 @@ inline RayPolynomial restrictToRayReference(const HornerForm& f, const glm::dvec
   double mag[kMaxDegree + 1];
   box_reference::boxHorner(f, p, d, g.coeff.data(), mag);
   const double factor = gamma(3 * m + 3) * (1.0 + gamma(3 * m + 3));
+  // The underflow floor is no part of the kernels: the library's own (taylor.h).
+  const auto floor = restrictionUnderflowFloor(f, p, d);
   g.degree = m;
-  for (int i = 0; i <= m; ++i) g.error[i] = factor * mag[i];
+  for (int i = 0; i <= m; ++i) {
+    const double e = factor * mag[i] + floor[i];
+    g.error[i] = e >= 0.0 ? e : HUGE_VAL;
+  }
   return g;
 }
 
