@@ -377,6 +377,47 @@ TEST(Taylor, BoundsHoldWhereProductsUnderflow) {
   EXPECT_EQ(checked, 800);
 }
 
+// RayPolynomial::evaluateWithBound where Horner's products underflow: coefficients from
+// 1e-300 to 1e-100 with exact (zero) error bounds and s from 1e-150 to 1e150, gradual and
+// FTZ/DAZ, against the MPFR value of the same coefficients: 1e-300 + 1e-300 s^2 at
+// s = 1e-10 has a subnormal product (1e-320, flushed under FTZ), and the relative bound
+// missed what it lost.
+TEST(Taylor, EvaluateWithBoundHoldsWhereProductsUnderflow) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto signedPow10 = [&](double lo, double hi) {
+    return (u(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, lo + (hi - lo) * u(rng));
+  };
+  int bad = 0;
+  std::string first;
+  for (int trial = 0; trial < 3000; ++trial) {
+    RayPolynomial g;
+    g.degree = trial % 8;
+    const double scale = -300.0 + 200.0 * u(rng);
+    for (int i = 0; i <= g.degree; ++i) g.coeff[i] = signedPow10(scale - 20.0, scale);
+    const double s = signedPow10(-150.0, 150.0);
+    Mp exact;
+    for (int i = g.degree; i >= 0; --i) exact = exact * Mp(s) + Mp(g.coeff[i]);
+    for (const bool flush : {false, true}) {
+      double bound = 0.0, v = 0.0;
+      {
+        std::optional<FlushToZero> mode;
+        if (flush) mode.emplace();
+        v = g.evaluateWithBound(s, bound);
+      }
+      const bool ok = std::isfinite(v) ? std::abs((Mp(v) - exact).toDouble()) <= bound
+                                       : bound == INFINITY;
+      if (!ok && bad++ == 0) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "degree %d at s = %.17g%s: %.17g, exact %.17g, bound %.3g",
+                      g.degree, s, flush ? " FTZ/DAZ" : "", v, exact.toDouble(), bound);
+        first = buf;
+      }
+    }
+  }
+  EXPECT_EQ(bad, 0) << first;
+}
+
 TEST(Taylor, EvaluateWithBoundCoversTheValue) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

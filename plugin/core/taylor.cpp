@@ -156,14 +156,21 @@ double RayPolynomial::evaluate(double s) const {
 double RayPolynomial::evaluateWithBound(double s, double& bound) const {
   // Horner's rounding, gamma_{2n} sum |c_i||s|^i (Higham Eq. (5.3)), plus the propagated
   // coefficient errors sum err_i |s|^i; the last factor covers rounding of the bound.
-  double v = 0.0, mag = 0.0, err = 0.0;
-  const double as = std::abs(s);
+  // Underflow (see restrictToRay below): each step's product and sum may also err by an
+  // absolute eta < 2^-1022 (flush-to-zero), which reaches v times |s|^i for the i steps
+  // after it, and the magnitudes' and errors' own steps lose as much: 4 * 2^-1022 w,
+  // w = sum_i max(1, |s|)^i, covers them (the bound's small terms flushed to 0 before:
+  // 1e-300 s at s = 1e-6 had the bound 0).
+  double v = 0.0, mag = 0.0, err = 0.0, w = 0.0;
+  const double as = std::abs(s), aw = std::max(1.0, as);
   for (int i = degree; i >= 0; --i) {
     v = v * s + coeff[i];
     mag = mag * as + std::abs(coeff[i]);
     err = err * as + error[i];
+    w = w * aw + 1.0;
   }
-  bound = (gamma(2 * degree + 1) * mag + err) * (1.0 + gamma(2 * degree + 2));
+  bound = (gamma(2 * degree + 1) * mag + err + 4.0 * std::numeric_limits<double>::min() * w) *
+          (1.0 + gamma(2 * degree + 2));
   return v;
 }
 
