@@ -657,5 +657,57 @@ TEST(ClipRayTest, GrazingCornersAreKept) {
   mpfr_clear(x);
 }
 
+// A subnormal direction component (|d_a| < 2^-1024, whose reciprocal overflows) is not a
+// zero one: the ray still crosses that slab's faces, at (face - o_a) / d_a, from an origin
+// within a few d_a of the face. Before, 1 / d_a = inf made the slab all or nothing: a ray
+// entering x >= 0 at t = 1 ((-1e-310, -5, 0.5) + t (1e-310, 1, 0)) missed the box, and one
+// leaving it at t = 2 kept its whole span. Against the slab intervals in long double
+// (64-bit significand, exponents far below double's: the quotients to 2^-63).
+TEST(ClipRayTest, SubnormalDirectionComponentIsNotZero) {
+  const glm::dvec3 lo(0.0, -1.0, -1.0), hi(1.0, 1.0, 1.0);
+  auto enter = clipRayToBox({-1e-310, -5.0, 0.5}, {1e-310, 1.0, 0.0}, lo, hi, 0.0, 10.0);
+  ASSERT_TRUE(enter);
+  EXPECT_NEAR(enter->t0, 4.0, 1e-14);
+  EXPECT_NEAR(enter->t1, 6.0, 1e-14);
+  EXPECT_FALSE(clipRayToBox({2e-310, -5.0, 0.5}, {-1e-310, 1.0, 0.0}, lo, hi, 0.0, 10.0));
+
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int spans = 0, empty = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double sign = u(rng) < 0.5 ? -1.0 : 1.0;
+    glm::dvec3 d(sign * std::pow(10.0, -323.0 + 15.0 * u(rng)), 1.0, 0.1 * (u(rng) - 0.5));
+    // Where the ray crosses x = 0: entering (d.x > 0) or leaving (d.x < 0) the box.
+    const double tx = 10.0 * u(rng);
+    const glm::dvec3 o(-d.x * tx, -5.0 + (u(rng) - 0.5), u(rng) - 0.5);
+    if (o.x == 0.0 || d.x == 0.0) continue;  // rounded away: nothing to cross
+    long double t0 = 0.0L, t1 = 10.0L;
+    for (int a = 0; a < 3; ++a) {
+      if (d[a] == 0.0) continue;  // inside the z slab by construction
+      long double ta = ((long double)lo[a] - o[a]) / d[a], tb = ((long double)hi[a] - o[a]) / d[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    const auto s = clipRayToBox(o, d, lo, hi, 0.0, 10.0);
+    const long double margin = 1e-12L * (std::abs(t0) + std::abs(t1));
+    if (t0 > t1 + margin) {
+      EXPECT_FALSE(s) << "trial " << trial << " exact span empty";
+      ++empty;
+    } else if (t0 < t1 - margin) {
+      ASSERT_TRUE(s) << "trial " << trial << " exact span [" << (double)t0 << ", " << (double)t1
+                     << "]";
+      // Contains the exact span, widened by no more than the rounding allowance.
+      EXPECT_LE(s->t0, t0 * (1.0L + 0x1p-60L)) << "trial " << trial;
+      EXPECT_GE(s->t1, t1 * (1.0L - 0x1p-60L)) << "trial " << trial;
+      EXPECT_GE(s->t0, t0 * (1.0L - 1e-14L)) << "trial " << trial;
+      EXPECT_LE(s->t1, t1 * (1.0L + 1e-14L)) << "trial " << trial;
+      ++spans;
+    }
+  }
+  EXPECT_GT(spans, 3000);
+  EXPECT_GT(empty, 3000);
+}
+
 }  // namespace
 }  // namespace algray

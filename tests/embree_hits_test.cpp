@@ -616,6 +616,60 @@ TEST_F(EmbreeHits, ClipBoxCutsTheSurface) {
   EXPECT_FLOAT_EQ(rh.ray.tfar, 4.0f);
 }
 
+// The adapter's slab test (surface_data.h, clipToBox: the clip box and the cells) with a
+// subnormal direction component below 2^-1024, whose reciprocal overflows: not a zero
+// component, the ray crosses the faces it is within a few d_a of. Before, 1 / d_a = inf
+// made the slab all or nothing: a ray entering x >= 0 at t = 1 missed [0, 1]^3 and one
+// leaving it at t = 2 kept its whole span (the widened cell slabs turned inf - inf into
+// NaN and kept all of it). In the adapter the clip region is padded by 2^-20 of its size
+// and tiny directions are scaled up first, so only a face at 0 within a box of size
+// ~1e-300 could show it there; checked here on the function itself against the slab
+// intervals in long double (exponents far below double's, quotients to 2^-63).
+TEST(AdapterClip, SubnormalDirectionComponentIsNotZero) {
+  const glm::dvec3 lo(0.0, -1.0, -1.0), hi(1.0, 1.0, 1.0);
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int spans = 0, empty = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double sign = u(rng) < 0.5 ? -1.0 : 1.0;
+    glm::dvec3 d(sign * std::pow(10.0, -323.0 + 15.0 * u(rng)), 1.0, 0.1 * (u(rng) - 0.5));
+    const double tx = 10.0 * u(rng);  // where the ray crosses x = 0
+    glm::dvec3 o(-d.x * tx, -5.0 + (u(rng) - 0.5), u(rng) - 0.5);
+    if (trial == 0) o = {-1e-310, -5.0, 0.5}, d = {1e-310, 1.0, 0.0};  // enters at t = 1
+    if (trial == 1) o = {2e-310, -5.0, 0.5}, d = {-1e-310, 1.0, 0.0};  // leaves at t = 2
+    if (o.x == 0.0 || d.x == 0.0) continue;
+    long double t0 = 0.0L, t1 = 10.0L;
+    for (int a = 0; a < 3; ++a) {
+      if (d[a] == 0.0) continue;  // inside the z slab by construction
+      long double ta = ((long double)lo[a] - o[a]) / d[a], tb = ((long double)hi[a] - o[a]) / d[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    const long double margin = 1e-12L * (std::abs(t0) + std::abs(t1));
+    for (const bool widen : {false, true}) {
+      double s0 = 0.0, s1 = 10.0;
+      const bool got = clipToBox(lo, hi, o, d, s0, s1, widen) && s0 <= s1;
+      const std::string what = "trial " + std::to_string(trial) + (widen ? " widened" : "");
+      if (t0 > t1 + margin) {
+        EXPECT_FALSE(got) << what << ": exact span empty";
+        empty += !widen;
+      } else if (t0 < t1 - margin) {
+        ASSERT_TRUE(got) << what << ": exact span [" << (double)t0 << ", " << (double)t1 << "]";
+        // The widened span holds the exact one; the plain one is within its roundings.
+        const long double slack = widen ? 0x1p-60L : 0x1p-50L;
+        EXPECT_LE(s0, t0 * (1.0L + slack)) << what;
+        EXPECT_GE(s1, t1 * (1.0L - slack)) << what;
+        EXPECT_GE(s0, t0 * (1.0L - 1e-14L)) << what;
+        EXPECT_LE(s1, t1 * (1.0L + 1e-14L)) << what;
+        spans += !widen;
+      }
+    }
+  }
+  EXPECT_GT(spans, 3000);
+  EXPECT_GT(empty, 3000);
+}
+
 TEST_F(EmbreeHits, QuadricPathMatchesGeneralPath) {
   // The closed-form quadric path against the general one (Taylor restriction, origin
   // cache, Newton polish on f): an independent computation of the same hits. Quadrics

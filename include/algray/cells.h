@@ -83,7 +83,8 @@ std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const gl
 // a factor 1 + 2 gamma(3) so that the rounding of (bound - o) / d never loses a grazing
 // hit (Pharr, Jakob & Humphreys, "Physically Based Rendering", 4th ed., Sec. 6.8.7); the
 // near parameter is moved down likewise, so a root on the entry face stays inside.
-// Zero direction components are handled (the slab is all or nothing); NaN gives nothing.
+// Zero direction components are handled (the slab is all or nothing), subnormal ones are
+// not zero (the quotients are finite); NaN gives nothing.
 struct RaySpan {
   double t0 = 0;
   double t1 = 0;

@@ -427,10 +427,19 @@ std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d,
   for (int a = 0; a < 3; ++a) {
     if (std::isnan(o[a]) || std::isnan(d[a])) return std::nullopt;
     // 1/0 = inf: then (bound - o) * inf is +-inf (all or nothing) or NaN when o lies on
-    // the bound; the comparisons below ignore NaN, which keeps the closed slab.
+    // the bound; the comparisons below ignore NaN, which keeps the closed slab. A
+    // subnormal d_a below 2^-1024 has an infinite reciprocal too but finite quotients
+    // (an origin within a few d_a of a face crosses it): those divide (the same two
+    // roundings), and give +-inf or NaN for d_a = 0 as the product did.
     const double inv = 1.0 / d[a];
-    double tNear = (lo[a] - o[a]) * inv;
-    double tFar = (hi[a] - o[a]) * inv;
+    double tNear, tFar;
+    if (std::isinf(inv)) [[unlikely]] {
+      tNear = (lo[a] - o[a]) / d[a];
+      tFar = (hi[a] - o[a]) / d[a];
+    } else {
+      tNear = (lo[a] - o[a]) * inv;
+      tFar = (hi[a] - o[a]) * inv;
+    }
     if (tNear > tFar) std::swap(tNear, tFar);
     // Both ends widened by 2 gamma(3) of their magnitude: the subtraction and the
     // product each round once (pbrt-v4 widens tFar only; a widened tNear also keeps a

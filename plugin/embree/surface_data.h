@@ -335,6 +335,12 @@ inline double safeLength(const glm::dvec3& v) {
 // ends of each slab are widened by 2 gamma(3) of their magnitude (the subtraction and the
 // product round once each; pbrt-v4 Sec. 6.8.7 widens the far end): adjacent cells then
 // overlap by rounding, so a root on a shared face is never lost between them.
+// A subnormal d_i below 2^-1024 is not zero, though its reciprocal overflows: the ray
+// crosses the slab's faces at finite (face - o_i) / d_i when o_i is within a few d_i of
+// one, so it divides (two roundings, within the widening). With 1 / d_i = inf the slab
+// was all or nothing: a ray from x = -1e-310 along (1e-310, 1, 0) never entered the box
+// x >= 0, one from x = 2e-310 along (-1e-310, 1, 0) never left it. (Under DAZ, as in
+// Embree's worker threads, such a d_i reads as 0: the zero branch, consistently.)
 inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& o,
                const glm::dvec3& d, double& t0, double& t1, bool widen = false) {
   for (int i = 0; i < 3; ++i) {
@@ -343,7 +349,14 @@ inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dve
       continue;
     }
     const double inv = 1.0 / d[i];
-    double ta = (lo[i] - o[i]) * inv, tb = (hi[i] - o[i]) * inv;
+    double ta, tb;
+    if (std::isinf(inv)) [[unlikely]] {
+      ta = (lo[i] - o[i]) / d[i];
+      tb = (hi[i] - o[i]) / d[i];
+    } else {
+      ta = (lo[i] - o[i]) * inv;
+      tb = (hi[i] - o[i]) * inv;
+    }
     if (ta > tb) std::swap(ta, tb);
     if (widen) {
       ta -= 2.0 * gamma(3) * std::abs(ta);
