@@ -7,7 +7,12 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include "algray/gallery.h"
 #include "support/stress.h"
@@ -150,6 +155,85 @@ TEST(StressDegree, ProductsOfSpheresDegrees16To40) {
         EXPECT_NEAR(hit->t, r[j] - rho, std::max(kContract, 1e3 * cond) * radius)
             << "degree " << n << " sphere " << j << ", condition " << cond;
       }
+    }
+  }
+}
+
+// Directions far from unit length on high degrees: the restriction's coefficient of s^r
+// scales as |d|^r, so a direction of length 2^-40 on a degree-40 surface put its top
+// coefficients near 2^-1600 (0, or flushed subnormals) and the ray polynomial was noise:
+// Chmutov-16 along (1e-20 d) missed or got spurious hits on 23 of 300 random rays, in both
+// channels (the double channel rescaled only lengths beyond 2^+-100 and the float channel
+// none). Chmutov 16 to 40 along the x axis and the degree-40 product of spheres along a
+// diagonal, with directions 2^-90 .. 2^90 times the unit one, in the double channel (also
+// with flush-to-zero) and the float channel: the closed-form roots (t scales exactly as
+// 2^-k), within the contract (float: float's resolution of t).
+TEST(StressDegree, ShortAndLongDirectionsOnHighDegrees) {
+  struct Case {
+    std::string name;
+    Polynomial f;
+    double radius;
+    glm::dvec3 o, u;   // origin and unit direction
+    long double t;     // the first root along o + t u (closed form)
+    double cond;       // its condition number relative to the radius
+  };
+  std::vector<Case> cases;
+  for (int n : {16, 24, 40}) {
+    const Polynomial f = chmutov(n);
+    const double y0 = std::cos((2.5 + 2 * std::numbers::pi * (n / 4)) / n);
+    const double z0 = std::cos((2.0 + 2 * std::numbers::pi * (n / 5)) / n);
+    const long double c = chebyshevValue(n, y0) + chebyshevValue(n, z0) + 1;
+    const double xStart = -0.3;
+    const auto root = chmutovFirstRoot(n, c, xStart);
+    ASSERT_TRUE(root);
+    const glm::dvec3 p(static_cast<double>(*root), y0, z0);
+    const long double slope =
+        std::abs(n * std::sin(n * std::acos(*root)) / std::sin(std::acos(*root)));
+    cases.push_back({"Chmutov-" + std::to_string(n), f, 1.75, {xStart, y0, z0}, {1, 0, 0},
+                     *root - xStart,
+                     kUnitRoundoff * absTermSum(f, p) / static_cast<double>(slope) / 1.75});
+  }
+  {
+    Polynomial f(1.0);
+    for (int j = 0; j < 20; ++j) f = f * spherePolynomial(std::pow(0.9, j));
+    // From 1.15 (-4, 2, 1) / |(-4, 2, 1)| inwards: the unit sphere at t = 0.15 (|u| = 1 to
+    // an ulp; the root in long double from |o + t u|^2 = 1).
+    const glm::dvec3 u = glm::normalize(glm::dvec3(-4, 2, 1)), o = -1.15 * u;
+    long double uu = 0, ou = 0, oo = 0;
+    for (int a = 0; a < 3; ++a) {
+      uu += (long double)u[a] * u[a];
+      ou += (long double)o[a] * u[a];
+      oo += (long double)o[a] * o[a];
+    }
+    const long double t = (-ou - std::sqrt(ou * ou - uu * (oo - 1))) / uu;
+    cases.push_back({"product of 20 spheres", f, 1.2, o, u, t, 0.0});
+  }
+  for (const Case& cs : cases) {
+    OneSurface s(describe(cs.f, cs.radius));
+    const double tol = std::max(kContract, 1e3 * cs.cond) * cs.radius;
+    ASSERT_LT(tol, 1e-6) << cs.name;
+    for (int k = -90; k <= 90; k += 15) {
+      const double scale = std::ldexp(1.0, k);
+      const RayD ray = rayD(cs.o, cs.u * scale);
+      const double want = static_cast<double>(std::ldexp(cs.t, -k));
+      const std::string what = cs.name + " |d| = 2^" + std::to_string(k);
+      for (const bool flush : {false, true}) {
+#if defined(__SSE__)
+        const unsigned saved = _mm_getcsr();
+        if (flush) _mm_setcsr(saved | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
+        const auto hit = s.intersect(ray, what);
+        _mm_setcsr(saved);
+#else
+        if (flush) continue;
+        const auto hit = s.intersect(ray, what);
+#endif
+        ASSERT_TRUE(hit) << what << (flush ? " FTZ/DAZ" : "");
+        EXPECT_NEAR(hit->t, want, tol * std::ldexp(1.0, -k)) << what << (flush ? " FTZ/DAZ" : "");
+      }
+      // The float channel (its origin rounded to float: t to float's resolution).
+      const auto hitFloat = s.intersectFloat(ray, what + " (float)");
+      ASSERT_TRUE(hitFloat) << what << " (float)";
+      EXPECT_NEAR(*hitFloat, want, 1e-5 * want) << what << " (float)";
     }
   }
 }

@@ -20,7 +20,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <new>
@@ -605,8 +607,70 @@ void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, 
   v = static_cast<float>(std::min(std::max(theta * kInvPi, 0.0), 1.0));
 }
 
+namespace {
+
+// ---- Directions far from the clip radius in length -----------------------------------------
+// The restriction's coefficient of s^r scales as |d|^r: with |d| = 2^-k R (R the clip
+// radius) the top ones of a degree-m f shrink by 2^-km relative to the others and leave
+// double's range from k m ~ 1000 (a direction of length 1e-20 on Chmutov-16: 1e-320, a
+// flushed or 10-bit subnormal; missed and spurious hits on 8 % of random rays, both
+// channels; long directions overflow alike). When k m exceeds 256 the walk takes the ray
+// with its direction scaled by a power of two to a largest component in [R, 2R) and t
+// inversely, both exact, and reports each root's t scaled back (exact but for underflow
+// or overflow of t itself). (The double channel's bridge rescales lengths beyond 2^+-100
+// for the clip's dot products; this one is relative to R and to the degree.)
+constexpr int kDirectionExponentBudget = 256;
+
+// The e with max|d_i| 2^-e in [R, 2R) when the walk must rescale d, else 0.
+int directionRescale(const SurfaceData& data, const glm::dvec3& d) {
+  const double md = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+  // The biased exponents, from the bits (no libm call on every ray); md = 0, inf or NaN
+  // is walkRoots' own business.
+  const auto field = [](double x) {
+    return static_cast<int>(std::bit_cast<std::uint64_t>(x) >> 52);
+  };
+  if (!(md > 0.0) || !std::isfinite(md)) return 0;
+  const int k = std::abs(field(md) - field(data.radius));
+  if (k * std::max(data.horner.degree(), 1) <= kDirectionExponentBudget) [[likely]]
+    return 0;
+  return std::ilogb(md) - std::ilogb(data.radius);  // exact for subnormal md too
+}
+
+struct RescaledAccept {
+  AcceptFn accept;
+  void* user;
+  int exp;  // host t = 2^exp kernel t
+};
+bool acceptRescaled(void* user, const KernelHit& hit) {
+  const auto& r = *static_cast<const RescaledAccept*>(user);
+  KernelHit h = hit;
+  h.t = std::ldexp(hit.t, r.exp);
+  return r.accept(r.user, h);
+}
+
+bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
+                 AcceptFn accept, void* user);
+
+}  // namespace
+
 bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
                AcceptFn accept, void* user) {
+  const int e = directionRescale(data, ray.dir);
+  if (e == 0) [[likely]]
+    return walkRootsOf(data, cell, ray, occlusion, accept, user);
+  KernelRay scaled = ray;
+  scaled.dir =
+      glm::dvec3(std::ldexp(ray.dir.x, -e), std::ldexp(ray.dir.y, -e), std::ldexp(ray.dir.z, -e));
+  scaled.tnear = std::ldexp(ray.tnear, e);
+  scaled.tfar = std::ldexp(ray.tfar, e);
+  RescaledAccept rescaled{accept, user, -e};
+  return walkRootsOf(data, cell, scaled, occlusion, &acceptRescaled, &rescaled);
+}
+
+namespace {
+
+bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
+                 AcceptFn accept, void* user) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   // ---- Input: non-finite or degenerate rays have no hit (and must not hang) ----------
@@ -698,5 +762,7 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
   }
   return false;
 }
+
+}  // namespace
 
 }  // namespace algray
