@@ -205,9 +205,11 @@ RTCRayHit makeRayHit(const IntersectContext& context);
 // could not take it as it is: an origin component beyond 2^40 or a direction component
 // beyond 1e17 (origin moved along the line to where it enters Embree's range, or with the
 // scene to near the scene's bounds when it is more than 4096 scene extents away;
-// direction scaled to length 2^56), or a direction below 2^-20 (scaled by a power of two:
-// Embree treats direction components below 1e-18 as +1e-18). A host reading the float
-// tfar must map it with this function.
+// direction scaled to length 2^56), a negative tnear (origin moved back to tnear, or for
+// -inf to where the line enters the scene's padded bounds, with the scene, or Embree's
+// range; Embree takes tnear >= 0 only), or a direction below 2^-20 (scaled by a power of
+// two: Embree treats direction components below 1e-18 as +1e-18). A host reading the
+// float tfar must map it with this function.
 double fromFloatParameter(const RayD& ray, double tFloat);
 double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene);
 // The same with the map initIntersectContext stored in the context.
