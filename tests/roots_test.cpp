@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
@@ -696,6 +697,48 @@ TEST(RootsContract, CoefficientsBeyondTheFramesRange) {
     ASSERT_TRUE(r) << static_cast<int>(m);
     EXPECT_LT(*r, 0.0);
     EXPECT_GT(*r, -1e-60);  // -1e-150, moved by at most the frame's smallest normal
+  }
+}
+
+// Intervals far wider than the roots: the local frame scales s by 2^e >= max(|lo|, |hi|),
+// and a coefficient whose term is below double's range in that frame is kept as the
+// smallest normal number, which moves the roots near the caller's origin to wherever
+// that number puts them: x^2 - 1 on (-1e308, 1e308] gave the "root" -2.7e154 (and 1e300,
+// -2e146). Polynomials from known roots, intervals up to (-1e308, 1e308], against the
+// certified MPFR roots: all of them, each within 8 u cond of the reference.
+TEST(RootsContract, HugeIntervalsKeepTheRootsNearTheOrigin) {
+  const std::vector<std::vector<double>> polys = {
+      test::expand({-1.0, 1.0}, {}), test::expand({-3.0, 0.5, 2.0}, {{1.0, 2.0}}),
+      test::expand({0.25, 7.0, -7.5, 1e-3}, {}),
+      test::expand({-2.0, 3.0, 11.0}, {{-1.0, 0.5}, {4.0, 1.0}}, -3.0)};
+  const std::vector<std::pair<double, double>> spans = {
+      {-1e308, 1e308}, {-1e300, 1e300}, {-1e200, 1e250}, {-1e150, 20.0}, {-10.0, 1.7e308}};
+  for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel, RootMethod::ClosedForm}) {
+    RootOptions o;
+    o.method = m;
+    for (std::size_t pi = 0; pi < polys.size(); ++pi) {
+      const std::vector<double>& c = polys[pi];
+      for (const auto& [lo, hi] : spans) {
+        const auto ref =
+            test::refineAll(c, {-8.0, -2.5, -1.5, -0.5, 0.0, 0.3, 0.9, 1.5, 2.5, 5.0, 6.5, 12.0}, lo,
+                            hi);
+        ASSERT_FALSE(ref.empty());
+        std::vector<double> out(c.size());
+        out.resize(allRoots(c, {}, lo, hi, out, o));
+        char what[96];
+        std::snprintf(what, sizeof what, "method %d polynomial %zu on (%g, %g]",
+                      static_cast<int>(m), pi, lo, hi);
+        ASSERT_EQ(out.size(), ref.size()) << what;
+        auto tolerance = [&](const test::RefRoot& r) {
+          return 8 * kUnitRoundoff * r.conditioning * std::max(1.0, std::abs(r.value));
+        };
+        for (std::size_t i = 0; i < ref.size(); ++i)
+          EXPECT_NEAR(out[i], ref[i].value, tolerance(ref[i])) << what << " root " << i;
+        const auto first = firstRoot(c, {}, lo, hi, o);
+        ASSERT_TRUE(first) << what;
+        EXPECT_NEAR(*first, ref[0].value, tolerance(ref[0])) << what;
+      }
+    }
   }
 }
 

@@ -86,9 +86,28 @@ void checkSizes(std::span<const T> c, std::span<const T> err, const char* where)
 // Builds G(v) = g(2^e v) / 2^E with its noise bound (roots_detail.h). Returns false when
 // there can be no root: non-finite input, an empty or reversed interval, a constant or
 // zero polynomial.
+// Cauchy's bound with the noise of the tangent rule: every s with |s| >= bound has
+// (|c_n| - e_n) |s|^n > sum_{i<n} (|c_i| + e_i) |s|^i, e_i = err_i + gamma(2n+1) |c_i|, so
+// |g(s)| exceeds the noise bound there and no root, tangent or not, lies beyond it
+// (Cauchy's proof, for bound = 1 + max_i (|c_i| + e_i) / (|c_n| - e_n); the factor
+// 1 + 2^-20 covers the rounding of the bound's own arithmetic). False when there is none.
+template <class T>
+bool noisyRootBound(const T* c, int n, std::span<const T> err, T& bound) {
+  const T gEval = gammaT<T>(2 * n + 1);
+  auto noise = [&](int j) {
+    return (err.empty() ? T(0) : std::abs(err[j])) + gEval * std::abs(c[j]);
+  };
+  const T lead = std::abs(c[n]) - noise(n);
+  if (!(lead > 0)) return false;
+  T ratio = 0;
+  for (int j = 0; j < n; ++j) ratio = std::max(ratio, (std::abs(c[j]) + noise(j)) / lead);
+  bound = (1 + ratio) * (1 + T(0x1p-20));
+  return bound <= std::numeric_limits<T>::max();
+}
+
 template <class T, class Size>
 bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
-                  Frame<T>& fr) {
+                  Frame<T>& fr, bool shrunk = false) {
   if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) return false;
 
   // ---- Frame: 2^e >= max(|lo|, |hi|) ------------------------------------------------
@@ -167,11 +186,24 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
   // counts where it dominates. (1e-300 + 1e300 v^4 has no real root; with its constant
   // flushed to 0 it had a 4-fold root at 0, which the tangent rule reported.) The change,
   // below 2^-1022 against a largest coefficient in [1, 2), moves only roots that tiny.
+  bool belowRange = false;
   for (int j = 0; j < static_cast<int>(size); ++j)
     if (j <= n && c[j] != 0 && std::abs(g.c[j]) < Limits::min()) {
       g.c[j] = std::copysign(Limits::min(), c[j]);
       g.noise[j] = std::max(g.noise[j], gEval * Limits::min());
+      belowRange = true;
     }
+  // Where that happens because the interval is far wider than the roots (2^e >> the
+  // root bound: x^2 - 1 on (-1e308, 1e308] made its constant the smallest normal number
+  // and reported the "root" -2.7e154), the interval is first cut to the bound, beyond
+  // which there is no root of any kind: then the frame fits the roots.
+  if (belowRange && !shrunk) {
+    T bound;
+    if (noisyRootBound(c, n, err, bound) && bound < std::max(std::abs(lo), std::abs(hi))) {
+      const T cutLo = std::max(lo, -bound), cutHi = std::min(hi, bound);
+      return cutLo < cutHi && toLocalSized(c, size, err, cutLo, cutHi, g, fr, true);
+    }
+  }
 
   // ---- Drop leading coefficients that are noise -------------------------------------
   // On [-1, 1], |C_n v^n| <= |C_n| |v|^k for k < n, so a leading coefficient with
