@@ -14,7 +14,10 @@
 //    of two. A child costs one univariate Taylor shift per column of the parent,
 //    O(m^4/24) operations for degree m, and the box corners stay exact dyadics.
 // Every coefficient operation is interval arithmetic (interval.h), so the enclosure is
-// conservative including every rounding error of the construction.
+// conservative including every rounding error of the construction. That arithmetic
+// assumes gradual underflow: rangeOverBox, rangeOverInterval and buildCells (cells.h)
+// clear flush-to-zero / denormals-are-zero for their duration (the caller's mode is
+// restored); code calling BoxPolynomial directly must not run with them.
 #include "algray/interval.h"
 #include "algray/polynomial.h"
 

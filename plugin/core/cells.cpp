@@ -6,6 +6,7 @@
 #include "algray/range_bound.h"
 #include "algray/roots.h"
 #include "algray/taylor.h"
+#include "gradual_underflow.h"
 
 #include <algorithm>
 #include <cmath>
@@ -339,6 +340,7 @@ double probedCoverage(const Polynomial& poly, const glm::dvec3& lo, const glm::d
 std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
                              const std::optional<CellSphere>& sphere, const CellOptions& options,
                              CellStats* stats) {
+  const GradualUnderflow gradual;  // the range test's interval arithmetic needs it
   validate(f, lo, hi, sphere, options);
   if (stats) *stats = CellStats{};
   // Empty regions: no cells (not an error: a clip may legitimately be empty).

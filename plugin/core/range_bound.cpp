@@ -2,6 +2,8 @@
 // references).
 #include "algray/range_bound.h"
 
+#include "gradual_underflow.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -247,6 +249,7 @@ double halfWidth(double lo, double c, double hi) {
 
 Interval rangeOverBox(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
                       RangeBound bound) {
+  const GradualUnderflow gradual;  // interval arithmetic (gradual_underflow.h)
   if (!f.isFinite()) throw Error("rangeOverBox: polynomial has non-finite coefficients");
   for (int a = 0; a < 3; ++a) {
     if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]))
@@ -271,6 +274,7 @@ Interval rangeOverBox(const Polynomial& f, const glm::dvec3& lo, const glm::dvec
 // ---- Univariate ------------------------------------------------------------------------
 Interval rangeOverInterval(std::span<const double> c, std::span<const double> err, double lo,
                            double hi) {
+  const GradualUnderflow gradual;  // interval arithmetic (gradual_underflow.h)
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const Interval whole(-kInf, kInf);
   if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return whole;  // also NaN
