@@ -9,7 +9,12 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include "algray/gallery.h"
 #include "support/mp.h"
@@ -234,6 +239,58 @@ TEST(HornerForm, UnderflowIsInsideTheBound) {
       }
     }
   }
+}
+
+// Both evaluation bounds (HornerForm::evaluate, Polynomial::evaluateWithBound) with
+// flush-to-zero and denormals-are-zero, as in Embree's and TBB's worker threads: there a
+// product or sum below 2^-1022 becomes 0, an absolute error up to 2^-1022 per operation
+// instead of 2^-1075, which a floor of 2^-1000 times gamma no longer covers. Random
+// polynomials with coefficients from 1e-300 to 1e300 at points from 1e-150 to 1e150, and
+// subnormal components (0 under DAZ) in every fourth, against MPFR.
+TEST(HornerForm, BoundsHoldUnderFlushToZero) {
+#if defined(__SSE__)
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto signedPow10 = [&](double lo, double hi) {
+    return (u(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, lo + (hi - lo) * u(rng));
+  };
+  int bad = 0;
+  std::string first;
+  for (int trial = 0; trial < 1500; ++trial) {
+    const int m = 1 + trial % 8;
+    const double scale = -300.0 + 600.0 * u(rng);
+    Polynomial f;
+    for (int n = 0; n <= m; ++n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+        if (u(rng) < 0.6) f.setCoeff(i, j, k, signedPow10(scale - 5.0, scale));
+      });
+    f.setCoeff(m, 0, 0, std::pow(10.0, scale));
+    const double pScale = -150.0 + 300.0 * u(rng);
+    glm::dvec3 p;
+    for (int a = 0; a < 3; ++a) p[a] = u(rng) < 0.15 ? 0.0 : signedPow10(pScale - 3.0, pScale);
+    if (trial % 4 == 3) p[trial % 3] = signedPow10(-322.0, -308.0);
+    const HornerForm horner(f);
+    const Mp exact = reference(f, p).value;
+    for (const bool flush : {false, true}) {
+      const unsigned saved = _mm_getcsr();
+      if (flush) _mm_setcsr(saved | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
+      const Polynomial::Evaluation eh = horner.evaluate(p), ep = f.evaluateWithBound(p);
+      _mm_setcsr(saved);
+      for (const auto& [e, path] : {std::pair{eh, "HornerForm"}, std::pair{ep, "Polynomial"}}) {
+        const bool ok = std::isfinite(e.value)
+                            ? mpfr_cmp_d(abs(Mp(e.value) - exact).get(), e.valueError) <= 0
+                            : !(e.valueError < std::numeric_limits<double>::infinity());
+        if (!ok && bad++ == 0)
+          first = std::string(path) + (flush ? " FTZ/DAZ " : " ") + f.toString() + " at (" +
+                  std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) +
+                  "): bound " + std::to_string(e.valueError);
+      }
+    }
+  }
+  EXPECT_EQ(bad, 0) << first;
+#else
+  GTEST_SKIP() << "no SSE control register";
+#endif
 }
 
 }  // namespace

@@ -36,8 +36,9 @@ class HornerForm {
   int coefficientCount() const { return static_cast<int>(slots_.size()); }
 
   // value, gradient, magnitude (sum |c| |x|^i |y|^j |z|^k, computed) and valueError with
-  // |computed value - exact value| <= valueError whenever the result is finite (derivation
-  // in horner_form.cpp). Non-finite input gives a non-finite or NaN result.
+  // |computed value - exact value| <= valueError whenever the result is finite, with
+  // gradual underflow and with flush-to-zero / denormals-are-zero alike (derivation in
+  // horner_form.cpp). Non-finite input gives a non-finite or NaN result.
   Polynomial::Evaluation evaluate(const glm::dvec3& p) const;
 
   // A coefficient and its weight in the bound: |c| plus a floor that absorbs underflow.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ray_horner.h"
+
 namespace algray {
 
 namespace {
@@ -26,10 +28,13 @@ namespace {
 // (sums of doubles are exact when subnormal). Each such eta is added at a coefficient
 // slot (i, j, k) of the box (at most 3 per slot: one per level) and then travels the path
 // of that slot's coefficient, so it is covered by adding kUnderflowFloor to |c| in every
-// stored slot: gamma_3 kUnderflowFloor >= 3 * 2^-1075 (1 + gamma) needs about 2^-1022;
-// 2^-1000 leaves a margin and changes E only for polynomials whose every value is below
-// ~1e-290.
-constexpr double kUnderflowFloor = 0x1p-1000;
+// stored slot. With flush-to-zero (Embree's and TBB's worker threads) every product and
+// sum below 2^-1022 becomes 0, an eta < 2^-1022, two per level, and a subnormal
+// coefficient reads as 0 (DAZ): 7 * 2^-1022 (1 + gamma) per slot, which gamma_3
+// kUnderflowFloor covers from 2^-968 on. 2^-966 changes E only for polynomials whose every
+// value is below ~1e-285. (2^-1000 covered gradual underflow only: random polynomials
+// with coefficients near 1e250 at points near 1e-120 broke their bound under FTZ.)
+constexpr double kUnderflowFloor = 0x1p-966;
 constexpr double kSlack = 1.0 + 0x1p-40;
 
 }  // namespace
@@ -104,6 +109,15 @@ Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
   e.gradient = {fx, fy, fz};
   e.magnitude = fa;
   e.valueError = errorFactor_ * fa;
+  // A subnormal coordinate reads as 0 under DAZ, in the value and in the magnitudes: the
+  // result is f at a point moved by eps < 2^-1022 per coordinate, which differs from
+  // f(p) by at most m sum|c| 2^-1022 max(1, |p_i|)^(m-1) (telescoped over the factors of
+  // each monomial, as taylor.cpp's floor): added, doubled, in that case only.
+  if (ray_horner::hasSubnormal(p)) [[unlikely]] {
+    const int a = ray_horner::ceilExponent(std::max({ax, ay, az}));
+    const int m = std::max(degree_, 1);
+    e.valueError += 2.0 * m * absCoeffSum_ * ray_horner::pow2(a * (m - 1) - 1022);
+  }
   return e;
 }
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+
+#include "ray_horner.h"
 
 namespace algray {
 
@@ -239,9 +242,10 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
   // the relative gamma below does not cover, and the later factors (a coefficient up to
   // 1e308) amplify it: 1e300 x^2 at x = 1e-170 lost every digit with a bound of 0. So
   // the bound runs each product on magnitudes plus kFloor (as HornerForm does): gamma_1
-  // kFloor > 2^-1075 absorbs the absolute error of that product wherever it travels.
-  // kFloor changes the bound only where the terms are below ~1e-290.
-  constexpr double kFloor = 0x1p-1000;
+  // kFloor absorbs the absolute error of that product wherever it travels, 2^-1022 where
+  // flush-to-zero is on (Embree's and TBB's workers): kFloor = 2^-966 (horner_form.cpp).
+  // kFloor changes the bound only where the terms are below ~1e-285.
+  constexpr double kFloor = 0x1p-966;
   double fx[kMaxDegree + 1], fy[kMaxDegree + 1], fz[kMaxDegree + 1];
   fx[0] = fy[0] = fz[0] = 1.0;
   for (int i = 1; i <= m; ++i) {
@@ -250,6 +254,7 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
     fz[i] = fz[i - 1] * std::abs(p.z) + kFloor;
   }
   double sumAbsPartial = 0.0, floored = 0.0;
+  int terms = 0;
   for (int n = 0; n <= m; ++n)
     forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
       const double c = coeffs_[idx];
@@ -260,6 +265,7 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
       e.magnitude += std::abs(t);
       floored += (std::abs(c) * fx[i] + kFloor) * (fy[j] * fz[k] + kFloor) + kFloor;
       sumAbsPartial += std::abs(e.value);
+      ++terms;
       if (i) e.gradient.x += c * i * px[i - 1] * yz;
       if (j) e.gradient.y += c * j * px[i] * py[j - 1] * pz[k];
       if (k) e.gradient.z += c * k * px[i] * py[j] * pz[k - 1];
@@ -269,8 +275,22 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
   // summation adds u |partial sum| per addition (running error bound, Higham Sec. 3.1;
   // sums are exact when they underflow). The final (1 + 2u) covers the rounding of the
   // bound itself.
-  e.valueError = (gamma(m + 2) * floored + kUnitRoundoff * sumAbsPartial) *
+  // Under flush-to-zero a partial sum below 2^-1022 becomes 0 too: one 2^-1022 per
+  // addition, doubled for the bound's own sums.
+  e.valueError = (gamma(m + 2) * floored + kUnitRoundoff * sumAbsPartial +
+                  2.0 * terms * std::numeric_limits<double>::min()) *
                  (1.0 + 2.0 * kUnitRoundoff);
+  // A subnormal coordinate reads as 0 under DAZ: f at a point moved by eps < 2^-1022
+  // per coordinate, within m sum|c| 2^-1022 max(1, |p_i|)^(m-1) of f(p) (see
+  // HornerForm::evaluate); added, doubled, in that case only.
+  if (ray_horner::hasSubnormal(p)) [[unlikely]] {
+    double absSum = 0.0;
+    for (const double c : coeffs_) absSum += std::abs(c);
+    const int a =
+        ray_horner::ceilExponent(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+    const int n = std::max(m, 1);
+    e.valueError += 2.0 * n * absSum * ray_horner::pow2(a * (n - 1) - 1022);
+  }
   return e;
 }
 
