@@ -93,7 +93,9 @@ class EmbreeHits : public ::testing::Test {
 };
 
 TEST_F(EmbreeHits, SphereMatchesClosedForm) {
-  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  SurfaceDesc desc = sphereDesc(1.0, 1.5);
+  desc.options.uv = true;
+  SurfaceGeometry sphere(device, desc);
   Scene scene(device);
   const unsigned id = scene.attach(sphere.geometry());
   scene.commit();
@@ -1209,6 +1211,7 @@ TEST_F(EmbreeHits, FloatUStaysBelowOneAtTheSeam) {
     SCOPED_TRACE(testing::Message() << "surface " << surface);
     SurfaceDesc desc = sphereDesc(1.0, 1.5);
     desc.options.quadricCallbacks = surface == 0;
+    desc.options.uv = true;
     if (surface == 2) {
       desc.polynomial = torusPolynomial(1.0, 0.4);
       desc.clip = ClipSphere{{0, 0, 0}, 1.6};
@@ -1255,8 +1258,9 @@ TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
       desc.polynomial = torusPolynomial(1.0, 0.4);
       desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     }
+    desc.options.uv = true;
     SurfaceDesc off = desc;
-    off.options.uv = false;
+    off.options = SurfaceOptions{};  // the default: no u, v
     ScenePair pair(device, desc, off);
     auto& [ga, gb, sa, sb] = pair;
     const glm::vec3 eye(0.4f, -3.1f, 1.7f);
