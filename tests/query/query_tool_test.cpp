@@ -253,6 +253,28 @@ TEST_F(QueryTool, FarOriginsThroughTheCentreHit) {
   }
 }
 
+// (x + 1)^N - 1 = 0 is the planes x = 0 and (even N) x = -2. Seen along -x from x = 3
+// the first root is x = 0, t = 3 (simple, slope N). At degree 33-40 the ray polynomial's
+// noise bound exceeds |g| near the far end of the clip span, and the solver reported the
+// span's far end (t = 4.5 in the clip sphere of radius 1.5, where f = 0.5^N - 1) instead.
+TEST_F(QueryTool, HighDegreeRootBeforeANoiseLevelSpanEnd) {
+  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n3,0,0,-1,0,0,0,inf\n"
+                                          "3,0.3,-0.2,-1,0,0,0,inf\n3,0,0,-2,0,0,0,inf\n");
+  for (const int n : {33, 35, 40})
+    for (const char* radius : {"1.5", "2"}) {
+      const RunResult r = run("--surface \"(x+1)^" + std::to_string(n) + " - 1\" --clip-sphere " + radius + " " +
+                              common(rays));
+      ASSERT_EQ(r.exitCode, 0) << r.err;
+      ASSERT_EQ(r.rows.size(), 3u);
+      for (size_t i = 0; i < 3; ++i) {
+        const std::string what = "N = " + std::to_string(n) + ", R = " + radius + ", ray " + std::to_string(i);
+        ASSERT_EQ(r.rows[i][0], 1.0) << what;
+        EXPECT_NEAR(r.rows[i][1], i == 2 ? 1.5 : 3.0, 1e-12) << what;
+        EXPECT_NEAR(r.rows[i][2], 1.0, 1e-12) << what;  // grad = N (x + 1)^(N-1) e_x
+      }
+    }
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
