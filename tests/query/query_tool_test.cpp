@@ -275,6 +275,108 @@ TEST_F(QueryTool, HighDegreeRootBeforeANoiseLevelSpanEnd) {
     }
 }
 
+// Chmutov's surface T16(x) + T16(y) + T16(z) + 1 = 0 (as the gallery writes it: Chebyshev
+// polynomials expanded, coefficients up to 2^18 that cancel to O(1) on the surface) in an
+// off-centre clip box. Its ray polynomials were expanded about the ray's point closest to
+// the box centre (-2.05, 0.24, -0.41), where the expansion's terms are ~1e8 times the
+// values near the surface: hits 2e-3 box radii off, normals 15-50 degrees off, on 4 of 349
+// well-conditioned rays of a random sweep (those 4 first, then random rays). Reference:
+// the closed form T16(x) = cos(16 acos x) (cosh(16 acosh |x|) beyond 1) along the ray in
+// long double, first sign change on a grid of the span refined by bisection.
+TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
+  const double lo[3] = {-3.35498, -1.40295, -1.52329}, hi[3] = {-0.739214, 1.88969, 0.696178};
+  const char* clip = "-3.35498,-1.40295,-1.52329,-0.739214,1.88969,0.696178";
+  const double coeff[9] = {1, -128, 2688, -21504, 84480, -180224, 212992, -131072, 32768};  // T16, x^0..x^16
+  std::string equation = "1";
+  for (const char* v : {"x", "y", "z"})
+    for (int k = 0; k <= 8; ++k) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " %+.17g*%s^%d", coeff[k], v, 2 * k);
+      equation += buf;
+    }
+  auto t16 = [](long double x) {
+    const long double a = std::fabs(x);
+    return a <= 1 ? std::cos(16 * std::acos(x)) : std::cosh(16 * std::acosh(a));
+  };
+  struct Ray {
+    double o[3], d[3], tfar;
+  };
+  std::vector<Ray> rays = {
+      {{-18048288286.445034, -6138698963.579716, -10563861332.92758}, {3.0639524684143566, 1.0421310623559232, 1.793365027028933}, INFINITY},
+      {{21.49556168133346, -3.024148533112233, 2.236600898192007}, {-99197915.22836436, 9192474.250292402, -8675945.568291007}, INFINITY},
+      {{2.0957740088781334, 0.960279507817646, 1.895940248754072}, {-0.9120652048647508, -0.00770854294913458, -0.40997273133785544}, 4.550325688126394},
+      {{-6.802067887332539, 0.6572435832399665, 0.26129159927737333}, {1e-08, 0.0, 0.0}, INFINITY}};
+  std::mt19937_64 rng(176);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal;
+  while (rays.size() < 300) {
+    Ray r{};
+    double n = 0, target[3];
+    for (int a = 0; a < 3; ++a) target[a] = lo[a] + unit(rng) * (hi[a] - lo[a]), r.d[a] = normal(rng), n += r.d[a] * r.d[a];
+    for (int a = 0; a < 3; ++a) r.o[a] = target[a] - 6.0 * r.d[a] / std::sqrt(n);
+    for (int a = 0; a < 3; ++a) r.d[a] = target[a] - r.o[a];
+    r.tfar = INFINITY;
+    rays.push_back(r);
+  }
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  for (const Ray& r : rays) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,%.17g\n", r.o[0], r.o[1], r.o[2], r.d[0],
+                  r.d[1], r.d[2], r.tfar);
+    csv += buf;
+  }
+  const RunResult out = run("--surface \"" + equation + "\" --clip-box " + clip + " " + common(write("rays.csv", csv)));
+  ASSERT_EQ(out.exitCode, 0) << out.err;
+  ASSERT_EQ(out.rows.size(), rays.size());
+  double boxRadius = 0;
+  for (int a = 0; a < 3; ++a) boxRadius += 0.25 * (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  boxRadius = std::sqrt(boxRadius);
+  int checked = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray& r = rays[i];
+    long double t0 = 0, t1 = r.tfar;  // the slab span
+    for (int a = 0; a < 3; ++a) {
+      if (r.d[a] == 0) continue;
+      long double ta = ((long double)lo[a] - r.o[a]) / r.d[a], tb = ((long double)hi[a] - r.o[a]) / r.d[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    }
+    auto f = [&](long double t) {
+      long double s = 1;
+      for (int a = 0; a < 3; ++a) s += t16(r.o[a] + t * r.d[a]);
+      return s;
+    };
+    if (!(t0 < t1)) continue;
+    // First sign change on the grid; rays with a near-tangency before it (a grid value
+    // within 1e-3 of 0 without a sign change) or a root near a span end are skipped.
+    const int steps = 20000;
+    long double a = t0, fa = f(a), tRef = -1;
+    bool doubtful = std::fabs(fa) < 1e-3;
+    for (int k = 1; k <= steps && tRef < 0 && !doubtful; ++k) {
+      long double b = t0 + (t1 - t0) * k / steps;
+      const long double fb = f(b);
+      if ((fa < 0) != (fb < 0)) {
+        for (int it = 0; it < 100; ++it) {
+          const long double m = (a + b) / 2, fm = f(m);
+          ((fm < 0) == (fa < 0) ? a : b) = m;
+        }
+        tRef = (a + b) / 2;
+        doubtful = k == steps;
+      } else if (std::fabs(fb) < 1e-3) {
+        doubtful = true;
+      }
+      a = b, fa = fb;
+    }
+    if (doubtful) continue;
+    const double dLen = std::sqrt(r.d[0] * r.d[0] + r.d[1] * r.d[1] + r.d[2] * r.d[2]);
+    ++checked;
+    ASSERT_EQ(out.rows[i][0], tRef >= 0 ? 1.0 : 0.0) << "ray " << i;
+    if (tRef < 0) continue;
+    EXPECT_NEAR(out.rows[i][1], (double)tRef, 1e-9 * boxRadius / dLen + 1e-15 * (double)tRef) << "ray " << i;
+  }
+  EXPECT_GT(checked, 200);
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
