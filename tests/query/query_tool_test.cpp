@@ -406,6 +406,75 @@ TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInTheDoubleChannel) {
   }
 }
 
+// As above, from hit points of rays that started 5-20 clip radii away, on a thin
+// cylinder and a sphere: their o + t d is off the surface by up to gamma(3) (|o| + |t d|),
+// 40 ulps of the point, and with no column for that in IN.csv such rays found their own
+// origin (t = 2.5e-15 and 1.2e-13 leaving x^2 + y^2 = 0.140001, seen from 10 radii).
+// Rays into the solid must reach its far wall (closed form, long double).
+TEST_F(QueryTool, HitPointsOfRaysFromFarAwayDoNotHitThemselves) {
+  struct Case {
+    const char* surface;
+    bool sphere;  // x^2 + y^2 + z^2 = c, else x^2 + y^2 = c
+    double c;
+  };
+  for (const Case& k : {Case{"(x^2+y^2-0.14) - 1e-6", false, 0.14 + 1e-6}, Case{"x^2+y^2+z^2 - 0.3", true, 0.3}}) {
+    std::mt19937_64 rng(84);
+    std::normal_distribution<double> normal;
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), dist(10.0, 40.0);
+    std::vector<std::array<double, 6>> rays = {
+        {-19.843460565145342, -1.250984248354485, 1.1583122124118925, 0.996245764170719, 0.07760926223297725,
+         -0.038355961564706484}};
+    std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+    while (rays.size() < 300) {
+      double u[3], n = 0, target[3];
+      for (int a = 0; a < 3; ++a) u[a] = normal(rng), n += u[a] * u[a], target[a] = 0.4 * unit(rng);
+      const double r = dist(rng) / std::sqrt(n);
+      rays.push_back({target[0] + r * u[0], target[1] + r * u[1], target[2] + r * u[2], -u[0], -u[1], -u[2]});
+    }
+    char buf[512];
+    for (const auto& ray : rays) {
+      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", ray[0], ray[1], ray[2], ray[3],
+                    ray[4], ray[5]);
+      csv += buf;
+    }
+    const std::string surface = std::string("--surface \"") + k.surface + "\" --clip-sphere 2 ";
+    const RunResult first = run(surface + common(write("rays.csv", csv)));
+    ASSERT_EQ(first.exitCode, 0) << first.err;
+    std::string second = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+    std::vector<std::array<double, 6>> leaving;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (first.rows[i][0] != 1.0) continue;
+      const double t = first.rows[i][1];
+      const auto& r = rays[i];
+      const double p[3] = {r[0] + t * r[3], r[1] + t * r[4], r[2] + t * r[5]};
+      for (double sign : {-1.0, 1.0}) {  // into the solid and away from it, along the normal
+        leaving.push_back({p[0], p[1], p[2], sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]});
+        const auto& l = leaving.back();
+        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", l[0], l[1], l[2], l[3], l[4], l[5]);
+        second += buf;
+      }
+    }
+    ASSERT_GT(leaving.size(), 100u) << k.surface;
+    const RunResult r = run(surface + common(write("second.csv", second)));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(r.rows.size(), leaving.size());
+    for (size_t i = 0; i < leaving.size(); ++i) {
+      const auto& l = leaving[i];
+      if (r.rows[i][0] == 1.0) {
+        EXPECT_GT(r.rows[i][1], 1e-3) << k.surface << ": ray " << i << " found its own origin";
+      }
+      if (i % 2 != 0) continue;
+      // Into the solid: the far root of the quadric along the ray (the larger one).
+      const int axes = k.sphere ? 3 : 2;
+      long double a = 0, b = 0, c = -(long double)k.c;
+      for (int j = 0; j < axes; ++j) a += (long double)l[3 + j] * l[3 + j], b += 2.0L * l[j] * l[3 + j], c += (long double)l[j] * l[j];
+      const long double far = (-b + std::sqrt(b * b - 4 * a * c)) / (2 * a);
+      ASSERT_EQ(r.rows[i][0], 1.0) << k.surface << ": ray " << i;
+      EXPECT_NEAR(r.rows[i][1], (double)far, 1e-12) << k.surface << ": ray " << i;
+    }
+  }
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
