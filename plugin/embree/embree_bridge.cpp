@@ -795,21 +795,27 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
     if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
     return m;
   }
-  const double len = safeLength(r.dir);
+  // |d| = 2^k len: k > 0 only where |d| itself overflows (components of 1e308 on two or
+  // three axes: such rays were refused as having no length, and missed in both channels).
+  // Arc lengths along u are 2^k len times the ray's t.
+  const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
+  const int k = std::isfinite(md) && !std::isfinite(safeLength(r.dir)) ? std::ilogb(md) : 0;
+  const glm::dvec3 dirK(std::ldexp(r.dir.x, -k), std::ldexp(r.dir.y, -k), std::ldexp(r.dir.z, -k));
+  const double len = safeLength(dirK);
   // Component by component: the sum of finite components overflows from about 0.6e308
   // (an origin at (-1e308, -1e308, -1e308) was refused as non-finite, its ray missed).
   if (!(len > 0.0 && std::isfinite(len)) || !finite(r.org)) {
     m.empty = true;
     return m;
   }
-  const glm::dvec3 u = r.dir / len;
-  m.scale = kLength / len;
+  const glm::dvec3 u = dirK / len;
+  m.scale = std::ldexp(kLength / len, -k);
   const MoveBox box = moveBox(far ? bounds : nullptr);
   glm::dvec3 p = r.org;
   const double size = std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
   for (int move = 0; move < kMaxMoves; ++move) {
     // Arc lengths along u from p: the part of the line inside the box, from tnear on.
-    double a = ((r.tnear - m.shift) - m.shiftLow) * len, b = std::numeric_limits<double>::infinity();
+    double a = std::ldexp((r.tnear - m.shift) - m.shiftLow, k) * len, b = std::numeric_limits<double>::infinity();
     if (move == 0) a = std::max(a, 0.0);  // an origin inside the box stays (unless tnear > 0)
     for (int i = 0; i < 3; ++i) {
       if (u[i] == 0.0) {
@@ -836,7 +842,7 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
     // Within 2^-30 of the box's size of the entry (float's rounding of the origin is
     // 2^-24 of it), inside float's range and before every surface.
     if (!(std::abs(a) > 0x1p-30 * size)) break;
-    const double t = a / len;
+    const double t = std::ldexp(a / len, -k);
     const glm::dvec3 next = pointOnLine(p, r.dir, t);
     if (next == p) break;
     p = next;
