@@ -1165,6 +1165,61 @@ TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
   }
 }
 
+// Rays with directions near 1e308 (and origins near it) against the unit sphere, in both
+// channels, with and without flush-to-zero: the closed-form t (long double; a t near
+// 1e-308 to a few subnormal steps) and the entry's normal -d / |d| (every ray passes
+// through the centre). Under flush-to-zero (Embree's and TBB's threads) the float proxy
+// stopped at the sphere's centre (its last moves' t ~ 1e-308 flushed to 0) and reported
+// the exit, a hit at t ~ 1e-308 came back as t = 0, and an origin near (1e308, 1e308,
+// 1e308) with a unit direction missed in the float channel (the arc length to the scene
+// overflowed).
+TEST_F(EmbreeHits, DirectionsAndOriginsNear1e308HitTheEntry) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  SurfaceGeometry g(device, sphereDesc(1.0, 2.0));
+  Scene scene(device);
+  scene.attach(g.geometry());
+  scene.commit();
+  constexpr double c = 1.7e308;
+  const RayD rays[] = {{{3, 0, 0}, {-c, 0, 0}, 0, kInf, 0},     {{c, 0, 0}, {-c, 0, 0}, 0, kInf, 0},
+                       {{c, c, c}, {-1, -1, -1}, 0, kInf, 0},   {{c, c, c}, {-c, -c, -c}, 0, kInf, 0},
+                       {{-c, 0, 0}, {1, 0, 0}, 0, kInf, 0},     {{0, -c, c}, {0, 1, -1}, 0, kInf, 0}};
+  for (const bool flush : {false, true}) {
+    std::optional<FlushToZero> mode;
+    if (flush) mode.emplace();
+    for (const RayD& ray : rays) {
+      SCOPED_TRACE(testing::Message() << "flush " << flush << " o " << ray.org.x << " " << ray.org.y << " "
+                                      << ray.org.z << " d " << ray.dir.x << " " << ray.dir.y << " " << ray.dir.z);
+      // |o + t d| = 1, first root, with o and d scaled by 2^-1024 (exact) for the squares.
+      using LD = long double;
+      const LD s = std::ldexp(LD(1), -1024);
+      LD oo = 0, od = 0, dd = 0;
+      for (int i = 0; i < 3; ++i) {
+        const LD o = LD(ray.org[i]) * s, d = LD(ray.dir[i]) * s;
+        oo += o * o, od += o * d, dd += d * d;
+      }
+      const LD cc = oo - s * s;  // |o|^2 - 1, scaled by 2^-2048
+      const LD tExact = (-od - std::sqrt(od * od - dd * cc)) / dd;
+      RTCRayHit viaFloat = makeRayHit(ray, scene);
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      rtcIntersect1(scene, &context, &viaFloat);
+      const HitD hit = intersectD(scene, ray);
+      ASSERT_TRUE(hit.hit);
+      const double subnormalSteps = 4 * std::numeric_limits<double>::denorm_min();
+      EXPECT_NEAR(hit.t, double(tExact), 4e-16 * double(tExact) + subnormalSteps);
+      ASSERT_NE(viaFloat.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+      const double tFloat = fromFloatParameter(ray, viaFloat.ray.tfar, scene);
+      EXPECT_NEAR(tFloat, double(tExact), 1e-6 * double(tExact) + subnormalSteps);
+      const glm::dvec3 n = glm::normalize(glm::dvec3(viaFloat.hit.Ng_x, viaFloat.hit.Ng_y, viaFloat.hit.Ng_z));
+      const glm::dvec3 nd = glm::normalize(hit.Ng);
+      const double m = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
+      const glm::dvec3 expected = -glm::normalize(ray.dir / m);
+      EXPECT_GT(glm::dot(n, expected), 0.999);
+      EXPECT_GT(glm::dot(nd, expected), 0.999);
+    }
+  }
+}
+
 // SurfaceOptions::uv off: every hit field as with the default except u = v = 0, for
 // single float rays, 8-ray packets (the quadric's SIMD lanes and the generic walk's lane
 // loop) and the double channel; and the default's u, v are not all zero (the test can fail).

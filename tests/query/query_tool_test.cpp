@@ -380,9 +380,11 @@ TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
 // Directions whose length overflows double (components near 1e308 on two or three axes):
 // the float proxy's map divided by |d| = inf and refused the ray, so it missed in the
 // double channel although its origin o = -d is finite and the line crosses the centre of
-// the unit sphere at t = 1; the hit is at t = 1 - 1 / |d|, which rounds to 1. (The float
-// channel still misses these: its map measures arc lengths from o, which overflow too.)
-TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInTheDoubleChannel) {
+// the unit sphere at t = 1; the hit is at t = 1 - 1 / |d|, which rounds to 1. The float
+// channel missed them too until its map measured the moves in the parameter of d scaled
+// by a power of two instead of arc lengths from o, which overflowed
+// (EmbreeHits.DirectionsAndOriginsNear1e308HitTheEntry).
+TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInBothChannels) {
   const double d[][3] = {{1.7e308, 1.7e308, 1.7e308}, {1.7e308, -1.7e308, 0}, {1e308, 1.5e308, -1.2e308},
                          {-1.79e308, 1.79e308, 1e300}};
   std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
@@ -392,17 +394,21 @@ TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInTheDoubleChannel) {
                   v[2]);
     csv += buf;
   }
-  const RunResult r = run("--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 " + common(write("rays.csv", csv)));
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  ASSERT_EQ(r.rows.size(), std::size(d));
-  for (size_t i = 0; i < std::size(d); ++i) {
-    ASSERT_EQ(r.rows[i][0], 1.0) << "ray " << i;
-    EXPECT_EQ(r.rows[i][1], 1.0) << "ray " << i;
-    // The normal at the entry point is -d / |d|, with d scaled first.
-    const double m = std::max({std::abs(d[i][0]), std::abs(d[i][1]), std::abs(d[i][2])});
-    const double u[3] = {d[i][0] / m, d[i][1] / m, d[i][2] / m};
-    const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, 1e-12) << "ray " << i;
+  const fs::path rays = write("rays.csv", csv);
+  for (const std::string mode : {"", " --float"}) {
+    const RunResult r = run("--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 " + common(rays) + mode);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(r.rows.size(), std::size(d));
+    for (size_t i = 0; i < std::size(d); ++i) {
+      ASSERT_EQ(r.rows[i][0], 1.0) << "ray " << i << mode;
+      EXPECT_EQ(r.rows[i][1], 1.0) << "ray " << i << mode;
+      // The normal at the entry point is -d / |d|, with d scaled first.
+      const double m = std::max({std::abs(d[i][0]), std::abs(d[i][1]), std::abs(d[i][2])});
+      const double u[3] = {d[i][0] / m, d[i][1] / m, d[i][2] / m};
+      const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+      const double tol = mode.empty() ? 1e-12 : 1e-6;  // the float channel's Ng is float
+      for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, tol) << "ray " << i << mode;
+    }
   }
 }
 
