@@ -149,10 +149,7 @@ TEST_F(EmbreeHits, FromAnEquationString) {
 }
 
 TEST_F(EmbreeHits, SphereInsideHitsFarSide) {
-  SurfaceGeometry sphere(device, sphereDesc(2.0, 3.0));
-  Scene scene(device);
-  scene.attach(sphere.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, sphereDesc(2.0, 3.0));
   const RTCRayHit rh = intersect1(scene, makeRay({0.5f, 0, 0}, {1, 0, 0}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 1.5f);
   EXPECT_GT(rh.hit.Ng_x, 0.0f);  // gradient points outward, whichever side the ray came from
@@ -192,10 +189,7 @@ TEST_F(EmbreeHits, OriginOnTheSurfaceOutsideTheClipBall) {
   SurfaceDesc desc;
   desc.polynomial = parsePolynomial("x^2 + y^2 - 1");
   desc.clip = ClipSphere{{0, 0, 0}, 2.0};
-  SurfaceGeometry g(device, desc);
-  Scene scene(device);
-  scene.attach(g.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   for (const double eps : {0.0, 1e-15, 1e-12, 1e-9, 0x1p-10, 0x1p-9, 0x1p-8, 1e-2}) {
     const double z = std::sqrt(4.0 * (1.0 + eps) * (1.0 + eps) - 1.0);
     const HitD hit = intersectD(scene, unboundedRay({1.0, 0.0, z}, {-2.0, 0.0, -z}));
@@ -242,10 +236,7 @@ TEST_F(EmbreeHits, TorusMatchesBruteForce) {
   SurfaceDesc desc;
   desc.polynomial = torusPolynomial(R, r);
   desc.clip = ClipSphere{{0, 0, 0}, clip};
-  SurfaceGeometry torus(device, desc);
-  Scene scene(device);
-  scene.attach(torus.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   // Axis ray in closed form: the x axis crosses the tube at x = -(R+r), -(R-r), R-r, R+r.
   RTCRayHit rh = intersect1(scene, makeRay({-5, 0, 0}, {1, 0, 0}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, (float)(5 - (R + r)));
@@ -307,10 +298,7 @@ TEST_F(EmbreeHits, SurfaceTransformMovesHitsAndNormals) {
   desc.transform = glm::dmat4(1.0);
   desc.transform[0][0] = 2.0;
   desc.transform[3] = glm::dvec4(0, 0, 5, 1);
-  SurfaceGeometry ellipsoid(device, desc);
-  Scene scene(device);
-  scene.attach(ellipsoid.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   RTCRayHit rh = intersect1(scene, makeRay({-10, 0, 5}, {1, 0, 0}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 8.0f);
   EXPECT_NEAR(hitNormal(rh).x, -1.0f, 1e-6f);
@@ -403,10 +391,7 @@ TEST_F(EmbreeHits, RayMaskRespected) {
 }
 
 TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
-  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
-  Scene scene(device);
-  scene.attach(sphere.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, sphereDesc(1.0, 1.5));
   // Float rays Embree accepts (Embree 3 itself asserts on NaN/inf origins or directions,
   // so those never reach a user geometry): zero direction, inverted or empty span.
   const std::vector<RTCRayHit> rays = {makeRay({0, 0, -5}, {0, 0, 0}), makeRay({0, 0, 0}, {0, 0, 0}),
@@ -448,7 +433,7 @@ TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
     if (finiteRay) continue;
     EXPECT_FALSE(intersectD(scene, r).hit);
   }
-  EXPECT_EQ(sphere.callbackErrors(), 0u);
+  EXPECT_EQ(scene.geometry.callbackErrors(), 0u);
 }
 
 TEST_F(EmbreeHits, SeveralSurfacesInOneScene) {
@@ -538,10 +523,7 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
     EXPECT_NE(std::string(e.what()).find("object space"), std::string::npos) << e.what();
   }
   {
-    SurfaceGeometry g(device, tiny);
-    Scene scene(device);
-    scene.attach(g.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, tiny);
     const RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
     EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
     EXPECT_NEAR(rh.ray.tfar, 4.0f, 1e-5f);
@@ -580,10 +562,7 @@ TEST_F(EmbreeHits, OptionsGiveTheSameHits) {
     desc.polynomial = torusPolynomial(1.0, 0.4);
     desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     desc.options = configs[c];
-    SurfaceGeometry torus(device, desc);
-    Scene scene(device);
-    scene.attach(torus.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     for (size_t i = 0; i < rays.size(); ++i) {
       const HitD hit = intersectD(scene, rays[i]);
       if (c == 0) {
@@ -606,10 +585,7 @@ TEST_F(EmbreeHits, OptionsGiveTheSameHits) {
 TEST_F(EmbreeHits, ClipBoxCutsTheSurface) {
   SurfaceDesc desc = sphereDesc(1.0, 1.0);
   desc.clip = ClipBox{{-2, -2, -2}, {2, 2, 0.5}};  // cap z > 0.5 removed
-  SurfaceGeometry cut(device, desc);
-  Scene scene(device);
-  scene.attach(cut.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   // Downwards through the removed cap: enters at the far (bottom) side z = -1.
   RTCRayHit rh = intersect1(scene, makeRay({0, 0, 5}, {0, 0, -1}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 6.0f);
@@ -1077,10 +1053,7 @@ TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
   for (double scale : {1e200, 1e-200, 1.0}) {
     SurfaceDesc desc = sphereDesc(1.0, 1.5);
     desc.polynomial *= scale;
-    SurfaceGeometry sphere(device, desc);
-    Scene scene(device);
-    scene.attach(sphere.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     for (int i = 0; i < 50; ++i) {
       const glm::vec3 o = 3.0f * randomDir();
       const glm::vec3 d = 0.5f * randomDir() - o;
@@ -1175,10 +1148,7 @@ TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
 // overflowed).
 TEST_F(EmbreeHits, DirectionsAndOriginsNear1e308HitTheEntry) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  SurfaceGeometry g(device, sphereDesc(1.0, 2.0));
-  Scene scene(device);
-  scene.attach(g.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, sphereDesc(1.0, 2.0));
   constexpr double c = 1.7e308;
   const RayD rays[] = {{{3, 0, 0}, {-c, 0, 0}, 0, kInf, 0},     {{c, 0, 0}, {-c, 0, 0}, 0, kInf, 0},
                        {{c, c, c}, {-1, -1, -1}, 0, kInf, 0},   {{c, c, c}, {-c, -c, -c}, 0, kInf, 0},
@@ -1271,10 +1241,7 @@ TEST_F(EmbreeHits, FloatUStaysBelowOneAtTheSeam) {
       desc.polynomial = torusPolynomial(1.0, 0.4);
       desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     }
-    SurfaceGeometry g(device, desc);
-    Scene scene(device);
-    scene.attach(g.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     constexpr double kPi = 3.14159265358979323846;
     const float ys[4] = {-1e-9f, -1e-8f, -1e-7f, -1e-30f};
     alignas(16) RTCRayHit4 packet{};
