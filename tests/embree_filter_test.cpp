@@ -275,10 +275,7 @@ TEST_F(EmbreeFilter, ReusedContextFindsTheFirstRootAgain) {
     desc.polynomial = torusPolynomial(1.0, 0.4);
     desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     desc.options.cellDepth = depth;
-    SurfaceGeometry torus(device, desc);
-    Scene scene(device);
-    scene.attach(torus.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     const double rho = 1.0 + std::sqrt(0.16 - 0.05 * 0.05);
     const double first = 5.0 - std::sqrt(rho * rho - 0.01);
     const RayD ray{{-5, 0.1, 0.05}, {1, 0, 0}, 0, 100, 0};
@@ -306,10 +303,7 @@ TEST_F(EmbreeFilter, ReusedContextFindsTheFirstRootAgain) {
 // form). With a trace id counted per thread both had id 1, and the second trace skipped
 // the orphan root the first had offered (24 of these 60 rays missed).
 TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
-  SurfaceGeometry plane(device, inDepth3Cells("z - 0.1"));
-  Scene scene(device);
-  scene.attach(plane.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, inDepth3Cells("z - 0.1"));
   for (const auto& [ray, delta, dist] : gridEdgeRays({10.0, 100.0, 1000.0, 1e4, 1e5})) {
     HitD hits[2];
     IntersectContext contexts[2];
@@ -633,10 +627,7 @@ TEST_F(EmbreeFilter, ThreadsShareOneSurface) {
     desc.polynomial = torusPolynomial(1.0, 0.4);
     desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     desc.options.originCache = originCache;  // the per-thread expansions too
-    SurfaceGeometry torus(device, desc);
-    Scene scene(device);
-    scene.attach(torus.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     // Reference single-threaded, then 4 threads over the same rays (the per-thread caches
     // must not leak between threads).
     std::vector<RTCRayHit> rays;

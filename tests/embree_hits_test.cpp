@@ -93,7 +93,9 @@ class EmbreeHits : public ::testing::Test {
 };
 
 TEST_F(EmbreeHits, SphereMatchesClosedForm) {
-  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
+  SurfaceDesc desc = sphereDesc(1.0, 1.5);
+  desc.options.uv = true;
+  SurfaceGeometry sphere(device, desc);
   Scene scene(device);
   const unsigned id = scene.attach(sphere.geometry());
   scene.commit();
@@ -147,10 +149,7 @@ TEST_F(EmbreeHits, FromAnEquationString) {
 }
 
 TEST_F(EmbreeHits, SphereInsideHitsFarSide) {
-  SurfaceGeometry sphere(device, sphereDesc(2.0, 3.0));
-  Scene scene(device);
-  scene.attach(sphere.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, sphereDesc(2.0, 3.0));
   const RTCRayHit rh = intersect1(scene, makeRay({0.5f, 0, 0}, {1, 0, 0}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 1.5f);
   EXPECT_GT(rh.hit.Ng_x, 0.0f);  // gradient points outward, whichever side the ray came from
@@ -190,10 +189,7 @@ TEST_F(EmbreeHits, OriginOnTheSurfaceOutsideTheClipBall) {
   SurfaceDesc desc;
   desc.polynomial = parsePolynomial("x^2 + y^2 - 1");
   desc.clip = ClipSphere{{0, 0, 0}, 2.0};
-  SurfaceGeometry g(device, desc);
-  Scene scene(device);
-  scene.attach(g.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   for (const double eps : {0.0, 1e-15, 1e-12, 1e-9, 0x1p-10, 0x1p-9, 0x1p-8, 1e-2}) {
     const double z = std::sqrt(4.0 * (1.0 + eps) * (1.0 + eps) - 1.0);
     const HitD hit = intersectD(scene, unboundedRay({1.0, 0.0, z}, {-2.0, 0.0, -z}));
@@ -240,10 +236,7 @@ TEST_F(EmbreeHits, TorusMatchesBruteForce) {
   SurfaceDesc desc;
   desc.polynomial = torusPolynomial(R, r);
   desc.clip = ClipSphere{{0, 0, 0}, clip};
-  SurfaceGeometry torus(device, desc);
-  Scene scene(device);
-  scene.attach(torus.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   // Axis ray in closed form: the x axis crosses the tube at x = -(R+r), -(R-r), R-r, R+r.
   RTCRayHit rh = intersect1(scene, makeRay({-5, 0, 0}, {1, 0, 0}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, (float)(5 - (R + r)));
@@ -305,10 +298,7 @@ TEST_F(EmbreeHits, SurfaceTransformMovesHitsAndNormals) {
   desc.transform = glm::dmat4(1.0);
   desc.transform[0][0] = 2.0;
   desc.transform[3] = glm::dvec4(0, 0, 5, 1);
-  SurfaceGeometry ellipsoid(device, desc);
-  Scene scene(device);
-  scene.attach(ellipsoid.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   RTCRayHit rh = intersect1(scene, makeRay({-10, 0, 5}, {1, 0, 0}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 8.0f);
   EXPECT_NEAR(hitNormal(rh).x, -1.0f, 1e-6f);
@@ -401,10 +391,7 @@ TEST_F(EmbreeHits, RayMaskRespected) {
 }
 
 TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
-  SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
-  Scene scene(device);
-  scene.attach(sphere.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, sphereDesc(1.0, 1.5));
   // Float rays Embree accepts (Embree 3 itself asserts on NaN/inf origins or directions,
   // so those never reach a user geometry): zero direction, inverted or empty span.
   const std::vector<RTCRayHit> rays = {makeRay({0, 0, -5}, {0, 0, 0}), makeRay({0, 0, 0}, {0, 0, 0}),
@@ -446,7 +433,7 @@ TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
     if (finiteRay) continue;
     EXPECT_FALSE(intersectD(scene, r).hit);
   }
-  EXPECT_EQ(sphere.callbackErrors(), 0u);
+  EXPECT_EQ(scene.geometry.callbackErrors(), 0u);
 }
 
 TEST_F(EmbreeHits, SeveralSurfacesInOneScene) {
@@ -536,10 +523,7 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
     EXPECT_NE(std::string(e.what()).find("object space"), std::string::npos) << e.what();
   }
   {
-    SurfaceGeometry g(device, tiny);
-    Scene scene(device);
-    scene.attach(g.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, tiny);
     const RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));
     EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
     EXPECT_NEAR(rh.ray.tfar, 4.0f, 1e-5f);
@@ -578,10 +562,7 @@ TEST_F(EmbreeHits, OptionsGiveTheSameHits) {
     desc.polynomial = torusPolynomial(1.0, 0.4);
     desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     desc.options = configs[c];
-    SurfaceGeometry torus(device, desc);
-    Scene scene(device);
-    scene.attach(torus.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     for (size_t i = 0; i < rays.size(); ++i) {
       const HitD hit = intersectD(scene, rays[i]);
       if (c == 0) {
@@ -604,10 +585,7 @@ TEST_F(EmbreeHits, OptionsGiveTheSameHits) {
 TEST_F(EmbreeHits, ClipBoxCutsTheSurface) {
   SurfaceDesc desc = sphereDesc(1.0, 1.0);
   desc.clip = ClipBox{{-2, -2, -2}, {2, 2, 0.5}};  // cap z > 0.5 removed
-  SurfaceGeometry cut(device, desc);
-  Scene scene(device);
-  scene.attach(cut.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   // Downwards through the removed cap: enters at the far (bottom) side z = -1.
   RTCRayHit rh = intersect1(scene, makeRay({0, 0, 5}, {0, 0, -1}));
   EXPECT_FLOAT_EQ(rh.ray.tfar, 6.0f);
@@ -1129,10 +1107,7 @@ TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
   for (double scale : {1e200, 1e-200, 1.0}) {
     SurfaceDesc desc = sphereDesc(1.0, 1.5);
     desc.polynomial *= scale;
-    SurfaceGeometry sphere(device, desc);
-    Scene scene(device);
-    scene.attach(sphere.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     for (int i = 0; i < 50; ++i) {
       const glm::vec3 o = 3.0f * randomDir();
       const glm::vec3 d = 0.5f * randomDir() - o;
@@ -1217,6 +1192,58 @@ TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
   }
 }
 
+// Rays with directions near 1e308 (and origins near it) against the unit sphere, in both
+// channels, with and without flush-to-zero: the closed-form t (long double; a t near
+// 1e-308 to a few subnormal steps) and the entry's normal -d / |d| (every ray passes
+// through the centre). Under flush-to-zero (Embree's and TBB's threads) the float proxy
+// stopped at the sphere's centre (its last moves' t ~ 1e-308 flushed to 0) and reported
+// the exit, a hit at t ~ 1e-308 came back as t = 0, and an origin near (1e308, 1e308,
+// 1e308) with a unit direction missed in the float channel (the arc length to the scene
+// overflowed).
+TEST_F(EmbreeHits, DirectionsAndOriginsNear1e308HitTheEntry) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const SurfaceScene scene(device, sphereDesc(1.0, 2.0));
+  constexpr double c = 1.7e308;
+  const RayD rays[] = {{{3, 0, 0}, {-c, 0, 0}, 0, kInf, 0},     {{c, 0, 0}, {-c, 0, 0}, 0, kInf, 0},
+                       {{c, c, c}, {-1, -1, -1}, 0, kInf, 0},   {{c, c, c}, {-c, -c, -c}, 0, kInf, 0},
+                       {{-c, 0, 0}, {1, 0, 0}, 0, kInf, 0},     {{0, -c, c}, {0, 1, -1}, 0, kInf, 0}};
+  for (const bool flush : {false, true}) {
+    std::optional<FlushToZero> mode;
+    if (flush) mode.emplace();
+    for (const RayD& ray : rays) {
+      SCOPED_TRACE(testing::Message() << "flush " << flush << " o " << ray.org.x << " " << ray.org.y << " "
+                                      << ray.org.z << " d " << ray.dir.x << " " << ray.dir.y << " " << ray.dir.z);
+      // |o + t d| = 1, first root, with o and d scaled by 2^-1024 (exact) for the squares.
+      using LD = long double;
+      const LD s = std::ldexp(LD(1), -1024);
+      LD oo = 0, od = 0, dd = 0;
+      for (int i = 0; i < 3; ++i) {
+        const LD o = LD(ray.org[i]) * s, d = LD(ray.dir[i]) * s;
+        oo += o * o, od += o * d, dd += d * d;
+      }
+      const LD cc = oo - s * s;  // |o|^2 - 1, scaled by 2^-2048
+      const LD tExact = (-od - std::sqrt(od * od - dd * cc)) / dd;
+      RTCRayHit viaFloat = makeRayHit(ray, scene);
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      rtcIntersect1(scene, &context, &viaFloat);
+      const HitD hit = intersectD(scene, ray);
+      ASSERT_TRUE(hit.hit);
+      const double subnormalSteps = 4 * std::numeric_limits<double>::denorm_min();
+      EXPECT_NEAR(hit.t, double(tExact), 4e-16 * double(tExact) + subnormalSteps);
+      ASSERT_NE(viaFloat.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+      const double tFloat = fromFloatParameter(ray, viaFloat.ray.tfar, scene);
+      EXPECT_NEAR(tFloat, double(tExact), 1e-6 * double(tExact) + subnormalSteps);
+      const glm::dvec3 n = glm::normalize(glm::dvec3(viaFloat.hit.Ng_x, viaFloat.hit.Ng_y, viaFloat.hit.Ng_z));
+      const glm::dvec3 nd = glm::normalize(hit.Ng);
+      const double m = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
+      const glm::dvec3 expected = -glm::normalize(ray.dir / m);
+      EXPECT_GT(glm::dot(n, expected), 0.999);
+      EXPECT_GT(glm::dot(nd, expected), 0.999);
+    }
+  }
+}
+
 // SurfaceOptions::uv off: every hit field as with the default except u = v = 0, for
 // single float rays, 8-ray packets (the quadric's SIMD lanes and the generic walk's lane
 // loop) and the double channel; and the default's u, v are not all zero (the test can fail).
@@ -1263,14 +1290,12 @@ TEST_F(EmbreeHits, FloatUStaysBelowOneAtTheSeam) {
     SCOPED_TRACE(testing::Message() << "surface " << surface);
     SurfaceDesc desc = sphereDesc(1.0, 1.5);
     desc.options.quadricCallbacks = surface == 0;
+    desc.options.uv = true;
     if (surface == 2) {
       desc.polynomial = torusPolynomial(1.0, 0.4);
       desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     }
-    SurfaceGeometry g(device, desc);
-    Scene scene(device);
-    scene.attach(g.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     constexpr double kPi = 3.14159265358979323846;
     const float ys[4] = {-1e-9f, -1e-8f, -1e-7f, -1e-30f};
     alignas(16) RTCRayHit4 packet{};
@@ -1309,8 +1334,9 @@ TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
       desc.polynomial = torusPolynomial(1.0, 0.4);
       desc.clip = ClipSphere{{0, 0, 0}, 1.6};
     }
+    desc.options.uv = true;
     SurfaceDesc off = desc;
-    off.options.uv = false;
+    off.options = SurfaceOptions{};  // the default: no u, v
     ScenePair pair(device, desc, off);
     auto& [ga, gb, sa, sb] = pair;
     const glm::vec3 eye(0.4f, -3.1f, 1.7f);

@@ -27,7 +27,9 @@ RTCGeometry translatedInstance(RTCDevice device, RTCScene inner, float dz) {
 // x = 0.6 of a unit sphere ends at z = +-0.8).
 TEST(EmbreeInstance, DoubleChannelHitIsTheInstancesWhenItIsCloser) {
   Device device;
-  SurfaceGeometry a(device, sphereDesc(1.0, 1.5)), b(device, sphereDesc(1.0, 1.5));
+  SurfaceDesc desc = sphereDesc(1.0, 1.5);
+  desc.options.uv = true;
+  SurfaceGeometry a(device, desc), b(device, desc);
   Scene inner(device);
   ASSERT_EQ(inner.attach(b.geometry()), 0u);
   inner.commit();

@@ -39,6 +39,17 @@ struct Scene {
   operator RTCScene() const { return scene; }  // NOLINT
 };
 
+// One surface alone in its committed scene (used where a scene is: it converts).
+struct SurfaceScene {
+  SurfaceGeometry geometry;
+  Scene scene;
+  SurfaceScene(RTCDevice device, const SurfaceDesc& desc) : geometry(device, desc), scene(device) {
+    scene.attach(geometry.geometry());
+    scene.commit();
+  }
+  operator RTCScene() const { return scene; }  // NOLINT
+};
+
 // One surface under two sets of options, each geometry alone in its committed scene: the
 // A/B comparisons of options (a, sa) against (b, sb).
 struct ScenePair {

@@ -56,10 +56,7 @@ TEST(EmbreeThreads, FirstRayOfAThreadDoesNotWaitForTheLoader) {
   desc.polynomial = torusPolynomial(1.0, 0.4);
   desc.clip = ClipSphere{{0, 0, 0}, 1.6};
   desc.options.originCache = true;  // the per-thread state under test (off by default)
-  SurfaceGeometry torus(device, desc);
-  Scene scene(device);
-  scene.attach(torus.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
 
   // The tracing thread exists before the loader's lock is taken (creating a thread needs
   // it too), then waits until the constructor holds it.
@@ -84,7 +81,7 @@ TEST(EmbreeThreads, FirstRayOfAThreadDoesNotWaitForTheLoader) {
   // sqrt(0.12) (the first ray fills the cache's pending slot, the second builds the
   // expansion, the third uses it).
   for (const float t : tfar) EXPECT_NEAR(t, 2.0 - std::sqrt(0.12), 1e-5);
-  EXPECT_EQ(torus.callbackErrors(), 0u);
+  EXPECT_EQ(scene.geometry.callbackErrors(), 0u);
 }
 
 // Embree's and TBB's worker threads (and a host's tbb::parallel_for beside Embree, as in
@@ -101,10 +98,7 @@ TEST(EmbreeThreads, FlushToZeroChangesNoGalleryHit) {
     SurfaceDesc desc;
     desc.polynomial = s.build();
     desc.clip = ClipSphere{glm::dvec3(0.0), s.clipRadius};
-    SurfaceGeometry surface(device, desc);
-    Scene scene(device);
-    scene.attach(surface.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     std::mt19937 gen(1);
     std::normal_distribution<double> gauss;
     int hits = 0;

@@ -329,6 +329,13 @@ TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
       {"z", 2.0, "x + y", "clashes"},               {"pi", 3.0, "x", "clashes"},
       {"e", 3.0, "e*x", "clashes"},                 {"sqrt", 3.0, "x", "clashes"},
       {"ln", 3.0, "x", "clashes"},
+      {"2b", 1.0, "x", "is not a name an equation can use"},
+      {"a ", 1.0, "a*x", "is not a name an equation can use"},
+      {" a", 1.0, "a*x", "is not a name an equation can use"},
+      {"", 1.0, "x", "is not a name an equation can use"},
+      {"a-b", 1.0, "x", "is not a name an equation can use"},
+      {"a.b", 1.0, "x", "is not a name an equation can use"},
+      {"\xc3\xa9", 1.0, "x", "is not a name an equation can use"},
   };
   for (const BadParameter& b : bad) {
     ParseOptions o;
@@ -345,9 +352,9 @@ TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
     }
   }
   ParseOptions o;
-  o.parameters = {{"a", 0.5}, {"c", 1.0}, {"X", 2.0}, {"pi2", 3.0}};
-  expectRejected({"z + d", 5, "unknown name 'd' (parameters: X a c pi2)"}, o);
-  EXPECT_EQ(parsePolynomial("c*x + X*pi2*y", o), parsePolynomial("x + 6*y"));
+  o.parameters = {{"a", 0.5}, {"c", 1.0}, {"X", 2.0}, {"pi2", 3.0}, {"_k1", 4.0}};
+  expectRejected({"z + d", 5, "unknown name 'd' (parameters: X _k1 a c pi2)"}, o);
+  EXPECT_EQ(parsePolynomial("c*x + X*pi2*y + _k1*z", o), parsePolynomial("x + 6*y + 4*z"));
   ParseOptions low;
   low.maxDegree = 4;
   expectRejected({"x^5", 2, "degree 5 exceeds the limit 4"}, low);

@@ -638,6 +638,46 @@ TEST(RootsContract, ClosedLoReportsARootAtLo) {
   }
 }
 
+// At degree 33-40 the noise bound of a long interval's far end exceeds |G| there, and a
+// monotone piece then runs from a clearly non-zero end into a noise-level one, with its
+// root far from that end: (9/8 - s)^n - 1 on (-11/8, 13/8] has the simple root 1/8
+// (condition (5/4)^n / n: 1e-14 accuracy), no other root there (-7/8 is outside), and
+// |G| >= 1 at hi in exact arithmetic. The sweep reported hi (found by algray-query on
+// "(x+1)^35 - 1" seen from x = 3). Its mirror image, the noise-level end at an open lo,
+// must find the root -1/8 after it too. Coefficients: the binomial expansion in long
+// double, rounded once.
+TEST(RootsContract, SimpleRootBeforeANoiseLevelEnd) {
+  for (int n = 30; n <= kMaxDegree; ++n) {
+    std::vector<double> falling(n + 1), rising(n + 1);  // (9/8 - s)^n - 1, (9/8 + s)^n - 1
+    long double binomial = 1;
+    for (int i = 0; i <= n; ++i) {
+      rising[i] = static_cast<double>(binomial * std::pow(1.125L, n - i));
+      falling[i] = i % 2 ? -rising[i] : rising[i];
+      binomial = binomial * (n - i) / (i + 1);
+    }
+    falling[0] -= 1;
+    rising[0] -= 1;
+    for (RootMethod m : {RootMethod::Auto, RootMethod::Yuksel}) {
+      RootOptions open, closed;
+      open.method = closed.method = m;
+      closed.closedLo = true;
+      const std::string what = "n = " + std::to_string(n) + ", method " + std::to_string(static_cast<int>(m));
+      for (const RootOptions& o : {open, closed}) {
+        const auto r = firstRoot(falling, {}, -1.375, 1.625, o);
+        ASSERT_TRUE(r) << what;
+        EXPECT_NEAR(*r, 0.125, 1e-12) << what;
+        std::vector<double> all(4);
+        all.resize(allRoots(falling, {}, -1.375, 1.625, all, o));
+        ASSERT_FALSE(all.empty()) << what;
+        EXPECT_NEAR(all[0], 0.125, 1e-12) << what;
+      }
+      const auto r = firstRoot(rising, {}, -1.625, 1.375, open);
+      ASSERT_TRUE(r) << what;
+      EXPECT_NEAR(*r, -0.125, 1e-12) << what;
+    }
+  }
+}
+
 TEST(RootsContract, NoiseLeadingCoefficientIsDropped) {
   // x^2 - 1 + 1e-30 x^3: the cubic term is rounding noise on [-2, 2]; its far root
   // (-1e30) is outside anyway, but a solver that kept it would see a degree-3 problem.

@@ -159,6 +159,25 @@ int run(int argc, char** argv) {
     throw UsageError(e.what());
   }
 
+  // IN.csv has no column for an origin's uncertainty, and a user's o + t d of a hit
+  // carries gamma(3) (|o| + |t d|) from the ray that found it, not the rounding of its own
+  // coordinates (orgError = 0): a ray leaving a cylinder from a hit point of a ray that
+  // started 10 clip radii away found its own origin at t = 2.5e-15. Every origin is taken
+  // to be such a point, of a ray that started within 32 clip radii of the clip centre; it
+  // only matters to an origin within about 1e-14 radii of the surface. (Origins beyond 4
+  // radii keep 0: the self-root rule ignores them, and the far-ray paths read orgError.)
+  {
+    const glm::dvec3 centre = clipSphere.empty() ? 0.5 * (std::get<ClipBox>(desc.clip).lo + std::get<ClipBox>(desc.clip).hi)
+                                                 : glm::dvec3(0.0);
+    const double radius = clipSphere.empty()
+                              ? 0.5 * glm::length(std::get<ClipBox>(desc.clip).hi - std::get<ClipBox>(desc.clip).lo)
+                              : clipSphere[0];
+    for (RayD& ray : rays) {
+      const glm::dvec3 oc = glm::abs(ray.org - centre);
+      if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius) ray.orgError = gamma(3) * (glm::length(oc) + 64.0 * radius);
+    }
+  }
+
   // The output is opened before tracing: a path that cannot be written is bad input.
   std::ofstream out(outPath);
   if (!out) throw UsageError("--out: cannot write '" + outPath + "'");

@@ -66,9 +66,15 @@ class EncodeTable {
   std::array<double, 255> thresholds_{};
 };
 
+// An exposed value the curves can take: NaN (0 times an infinite exposure) is black, +inf
+// (a huge --exposure times a lit pixel) saturates instead of turning black as NaN does.
+double finiteExposed(double exposed) {
+  return std::isnan(exposed) ? 0.0 : std::clamp(exposed, -1e300, 1e300);
+}
+
 // One channel of toDisplay, 8 bits, from the exposed linear value.
 std::uint8_t encodeByte(double exposed, ToneMap toneMap) {
-  const double v = std::isfinite(exposed) ? exposed : 0.0;
+  const double v = finiteExposed(exposed);
   return EncodeTable::instance()(toneMap == ToneMap::Aces ? aces(v) : v);
 }
 
@@ -78,7 +84,7 @@ glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap)
   glm::dvec3 c = linear * std::exp2(exposure);
   glm::dvec3 out;
   for (int k = 0; k < 3; ++k) {
-    double v = std::isfinite(c[k]) ? c[k] : 0.0;
+    const double v = finiteExposed(c[k]);
     out[k] = srgbEncode(toneMap == ToneMap::Aces ? aces(v) : v);
   }
   return out;

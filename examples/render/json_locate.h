@@ -38,6 +38,11 @@ std::map<std::string, size_t> locateJsonValues(std::string_view text,
 // location.
 std::string jsonPointerToken(std::string_view key);
 
+// Byte offset of the '[' or '{' that opens nesting level maxDepth + 1 (outside strings),
+// or npos. Checked before parsing: nlohmann's parser and value destructor and the scanner
+// above recurse once per level, so a file of 100000 '[' overflowed the stack (SIGSEGV).
+size_t findExcessiveNesting(std::string_view text, int maxDepth);
+
 // Byte offset of a number token spelled exactly `literal` outside strings, or npos: for
 // nlohmann's number overflow error, which quotes the literal but gives no position.
 size_t locateNumberLiteral(std::string_view text, std::string_view literal);

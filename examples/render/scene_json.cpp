@@ -38,6 +38,13 @@ class Loader {
       : text_(text), name_(std::move(name)), baseDir_(std::move(baseDir)) {}
 
   SceneDesc load() {
+    // A scene nests 4 levels deep; 64 leaves room for any hand-written "description".
+    constexpr int kMaxNesting = 64;
+    if (const size_t at = findExcessiveNesting(text_, kMaxNesting); at != std::string_view::npos) {
+      const TextLocation loc = locateOffset(text_, at);
+      throw SceneError(name_, loc.line, loc.column,
+                       "nesting deeper than " + std::to_string(kMaxNesting) + " levels of arrays and objects");
+    }
     try {
       root_ = json::parse(text_.begin(), text_.end());
     } catch (const json::parse_error& e) {

@@ -20,10 +20,10 @@
 //           2^-64..2^64 is scaled by a power of two to [1, 2) first, in both channels)
 //           (desc.transform applied: A^-T grad f_object). Inside an Embree instance this is
 //           the instanced scene's space, as for every Embree geometry;
-//   u, v    spherical coordinates of the object-space hit point about the clip centre,
+//   u, v    0, 0 (as Embree's own sphere writes them) unless SurfaceOptions::uv asks for
+//           spherical coordinates of the object-space hit point about the clip centre,
 //           u = azimuth atan2(y, x) / 2pi in [0, 1), v = polar angle acos(z / r) / pi in
-//           [0, 1]: a texture parametrisation that is seamless except at u = 0
-//           (0, 0 with SurfaceOptions::uv off);
+//           [0, 1]: a texture parametrisation that is seamless except at u = 0;
 //   primID  the cell (Embree primitive) of the hit, geomID/instID from Embree.
 // Occlusion writes tfar = -inf at the first accepted root and computes no normal.
 // Rays leaving the surface need no epsilon: a root at the ray origin (the origin lies
@@ -84,9 +84,10 @@ struct SurfaceOptions {
                                  // are its own padded box, not the clip region's
   bool packetSimd = true;        // quadric callbacks of 4/8/16-ray packets: the active
                                  // lanes' span, restriction and first root in SIMD
-  bool uv = true;                // hit u, v as documented above; off: u = v = 0 (as Embree's
-                                 // own sphere), no atan2/acos per hit, for hosts without
-                                 // textures on the surface
+  bool uv = false;               // hit u, v as documented above, for a host that textures
+                                 // the surface (algray-render turns it on per material);
+                                 // off: u = v = 0 and no arc tangents per hit (15 % of a
+                                 // sphere's primary ray, README Speed)
   bool singlePrecision = false;  // float solver for the first root (comparison only; the
                                  // restriction and later roots stay double)
 };

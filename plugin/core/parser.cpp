@@ -311,10 +311,25 @@ class Parser {
   static constexpr int kMaxNesting = 256;  // far beyond real equations; small stack frames even under ASan
 };
 
+// Whether an equation can refer to `name`: exactly one Name token of the lexer.
+bool isReferenceable(std::string_view name) {
+  try {
+    const std::vector<Token> tokens = detail::tokenize(name);
+    return tokens.size() == 2 && tokens[0].kind == detail::TokenKind::Name && tokens[0].offset == 0 &&
+           tokens[0].length == static_cast<int>(name.size());
+  } catch (const ParseError&) {
+    return false;
+  }
+}
+
 // Before the equation is read, so that a bad parameter is reported as such (by name)
-// whether or not the equation uses it, and never at a column of the equation.
+// whether or not the equation uses it, and never at a column of the equation. A name no
+// equation could use ("2b", "a " from a command line's "a = 1") is a mistake, not an
+// unused parameter: silently kept, it hid a typo behind "unknown name 'a'".
 void checkParameters(const ParseOptions& options) {
   for (const auto& [name, value] : options.parameters) {
+    if (!isReferenceable(name))
+      throw ParameterError(name, "is not a name an equation can use (a letter or _, then letters, digits or _)");
     if (name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" || detail::isFunctionName(name))
       throw ParameterError(name, "clashes with the built-in name '" + name + "'");
     if (!std::isfinite(value)) throw ParameterError(name, "is not finite (" + formatNumber(value) + ")");

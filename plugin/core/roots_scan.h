@@ -22,9 +22,43 @@
 //    hi: it is reported (at hi), so two intervals sharing an endpoint report a root on it
 //    exactly once (the left one reports it, the right one excludes it as its lo).
 // A sign change between two non-zero points gives a simple root, refined by `piece`.
+//
+// A cluster does not always hold the piece's root: the noise bound grows with |v| (on a
+// long span at degree 30-40 it reaches |G| over a third of the interval), so a monotone
+// piece can run from a clearly non-zero end into a noise-level one with its simple,
+// well-conditioned root far from that end ((1.1 - s)^33 - 1 on [-1.4, 1.6]: the root 0.1
+// was lost and hi reported). Where the noise shrinks into the piece, the sweep therefore
+// looks for a clearly non-zero point of the other sign between the cluster and the
+// piece's clear end (clearCrossing); one found proves a root there (the bounds are
+// rigorous), which is reported as a simple root beside the cluster.
 #include "roots_detail.h"
 
 namespace algray::roots_detail {
+
+// On the monotone piece between a clearly non-zero end `clear` (value fClear) and a
+// noise-level end `noisy`: a point m between them where G is clearly non-zero with the
+// sign opposite to fClear, found by bisection towards `noisy` (a clear point of fClear's
+// sign moves the search past it, a noise-level one back towards `clear`). Only where the
+// noise bound is smaller inside the piece than at `noisy` (|v| smaller, the bound grows
+// with |v|) can such a point exist: elsewhere no point is tried.
+template <class T, class D>
+bool clearCrossing(const LocalPoly<T>& g, D deg, T clear, T fClear, T noisy, T& m, T& fm) {
+  const T nearZero = (clear < 0) != (noisy < 0) ? T(0) : std::min(std::abs(clear), std::abs(noisy));
+  if (!(nearZero < std::abs(noisy))) return false;
+  T a = clear, b = noisy;  // the crossing, if any, lies between a (fClear's sign) and b
+  for (int it = 0; it < 16; ++it) {
+    m = a + (b - a) / 2;
+    if (m == a || m == b) return false;
+    fm = horner(g.c.data(), deg, m);
+    if (std::abs(fm) <= hornerAbs(g.noise.data(), deg, m))
+      b = m;
+    else if (signBit(fm) == signBit(fClear))
+      a = m;
+    else
+      return true;
+  }
+  return false;
+}
 
 template <class T, class D, class Piece>
 int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, Piece&& piece,
@@ -47,6 +81,11 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
     const T x = interior ? crit[i] : g.hi;
     const T f = horner(g.c.data(), deg, x);
     const bool z = std::abs(f) <= hornerAbs(g.noise.data(), deg, x);
+    T m, fm;
+    if (z && !inCluster && clearCrossing(g, deg, xPrev, fPrev, x, m, fm)) {
+      // Into a cluster: the piece's root lies clearly before it, in (xPrev, m).
+      if (!emit(q == Query::Any ? xPrev + (m - xPrev) / 2 : piece(xPrev, m, fPrev, fm), false)) return count;
+    }
     if (z) {
       if (!inCluster) {
         inCluster = true;
@@ -65,6 +104,10 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
       if (inCluster) {
         inCluster = false;
         if ((!clusterAtLo || g.closedLo) && !emit(best, true)) return count;
+        // Out of a cluster: the piece's root may lie clearly after it, in (m, x).
+        if (clearCrossing(g, deg, x, f, xPrev, m, fm) &&
+            !emit(q == Query::Any ? m + (x - m) / 2 : piece(m, x, fm, f), false))
+          return count;
       } else if (!zPrev && signBit(f) != signBit(fPrev)) {
         const T r = q == Query::Any ? xPrev + (x - xPrev) / 2 : piece(xPrev, x, fPrev, f);
         if (!emit(r, false)) return count;

@@ -215,10 +215,16 @@ struct PacketLane : Lane {
   glm::vec3 normal{0.0f};
 };
 
-// A double-channel kernel t as the host's t (see Lane::tExp).
+// A double-channel kernel t as the host's t (see Lane::tExp). A ray with |d| near 1e308
+// has its hits near t = 1e-308, below double's normal range, where Embree's and TBB's
+// threads flush arithmetic results to zero (FTZ), glibc's ldexp included: there t is
+// scaled in long double (x87, which MXCSR's flags do not touch) and rounded once.
 double hostParameter(const Lane& L, double t) {
   const double shifted = L.tBase + (L.tBaseLow + t);
-  return L.tExp == 0 ? shifted : std::ldexp(shifted, -L.tExp);
+  if (L.tExp == 0) return shifted;
+  const double host = std::ldexp(shifted, -L.tExp);
+  if (std::abs(host) >= std::numeric_limits<double>::min() || shifted == 0.0) return host;
+  return static_cast<double>(std::ldexp(static_cast<long double>(shifted), -L.tExp));
 }
 
 // The candidate's float tfar, and whether it lies inside the ray's current interval: in
@@ -801,54 +807,72 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
     if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
     return m;
   }
-  const double len = safeLength(r.dir);
+  // |d| = 2^k len: k > 0 only where |d| itself overflows (components of 1e308 on two or
+  // three axes: such rays were refused as having no length, and missed in both channels).
+  // Arc lengths along u are 2^k len times the ray's t.
+  const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
+  const int k = std::isfinite(md) && !std::isfinite(safeLength(r.dir)) ? std::ilogb(md) : 0;
+  const glm::dvec3 dirK(std::ldexp(r.dir.x, -k), std::ldexp(r.dir.y, -k), std::ldexp(r.dir.z, -k));
+  const double len = safeLength(dirK);
   // Component by component: the sum of finite components overflows from about 0.6e308
   // (an origin at (-1e308, -1e308, -1e308) was refused as non-finite, its ray missed).
   if (!(len > 0.0 && std::isfinite(len)) || !finite(r.org)) {
     m.empty = true;
     return m;
   }
-  const glm::dvec3 u = r.dir / len;
-  m.scale = kLength / len;
+  m.scale = std::ldexp(kLength / len, -k);
+  // The moves are measured and made along dirN = 2^-e d (its largest component in [1, 2):
+  // the same line, exactly) in its parameter tN = 2^e t. Arc lengths (along d / |d|)
+  // overflowed from origins near 1e308 (their ray missed in the float channel), and t
+  // itself is near 1e-308 where |d| is near 1e308: subnormal, and 0 in Embree's and TBB's
+  // flush-to-zero threads (the proxy stopped at the sphere's centre and hit the exit).
+  // On dirN's largest axis the entry (box - p) / dirN cannot overflow; an overflow on
+  // another axis is an entry beyond that axis's exit, a miss.
+  const int e = std::ilogb(md);
+  const glm::dvec3 dirN(std::ldexp(r.dir.x, -e), std::ldexp(r.dir.y, -e), std::ldexp(r.dir.z, -e));
+  const double lenN = safeLength(dirN);
   const MoveBox box = moveBox(far || behind ? bounds : nullptr);
   glm::dvec3 p = r.org;
   const double size = std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
   for (int move = 0; move < kMaxMoves; ++move) {
-    // Arc lengths along u from p: the part of the line inside the box, from tnear on.
-    double a = ((r.tnear - m.shift) - m.shiftLow) * len, b = std::numeric_limits<double>::infinity();
+    // Parameters tN from p: the part of the line inside the box, from tnear on.
+    double a = std::ldexp((r.tnear - m.shift) - m.shiftLow, e), b = std::numeric_limits<double>::infinity();
     // An origin inside the box stays (unless tnear > 0, or < 0: behind).
     if (move == 0 && !behind) a = std::max(a, 0.0);
     for (int i = 0; i < 3; ++i) {
-      if (u[i] == 0.0) {
+      if (dirN[i] == 0.0) {
         if (p[i] < box.lo[i] || p[i] > box.hi[i]) m.empty = true;
         continue;
       }
-      double s0 = (box.lo[i] - p[i]) / u[i], s1 = (box.hi[i] - p[i]) / u[i];
+      double s0 = (box.lo[i] - p[i]) / dirN[i], s1 = (box.hi[i] - p[i]) / dirN[i];
       if (s0 > s1) std::swap(s0, s1);
       a = std::max(a, s0);
       b = std::min(b, s1);
     }
     if (m.empty) return m;
-    // Far away each s above carries the rounding of |p| / |u_i|, more than the box's width
-    // from |p| ~ 2^50 box sizes on: the per-axis entries and exits of a line through the
-    // box then round to disagreeing numbers (a > b), and the ray was refused although it
-    // crosses the box (random directions through a sphere from 2^66 radii: 14-57 % missed).
-    // Within that rounding the crossing is undecided here: move to the nearer end and
-    // decide from there, where the numbers are 16 digits smaller.
+    // Far away each s above carries the rounding of |p| / |dirN_i|, more than the box's
+    // width from |p| ~ 2^50 box sizes on: the per-axis entries and exits of a line through
+    // the box then round to disagreeing numbers (a > b), and the ray was refused although
+    // it crosses the box (random directions through a sphere from 2^66 radii: 14-57 %
+    // missed). Within that rounding the crossing is undecided here: move to the nearer end
+    // and decide from there, where the numbers are 16 digits smaller.
     if (!(a <= b) && !(a - b <= 0x1p-46 * std::max(std::abs(a), std::abs(b)))) {
       m.empty = true;
       return m;
     }
     a = std::min(a, b);
+    if (!std::isfinite(a)) {
+      m.empty = true;
+      return m;
+    }
     // Within 2^-30 of the box's size of the entry (float's rounding of the origin is
     // 2^-24 of it), inside float's range and before every surface. (Back to tnear < 0
     // the first move goes however short: the proxy must not start after tnear.)
-    if (!(std::abs(a) > 0x1p-30 * size) && !(behind && move == 0 && a < 0.0)) break;
-    const double t = a / len;
-    const glm::dvec3 next = pointOnLine(p, r.dir, t);
+    if (!(std::abs(a) * lenN > 0x1p-30 * size) && !(behind && move == 0 && a < 0.0)) break;
+    const glm::dvec3 next = pointOnLine(p, dirN, a);
     if (next == p) break;
     p = next;
-    addExact(m.shift, m.shiftLow, t);
+    addExact(m.shift, m.shiftLow, std::ldexp(a, -e));
   }
   m.origin = p;
   return m;
@@ -912,7 +936,14 @@ void initIntersectContext(IntersectContext* context, const RayD* ray, HitD* hit,
 }
 
 namespace {
-double fromFloat(const FloatMap& m, double tFloat) { return m.shift + (m.shiftLow + m.scale * tFloat); }
+// shift + (shiftLow + scale tFloat); a result below double's normal range (see
+// hostParameter) again in long double, rounded once.
+double fromFloatParts(double shift, double shiftLow, double scale, double tFloat) {
+  const double t = shift + (shiftLow + scale * tFloat);
+  if (std::abs(t) >= std::numeric_limits<double>::min() || tFloat == 0.0) return t;
+  return static_cast<double>(shift + (shiftLow + static_cast<long double>(scale) * tFloat));
+}
+double fromFloat(const FloatMap& m, double tFloat) { return fromFloatParts(m.shift, m.shiftLow, m.scale, tFloat); }
 }  // namespace
 
 double fromFloatParameter(const RayD& ray, double tFloat) { return fromFloat(floatMap(ray, nullptr), tFloat); }
@@ -922,7 +953,7 @@ double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene) {
 }
 
 double fromFloatParameter(const IntersectContext& context, double tFloat) {
-  return context.floatShift + (context.floatShiftLow + context.floatScale * tFloat);
+  return fromFloatParts(context.floatShift, context.floatShiftLow, context.floatScale, tFloat);
 }
 
 RTCRayHit makeRayHit(const RayD& r) { return floatRayHit(r, floatMap(r, nullptr)); }

@@ -1,14 +1,15 @@
 // Packets through the quadric path (issue 5): the float rays of one rtcIntersect4/8/16 or
-// rtcOccluded4/8/16 call, several lanes per instruction (quadric_packet_group.inc), from
-// the world-space ray to the first root of the quadric's restriction. Every lane's result
-// is the scalar path's bit for bit: each value is the same IEEE operations in the same
-// order as objectRay (embree_bridge.cpp), quadricSpan, restrictQuadricRay, quadraticFirst
-// and linearFirst (quadric_path.cpp) and the glm calls they make (dot (x + y) + z, matrix
-// times vector by rows, length = sqrt(dot)); std::max/min/clamp are written with
-// libstdc++'s comparisons so that they agree on signed zeros too. No FMA is formed:
-// neither SSE2 nor the AVX2 target below enables it (AVX2 does not imply FMA), and the one
-// std::fma of the scalar path (Kahan's discriminant) is Dekker's exact product here,
-// equal to it whenever the operands pass quadraticFirst's range checks.
+// rtcOccluded4/8/16 call, 2, 4 or 8 lanes per instruction (SSE2, AVX2, AVX-512: the same
+// group code, quadric_packet_group.inc, for each), from the world-space ray to the first
+// root of the quadric's restriction. Every lane's result is the scalar path's bit for bit:
+// each value is the same IEEE operations in the same order as objectRay
+// (embree_bridge.cpp), quadricSpan, restrictQuadricRay, quadraticFirst and linearFirst
+// (quadric_path.cpp) and the glm calls they make (dot (x + y) + z, matrix times vector by
+// rows, length = sqrt(dot)); std::max/min/clamp are written with libstdc++'s comparisons
+// so that they agree on signed zeros too. No FMA is formed: none of the targets below
+// enables it (AVX2 and AVX-512 do not imply FMA), and the one std::fma of the scalar path
+// (Kahan's discriminant) is Dekker's exact product here, equal to it whenever the operands
+// pass quadraticFirst's range checks.
 // What the lanes do not decide exactly - a sample within noise, a ray tangent at or
 // leaving from the surface twice, a root needing the library's fallback, rays the tight
 // box does not cover, non-finite input - is marked kScalar, and the bridge runs that
@@ -82,16 +83,47 @@ inline VI signMask(VD a) {
 }  // namespace avx2
 #pragma GCC pop_options
 
-// ALGRAY_PACKET_ISA=sse2 keeps the SSE2 lanes on an AVX2 machine: the tests run both
-// (tests/CMakeLists.txt), and speed runs can compare them.
-bool hasAvx2() {
-  static const bool has = [] {
-    const char* isa = std::getenv("ALGRAY_PACKET_ISA");
-    if (isa && std::string_view(isa) == "sse2") return false;
+// ---- AVX-512 (F and DQ): eight lanes per register, for packets of five or more lanes -------
+// An 8-ray packet in one group instead of two: the sphere's 8-ray shadow packets 1.09x as
+// fast as with AVX2, primary packets within noise (three interleaved runs of 512 x 512
+// rays, ALGRAY_PACKET_ISA=avx2 against the default). AVX-512 implies no FMA either.
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512dq")
+namespace avx512 {
+constexpr unsigned kW = 8;
+typedef double VD __attribute__((vector_size(64)));
+typedef std::int64_t VI __attribute__((vector_size(64)));
+inline VD splat(double x) { return _mm512_set1_pd(x); }
+inline VD load(const double* p) { return _mm512_loadu_pd(p); }
+inline void store(double* p, VD v) { _mm512_storeu_pd(p, v); }
+inline VI mask(__mmask8 m) { return (VI)_mm512_movm_epi64(m); }
+inline VI lt(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_LT_OQ)); }
+inline VI le(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_LE_OQ)); }
+inline VI eq(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ)); }
+inline VI ne(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ)); }
+// (The masked forms with every lane set: GCC 12's unmasked ones read an undefined source
+// register that -Wuninitialized flags.)
+inline VD vsqrt(VD a) { return _mm512_mask_sqrt_pd(a, 0xff, a); }
+inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm512_movepi64_mask((__m512i)m)); }
+inline VI signMask(VD a) { return (VI)_mm512_mask_srai_epi64((__m512i)a, 0xff, (__m512i)a, 63); }
+#include "quadric_packet_group.inc"
+}  // namespace avx512
+#pragma GCC pop_options
+
+// The widest lanes the CPU has. ALGRAY_PACKET_ISA=sse2 or avx2 keeps narrower ones on a
+// wider machine: the tests run each (tests/CMakeLists.txt), and speed runs can compare.
+enum class PacketIsa { Sse2, Avx2, Avx512 };
+PacketIsa packetIsa() {
+  static const PacketIsa isa = [] {
+    const char* env = std::getenv("ALGRAY_PACKET_ISA");
+    const std::string_view want = env ? env : "";
     __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") != 0;
+    if (want == "sse2" || !__builtin_cpu_supports("avx2")) return PacketIsa::Sse2;
+    if (want == "avx2" || !__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("avx512dq"))
+      return PacketIsa::Avx2;
+    return PacketIsa::Avx512;
   }();
-  return has;
+  return isa;
 }
 
 }  // namespace
@@ -128,8 +160,11 @@ void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
   // Pad to whole vectors with copies of the first lane (computed, never read); a last
   // lane alone in its vector is cheaper by the scalar path (measured: three active lanes
   // of an 8-ray packet with SSE2, 0.96x of the lane loop when padded to four).
-  const bool wide = hasAvx2();
-  const unsigned width = wide ? avx2::kW : sse2::kW, full = p.count / width * width;
+  const PacketIsa isa = packetIsa();
+  // Eight lanes when there are more than four (a 4-ray packet, or a half-empty 8-ray one,
+  // pads less in AVX2's four).
+  const bool wide = isa != PacketIsa::Sse2, widest = isa == PacketIsa::Avx512 && p.count > avx2::kW;
+  const unsigned width = widest ? avx512::kW : wide ? avx2::kW : sse2::kW, full = p.count / width * width;
   const unsigned end = p.count - full > 1 ? full + width : full;
   if (end < p.count) p.status[full] = QuadricPacket::kScalar;
   for (unsigned i = p.count; i < end; ++i) {
@@ -142,7 +177,9 @@ void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept {
     p.tnear[i] = p.tnear[0];
     p.tfar[i] = p.tfar[0];
   }
-  if (wide)
+  if (widest)
+    avx512::quadricLanes(data, sphere, invNorm, lenB, p, end);
+  else if (wide)
     avx2::quadricLanes(data, sphere, invNorm, lenB, p, end);
   else
     sse2::quadricLanes(data, sphere, invNorm, lenB, p, end);

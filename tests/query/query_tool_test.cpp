@@ -253,6 +253,234 @@ TEST_F(QueryTool, FarOriginsThroughTheCentreHit) {
   }
 }
 
+// (x + 1)^N - 1 = 0 is the planes x = 0 and (even N) x = -2. Seen along -x from x = 3
+// the first root is x = 0, t = 3 (simple, slope N). At degree 33-40 the ray polynomial's
+// noise bound exceeds |g| near the far end of the clip span, and the solver reported the
+// span's far end (t = 4.5 in the clip sphere of radius 1.5, where f = 0.5^N - 1) instead.
+TEST_F(QueryTool, HighDegreeRootBeforeANoiseLevelSpanEnd) {
+  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n3,0,0,-1,0,0,0,inf\n"
+                                          "3,0.3,-0.2,-1,0,0,0,inf\n3,0,0,-2,0,0,0,inf\n");
+  for (const int n : {33, 35, 40})
+    for (const char* radius : {"1.5", "2"}) {
+      const RunResult r = run("--surface \"(x+1)^" + std::to_string(n) + " - 1\" --clip-sphere " + radius + " " +
+                              common(rays));
+      ASSERT_EQ(r.exitCode, 0) << r.err;
+      ASSERT_EQ(r.rows.size(), 3u);
+      for (size_t i = 0; i < 3; ++i) {
+        const std::string what = "N = " + std::to_string(n) + ", R = " + radius + ", ray " + std::to_string(i);
+        ASSERT_EQ(r.rows[i][0], 1.0) << what;
+        EXPECT_NEAR(r.rows[i][1], i == 2 ? 1.5 : 3.0, 1e-12) << what;
+        EXPECT_NEAR(r.rows[i][2], 1.0, 1e-12) << what;  // grad = N (x + 1)^(N-1) e_x
+      }
+    }
+}
+
+// Chmutov's surface T16(x) + T16(y) + T16(z) + 1 = 0 (as the gallery writes it: Chebyshev
+// polynomials expanded, coefficients up to 2^18 that cancel to O(1) on the surface) in an
+// off-centre clip box. Its ray polynomials were expanded about the ray's point closest to
+// the box centre (-2.05, 0.24, -0.41), where the expansion's terms are ~1e8 times the
+// values near the surface: hits 2e-3 box radii off, normals 15-50 degrees off, on 4 of 349
+// well-conditioned rays of a random sweep (those 4 first, then random rays). Reference:
+// the closed form T16(x) = cos(16 acos x) (cosh(16 acosh |x|) beyond 1) along the ray in
+// long double, first sign change on a grid of the span refined by bisection.
+TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
+  const double lo[3] = {-3.35498, -1.40295, -1.52329}, hi[3] = {-0.739214, 1.88969, 0.696178};
+  const char* clip = "-3.35498,-1.40295,-1.52329,-0.739214,1.88969,0.696178";
+  const double coeff[9] = {1, -128, 2688, -21504, 84480, -180224, 212992, -131072, 32768};  // T16, x^0..x^16
+  std::string equation = "1";
+  for (const char* v : {"x", "y", "z"})
+    for (int k = 0; k <= 8; ++k) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " %+.17g*%s^%d", coeff[k], v, 2 * k);
+      equation += buf;
+    }
+  auto t16 = [](long double x) {
+    const long double a = std::fabs(x);
+    return a <= 1 ? std::cos(16 * std::acos(x)) : std::cosh(16 * std::acosh(a));
+  };
+  struct Ray {
+    double o[3], d[3], tfar;
+  };
+  std::vector<Ray> rays = {
+      {{-18048288286.445034, -6138698963.579716, -10563861332.92758}, {3.0639524684143566, 1.0421310623559232, 1.793365027028933}, INFINITY},
+      {{21.49556168133346, -3.024148533112233, 2.236600898192007}, {-99197915.22836436, 9192474.250292402, -8675945.568291007}, INFINITY},
+      {{2.0957740088781334, 0.960279507817646, 1.895940248754072}, {-0.9120652048647508, -0.00770854294913458, -0.40997273133785544}, 4.550325688126394},
+      {{-6.802067887332539, 0.6572435832399665, 0.26129159927737333}, {1e-08, 0.0, 0.0}, INFINITY}};
+  std::mt19937_64 rng(176);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal;
+  while (rays.size() < 300) {
+    Ray r{};
+    double n = 0, target[3];
+    for (int a = 0; a < 3; ++a) target[a] = lo[a] + unit(rng) * (hi[a] - lo[a]), r.d[a] = normal(rng), n += r.d[a] * r.d[a];
+    for (int a = 0; a < 3; ++a) r.o[a] = target[a] - 6.0 * r.d[a] / std::sqrt(n);
+    for (int a = 0; a < 3; ++a) r.d[a] = target[a] - r.o[a];
+    r.tfar = INFINITY;
+    rays.push_back(r);
+  }
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  for (const Ray& r : rays) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,%.17g\n", r.o[0], r.o[1], r.o[2], r.d[0],
+                  r.d[1], r.d[2], r.tfar);
+    csv += buf;
+  }
+  const RunResult out = run("--surface \"" + equation + "\" --clip-box " + clip + " " + common(write("rays.csv", csv)));
+  ASSERT_EQ(out.exitCode, 0) << out.err;
+  ASSERT_EQ(out.rows.size(), rays.size());
+  double boxRadius = 0;
+  for (int a = 0; a < 3; ++a) boxRadius += 0.25 * (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  boxRadius = std::sqrt(boxRadius);
+  int checked = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray& r = rays[i];
+    long double t0 = 0, t1 = r.tfar;  // the slab span
+    for (int a = 0; a < 3; ++a) {
+      if (r.d[a] == 0) continue;
+      long double ta = ((long double)lo[a] - r.o[a]) / r.d[a], tb = ((long double)hi[a] - r.o[a]) / r.d[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    }
+    auto f = [&](long double t) {
+      long double s = 1;
+      for (int a = 0; a < 3; ++a) s += t16(r.o[a] + t * r.d[a]);
+      return s;
+    };
+    if (!(t0 < t1)) continue;
+    // First sign change on the grid; rays with a near-tangency before it (a grid value
+    // within 1e-3 of 0 without a sign change) or a root near a span end are skipped.
+    const int steps = 20000;
+    long double a = t0, fa = f(a), tRef = -1;
+    bool doubtful = std::fabs(fa) < 1e-3;
+    for (int k = 1; k <= steps && tRef < 0 && !doubtful; ++k) {
+      long double b = t0 + (t1 - t0) * k / steps;
+      const long double fb = f(b);
+      if ((fa < 0) != (fb < 0)) {
+        for (int it = 0; it < 100; ++it) {
+          const long double m = (a + b) / 2, fm = f(m);
+          ((fm < 0) == (fa < 0) ? a : b) = m;
+        }
+        tRef = (a + b) / 2;
+        doubtful = k == steps;
+      } else if (std::fabs(fb) < 1e-3) {
+        doubtful = true;
+      }
+      a = b, fa = fb;
+    }
+    if (doubtful) continue;
+    const double dLen = std::sqrt(r.d[0] * r.d[0] + r.d[1] * r.d[1] + r.d[2] * r.d[2]);
+    ++checked;
+    ASSERT_EQ(out.rows[i][0], tRef >= 0 ? 1.0 : 0.0) << "ray " << i;
+    if (tRef < 0) continue;
+    EXPECT_NEAR(out.rows[i][1], (double)tRef, 1e-9 * boxRadius / dLen + 1e-15 * (double)tRef) << "ray " << i;
+  }
+  EXPECT_GT(checked, 200);
+}
+
+// Directions whose length overflows double (components near 1e308 on two or three axes):
+// the float proxy's map divided by |d| = inf and refused the ray, so it missed in the
+// double channel although its origin o = -d is finite and the line crosses the centre of
+// the unit sphere at t = 1; the hit is at t = 1 - 1 / |d|, which rounds to 1. The float
+// channel missed them too until its map measured the moves in the parameter of d scaled
+// by a power of two instead of arc lengths from o, which overflowed
+// (EmbreeHits.DirectionsAndOriginsNear1e308HitTheEntry).
+TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInBothChannels) {
+  const double d[][3] = {{1.7e308, 1.7e308, 1.7e308}, {1.7e308, -1.7e308, 0}, {1e308, 1.5e308, -1.2e308},
+                         {-1.79e308, 1.79e308, 1e300}};
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  for (const auto& v : d) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", -v[0], -v[1], -v[2], v[0], v[1],
+                  v[2]);
+    csv += buf;
+  }
+  const fs::path rays = write("rays.csv", csv);
+  for (const std::string mode : {"", " --float"}) {
+    const RunResult r = run("--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 " + common(rays) + mode);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(r.rows.size(), std::size(d));
+    for (size_t i = 0; i < std::size(d); ++i) {
+      ASSERT_EQ(r.rows[i][0], 1.0) << "ray " << i << mode;
+      EXPECT_EQ(r.rows[i][1], 1.0) << "ray " << i << mode;
+      // The normal at the entry point is -d / |d|, with d scaled first.
+      const double m = std::max({std::abs(d[i][0]), std::abs(d[i][1]), std::abs(d[i][2])});
+      const double u[3] = {d[i][0] / m, d[i][1] / m, d[i][2] / m};
+      const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+      const double tol = mode.empty() ? 1e-12 : 1e-6;  // the float channel's Ng is float
+      for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, tol) << "ray " << i << mode;
+    }
+  }
+}
+
+// As above, from hit points of rays that started 5-20 clip radii away, on a thin
+// cylinder and a sphere: their o + t d is off the surface by up to gamma(3) (|o| + |t d|),
+// 40 ulps of the point, and with no column for that in IN.csv such rays found their own
+// origin (t = 2.5e-15 and 1.2e-13 leaving x^2 + y^2 = 0.140001, seen from 10 radii).
+// Rays into the solid must reach its far wall (closed form, long double).
+TEST_F(QueryTool, HitPointsOfRaysFromFarAwayDoNotHitThemselves) {
+  struct Case {
+    const char* surface;
+    bool sphere;  // x^2 + y^2 + z^2 = c, else x^2 + y^2 = c
+    double c;
+  };
+  for (const Case& k : {Case{"(x^2+y^2-0.14) - 1e-6", false, 0.14 + 1e-6}, Case{"x^2+y^2+z^2 - 0.3", true, 0.3}}) {
+    std::mt19937_64 rng(84);
+    std::normal_distribution<double> normal;
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), dist(10.0, 40.0);
+    std::vector<std::array<double, 6>> rays = {
+        {-19.843460565145342, -1.250984248354485, 1.1583122124118925, 0.996245764170719, 0.07760926223297725,
+         -0.038355961564706484}};
+    std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+    while (rays.size() < 300) {
+      double u[3], n = 0, target[3];
+      for (int a = 0; a < 3; ++a) u[a] = normal(rng), n += u[a] * u[a], target[a] = 0.4 * unit(rng);
+      const double r = dist(rng) / std::sqrt(n);
+      rays.push_back({target[0] + r * u[0], target[1] + r * u[1], target[2] + r * u[2], -u[0], -u[1], -u[2]});
+    }
+    char buf[512];
+    for (const auto& ray : rays) {
+      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", ray[0], ray[1], ray[2], ray[3],
+                    ray[4], ray[5]);
+      csv += buf;
+    }
+    const std::string surface = std::string("--surface \"") + k.surface + "\" --clip-sphere 2 ";
+    const RunResult first = run(surface + common(write("rays.csv", csv)));
+    ASSERT_EQ(first.exitCode, 0) << first.err;
+    std::string second = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+    std::vector<std::array<double, 6>> leaving;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (first.rows[i][0] != 1.0) continue;
+      const double t = first.rows[i][1];
+      const auto& r = rays[i];
+      const double p[3] = {r[0] + t * r[3], r[1] + t * r[4], r[2] + t * r[5]};
+      for (double sign : {-1.0, 1.0}) {  // into the solid and away from it, along the normal
+        leaving.push_back({p[0], p[1], p[2], sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]});
+        const auto& l = leaving.back();
+        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", l[0], l[1], l[2], l[3], l[4], l[5]);
+        second += buf;
+      }
+    }
+    ASSERT_GT(leaving.size(), 100u) << k.surface;
+    const RunResult r = run(surface + common(write("second.csv", second)));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(r.rows.size(), leaving.size());
+    for (size_t i = 0; i < leaving.size(); ++i) {
+      const auto& l = leaving[i];
+      if (r.rows[i][0] == 1.0) {
+        EXPECT_GT(r.rows[i][1], 1e-3) << k.surface << ": ray " << i << " found its own origin";
+      }
+      if (i % 2 != 0) continue;
+      // Into the solid: the far root of the quadric along the ray (the larger one).
+      const int axes = k.sphere ? 3 : 2;
+      long double a = 0, b = 0, c = -(long double)k.c;
+      for (int j = 0; j < axes; ++j) a += (long double)l[3 + j] * l[3 + j], b += 2.0L * l[j] * l[3 + j], c += (long double)l[j] * l[j];
+      const long double far = (-b + std::sqrt(b * b - 4 * a * c)) / (2 * a);
+      ASSERT_EQ(r.rows[i][0], 1.0) << k.surface << ": ray " << i;
+      EXPECT_NEAR(r.rows[i][1], (double)far, 1e-12) << k.surface << ": ray " << i;
+    }
+  }
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");

@@ -32,6 +32,16 @@ TEST(Display, SrgbAndClampClosedForms) {
   EXPECT_EQ(toDisplay(glm::dvec3(0.0), 0.0, ToneMap::Aces).r, 0.0);
   // Non-finite input does not leak into the file.
   EXPECT_EQ(toDisplay(glm::dvec3(NAN), 0.0, ToneMap::Aces).r, 0.0);
+  // An exposure whose 2^EV overflows saturates a lit pixel and keeps a black one black
+  // (--exposure 1e308 turned every pixel black).
+  for (const ToneMap map : {ToneMap::Aces, ToneMap::Clamp}) {
+    EXPECT_EQ(toDisplay(glm::dvec3(0.5), 1e308, map).r, 1.0);
+    EXPECT_EQ(toDisplay(glm::dvec3(INFINITY), 0.0, map).r, 1.0);
+    EXPECT_EQ(toDisplay(glm::dvec3(0.0), 1e308, map).r, 0.0);
+    EXPECT_EQ(toDisplayByte(0.5, 1e308, map), 255);
+    EXPECT_EQ(toDisplayByte(0.0, 1e308, map), 0);
+    EXPECT_EQ(toDisplayByte(0.5, -1e308, map), 0);
+  }
 }
 
 TEST(Display, ByteIsRoundedDisplayValue) {

@@ -236,6 +236,24 @@ TEST(SceneJson, DuplicateKeysAreErrors) {
   EXPECT_EQ(errorOf(R"({"render": {"width": 8, "w\u0069dth": 9}})").column(), 25);
 }
 
+// 100000 nested '[' (or objects) overflowed the stack in nlohmann's parser and value
+// destructor and in the position scanner (SIGSEGV); now an error at the bracket that
+// goes one level too deep. Brackets inside strings do not count.
+TEST(SceneJson, DeepNestingIsAnErrorNotACrash) {
+  for (const std::string& open : {std::string("["), std::string("{\"a\":")}) {
+    std::string text = "\n";
+    for (int i = 0; i < 100000; ++i) text += open;
+    text += "1" + std::string(100000, open == "[" ? ']' : '}');
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.line(), 2) << open;
+    EXPECT_EQ(e.column(), 1 + 64 * static_cast<int>(open.size())) << open;
+    EXPECT_NE(e.message().find("nesting deeper than 64"), std::string::npos) << e.what();
+  }
+  const std::string brackets(1000, '[');
+  EXPECT_NO_THROW(loadSceneText("{\"description\": \"" + brackets + "\", \"surfaces\": [{\"gallery\": \"torus\"}]}",
+                                "t.json", "."));
+}
+
 TEST(SceneJson, DirectoryIsNotASceneFile) {
   try {
     loadSceneFile(std::filesystem::temp_directory_path());
