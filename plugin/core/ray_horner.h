@@ -115,37 +115,37 @@ inline double boundOrInfinity(double e) { return e < HUGE_VAL ? e : HUGE_VAL; }
 
 // The floor of the direct restriction of a degree-m f (absSum = sum |c| over its
 // coefficients) about p along d: what taylor.cpp's "Underflow" adds to the relative bound
-// of coefficient r is at(r), w_m C(m, r) 2^(a (m - r) + b r - 1022) with 2^a > P, 2^b > D,
-// the power of two formed from its exponent bits. Computed inside the caller's loop over
-// the coefficients: kept in an array, its 8-byte stores fed the 16-byte loads of that
-// vectorised loop and stalled store forwarding (perf, the sphere's restriction). Rare
-// inputs (a power beyond double's range, or a large sum|c| with a subnormal component)
-// take the general form, precomputed.
+// of coefficient r is at(r) >= w_m C(m, r) 2^(a (m - r) + b r - 1022) with 2^a > P,
+// 2^b > D. Usually as w_m C(m, r) 2^(max(a, b) m - 1022), a table row times one power of
+// two (an upper bound of each term: the coefficients' loop stays one multiply-add per
+// coefficient and vectorises; the exact powers per r cost the gallery's restrictions 5-7
+// ns each, BM_GalleryDirect). That is at most 2^(|a - b| m) times the exact floor, so it
+// is taken while that factor is at most 2^64 or the floor itself at most 2^-800; beyond
+// (a far point along a tiny direction, a power beyond double's range, or a large sum|c|
+// with a subnormal component) the exact form is precomputed.
 struct UnderflowFloor {
   const double* weight;
-  std::int64_t bits0, step;  // 2^e0 as bits, and e's step per r shifted into place
-  double at(int r) const { return weight[r] * std::bit_cast<double>(bits0 + r * step); }
-  double general[kMaxDegree + 1];  // the rare inputs' floors (then 2^e0 = 1, step 0)
+  double scale;
+  double at(int r) const { return weight[r] * scale; }
+  double general[kMaxDegree + 1];  // the rare inputs' floors (then scale = 1)
 };
 inline void initUnderflowFloor(UnderflowFloor& f, int m, const glm::dvec3& p, const glm::dvec3& d,
                                double absSum) {
   const double pm = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   const double dm = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
   const int a = ceilExponent(pm), b = ceilExponent(dm);
+  const int top = std::max(a, b) * m, spread = std::abs(a - b) * m;
   f.weight = kFloorWeight[m].data();
-  // e = a (m - r) + b r - 1022 lies in [-1022, 1023] when max(a, b) m <= 2045.
-  f.bits0 = static_cast<std::int64_t>(a * m + 1) << 52;  // a m - 1022 + 1023
-  f.step = static_cast<std::int64_t>(b - a) << 52;
+  f.scale = pow2(top - 1022);
   const bool subnormal = absSum > kFloorAbsSumLimit[m] && (hasSubnormal(p) || hasSubnormal(d));
-  if (std::max(a, b) * m <= 2045 && !subnormal) [[likely]]
+  if ((spread <= 64 || top <= 222) && top <= 2045 && !subnormal) [[likely]]
     return;
   // NaN components (max drops them) leave NaN magnitudes, which the bound maps to inf.
   const double extra = subnormal ? 1.0 + 2.0 * m * absSum / kFloorWeight[m][0] : 1.0;
   for (int r = 0; r <= m; ++r)
     f.general[r] = kFloorWeight[m][r] * extra * pow2(a * (m - r) + b * r - 1022);
   f.weight = f.general;
-  f.bits0 = static_cast<std::int64_t>(1023) << 52;
-  f.step = 0;
+  f.scale = 1.0;
 }
 
 }  // namespace algray::ray_horner
