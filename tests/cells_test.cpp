@@ -537,6 +537,9 @@ TEST(CellsTest, RejectsNonFiniteInput) {
   bad.setCoeff(0, 0, 0, NAN);
   EXPECT_THROW(buildCells(bad, kLo, kHi), Error);
   EXPECT_THROW(buildCells(f, kLo, kHi, std::nullopt, {.depth = 2, .maxCells = 0}), Error);
+  // -1 is the automatic depth; -7 was silently taken for it.
+  EXPECT_THROW(buildCells(f, kLo, kHi, std::nullopt, {.depth = -7}), Error);
+  EXPECT_NO_THROW(buildCells(f, kLo, kHi, std::nullopt, {.depth = -1}));
 }
 
 // ---- Cells: tightness and budgets --------------------------------------------------------

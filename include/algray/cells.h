@@ -73,7 +73,7 @@ struct CellStats {
 // Cells (in the polynomial's own coordinates) covering every point of {f = 0} inside the
 // clip box [lo, hi] and, if given, inside the sphere as well (cells wholly outside it are
 // dropped). An empty box (lo > hi on some axis) or a negative radius gives no cells.
-// Throws Error for non-finite coefficients, bounds or radius, or maxCells < 1.
+// Throws Error for non-finite coefficients, bounds or radius, maxCells < 1 or depth < -1.
 std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
                              const std::optional<CellSphere>& sphere = std::nullopt,
                              const CellOptions& options = {}, CellStats* stats = nullptr);

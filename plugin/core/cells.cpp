@@ -276,6 +276,10 @@ void validate(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
   }
   if (options.maxCells < 1)
     throw Error("buildCells: maxCells must be >= 1, got " + std::to_string(options.maxCells));
+  // -1 asks for the automatic depth; another negative value is a mistake, not a request
+  // for it (SurfaceOptions::cellDepth refuses it too).
+  if (options.depth < -1)
+    throw Error("buildCells: depth must be -1 (automatic) or >= 0, got " + std::to_string(options.depth));
 }
 
 // ---- Skipping a build that cannot pay ----------------------------------------------------
