@@ -8,6 +8,7 @@
 #include "algray/gallery.h"
 #include "algray/parser.h"
 #include "algray/range_bound.h"
+#include "support/scales.h"
 
 #include <gtest/gtest.h>
 #include <mpfr.h>
@@ -747,13 +748,7 @@ TEST(ClipRayTest, SubnormalDirectionComponentIsNotZero) {
     const glm::dvec3 o(-d.x * tx, -5.0 + (u(rng) - 0.5), u(rng) - 0.5);
     if (o.x == 0.0 || d.x == 0.0) continue;  // rounded away: nothing to cross
     long double t0 = 0.0L, t1 = 10.0L;
-    for (int a = 0; a < 3; ++a) {
-      if (d[a] == 0.0) continue;  // inside the z slab by construction
-      long double ta = ((long double)lo[a] - o[a]) / d[a], tb = ((long double)hi[a] - o[a]) / d[a];
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-    }
+    test::slabSpan(o, d, lo, hi, t0, t1);  // d.z = 0: inside the z slab by construction
     const auto s = clipRayToBox(o, d, lo, hi, 0.0, 10.0);
     const long double margin = 1e-12L * (std::abs(t0) + std::abs(t1));
     if (t0 > t1 + margin) {

@@ -2,6 +2,7 @@
 // closed forms and brute-force references computed independently of the library.
 #include "embree_test_util.h"
 #include "../plugin/embree/surface_data.h"
+#include "support/scales.h"
 
 #include <gtest/gtest.h>
 
@@ -617,13 +618,7 @@ TEST(AdapterClip, SubnormalDirectionComponentIsNotZero) {
     if (trial == 1) o = {2e-310, -5.0, 0.5}, d = {-1e-310, 1.0, 0.0};  // leaves at t = 2
     if (o.x == 0.0 || d.x == 0.0) continue;
     long double t0 = 0.0L, t1 = 10.0L;
-    for (int a = 0; a < 3; ++a) {
-      if (d[a] == 0.0) continue;  // inside the z slab by construction
-      long double ta = ((long double)lo[a] - o[a]) / d[a], tb = ((long double)hi[a] - o[a]) / d[a];
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-    }
+    test::slabSpan(o, d, lo, hi, t0, t1);  // d.z = 0: inside the z slab by construction
     const long double margin = 1e-12L * (std::abs(t0) + std::abs(t1));
     for (const bool widen : {false, true}) {
       double s0 = 0.0, s1 = 10.0;

@@ -18,6 +18,7 @@
 
 #include "algray/gallery.h"
 #include "support/mp.h"
+#include "support/scales.h"
 
 namespace algray {
 namespace {
@@ -251,9 +252,7 @@ TEST(HornerForm, BoundsHoldUnderFlushToZero) {
 #if defined(__SSE__)
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  auto signedPow10 = [&](double lo, double hi) {
-    return (u(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, lo + (hi - lo) * u(rng));
-  };
+  auto signedPow10 = [&](double lo, double hi) { return test::signedPow10(rng, lo, hi); };
   int bad = 0;
   std::string first;
   for (int trial = 0; trial < 1500; ++trial) {

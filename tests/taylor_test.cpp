@@ -21,6 +21,7 @@
 #include "algray/gallery.h"
 #include "support/box_reference.h"
 #include "support/mp.h"
+#include "support/scales.h"
 
 namespace algray {
 namespace {
@@ -320,9 +321,7 @@ int boundViolations(const RayPolynomial& g, const Polynomial& f, const glm::dvec
 TEST(Taylor, BoundsHoldWhereProductsUnderflow) {
   std::mt19937_64 rng(4242);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  auto signedPow10 = [&](double lo, double hi) {
-    return (u(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, lo + (hi - lo) * u(rng));
-  };
+  auto signedPow10 = [&](double lo, double hi) { return test::signedPow10(rng, lo, hi); };
   int checked = 0;
   for (int trial = 0; trial < 400; ++trial) {
     const int m = 1 + trial % 6;
@@ -385,9 +384,7 @@ TEST(Taylor, BoundsHoldWhereProductsUnderflow) {
 TEST(Taylor, EvaluateWithBoundHoldsWhereProductsUnderflow) {
   std::mt19937_64 rng(31);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  auto signedPow10 = [&](double lo, double hi) {
-    return (u(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, lo + (hi - lo) * u(rng));
-  };
+  auto signedPow10 = [&](double lo, double hi) { return test::signedPow10(rng, lo, hi); };
   int bad = 0;
   std::string first;
   for (int trial = 0; trial < 3000; ++trial) {
