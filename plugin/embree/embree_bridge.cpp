@@ -802,35 +802,30 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
   // origin too. With the float tnear clamped to 0 a first hit behind the origin in
   // another cell was lost (a torus in 256 cells, tnear = -3 radii: 15 of 500 rays).
   const bool behind = r.tnear < 0.0;
+  const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
   if (!big && !far && !behind) {
-    const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
     if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
     return m;
   }
-  // |d| = 2^k len: k > 0 only where |d| itself overflows (components of 1e308 on two or
-  // three axes: such rays were refused as having no length, and missed in both channels).
-  // Arc lengths along u are 2^k len times the ray's t.
-  const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
-  const int k = std::isfinite(md) && !std::isfinite(safeLength(r.dir)) ? std::ilogb(md) : 0;
-  const glm::dvec3 dirK(std::ldexp(r.dir.x, -k), std::ldexp(r.dir.y, -k), std::ldexp(r.dir.z, -k));
-  const double len = safeLength(dirK);
+  // The moves are measured and made along dirN = 2^-e d (its largest component in [1, 2):
+  // the same line, exactly) in its parameter tN = 2^e t. |d| itself overflows for
+  // components near 1e308 on two or three axes (such rays were refused as having no
+  // length, and missed in both channels); arc lengths (along d / |d|) overflowed from
+  // origins near 1e308 (a miss in the float channel); and t itself is near 1e-308 where
+  // |d| is near 1e308: subnormal, and 0 in Embree's and TBB's flush-to-zero threads (the
+  // proxy stopped at the sphere's centre and hit the exit). On dirN's largest axis the
+  // entry (box - p) / dirN cannot overflow; an overflow on another axis is an entry beyond
+  // that axis's exit, a miss.
+  const int e = md > 0.0 && std::isfinite(md) ? std::ilogb(md) : 0;
+  const glm::dvec3 dirN(std::ldexp(r.dir.x, -e), std::ldexp(r.dir.y, -e), std::ldexp(r.dir.z, -e));
+  const double lenN = safeLength(dirN);
   // Component by component: the sum of finite components overflows from about 0.6e308
   // (an origin at (-1e308, -1e308, -1e308) was refused as non-finite, its ray missed).
-  if (!(len > 0.0 && std::isfinite(len)) || !finite(r.org)) {
+  if (!(lenN > 0.0 && std::isfinite(lenN)) || !finite(r.org)) {
     m.empty = true;
     return m;
   }
-  m.scale = std::ldexp(kLength / len, -k);
-  // The moves are measured and made along dirN = 2^-e d (its largest component in [1, 2):
-  // the same line, exactly) in its parameter tN = 2^e t. Arc lengths (along d / |d|)
-  // overflowed from origins near 1e308 (their ray missed in the float channel), and t
-  // itself is near 1e-308 where |d| is near 1e308: subnormal, and 0 in Embree's and TBB's
-  // flush-to-zero threads (the proxy stopped at the sphere's centre and hit the exit).
-  // On dirN's largest axis the entry (box - p) / dirN cannot overflow; an overflow on
-  // another axis is an entry beyond that axis's exit, a miss.
-  const int e = std::ilogb(md);
-  const glm::dvec3 dirN(std::ldexp(r.dir.x, -e), std::ldexp(r.dir.y, -e), std::ldexp(r.dir.z, -e));
-  const double lenN = safeLength(dirN);
+  m.scale = std::ldexp(kLength / lenN, -e);  // kLength / |d|, exactly as scaled
   const MoveBox box = moveBox(far || behind ? bounds : nullptr);
   glm::dvec3 p = r.org;
   const double size = std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
