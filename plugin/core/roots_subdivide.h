@@ -6,14 +6,14 @@
 // up to the first root, and a missing ray none. Bernstein coefficients answer the two
 // questions that let most of the interval go without any root finding, in O(n) each:
 //  * exclusion: on a node [va, vb], G(v) is a convex combination of its Bernstein
-//    coefficients b_i, so if all of them exceed the error bound E of their computation
+//    coefficients b_i, so if all of them exceed the error bound (*) of their computation
 //    plus the noise bound of G on the node (roots_detail.h), G has no root and no
 //    tangent candidate there (the same verdict the sweep would reach);
 //  * monotonicity: G' has the Bernstein coefficients n (b_{i+1} - b_i); if all
-//    differences have one sign beyond 2E the node is one monotone piece, and the sweep of
-//    roots_scan.h runs on it with no critical point (Newton on the power form G itself);
-//  * one root: if every b_i clears E plus the noise bound and they change sign exactly once,
-//    the node holds exactly one simple root (Descartes' rule, oneVariation below), and its
+//    differences have one sign beyond their bounds the node is one monotone piece, and the
+//    sweep of roots_scan.h runs on it with no critical point (Newton on the power form G);
+//  * one root: if every b_i clears its bound plus the noise bound and they change sign
+//    exactly once, the node holds exactly one simple root (Descartes' rule, oneVariation below), and its
 //    ends b_0 = G(va), b_n = G(vb) bracket it for the safeguarded Newton of the sweep.
 // Anything else is split by de Casteljau's algorithm, left half first, so the first node
 // with a root ends a First/Any query (Lane and Riesenfeld, "Bounds on a polynomial", BIT
@@ -27,15 +27,32 @@
 // node). A split point where G is within its noise would turn a simple root near it into
 // an end-point root at the split point, so the split moves off such points.
 //
-// Error bound E (absolute, uniform over the nodes; u = unit roundoff, n = degree):
-// the Taylor shift to lo errs by at most gamma(2n) times the shift of |C| by |lo|, the
-// scaling by w^j by gamma(n+1) relative, the change of basis (weights in [0, 1]) by
-// gamma(n+2) sum|a_j| plus the propagated errors; each de Casteljau level, a convex
-// combination with dyadic weights, adds at most 3u max|b| <= 3u A. With A = sum_j of the
-// scaled shift of |C|: E = gamma(4n + 4 + 3 depth) A. The node ends va = lo + w u0 are
-// rounded (the u ends are exact, see below), which moves a node by up to 2u (|v| <= 1) and
-// G by |G'| 2u <= 2n u sum|C_j| |v|^j, less than the noise bound of G at v; so nodes are
-// excluded only beyond E plus twice that noise bound.
+// Error bound, per node and per coefficient (u = unit roundoff, n = degree, D = depth).
+// Let A(v) be the Taylor shift of |C| to |lo| scaled by w (A_j = (shift of |C| by |lo|)_j
+// w^j, all >= 0): a majorant of every term of G(lo + w u). Each Bernstein coefficient is a
+// combination of the a_j with non-negative weights, so |b_i| <= beta_i, the same
+// combination of the A_j, i.e. the Bernstein coefficients of A; de Casteljau's convex
+// combinations keep that on every node. The rounding of b_i then follows the same
+// weights: the shift to lo errs by gamma(2n) A_j, the scaling by w^j by gamma(n+1), the
+// change of basis by gamma(n+2) beta_i, each de Casteljau level by 3u beta_i, so
+//   |computed b_i - exact b_i| <= gamma(4n + 4 + 3 depth) beta_i          (*)
+// on every node, with beta_i split along with b_i (the same arithmetic on non-negative
+// numbers, relative error gamma(4n + 4 + 2 depth), covered by a factor 1 + 2 gamma). Why
+// per coefficient and not one E = gamma(...) A(1) for the whole interval (sessions 2-9):
+// A grows like |C|(|v|) along the interval, by (1.5)^n from one end of a ray's span to the
+// other for roots spread over it, 2e5 at degree 30, so a uniform bound was set by the far
+// end and left the near nodes (where a closest-hit query starts) undecided within a
+// margin far above their rounding. Measured (session 10, roots_report, the uniform and the
+// per-coefficient bound side by side, 400 problems a degree): whole rays of degree 30
+// 21039 -> 8870 ns, 40 46326 -> 30642 ns, cells of degree 30-40 0.89-0.94x; degrees 5-20
+// 0.89-1.15x over two runs (noise); errors, misses and noise-level answers the same to
+// the digit, one miss fewer at degree 40. With it a deeper or longer subdivision still
+// loses above degree 20 (depth 8-12, 64-200 nodes: 1.1-3.8x slower): the undecided nodes
+// there are those where G is within its noise, which only the sweep's critical points
+// settle.
+// The node ends va = lo + w u0 are rounded (the u ends are exact, see below), which moves
+// a node by up to 2u (|v| <= 1) and G by |G'| 2u <= 2n u sum|C_j| |v|^j, less than the noise
+// bound of G at v; so nodes are excluded only beyond (*) plus twice that noise bound.
 #include "roots_detail.h"
 #include "roots_scan.h"
 
@@ -58,7 +75,7 @@ namespace algray::roots_detail {
 template <class T>
 inline constexpr int kSubdivideDepth = 5;
 // Nodes examined before the rest of the interval, from the first node not yet examined
-// to hi, goes to the recursion in one piece: a polynomial whose Bernstein bound E is
+// to hi, goes to the recursion in one piece: a polynomial whose Bernstein bounds are
 // large against its values (high degree, much cancellation, |g| small along much of the
 // span as on Chmutov's surfaces) would otherwise split to the full depth and then run the
 // recursion on every leaf (measured: Chmutov-16 rendered 2x slower than with no
@@ -69,7 +86,6 @@ template <class T>
 struct SubdivideState {
   LocalPoly<T>& g;  // working copy: lo, hi are moved to each node
   T lo, w;          // the root node: v = lo + w u
-  T err;            // E above
   Query q;
   T tol;
   bool closedLo;    // the root node's lo is closed (LocalPoly::closedLo); inner ends are not
@@ -91,46 +107,60 @@ struct InverseBinomials {
 template <class T>
 inline constexpr InverseBinomials<T> kInverseBinomials{};
 
-// Bernstein coefficients of G on [g.lo, g.hi] into b; returns E for depth kSubdivideDepth.
+// A Bernstein coefficient with its error bound (*): one 2-lane vector (GCC/Clang vector
+// extension), so the bound is carried through the shift, the change of basis and every
+// de Casteljau split by the same instructions as the coefficient.
+template <class T>
+struct BernsteinLanes {
+  typedef T type __attribute__((vector_size(2 * sizeof(T))));
+};
+template <class T>
+using BPair = typename BernsteinLanes<T>::type;
+
+// Bernstein coefficients of G on [g.lo, g.hi] into b[i][0], their bounds (*) for depth
+// kSubdivideDepth into b[i][1].
 template <class T, class D>
-T toBernsteinWithBound(const LocalPoly<T>& g, D deg, T* b) {
+void toBernsteinWithBound(const LocalPoly<T>& g, D deg, BPair<T>* b) {
+  using P = BPair<T>;
   const int n = deg;
   const T lo = g.lo, w = g.hi - g.lo;
-  T a[kMaxDegree + 1];
-  copyCoeffs(g.c.data(), n + 1, a);
+  // The shift of (C, |C|) by (lo, |lo|) and the scaling by w^j, as pairs.
+  P a[kMaxDegree + 1];
+  for (int j = 0; j <= n; ++j) a[j] = P{g.c[j], std::abs(g.c[j])};
+  const P shift = {lo, std::abs(lo)};
   for (int k = 0; k < n; ++k)
-    for (int i = n - 1; i >= k; --i) a[i] += lo * a[i + 1];
+    for (int i = n - 1; i >= k; --i) a[i] += shift * a[i + 1];
   T p = 1;
   for (int j = 0; j <= n; ++j, p *= w) a[j] *= p;
-  // A = sum_j (shift of |C| by |lo|)_j w^j is |C| evaluated at |lo| + w: one Horner pass
-  // instead of a second shift. Rounded up: |lo| + w by 2u, the Horner sum of non-negative
-  // terms (at most 2n roundings each) by gamma(2n + 2).
-  const T x = (std::abs(lo) + w) * (1 + 2 * kUnit<T>);
-  T sumA = 0;
-  for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
-  sumA *= 1 + gammaT<T>(2 * n + 2);
   // b_i = sum_{j <= i} C(i, j) a_j / C(n, j): divide by C(n, j) (a table of reciprocals,
   // two roundings), then n passes of b_i += b_{i-1} (i from n down to k in pass k) form
   // the binomial sums with additions only (Pascal's rule), each of which rounds relative
-  // to a partial sum of |a_j| / C(n, j) C(i, j) <= sum_j |a_j|.
+  // to a partial sum of |a_j| / C(n, j) C(i, j) <= beta_i.
   const T* inv = kInverseBinomials<T>.row(n);
   for (int j = 0; j <= n; ++j) b[j] = a[j] * inv[j];
   for (int k = 1; k <= n; ++k) {
-    T cur = b[n];  // carried in a register (see splitBernstein)
+    P cur = b[n];  // carried in a register (see splitBernstein)
     for (int i = n; i >= k; --i) {
-      const T below = b[i - 1];
+      const P below = b[i - 1];
       b[i] = cur + below;
       cur = below;
     }
   }
-  return gammaT<T>(4 * n + 4 + 3 * kSubdivideDepth<T>) * sumA;
+  // beta_i -> the bound (*) at the depth cap: gamma(4n + 6 + 3D), two more roundings
+  // than (*) for the node tests' own subtractions, times 1 + 2 gamma(4n + 4 + 2D) for the
+  // rounding of beta itself (computed above and in the splits from non-negative terms).
+  constexpr int kD = kSubdivideDepth<T>;
+  const T scale = gammaT<T>(4 * n + 6 + 3 * kD) * (1 + 2 * gammaT<T>(4 * n + 4 + 2 * kD));
+  for (int j = 0; j <= n; ++j) b[j][1] *= scale;
 }
 
-// de Casteljau at the dyadic ratio t: left into l, right into r (may alias b).
+// de Casteljau at the dyadic ratio t on coefficient and bound alike: left into l, right
+// into r (may alias b).
 template <class T, class D>
-void splitBernstein(const T* b, D deg, T t, T* l, T* r) {
+void splitBernstein(const BPair<T>* b, D deg, T t, BPair<T>* l, BPair<T>* r) {
+  using P = BPair<T>;
   const int n = deg;
-  T x[kMaxDegree + 1];
+  P x[kMaxDegree + 1];
   std::copy(b, b + n + 1, x);
   const T s = 1 - t;  // exact for the dyadic ratios used
   l[0] = x[0];
@@ -139,9 +169,9 @@ void splitBernstein(const T* b, D deg, T t, T* l, T* r) {
   // with 16-byte loads straddling two earlier 16-byte stores, a store-forwarding stall
   // that was a third of a degree-12 solve (perf).
   for (int k = 1; k <= n; ++k) {
-    T next = x[n - k + 1];
+    P next = x[n - k + 1];
     for (int i = n - k; i >= 0; --i) {
-      const T cur = x[i];
+      const P cur = x[i];
       x[i] = s * cur + t * next;
       next = cur;
     }
@@ -163,55 +193,63 @@ void splitBernstein(const T* b, D deg, T t, T* l, T* r) {
 // root 4-12 % slower), the midpoint split as sums scaled once (no gain: not the
 // bottleneck).
 
-// Whether every b_i is beyond m on one side.
+// Every test below compares computed values with a computed margin; a difference of
+// two computed numbers rounds to a value of the same sign, so "x - m > 0" decides x > m
+// exactly, and the margins carry the bound (*) with the roundings of their own sums.
+// m is the noise margin (twice G's noise bound on the node), inflated by 4u so that a
+// rounded b_i - e_i beyond it puts the exact one beyond the noise bound.
+
+// Whether every b_i is beyond its bound plus m on one side.
 template <class T, class D>
-bool oneSign(const T* b, D deg, T m) {
+bool oneSign(const BPair<T>* b, D deg, T m) {
   const int n = deg;
-  T lo = b[0], hi = b[0];
+  T lo = b[0][0] - b[0][1], hi = b[0][0] + b[0][1];
   for (int i = 1; i <= n; ++i) {
-    lo = std::min(lo, b[i]);
-    hi = std::max(hi, b[i]);
+    lo = std::min(lo, b[i][0] - b[i][1]);
+    hi = std::max(hi, b[i][0] + b[i][1]);
   }
   return (lo > m) | (hi < -m);
 }
 
 // Descartes' rule of signs in the Bernstein basis (Lane and Riesenfeld 1981): the number
 // of roots of G in the open node is at most the number of sign variations of b and of
-// the same parity. With every |b_i| beyond m the signs are those of the exact
-// coefficients, so one variation means exactly one root, a simple one, and opposite signs
-// at the node's ends: a bracket for the safeguarded Newton, without the monotonicity the
-// derivative's test asks for (which oscillating polynomials, Chebyshev-like ones as on
-// Chmutov's surfaces, reach only after many more splits).
+// the same parity. With every |b_i| beyond its bound plus m the signs are those of the
+// exact coefficients, so one variation means exactly one root, a simple one, and opposite
+// signs at the node's ends: a bracket for the safeguarded Newton, without the
+// monotonicity the derivative's test asks for (which oscillating polynomials,
+// Chebyshev-like ones as on Chmutov's surfaces, reach only after many more splits).
 template <class T, class D>
-bool oneVariation(const T* b, D deg, T m) {
+bool oneVariation(const BPair<T>* b, D deg, T m) {
   const int n = deg;
   int changes = 0;
-  T small = std::abs(b[0]);
+  T small = std::abs(b[0][0]) - b[0][1];
   for (int i = 1; i <= n; ++i) {
-    small = std::min(small, std::abs(b[i]));
-    changes += signBit(b[i]) != signBit(b[i - 1]);
+    small = std::min(small, std::abs(b[i][0]) - b[i][1]);
+    changes += signBit(b[i][0]) != signBit(b[i - 1][0]);
   }
   return (small > m) & (changes == 1);
 }
 
+// Whether the differences b_{i+1} - b_i (G' up to the factor n / w) have one sign beyond
+// their bounds e_i + e_{i+1} (x (1 + 4u) for the roundings of the sums).
 template <class T, class D>
-bool monotone(const T* b, D deg, T e) {
+bool monotone(const BPair<T>* b, D deg) {
   const int n = deg;
-  const T m = 2 * e / (1 - 2 * kUnit<T>);
-  T lo = b[1] - b[0], hi = lo;
-  for (int i = 1; i < n; ++i) {
-    const T di = b[i + 1] - b[i];
-    lo = std::min(lo, di);
-    hi = std::max(hi, di);
+  constexpr T k = 1 + 4 * kUnit<T>;
+  T lo = std::numeric_limits<T>::max(), hi = -lo;
+  for (int i = 0; i < n; ++i) {
+    const T di = b[i + 1][0] - b[i][0], ei = (b[i + 1][1] + b[i][1]) * k;
+    lo = std::min(lo, di - ei);
+    hi = std::max(hi, di + ei);
   }
-  return (lo > m) | (hi < -m);
+  return (lo > 0) | (hi < 0);
 }
 
 // Roots of G on the node u in [u0, u1] with Bernstein coefficients b; `direct(g)` runs
 // Yuksel's recursion on [g.lo, g.hi].
 template <class T, class D, class Direct>
-int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, Direct&& direct,
-              LocalRoot<T>* out, int maxOut) {
+int subdivide(SubdivideState<T>& st, D deg, const BPair<T>* b, T u0, T u1, int depth,
+              Direct&& direct, LocalRoot<T>* out, int maxOut) {
   LocalPoly<T>& g = st.g;
   const T va = st.lo + st.w * u0, vb = u1 == 1 ? g.hi : st.lo + st.w * u1;
   if (st.exhausted) return 0;
@@ -221,7 +259,8 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
     return 0;
   }
   const T noise = hornerAbs(g.noise.data(), deg, std::max(std::abs(va), std::abs(vb)));
-  if (oneSign(b, deg, st.err + 2 * noise)) return 0;
+  const T margin = 2 * noise * (1 + 4 * kUnit<T>);
+  if (oneSign(b, deg, margin)) return 0;
   const T saveLo = g.lo, saveHi = g.hi;
   g.lo = va;
   g.hi = vb;
@@ -230,16 +269,16 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
   g.closedLo = st.closedLo && u0 == 0;
   int k = 0;
   const bool small = vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
-  const bool single = oneVariation(b, deg, st.err + 2 * noise);
-  if (single || monotone(b, deg, st.err)) {
+  const bool single = oneVariation(b, deg, margin);
+  if (single || monotone<T>(b, deg)) {
     // Start where the control polygon crosses zero (Bezier clipping's estimate, Sederberg
     // and Nishita 1990): inside a one-variation node it is closer to the root than the
     // secant through the node's ends.
     auto piece = [&](T a, T c, T fa, T fc) {
       const int n = deg;
       for (int i = 0; i < n; ++i)
-        if (signBit(b[i]) != signBit(b[i + 1])) {
-          const T u = (T(i) + b[i] / (b[i] - b[i + 1])) / T(n);
+        if (signBit(b[i][0]) != signBit(b[i + 1][0])) {
+          const T u = (T(i) + b[i][0] / (b[i][0] - b[i + 1][0])) / T(n);
           const T x = va + (vb - va) * u;
           if (x > a && x < c) return newtonFrom(g.c.data(), g.noise.data(), deg, a, c, fa, x, st.tol);
           break;
@@ -247,13 +286,14 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
       return newtonInBracket(g.c.data(), g.noise.data(), deg, a, c, fa, fc, st.tol);
     };
     if (single) {
-      // The sweep's verdict without its evaluations: b_0 = G(va) and b_n = G(vb) within E
-      // are beyond E plus twice the noise bound with opposite signs, so neither end is
+      // The sweep's verdict without its evaluations: b_0 = G(va) and b_n = G(vb) are beyond
+      // their bounds plus twice the noise bound with opposite signs, so neither end is
       // within noise and the node holds one simple root (the sweep would evaluate both
       // ends to find just that; 2 of a root's ~9 polynomial passes: rays with a root 2-9 %
       // faster, session 8).
-      const T fb = b[static_cast<int>(deg)];
-      out[0] = LocalRoot<T>{st.q == Query::Any ? va + (vb - va) / 2 : piece(va, vb, b[0], fb), false};
+      const T fb = b[static_cast<int>(deg)][0];
+      const T fa = b[0][0];
+      out[0] = LocalRoot<T>{st.q == Query::Any ? va + (vb - va) / 2 : piece(va, vb, fa, fb), false};
       k = 1;
     } else {
       k = scanPieces(g, deg, static_cast<const T*>(nullptr), 0, st.q, piece, out, maxOut);
@@ -262,12 +302,12 @@ int subdivide(SubdivideState<T>& st, D deg, const T* b, T u0, T u1, int depth, D
     k = direct(g, out, maxOut);
   } else {
     // Split at the middle unless G is within its noise there (see above). The halves'
-    // shared coefficient is G at the middle within E, so a value beyond E plus twice
-    // the noise bound settles the common case without evaluating G.
+    // shared coefficient is G at the middle within its bound, so a value beyond that plus
+    // twice the noise bound settles the common case without evaluating G.
     T t = T(0.5), mid = u0 + (u1 - u0) / 2;
-    T l[kMaxDegree + 1], r[kMaxDegree + 1];
+    BPair<T> l[kMaxDegree + 1], r[kMaxDegree + 1];
     splitBernstein(b, deg, t, l, r);
-    if (!(std::abs(r[0]) > st.err + 2 * noise)) {
+    if (!(std::abs(r[0][0]) - r[0][1] > margin)) {
       for (const T f : {T(0.5), T(0.4375), T(0.5625), T(0.375), T(0.625)}) {
         const T um = u0 + (u1 - u0) * f, vm = st.lo + st.w * um;
         if (std::abs(horner(g.c.data(), deg, vm)) > hornerAbs(g.noise.data(), deg, vm)) {

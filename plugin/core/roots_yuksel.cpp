@@ -219,8 +219,9 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   work.hi = g.hi;
   copyCoeffs(g.c.data(), n + 1, work.c.data());
   copyCoeffs(g.noise.data(), n + 1, work.noise.data());
-  T b[kMaxDegree + 1];
-  SubdivideState<T> st{work, g.lo, g.hi - g.lo, toBernsteinWithBound(g, deg, b), q, tol, g.closedLo};
+  BPair<T> b[kMaxDegree + 1];
+  toBernsteinWithBound(g, deg, b);
+  SubdivideState<T> st{work, g.lo, g.hi - g.lo, q, tol, g.closedLo};
   int k = subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
   if (st.exhausted && (k == 0 || (q == Query::All && k < maxOut))) {
     // The budget ran out: the recursion takes the rest, [resumeAt, hi], in one piece
