@@ -57,6 +57,7 @@
 #include "roots_scan.h"
 
 #include <algorithm>
+#include <type_traits>
 
 namespace algray::roots_detail {
 
@@ -86,6 +87,7 @@ template <class T>
 struct SubdivideState {
   LocalPoly<T>& g;  // working copy: lo, hi are moved to each node
   T lo, w;          // the root node: v = lo + w u
+  T err;            // the uniform bound E of plain-T nodes (0 with pairs)
   Query q;
   T tol;
   bool closedLo;    // the root node's lo is closed (LocalPoly::closedLo); inner ends are not
@@ -107,9 +109,21 @@ struct InverseBinomials {
 template <class T>
 inline constexpr InverseBinomials<T> kInverseBinomials{};
 
-// A Bernstein coefficient with its error bound (*): one 2-lane vector (GCC/Clang vector
-// extension), so the bound is carried through the shift, the change of basis and every
-// de Casteljau split by the same instructions as the coefficient.
+// A node's coefficients are of type E: up to degree kPairNodeDegree plain T, with one
+// bound for the whole interval, E = gamma(4n + 4 + 3D) A(1) >= every beta_i (the rule of
+// sessions 2-9, kept in SubdivideState::err); above, (b_i, e_i) with the bound (*) of each
+// coefficient, a 2-lane vector (GCC/Clang vector extension), so that the bound goes
+// through the shift, the change of basis and every split by the same instructions.
+// Why both (session 10, roots_bench BM_GalleryRays and roots_report, side by side against
+// the plain nodes everywhere): pairs at every degree cost the gallery's real rays of
+// degree 10-12 6-10 % (Barth decic, Chmutov-12, Sarti: the splits are most of a solve
+// there; the second lane as a second array made them 1.5x slower), with the bound per
+// coefficient or not. With pairs above degree 12 only, those rays are as fast as before
+// (0.97-1.03x, two runs), Chmutov-16's real rays 0.74-0.78x the time, random problems of
+// degree 13-20 0.94-1.04x, whole rays of degree 30 0.22-0.28x and 40 0.34-0.36x, cells
+// of degree 30-40 0.75-1.06x; errors and misses the same.
+inline constexpr int kPairNodeDegree = 12;
+
 template <class T>
 struct BernsteinLanes {
   typedef T type __attribute__((vector_size(2 * sizeof(T))));
@@ -117,17 +131,49 @@ struct BernsteinLanes {
 template <class T>
 using BPair = typename BernsteinLanes<T>::type;
 
-// Bernstein coefficients of G on [g.lo, g.hi] into b[i][0], their bounds (*) for depth
-// kSubdivideDepth into b[i][1].
 template <class T, class D>
-void toBernsteinWithBound(const LocalPoly<T>& g, D deg, BPair<T>* b) {
-  using P = BPair<T>;
+struct NodeElement {
+  using type = BPair<T>;  // run-time degrees are above 20
+};
+template <class T, int N>
+struct NodeElement<T, Deg<N>> {
+  using type = std::conditional_t<(N <= kPairNodeDegree), T, BPair<T>>;
+};
+
+// A coefficient's value, and its own bound (0 for plain T: the node's bound is uniform).
+template <class T, class E>
+T coeff(const E& x) {
+  if constexpr (std::is_same_v<E, T>)
+    return x;
+  else
+    return x[0];
+}
+template <class T, class E>
+T bound(const E& x) {
+  if constexpr (std::is_same_v<E, T>)
+    return T(0);
+  else
+    return x[1];
+}
+
+// Bernstein coefficients of G on [g.lo, g.hi] into b. For plain T returns the uniform
+// bound E; for pairs writes the bounds (*) for depth kSubdivideDepth into the second
+// lane and returns 0.
+template <class T, class E, class D>
+T toBernsteinWithBound(const LocalPoly<T>& g, D deg, E* b) {
+  constexpr bool kPairs = !std::is_same_v<E, T>;
   const int n = deg;
   const T lo = g.lo, w = g.hi - g.lo;
-  // The shift of (C, |C|) by (lo, |lo|) and the scaling by w^j, as pairs.
-  P a[kMaxDegree + 1];
-  for (int j = 0; j <= n; ++j) a[j] = P{g.c[j], std::abs(g.c[j])};
-  const P shift = {lo, std::abs(lo)};
+  // The shift of C by lo (with pairs: of (C, |C|) by (lo, |lo|)) and the scaling by w^j.
+  E a[kMaxDegree + 1];
+  E shift;
+  if constexpr (kPairs) {
+    for (int j = 0; j <= n; ++j) a[j] = E{g.c[j], std::abs(g.c[j])};
+    shift = E{lo, std::abs(lo)};
+  } else {
+    copyCoeffs(g.c.data(), n + 1, a);
+    shift = lo;
+  }
   for (int k = 0; k < n; ++k)
     for (int i = n - 1; i >= k; --i) a[i] += shift * a[i + 1];
   T p = 1;
@@ -139,28 +185,39 @@ void toBernsteinWithBound(const LocalPoly<T>& g, D deg, BPair<T>* b) {
   const T* inv = kInverseBinomials<T>.row(n);
   for (int j = 0; j <= n; ++j) b[j] = a[j] * inv[j];
   for (int k = 1; k <= n; ++k) {
-    P cur = b[n];  // carried in a register (see splitBernstein)
+    E cur = b[n];  // carried in a register (see splitBernstein)
     for (int i = n; i >= k; --i) {
-      const P below = b[i - 1];
+      const E below = b[i - 1];
       b[i] = cur + below;
       cur = below;
     }
   }
-  // beta_i -> the bound (*) at the depth cap: gamma(4n + 6 + 3D), two more roundings
-  // than (*) for the node tests' own subtractions, times 1 + 2 gamma(4n + 4 + 2D) for the
-  // rounding of beta itself (computed above and in the splits from non-negative terms).
   constexpr int kD = kSubdivideDepth<T>;
-  const T scale = gammaT<T>(4 * n + 6 + 3 * kD) * (1 + 2 * gammaT<T>(4 * n + 4 + 2 * kD));
-  for (int j = 0; j <= n; ++j) b[j][1] *= scale;
+  if constexpr (kPairs) {
+    // beta_i -> the bound (*) at the depth cap: gamma(4n + 6 + 3D), two more roundings
+    // than (*) for the node tests' own subtractions, times 1 + 2 gamma(4n + 4 + 2D) for
+    // the rounding of beta itself (computed above and in the splits from non-negative
+    // terms).
+    const T scale = gammaT<T>(4 * n + 6 + 3 * kD) * (1 + 2 * gammaT<T>(4 * n + 4 + 2 * kD));
+    for (int j = 0; j <= n; ++j) b[j][1] *= scale;
+    return T(0);
+  } else {
+    // A(1) = sum_j (shift of |C| by |lo|)_j w^j is |C| evaluated at |lo| + w: one Horner
+    // pass instead of a second shift. Rounded up: |lo| + w by 2u, the Horner sum of
+    // non-negative terms (at most 2n roundings each) by gamma(2n + 2).
+    const T x = (std::abs(lo) + w) * (1 + 2 * kUnit<T>);
+    T sumA = 0;
+    for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
+    sumA *= 1 + gammaT<T>(2 * n + 2);
+    return gammaT<T>(4 * n + 4 + 3 * kD) * sumA;
+  }
 }
 
-// de Casteljau at the dyadic ratio t on coefficient and bound alike: left into l, right
-// into r (may alias b).
-template <class T, class D>
-void splitBernstein(const BPair<T>* b, D deg, T t, BPair<T>* l, BPair<T>* r) {
-  using P = BPair<T>;
+// de Casteljau at the dyadic ratio t: left into l, right into r (may alias b).
+template <class T, class E, class D>
+void splitBernstein(const E* b, D deg, T t, E* l, E* r) {
   const int n = deg;
-  P x[kMaxDegree + 1];
+  E x[kMaxDegree + 1];
   std::copy(b, b + n + 1, x);
   const T s = 1 - t;  // exact for the dyadic ratios used
   l[0] = x[0];
@@ -169,9 +226,9 @@ void splitBernstein(const BPair<T>* b, D deg, T t, BPair<T>* l, BPair<T>* r) {
   // with 16-byte loads straddling two earlier 16-byte stores, a store-forwarding stall
   // that was a third of a degree-12 solve (perf).
   for (int k = 1; k <= n; ++k) {
-    P next = x[n - k + 1];
+    E next = x[n - k + 1];
     for (int i = n - k; i >= 0; --i) {
-      const P cur = x[i];
+      const E cur = x[i];
       x[i] = s * cur + t * next;
       next = cur;
     }
@@ -200,13 +257,21 @@ void splitBernstein(const BPair<T>* b, D deg, T t, BPair<T>* l, BPair<T>* r) {
 // rounded b_i - e_i beyond it puts the exact one beyond the noise bound.
 
 // Whether every b_i is beyond its bound plus m on one side.
-template <class T, class D>
-bool oneSign(const BPair<T>* b, D deg, T m) {
+template <class T, class E, class D>
+bool oneSign(const E* b, D deg, T m) {
   const int n = deg;
-  T lo = b[0][0] - b[0][1], hi = b[0][0] + b[0][1];
+  if constexpr (std::is_same_v<E, T>) {  // the uniform bound is in m
+    T lo = b[0], hi = b[0];
+    for (int i = 1; i <= n; ++i) {
+      lo = std::min(lo, b[i]);
+      hi = std::max(hi, b[i]);
+    }
+    return (lo > m) | (hi < -m);
+  }
+  T lo = coeff<T>(b[0]) - bound<T>(b[0]), hi = coeff<T>(b[0]) + bound<T>(b[0]);
   for (int i = 1; i <= n; ++i) {
-    lo = std::min(lo, b[i][0] - b[i][1]);
-    hi = std::max(hi, b[i][0] + b[i][1]);
+    lo = std::min(lo, coeff<T>(b[i]) - bound<T>(b[i]));
+    hi = std::max(hi, coeff<T>(b[i]) + bound<T>(b[i]));
   }
   return (lo > m) | (hi < -m);
 }
@@ -218,27 +283,47 @@ bool oneSign(const BPair<T>* b, D deg, T m) {
 // signs at the node's ends: a bracket for the safeguarded Newton, without the
 // monotonicity the derivative's test asks for (which oscillating polynomials,
 // Chebyshev-like ones as on Chmutov's surfaces, reach only after many more splits).
-template <class T, class D>
-bool oneVariation(const BPair<T>* b, D deg, T m) {
+template <class T, class E, class D>
+bool oneVariation(const E* b, D deg, T m) {
   const int n = deg;
   int changes = 0;
-  T small = std::abs(b[0][0]) - b[0][1];
+  if constexpr (std::is_same_v<E, T>) {  // the uniform bound is in m
+    T small = std::abs(b[0]);
+    for (int i = 1; i <= n; ++i) {
+      small = std::min(small, std::abs(b[i]));
+      changes += signBit(b[i]) != signBit(b[i - 1]);
+    }
+    return (small > m) & (changes == 1);
+  }
+  T small = std::abs(coeff<T>(b[0])) - bound<T>(b[0]);
   for (int i = 1; i <= n; ++i) {
-    small = std::min(small, std::abs(b[i][0]) - b[i][1]);
-    changes += signBit(b[i][0]) != signBit(b[i - 1][0]);
+    small = std::min(small, std::abs(coeff<T>(b[i])) - bound<T>(b[i]));
+    changes += signBit(coeff<T>(b[i])) != signBit(coeff<T>(b[i - 1]));
   }
   return (small > m) & (changes == 1);
 }
 
 // Whether the differences b_{i+1} - b_i (G' up to the factor n / w) have one sign beyond
-// their bounds e_i + e_{i+1} (x (1 + 4u) for the roundings of the sums).
-template <class T, class D>
-bool monotone(const BPair<T>* b, D deg) {
+// their bounds: e_i + e_{i+1} (x (1 + 4u) for the roundings of the sums), or 2E with the
+// uniform bound E.
+template <class T, class E, class D>
+bool monotone(const E* b, D deg, T uniform) {
   const int n = deg;
   constexpr T k = 1 + 4 * kUnit<T>;
+  if constexpr (std::is_same_v<E, T>) {
+    const T m = 2 * uniform * k;
+    T lo = b[1] - b[0], hi = lo;
+    for (int i = 1; i < n; ++i) {
+      const T di = b[i + 1] - b[i];
+      lo = std::min(lo, di);
+      hi = std::max(hi, di);
+    }
+    return (lo > m) | (hi < -m);
+  }
   T lo = std::numeric_limits<T>::max(), hi = -lo;
   for (int i = 0; i < n; ++i) {
-    const T di = b[i + 1][0] - b[i][0], ei = (b[i + 1][1] + b[i][1]) * k;
+    const T di = coeff<T>(b[i + 1]) - coeff<T>(b[i]);
+    const T ei = (bound<T>(b[i + 1]) + bound<T>(b[i])) * k;
     lo = std::min(lo, di - ei);
     hi = std::max(hi, di + ei);
   }
@@ -247,8 +332,8 @@ bool monotone(const BPair<T>* b, D deg) {
 
 // Roots of G on the node u in [u0, u1] with Bernstein coefficients b; `direct(g)` runs
 // Yuksel's recursion on [g.lo, g.hi].
-template <class T, class D, class Direct>
-int subdivide(SubdivideState<T>& st, D deg, const BPair<T>* b, T u0, T u1, int depth,
+template <class T, class E, class D, class Direct>
+int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth,
               Direct&& direct, LocalRoot<T>* out, int maxOut) {
   LocalPoly<T>& g = st.g;
   const T va = st.lo + st.w * u0, vb = u1 == 1 ? g.hi : st.lo + st.w * u1;
@@ -259,7 +344,7 @@ int subdivide(SubdivideState<T>& st, D deg, const BPair<T>* b, T u0, T u1, int d
     return 0;
   }
   const T noise = hornerAbs(g.noise.data(), deg, std::max(std::abs(va), std::abs(vb)));
-  const T margin = 2 * noise * (1 + 4 * kUnit<T>);
+  const T margin = st.err + 2 * noise * (1 + 4 * kUnit<T>);
   if (oneSign(b, deg, margin)) return 0;
   const T saveLo = g.lo, saveHi = g.hi;
   g.lo = va;
@@ -270,19 +355,21 @@ int subdivide(SubdivideState<T>& st, D deg, const BPair<T>* b, T u0, T u1, int d
   int k = 0;
   const bool small = vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
   const bool single = oneVariation(b, deg, margin);
-  if (single || monotone<T>(b, deg)) {
+  if (single || monotone(b, deg, st.err)) {
     // Start where the control polygon crosses zero (Bezier clipping's estimate, Sederberg
     // and Nishita 1990): inside a one-variation node it is closer to the root than the
     // secant through the node's ends.
     auto piece = [&](T a, T c, T fa, T fc) {
       const int n = deg;
-      for (int i = 0; i < n; ++i)
-        if (signBit(b[i][0]) != signBit(b[i + 1][0])) {
-          const T u = (T(i) + b[i][0] / (b[i][0] - b[i + 1][0])) / T(n);
+      for (int i = 0; i < n; ++i) {
+        const T bi = coeff<T>(b[i]), bj = coeff<T>(b[i + 1]);
+        if (signBit(bi) != signBit(bj)) {
+          const T u = (T(i) + bi / (bi - bj)) / T(n);
           const T x = va + (vb - va) * u;
           if (x > a && x < c) return newtonFrom(g.c.data(), g.noise.data(), deg, a, c, fa, x, st.tol);
           break;
         }
+      }
       return newtonInBracket(g.c.data(), g.noise.data(), deg, a, c, fa, fc, st.tol);
     };
     if (single) {
@@ -291,8 +378,7 @@ int subdivide(SubdivideState<T>& st, D deg, const BPair<T>* b, T u0, T u1, int d
       // within noise and the node holds one simple root (the sweep would evaluate both
       // ends to find just that; 2 of a root's ~9 polynomial passes: rays with a root 2-9 %
       // faster, session 8).
-      const T fb = b[static_cast<int>(deg)][0];
-      const T fa = b[0][0];
+      const T fa = coeff<T>(b[0]), fb = coeff<T>(b[static_cast<int>(deg)]);
       out[0] = LocalRoot<T>{st.q == Query::Any ? va + (vb - va) / 2 : piece(va, vb, fa, fb), false};
       k = 1;
     } else {
@@ -305,9 +391,9 @@ int subdivide(SubdivideState<T>& st, D deg, const BPair<T>* b, T u0, T u1, int d
     // shared coefficient is G at the middle within its bound, so a value beyond that plus
     // twice the noise bound settles the common case without evaluating G.
     T t = T(0.5), mid = u0 + (u1 - u0) / 2;
-    BPair<T> l[kMaxDegree + 1], r[kMaxDegree + 1];
+    E l[kMaxDegree + 1], r[kMaxDegree + 1];
     splitBernstein(b, deg, t, l, r);
-    if (!(std::abs(r[0][0]) - r[0][1] > margin)) {
+    if (!(std::abs(coeff<T>(r[0])) - bound<T>(r[0]) > margin)) {
       for (const T f : {T(0.5), T(0.4375), T(0.5625), T(0.375), T(0.625)}) {
         const T um = u0 + (u1 - u0) * f, vm = st.lo + st.w * um;
         if (std::abs(horner(g.c.data(), deg, vm)) > hornerAbs(g.noise.data(), deg, vm)) {
