@@ -336,6 +336,131 @@ TEST(RootsComparison, EndRulesSturmBernstein) {
   }
 }
 
+// The comparison solvers on one problem with a known first root (an MPFR root of the
+// double coefficients near `start`): firstRoot within 4 u cond of it (plus the interval-
+// relative 1e-12 Bernstein's basis allows), allRoots starting with it and holding only
+// roots of the data, hasRoot true. `count`, if >= 0, is the number of roots in (lo, hi].
+void checkComparison(const std::vector<double>& c, double lo, double hi, double start,
+                     int count = -1) {
+  const auto ref = test::refine(c, start);
+  ASSERT_TRUE(ref.has_value());
+  const int n = static_cast<int>(c.size()) - 1;
+  for (RootMethod m : {RootMethod::Sturm, RootMethod::Bernstein}) {
+    SCOPED_TRACE(static_cast<int>(m));
+    RootOptions o;
+    o.method = m;
+    const double bound =
+        accuracyBound(*ref) + (m == RootMethod::Bernstein ? 1e-12 * (hi - lo) : 0);
+    const auto first = firstRoot(c, {}, lo, hi, o);
+    ASSERT_TRUE(first.has_value());
+    EXPECT_LE(std::abs(*first - ref->value), bound) << *first << " for " << ref->value;
+    EXPECT_TRUE(hasRoot(c, {}, lo, hi, o));
+    std::vector<double> all(kMaxDegree + 1);
+    all.resize(allRoots(c, {}, lo, hi, all, o));
+    ASSERT_FALSE(all.empty());
+    EXPECT_LE(std::abs(all[0] - ref->value), bound) << all[0] << " for " << ref->value;
+    if (count >= 0) {
+      EXPECT_EQ(all.size(), static_cast<size_t>(count)) << ::testing::PrintToString(all);
+    }
+    for (double s : all) EXPECT_LE(test::relativeResidual(c, s), 4 * gamma(2 * n + 1)) << s;
+  }
+}
+
+// Sturm's zero rule for remainder coefficients was one threshold per remainder, relative
+// to the largest coefficients; true coefficients far below it were dropped with the root
+// (roots_sturm.cpp, build()). Graded coefficients: g = -1 + s + ... + s^40 on [0, 2] has
+// (1 - s) g = 2s - 1 - s^41, so one root, 0.5 + 2^-42 to first order (g > 0 on [1, 2]).
+TEST(RootsComparison, SturmZeroRuleGradedCoefficients) {
+  std::vector<double> c(41, 1.0);
+  c[0] = -1;
+  const auto ref = test::refine(c, 0.5);
+  ASSERT_TRUE(ref.has_value());
+  EXPECT_NEAR(ref->value, 0.5 + 0x1p-42, 1e-15);
+  checkComparison(c, 0.0, 2.0, 0.5, 1);
+}
+
+// (1.1 - s)^32 - 1: roots 1.1 -+ 1 = 0.1 and 2.1 (closed form), one in [-1.4, 1.6]. The
+// remainder of G by G' is the constant -1, at 1e-16 of the coefficients: it was zero, the
+// sequence stopped at G' and no root was found.
+TEST(RootsComparison, SturmZeroRuleNearPower) {
+  std::vector<double> c = test::expand(std::vector<double>(32, 1.1), {});
+  c[0] -= 1;
+  const auto ref = test::refine(c, 0.1);
+  ASSERT_TRUE(ref.has_value());
+  EXPECT_NEAR(ref->value, 0.1, 1e-14);  // the rounded coefficients keep the closed form
+  checkComparison(c, -1.4, 1.6, 0.1, 1);
+}
+
+// (1 - s)^35 - 1 has the roots 0 and 2 (closed form; integer coefficients, exact). The
+// Bernstein coefficients on [-1.5, 1.5] went through a monomial basis whose coefficients
+// reached 5.5^35 ~ 1e26, and came out wrong by ~1e10 where G is ~1e3: -0.2567 was reported
+// as a tangent root before 0 (roots_bernstein.cpp, toBernstein()).
+TEST(RootsComparison, BernsteinBasisOnAWideInterval) {
+  std::vector<double> c(36);
+  double binom = 1;
+  for (int j = 0; j <= 35; ++j) {
+    c[j] = j % 2 ? -binom : binom;
+    binom = binom * (35 - j) / (j + 1);
+  }
+  c[0] -= 1;
+  ASSERT_EQ(c[0], 0.0);
+  for (RootMethod m : {RootMethod::Sturm, RootMethod::Bernstein}) {
+    SCOPED_TRACE(static_cast<int>(m));
+    RootOptions o;
+    o.method = m;
+    std::vector<double> all(kMaxDegree + 1);
+    all.resize(allRoots(c, {}, -1.5, 1.5, all, o));
+    ASSERT_EQ(all.size(), 1u) << ::testing::PrintToString(all);
+    EXPECT_NEAR(all[0], 0.0, 1e-12);
+    const auto first = firstRoot(c, {}, -1.5, 1.5, o);
+    ASSERT_TRUE(first.has_value());
+    EXPECT_NEAR(*first, 0.0, 1e-12);
+    EXPECT_TRUE(hasRoot(c, {}, -1.5, 1.5, o));
+  }
+}
+
+// A degree-40 problem of roots_report (ray family): a root on hi, whose noise region
+// covers most of the interval, and the clear root 0.4933 (cond 1.1e8) before it. The end
+// rule's doubling steps jumped from within noise over that root to a clear point before it
+// (lo = 0.4547), or stepped past lo and took the whole interval for hi's cluster (lo =
+// 0.47, 0.48): only hi was reported (roots_scan.h, withEndRules and leaveNoise).
+TEST(RootsComparison, NoiseRegionOverMostOfTheInterval) {
+  const std::vector<double> c = {
+      0x1.b0a9ea1b9244ap-44, -0x1.e9eec94617906p-36, 0x1.aeca6c62515fdp-31, -0x1.39dd3831eae0cp-29,
+      -0x1.bb8014e3b242cp-24, 0x1.4399d7c116b33p-26, 0x1.7bb5695fe402dp-16, -0x1.a1ab4e0b87cfbp-13,
+      0x1.36fd2ee5f8274p-14, 0x1.b8a2a4fd69a15p-8, -0x1.0c9426d5269a7p-5, 0x1.11b83b98f84p-8,
+      0x1.f7a93214ba19p-2, -0x1.d9f3bfba24482p+0, 0x1.6b55b42ac039ep+0, 0x1.6235c97dbdde6p+3,
+      -0x1.713912297983ep+5, 0x1.2f1473c65c37ap+6, 0x1.9103ee7c32da1p+4, -0x1.d700a1c946f79p+8,
+      0x1.4d8758b9aa3b7p+10, -0x1.e589d0661102bp+10, 0x1.4fb19bbf5dca4p+7, 0x1.b94d9ec5ebb96p+12,
+      -0x1.3a9acb689f0aep+14, 0x1.e35fac1dd1901p+14, -0x1.515357fa6764fp+14,
+      -0x1.829f44dcdc5e3p+14, 0x1.9b9e8a6ad488p+16, -0x1.73fdc10b250c1p+17, 0x1.d4275aea25a9fp+17,
+      -0x1.c44355cf76cb9p+17, 0x1.5ac31732378fcp+17, -0x1.aaa6898a60e1cp+16, 0x1.a4b5338e72302p+15,
+      -0x1.48fbc4cd0b2ebp+14, 0x1.8fa52b007b2d5p+12, -0x1.6c19bcca31309p+10, 0x1.d49e977129bb2p+7,
+      -0x1.7c23c549545e2p+4, 0x1.24776d8b84e7cp+0};
+  const double hi = 0x1.dea13c9ade744p-1;
+  for (double lo : {0x1.d19272a67aca4p-2, 0.47, 0.48}) {
+    SCOPED_TRACE(lo);
+    checkComparison(c, lo, hi, 0.4933, 2);  // the root and hi
+  }
+}
+
+// A degree-30 problem of roots_report (ray family): the root 0.6120 (cond 3.9e8), then G
+// dips to its noise level near 0.708 without a sign change. Sturm's counts isolated one
+// root on (0.486, 0.719); its Newton followed noise-level signs into the dip and stopped
+// there: 0.7134 was the first root (roots_sturm.cpp, rootInBracket()).
+TEST(RootsComparison, SturmBracketWithANoiseLevelDip) {
+  const std::vector<double> c = {
+      0x1.e0e56e0dd1318p-43, -0x1.4a2a409fb09efp-36, 0x1.13b8c1e99cccp-31, -0x1.273c6a1886a3bp-29,
+      -0x1.1825d5dc8cd68p-24, 0x1.73e97695b766bp-21, 0x1.64f507e57ab51p-21, -0x1.27f60e7d5ecap-15,
+      0x1.f7cf608bfa9c7p-14, 0x1.b9e9e5848f7cfp-13, -0x1.d1c1e3a78544dp-13, -0x1.f4fe57679ff06p-7,
+      0x1.12bb35496a4cfp-4, 0x1.02e0fbfa068b8p-7, -0x1.84e8b6ddca066p-1, 0x1.ed47114cd33d2p+0,
+      0x1.96afef07846adp-2, -0x1.60ef1ced77f6ep+3, 0x1.4bc1c5bccc951p+4, -0x1.a7b42710dbb34p-2,
+      -0x1.e6b70d02f5bd3p+5, 0x1.ae68d91e30f3ep+6, -0x1.c243411f48219p+5, -0x1.70cf08d61c99ep+6,
+      0x1.c5dd619936d54p+7, -0x1.f0cb3022062d1p+7, 0x1.5633dc8cd84a6p+7, -0x1.39c4428135098p+6,
+      0x1.76eee1436bd7bp+4, -0x1.09fd199ade37p+2, 0x1.5590b484a8025p-2};
+  checkComparison(c, 0x1.f1d35ce7f73afp-2, 0x1.e7a671b458653p-1, 0.612);
+}
+
 // ---- Tangent roots ------------------------------------------------------------------
 
 int countNear(const std::vector<double>& v, double x, double tol) {

@@ -143,14 +143,23 @@ namespace algray::roots_detail {
 // (not reported) or within noise of hi (reported as hi), as in scanPieces. Approximation:
 // a separate root within twice the noise region's width of a noise-level end merges with
 // it (scanPieces tells them apart by the extremum between them).
+// A step that would reach `to` is replaced by halving what is left of the way there: the
+// noise region of an end can cover most of the interval (the bound grows with |v|: at
+// degree 40, a root at hi = 0.93 had G within noise down to below hi - 1/4, and the next
+// step, hi - 1/2, passed lo = 0.45), and giving up there took the whole interval for the
+// end's cluster and lost the clear root 0.49 (tests/roots_test.cpp,
+// RootsComparison.NoiseRegionOverMostOfTheInterval).
 template <class T>
 T leaveNoise(const LocalPoly<T>& g, T x, T to) {
   const T dir = to > x ? T(1) : T(-1);
   T step = std::max(2 * kUnit<T> * std::abs(x), std::numeric_limits<T>::min());
+  T last = x;  // the last point tried: within noise
   for (int i = 0; i < 2 * std::numeric_limits<T>::max_exponent + 8; ++i, step *= 2) {
-    const T y = x + dir * step;
-    if (!(dir * (to - y) > 0)) return to;
+    T y = x + dir * step;
+    if (!(dir * (to - y) > 0)) y = last + (to - last) / 2;
+    if (y == last || y == to) return to;
     if (std::abs(horner(g.c.data(), g.n, y)) > hornerAbs(g.noise.data(), g.n, y)) return y;
+    last = y;
   }
   return to;
 }
@@ -164,8 +173,24 @@ int withEndRules(const LocalPoly<T>& g, Query q, LocalRoot<T>* out, int maxOut, 
   if (!zLo && !zHi) return solve(g, q, out, maxOut);
   LocalPoly<T> inner = g;
   inner.closedLo = false;  // its lo, if moved, is not the region's
-  if (zLo) inner.lo = leaveNoise(g, g.lo, g.hi);
-  if (zHi) inner.hi = leaveNoise(g, g.hi, inner.lo);
+  // The doubling steps of leaveNoise can jump over a clear stretch of the other sign
+  // within a wide noise region (root near hi = 0.93 at degree 40: from hi - 1/4, within
+  // noise, to 0.467, clear, over the root 0.493 and the clear stretch after it): as in
+  // scanPieces, a clear point of the other sign between the new end and the noisy one
+  // (clearCrossing) proves a root there, and the end moves on to that point.
+  T m, fm;
+  if (zLo) {
+    inner.lo = leaveNoise(g, g.lo, g.hi);
+    if (inner.lo < g.hi &&
+        clearCrossing(g, g.n, inner.lo, horner(g.c.data(), g.n, inner.lo), g.lo, m, fm))
+      inner.lo = m;
+  }
+  if (zHi) {
+    inner.hi = leaveNoise(g, g.hi, inner.lo);
+    if (inner.hi > inner.lo &&
+        clearCrossing(g, g.n, inner.hi, horner(g.c.data(), g.n, inner.hi), g.hi, m, fm))
+      inner.hi = m;
+  }
   if (!(inner.lo < inner.hi)) {  // G within noise all the way: one cluster
     if (zLo && !g.closedLo) return 0;  // ... containing lo
     out[0] = LocalRoot<T>{zLo ? g.lo : g.hi, true};
