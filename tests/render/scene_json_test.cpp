@@ -369,6 +369,9 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // A parameter named after a variable, or given twice: the option, not the equation.
       {"--surface x^2+y^2+z^2-1 --param x=1", "--param: x: "},
       {"--surface x^2+y^2+z^2-a --param a=1 --param a=2", "--param: a: given more than once"},
+      // Out of double's range: named as such (std::stod called both "not a number").
+      {"--surface x^2+y^2+z^2-a --param a=1e400", "'a=1e400' overflows double"},
+      {"--surface x^2+y^2+z^2-a --param a=1e-400", "'a=1e-400' underflows to 0 in double"},
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
@@ -383,6 +386,25 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
     EXPECT_EQ(WEXITSTATUS(status), 2) << args << ": " << out;
     EXPECT_NE(out.find(expected), std::string::npos) << args << ": " << out;
   }
+}
+
+// A subnormal --param is its own value, as in algray-query (std::stod refused it as "not a
+// number": it throws out_of_range for every ERANGE).
+TEST(RenderProgram, SubnormalParameterIsAValue) {
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_subnormal_param.png";
+  const std::string cmd = std::string(ALGRAY_RENDER_EXE) +
+                          " --surface x^2+y^2+z^2-1+a --param a=1e-320 --width 8 --height 8 --spp 1"
+                          " -q -o " + image.string() + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << out;
+  std::filesystem::remove(image);
 }
 
 }  // namespace
