@@ -65,11 +65,17 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed");
   app.add_option("--exposure", exposure, "exposure in stops (PNG)");
   app.add_option("--aov", aovList, "extra EXR channels: depth,normal,albedo,id (any of them: all are written)");
-  app.add_option("--surface", surface, "quick mode: an equation or a gallery name");
-  app.add_option("--param", params, "quick mode: equation parameter NAME=VALUE (repeatable)");
-  app.add_option("--clip-sphere", clipSphere, "quick mode: clip sphere radius");
-  app.add_option("--export-pov", exportPov, "write the scene as a POV-Ray scene to this file and exit");
-  app.add_flag("--sturm", sturm, "with --export-pov: ask POV-Ray for Sturm root isolation");
+  auto* surfaceOpt =
+      app.add_option("--surface", surface, "quick mode: an equation or a gallery name");
+  // The quick-mode options mean nothing to a scene file: given without --surface they were
+  // ignored, even when invalid (--clip-sphere -5 with a .jsurf file rendered with exit 0).
+  app.add_option("--param", params, "quick mode: equation parameter NAME=VALUE (repeatable)")
+      ->needs(surfaceOpt);
+  app.add_option("--clip-sphere", clipSphere, "quick mode: clip sphere radius")->needs(surfaceOpt);
+  auto* exportOpt = app.add_option("--export-pov", exportPov,
+                                   "write the scene as a POV-Ray scene to this file and exit");
+  app.add_flag("--sturm", sturm, "with --export-pov: ask POV-Ray for Sturm root isolation")
+      ->needs(exportOpt);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--list-gallery", listGallery, "list the gallery surfaces and exit");
   try {

@@ -372,6 +372,11 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // Out of double's range: named as such (std::stod called both "not a number").
       {"--surface x^2+y^2+z^2-a --param a=1e400", "'a=1e400' overflows double"},
       {"--surface x^2+y^2+z^2-a --param a=1e-400", "'a=1e-400' underflows to 0 in double"},
+      // Quick-mode options without --surface, --sturm without --export-pov: refused, not
+      // ignored (the default scene rendered with exit 0, whatever their values).
+      {"--clip-sphere -5", "--clip-sphere requires --surface"},
+      {"--param a=nan", "--param requires --surface"},
+      {"--sturm", "--sturm requires --export-pov"},
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
