@@ -172,6 +172,24 @@ TEST(SceneJson, OutOfRangeCameraAndLightValuesAreErrors) {
   EXPECT_NO_THROW(loadSceneText(R"({"camera": {"position": [0, -1e-200, 0], "look_at": [0, 0, 0]}})", "t.json", "."));
 }
 
+// A mesh beyond Embree's float range in scene space was dropped by Embree without a word
+// (a floor of size 1e19 vanished from the image, exit code 0): an error at the mesh.
+TEST(SceneJson, MeshesBeyondTheCoordinateRangeAreErrors) {
+  const std::string cases[] = {
+      R"({"meshes": [{"shape": "plane", "size": 1e19}]})",
+      R"({"meshes": [{"shape": "box", "size": 1e300}]})",
+      R"({"meshes": [{"shape": "plane", "transform": {"scale": 1e19}}]})",
+      R"({"meshes": [{"shape": "icosphere", "transform": {"translate": [0, 0, 2e17]}}]})",
+  };
+  for (const std::string& text : cases) {
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.column(), columnOf(text, "{\"shape\"")) << text << ": " << e.what();
+    EXPECT_NE(e.message().find("1e17"), std::string::npos) << text << ": " << e.what();
+  }
+  EXPECT_NO_THROW(
+      loadSceneText(R"({"meshes": [{"shape": "plane", "size": 1e17}]})", "t.json", "."));
+}
+
 // nlohmann's number overflow ("number overflow parsing '1e400'") had no position.
 TEST(SceneJson, NumberOverflowHasLineAndColumn) {
   SceneError e = errorOf("{\n  \"camera\": {\"fov\": 1e400}\n}");
