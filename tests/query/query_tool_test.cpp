@@ -225,6 +225,33 @@ TEST_F(QueryTool, RaysAlongAnInnerCellFaceHit) {
     }
 }
 
+// A small scene and a large direction: t = 1e-30 / |d| of the hit fell below float's range
+// (0 in flush-to-zero threads) and the float channel missed from |d| = 1e8 (found by
+// fuzzing, double against --float). Directions beyond 1e17 still miss there: the float
+// proxy of such rays has |d| = 2^56 (floatMap), so t underflows for scenes below ~1e-21.
+TEST_F(QueryTool, LargeDirectionsHitASmallSphereInBothChannels) {
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  const double lengths[] = {1.0, 1e7, 1e8, 1e10, 1e16, 9e16};
+  for (const double l : lengths) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "0,0,0,0,%.17g,0,0,inf\n0,-5e-30,0,0,%.17g,0,0,inf\n", l, l);
+    csv += buf;
+  }
+  const fs::path rays = write("rays.csv", csv);
+  for (const std::string channel : {"", " --float"}) {
+    const RunResult r =
+        run("--surface \"x^2+y^2+z^2-1e-60\" --clip-sphere 2e-30 " + common(rays) + channel);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(r.rows.size(), 2 * std::size(lengths));
+    for (size_t i = 0; i < r.rows.size(); ++i) {
+      const double l = lengths[i / 2], t = (i % 2 == 0 ? 1e-30 : 4e-30) / l;
+      EXPECT_EQ(r.rows[i][0], 1.0) << channel << ": |d| = " << l;
+      EXPECT_NEAR(r.rows[i][1], t, (channel.empty() ? 1e-12 : 1e-6) * t)
+          << channel << ": |d| = " << l;
+    }
+  }
+}
+
 // Rays from 2^66 to 2^1000 radii and from (-1e308, -1e308, -1e308), each exactly
 // through the centre of the unit sphere (o = -2^k d, exact in double), in random
 // directions: each must hit at t = |o| / |d| - 1 / |d| in both channels. (From ~2^50
