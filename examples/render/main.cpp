@@ -18,7 +18,9 @@
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <cstdio>
 #include <fstream>
@@ -63,11 +65,17 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed");
   app.add_option("--exposure", exposure, "exposure in stops (PNG)");
   app.add_option("--aov", aovList, "extra EXR channels: depth,normal,albedo,id (any of them: all are written)");
-  app.add_option("--surface", surface, "quick mode: an equation or a gallery name");
-  app.add_option("--param", params, "quick mode: equation parameter NAME=VALUE (repeatable)");
-  app.add_option("--clip-sphere", clipSphere, "quick mode: clip sphere radius");
-  app.add_option("--export-pov", exportPov, "write the scene as a POV-Ray scene to this file and exit");
-  app.add_flag("--sturm", sturm, "with --export-pov: ask POV-Ray for Sturm root isolation");
+  auto* surfaceOpt =
+      app.add_option("--surface", surface, "quick mode: an equation or a gallery name");
+  // The quick-mode options mean nothing to a scene file: given without --surface they were
+  // ignored, even when invalid (--clip-sphere -5 with a .jsurf file rendered with exit 0).
+  app.add_option("--param", params, "quick mode: equation parameter NAME=VALUE (repeatable)")
+      ->needs(surfaceOpt);
+  app.add_option("--clip-sphere", clipSphere, "quick mode: clip sphere radius")->needs(surfaceOpt);
+  auto* exportOpt = app.add_option("--export-pov", exportPov,
+                                   "write the scene as a POV-Ray scene to this file and exit");
+  app.add_flag("--sturm", sturm, "with --export-pov: ask POV-Ray for Sturm root isolation")
+      ->needs(exportOpt);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--list-gallery", listGallery, "list the gallery surfaces and exit");
   try {
@@ -103,15 +111,21 @@ int main(int argc, char** argv) {
       for (const std::string& p : params) {
         auto eq = p.find('=');
         if (eq == std::string::npos || eq == 0) throw SceneError("--param", 0, 0, "expected NAME=VALUE, got '" + p + "'");
-        try {
-          size_t used = 0;
-          double v = std::stod(p.substr(eq + 1), &used);
-          if (used != p.size() - eq - 1) throw std::invalid_argument(p);
-          if (!q.parameters.emplace(p.substr(0, eq), v).second)
-            throw SceneError("--param", 0, 0, p.substr(0, eq) + ": given more than once");
-        } catch (const std::logic_error&) {
+        // strtod, not std::stod: stod throws out_of_range for every ERANGE, so a subnormal
+        // value (--param a=1e-320, its own value, as in algray-query) was "not a number",
+        // and so were an overflow and an underflow to 0, which are refused by name.
+        const std::string text = p.substr(eq + 1);
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size())
           throw SceneError("--param", 0, 0, "not a number in '" + p + "'");
-        }
+        if (errno == ERANGE && std::isinf(v))
+          throw SceneError("--param", 0, 0, "'" + p + "' overflows double");
+        if (errno == ERANGE && v == 0.0)
+          throw SceneError("--param", 0, 0, "'" + p + "' underflows to 0 in double");
+        if (!q.parameters.emplace(p.substr(0, eq), v).second)
+          throw SceneError("--param", 0, 0, p.substr(0, eq) + ": given more than once");
       }
       if (clipSphere) q.clipRadius = *clipSphere;
       try {

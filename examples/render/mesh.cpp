@@ -160,8 +160,14 @@ MeshData loadObj(const std::string& path) {
                                allUvs ? idx.texcoord_index : -1};
         auto it = remap.find(key);
         if (it == remap.end()) {
+          // tinyobjloader only warns about an index beyond its list: every index is checked
+          // before it is read (a normal or uv index was not: "f 1//900" read past the heap).
           if (idx.vertex_index < 0 || 3 * static_cast<size_t>(idx.vertex_index) + 2 >= attrib.vertices.size())
             throw std::runtime_error(path + ": vertex index out of range");
+          if (allNormals && 3 * static_cast<size_t>(idx.normal_index) + 2 >= attrib.normals.size())
+            throw std::runtime_error(path + ": normal index out of range");
+          if (allUvs && 2 * static_cast<size_t>(idx.texcoord_index) + 1 >= attrib.texcoords.size())
+            throw std::runtime_error(path + ": uv index out of range");
           const float* p = &attrib.vertices[3 * static_cast<size_t>(idx.vertex_index)];
           m.positions.push_back({p[0], p[1], p[2]});
           if (allNormals) {

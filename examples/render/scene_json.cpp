@@ -456,6 +456,12 @@ class Loader {
     }
     if (j.contains("name")) item.label = where(p) + ": mesh '" + string(j["name"], p + "/name") + "'";
     if (j.contains("transform")) item.transform = readTransform(j["transform"], p + "/transform");
+    // Embree drops a float triangle beyond +-1.8e18 without a word (a floor of size 1e19
+    // vanished from the image, exit code 0): the mesh in scene space keeps to the range of
+    // every other position.
+    for (const glm::dvec3& v : item.mesh.positions)
+      if (!withinCoordinateRange(glm::dvec3(item.transform * glm::dvec4(v, 1.0))))
+        fail(p, std::string("a vertex of the mesh: ") + tooFar);
     item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene) : defaultMaterial(scene);
     if (j.contains("back_material")) item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
     scene.meshes.push_back(std::move(item));

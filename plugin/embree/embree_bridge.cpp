@@ -804,7 +804,10 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
   const bool behind = r.tnear < 0.0;
   const double md = std::max({std::abs(r.dir.x), std::abs(r.dir.y), std::abs(r.dir.z)});
   if (!big && !far && !behind) {
-    if (md > 0.0 && md < kTiny) m.scale = std::ldexp(1.0, -std::ilogb(md));
+    // A large direction the same way: t = distance / |d| of a hit in a small scene fell
+    // below float's range (0 in flush-to-zero threads): rays from a sphere's centre with
+    // |d| = 1e10 missed a sphere of radius 1e-30 in the float channel.
+    if (md > 0.0 && (md < kTiny || md > 1.0 / kTiny)) m.scale = std::ldexp(1.0, -std::ilogb(md));
     return m;
   }
   // The moves are measured and made along dirN = 2^-e d (its largest component in [1, 2):

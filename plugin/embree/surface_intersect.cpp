@@ -521,13 +521,26 @@ Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, co
                  bool inSpan) {
   if (data.cells.size() == 1 || data.cellOfKey.empty())
     return inSpan ? Claim::kOwner : Claim::kNone;
-  std::uint64_t key = 0;
+  long k[3];
   for (int a = 0; a < 3; ++a) {
     const double x = (p[a] - data.gridLo[a]) / data.gridSize[a] * data.gridN[a];
-    const long k = std::clamp(static_cast<long>(std::floor(x)), 0L, static_cast<long>(data.gridN[a] - 1));
-    key = key * 65536u + static_cast<std::uint64_t>(k);
+    k[a] = std::clamp(static_cast<long>(std::floor(x)), 0L, static_cast<long>(data.gridN[a] - 1));
   }
-  const auto it = data.cellOfKey.find(key);
+  auto keyOf = [&] { return (static_cast<std::uint64_t>(k[0]) * 65536u + k[1]) * 65536u + k[2]; };
+  auto it = data.cellOfKey.find(keyOf());
+  // The key rounds: p - gridLo can carry p across a face (x = -1e-20 beside the face x = 0
+  // of the box -2..2 got the key of the cell above it), whose span (its own box) does not
+  // hold p: a ray parallel to that face on the other side was claimed by no cell, and one
+  // from (-1e-20, -5, 0) along +y missed the unit sphere. The cell's own box decides.
+  if (it != data.cellOfKey.end()) {
+    const SurfaceCell& c = data.cells[it->second];
+    bool moved = false;
+    for (int a = 0; a < 3; ++a) {
+      if (p[a] < c.lo[a] && k[a] > 0) --k[a], moved = true;
+      else if (p[a] > c.hi[a] && k[a] + 1 < static_cast<long>(data.gridN[a])) ++k[a], moved = true;
+    }
+    if (moved) it = data.cellOfKey.find(keyOf());
+  }
   if (it == data.cellOfKey.end()) return inSpan ? Claim::kShared : Claim::kNone;
   if (it->second == cell) return Claim::kOwner;  // Embree reached the owner: wherever its span ends
   const bool orphan = ray.hasTraversalRay &&

@@ -198,6 +198,60 @@ TEST_F(QueryTool, FloatThreadsAndClipBox) {
   }
 }
 
+// Rays parallel to an inner cell face, just below it (x = -1e-20 beside the face x = 0):
+// the owner of a root was the cell whose grid key holds p, and p - gridLo rounds p into
+// the cell above, which Embree never visits for such a ray. Every one of them missed the
+// unit sphere, in both channels (found by fuzzing, mutated rays of tools.md's CSV).
+TEST_F(QueryTool, RaysAlongAnInnerCellFaceHit) {
+  const double offsets[] = {-1e-300, -1e-20, -1e-16, -2e-16, 0.0, 1e-20};
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  for (const double e : offsets) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%.17g,-5,0.1,0,1,0,0,inf\n0.1,%.17g,-5,0,0,1,0,inf\n", e, e);
+    csv += buf;
+  }
+  const fs::path rays = write("rays.csv", csv);
+  const std::string clips[] = {"--clip-box -2,-2,-2,2,2,2", "--clip-sphere 3"};
+  for (const std::string& clip : clips)
+    for (const std::string channel : {"", " --float"}) {
+      const RunResult r = run("--surface \"x^6+y^6+z^6-1\" " + clip + " " + common(rays) + channel);
+      ASSERT_EQ(r.exitCode, 0) << r.err;
+      ASSERT_EQ(r.rows.size(), 2 * std::size(offsets));
+      for (size_t i = 0; i < r.rows.size(); ++i) {
+        EXPECT_EQ(r.rows[i][0], 1.0) << clip << channel << ": ray " << i;
+        // 0.1^6 beside 1: the hit is at 1 - 1e-6 / 6 from the centre plane, t = 5 - that.
+        EXPECT_NEAR(r.rows[i][1], 5.0 - std::pow(1.0 - 1e-6, 1.0 / 6.0), 1e-6) << clip << channel;
+      }
+    }
+}
+
+// A small scene and a large direction: t = 1e-30 / |d| of the hit fell below float's range
+// (0 in flush-to-zero threads) and the float channel missed from |d| = 1e8 (found by
+// fuzzing, double against --float). Directions beyond 1e17 still miss there: the float
+// proxy of such rays has |d| = 2^56 (floatMap), so t underflows for scenes below ~1e-21.
+TEST_F(QueryTool, LargeDirectionsHitASmallSphereInBothChannels) {
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  const double lengths[] = {1.0, 1e7, 1e8, 1e10, 1e16, 9e16};
+  for (const double l : lengths) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "0,0,0,0,%.17g,0,0,inf\n0,-5e-30,0,0,%.17g,0,0,inf\n", l, l);
+    csv += buf;
+  }
+  const fs::path rays = write("rays.csv", csv);
+  for (const std::string channel : {"", " --float"}) {
+    const RunResult r =
+        run("--surface \"x^2+y^2+z^2-1e-60\" --clip-sphere 2e-30 " + common(rays) + channel);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(r.rows.size(), 2 * std::size(lengths));
+    for (size_t i = 0; i < r.rows.size(); ++i) {
+      const double l = lengths[i / 2], t = (i % 2 == 0 ? 1e-30 : 4e-30) / l;
+      EXPECT_EQ(r.rows[i][0], 1.0) << channel << ": |d| = " << l;
+      EXPECT_NEAR(r.rows[i][1], t, (channel.empty() ? 1e-12 : 1e-6) * t)
+          << channel << ": |d| = " << l;
+    }
+  }
+}
+
 // Rays from 2^66 to 2^1000 radii and from (-1e308, -1e308, -1e308), each exactly
 // through the centre of the unit sphere (o = -2^k d, exact in double), in random
 // directions: each must hit at t = |o| / |d| - 1 / |d| in both channels. (From ~2^50

@@ -172,6 +172,24 @@ TEST(SceneJson, OutOfRangeCameraAndLightValuesAreErrors) {
   EXPECT_NO_THROW(loadSceneText(R"({"camera": {"position": [0, -1e-200, 0], "look_at": [0, 0, 0]}})", "t.json", "."));
 }
 
+// A mesh beyond Embree's float range in scene space was dropped by Embree without a word
+// (a floor of size 1e19 vanished from the image, exit code 0): an error at the mesh.
+TEST(SceneJson, MeshesBeyondTheCoordinateRangeAreErrors) {
+  const std::string cases[] = {
+      R"({"meshes": [{"shape": "plane", "size": 1e19}]})",
+      R"({"meshes": [{"shape": "box", "size": 1e300}]})",
+      R"({"meshes": [{"shape": "plane", "transform": {"scale": 1e19}}]})",
+      R"({"meshes": [{"shape": "icosphere", "transform": {"translate": [0, 0, 2e17]}}]})",
+  };
+  for (const std::string& text : cases) {
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.column(), columnOf(text, "{\"shape\"")) << text << ": " << e.what();
+    EXPECT_NE(e.message().find("1e17"), std::string::npos) << text << ": " << e.what();
+  }
+  EXPECT_NO_THROW(
+      loadSceneText(R"({"meshes": [{"shape": "plane", "size": 1e17}]})", "t.json", "."));
+}
+
 // nlohmann's number overflow ("number overflow parsing '1e400'") had no position.
 TEST(SceneJson, NumberOverflowHasLineAndColumn) {
   SceneError e = errorOf("{\n  \"camera\": {\"fov\": 1e400}\n}");
@@ -369,6 +387,14 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // A parameter named after a variable, or given twice: the option, not the equation.
       {"--surface x^2+y^2+z^2-1 --param x=1", "--param: x: "},
       {"--surface x^2+y^2+z^2-a --param a=1 --param a=2", "--param: a: given more than once"},
+      // Out of double's range: named as such (std::stod called both "not a number").
+      {"--surface x^2+y^2+z^2-a --param a=1e400", "'a=1e400' overflows double"},
+      {"--surface x^2+y^2+z^2-a --param a=1e-400", "'a=1e-400' underflows to 0 in double"},
+      // Quick-mode options without --surface, --sturm without --export-pov: refused, not
+      // ignored (the default scene rendered with exit 0, whatever their values).
+      {"--clip-sphere -5", "--clip-sphere requires --surface"},
+      {"--param a=nan", "--param requires --surface"},
+      {"--sturm", "--sturm requires --export-pov"},
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
@@ -383,6 +409,25 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
     EXPECT_EQ(WEXITSTATUS(status), 2) << args << ": " << out;
     EXPECT_NE(out.find(expected), std::string::npos) << args << ": " << out;
   }
+}
+
+// A subnormal --param is its own value, as in algray-query (std::stod refused it as "not a
+// number": it throws out_of_range for every ERANGE).
+TEST(RenderProgram, SubnormalParameterIsAValue) {
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_subnormal_param.png";
+  const std::string cmd = std::string(ALGRAY_RENDER_EXE) +
+                          " --surface x^2+y^2+z^2-1+a --param a=1e-320 --width 8 --height 8 --spp 1"
+                          " -q -o " + image.string() + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << out;
+  std::filesystem::remove(image);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Scene's guards for values that reach it without a loader's checks (SceneDesc built in
 // code): rays Embree would reject and directions glm::normalize cannot normalise.
+#include "mesh.h"
 #include "render.h"
 #include "scene.h"
 #include "value_checks.h"
@@ -9,7 +10,10 @@
 #include <algray/parser.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <stdexcept>
 
 namespace algray::render {
 namespace {
@@ -81,6 +85,33 @@ TEST(ValueChecks, SafeNormalize) {
   EXPECT_TRUE(isFloatColor(glm::dvec3(3e38)));
   EXPECT_FALSE(isFloatColor(glm::dvec3(1e39)));
   EXPECT_FALSE(isFloatColor({1, -1e-300, 1}));
+}
+
+// tinyobjloader only warns about a face index beyond its list: a normal or uv index
+// beyond the file's vn or vt lines was read past the end of the heap array (ASan).
+TEST(ObjFile, IndicesBeyondTheListsAreErrors) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "algray_bad_index.obj";
+  const std::string vertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\n";
+  const std::pair<const char*, const char*> cases[] = {
+      {"f 1//1 2//1 3//900\n", "normal index out of range"},
+      {"f 1/1 2/1 3/7\n", "uv index out of range"},
+      {"f 1/1/1 2/1/1 3/2/1\n", "uv index out of range"},
+      {"f 1 2 9\n", "vertex index out of range"},
+  };
+  for (const auto& [face, expected] : cases) {
+    std::ofstream(file) << vertices << face;
+    try {
+      loadObj(file.string());
+      ADD_FAILURE() << face << ": no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+          << face << ": " << e.what();
+    }
+  }
+  std::ofstream(file) << vertices << "f 1/1/1 2/1/1 3/1/1\n";
+  EXPECT_EQ(loadObj(file.string()).triangles.size(), 1u);
+  std::filesystem::remove(file);
 }
 
 }  // namespace
