@@ -358,15 +358,8 @@ TEST(RenderProgram, DirectoryAsSceneFileIsAnError) {
 TEST(RenderProgram, BadSceneExitsWithCode2AndLocation) {
   std::filesystem::path file = std::filesystem::temp_directory_path() / "algray_bad_scene.json";
   std::ofstream(file) << "{\n  \"camera\": {\"fov\": \"wide\"}\n}\n";
-  std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + file.string() + " -o /dev/null 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string out;
-  char buf[512];
-  while (fgets(buf, sizeof buf, pipe)) out += buf;
-  int status = pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 2);
+  const auto [code, out] = runRender(file.string() + " -o /dev/null");
+  EXPECT_EQ(code, 2);
   EXPECT_NE(out.find(file.string() + ":2:21:"), std::string::npos) << out;
   std::filesystem::remove(file);
 }
@@ -398,15 +391,8 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
-    const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + args + " --width 8 --height 8 -q" + output + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    ASSERT_NE(pipe, nullptr);
-    std::string out;
-    char buf[512];
-    while (fgets(buf, sizeof buf, pipe)) out += buf;
-    const int status = pclose(pipe);
-    ASSERT_TRUE(WIFEXITED(status)) << args;
-    EXPECT_EQ(WEXITSTATUS(status), 2) << args << ": " << out;
+    const auto [code, out] = runRender(std::string(args) + " --width 8 --height 8 -q" + output);
+    EXPECT_EQ(code, 2) << args << ": " << out;
     EXPECT_NE(out.find(expected), std::string::npos) << args << ": " << out;
   }
 }
@@ -416,17 +402,10 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
 TEST(RenderProgram, SubnormalParameterIsAValue) {
   const std::filesystem::path image =
       std::filesystem::temp_directory_path() / "algray_subnormal_param.png";
-  const std::string cmd = std::string(ALGRAY_RENDER_EXE) +
-                          " --surface x^2+y^2+z^2-1+a --param a=1e-320 --width 8 --height 8 --spp 1"
-                          " -q -o " + image.string() + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string out;
-  char buf[512];
-  while (fgets(buf, sizeof buf, pipe)) out += buf;
-  const int status = pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << out;
+  const auto [code, out] = runRender(
+      "--surface x^2+y^2+z^2-1+a --param a=1e-320 --width 8 --height 8 --spp 1 -q -o " +
+      image.string());
+  EXPECT_EQ(code, 0) << out;
   std::filesystem::remove(image);
 }
 
