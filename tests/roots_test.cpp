@@ -632,7 +632,8 @@ TEST(RootsContract, HighDegreeLongIntervalsKeepEveryClearRoot) {
         const double lo = -0.2 * unit(rng), hi = 1.0 + 0.5 * unit(rng);
         const std::optional<double> got = firstRoot(p, {}, lo, hi);
         const std::string what = "degree " + std::to_string(deg) +
-                                 (tangent ? " (x - r)^2" : " (x - r)") + " r = " + std::to_string(r);
+                                 (tangent ? " (x - r)^2" : " (x - r)") +
+                                 " r = " + std::to_string(r);
         long double bound;
         if (got && *got < r - 1e-4) {
           const long double v = eval(p, *got, bound);
