@@ -143,14 +143,17 @@ SceneDesc quickScene(const QuickOptions& options) {
   if (const GallerySurface* g = findGallerySurface(options.surface)) {
     s.polynomial = g->build();
     if (!options.clipRadius) r = g->clipRadius;
-    s.label = "gallery surface '" + options.surface + "'";
+    s.label = "gallery surface '" + options.surface + "'" +
+              (options.clipRadius ? " in --clip-sphere" : "");
     scene.name = options.surface;
   } else {
     ParseOptions po;
     po.parameters = options.parameters;
     s.polynomial = parsePolynomial(options.surface, po);
     if (!options.clipRadius) r = 2.0;
-    s.label = "--surface";
+    // The library's refusals of the surface may be about the clip sphere's size: name it
+    // when the user gave it.
+    s.label = options.clipRadius ? "--surface in --clip-sphere" : "--surface";
     scene.name = "surface";
   }
   if (!(r > 0) || !std::isfinite(r)) throw Error("--clip-sphere must be a positive number");

@@ -388,6 +388,9 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--clip-sphere -5", "--clip-sphere requires --surface"},
       {"--param a=nan", "--param requires --surface"},
       {"--sturm", "--sturm requires --export-pov"},
+      // The library refusing the clip sphere's size names the option that set it.
+      {"--surface x^2+y^2+z^2-1 --clip-sphere 1e300", "--surface in --clip-sphere: "},
+      {"--surface barth-sextic --clip-sphere 1e300", "in --clip-sphere: "},
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
