@@ -31,8 +31,12 @@ TIMEOUT = 30
 os.makedirs(OUTDIR, exist_ok=True)
 WORK = os.path.join(OUTDIR, "work-%s-%d" % (TARGET, os.getpid()))
 os.makedirs(WORK, exist_ok=True)
-ENV = dict(os.environ, ASAN_OPTIONS="detect_leaks=1:abort_on_error=0",
-           UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1")
+# Sanitizer options: the caller's, else leak detection on and UBSan fatal. (ctest's smoke
+# run turns leak detection off: LeakSanitizer's exit-time scan failed now and then under
+# load without a reproducible leak, campaign of session 10.)
+ENV = dict(os.environ)
+ENV.setdefault("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=0")
+ENV.setdefault("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1")
 
 # ---------------------------------------------------------------- seeds
 JSURF_DIR = os.environ.get("ALGRAY_JSURF_DIR", os.path.join(REPO, "..", "shared", "gallery", "jsurf"))
@@ -825,3 +829,6 @@ for i in range(N):
     if (i + 1) % 50 == 0:
         print("%s seed %d: %d cases %.0fs %s" % (TARGET, SEED, i + 1, time.time() - t0, STATS), flush=True)
 print("FINAL %s seed %d: %d cases %.0fs %s" % (TARGET, SEED, N, time.time() - t0, STATS), flush=True)
+# Non-zero when a case crashed, hung or tripped a sanitizer (the ctest smoke run's verdict;
+# the other classes are for a human to read).
+sys.exit(1 if any(STATS.get(k, 0) for k in ("sanitizer", "signal", "timeout")) else 0)
