@@ -13,8 +13,9 @@
 //    differences have one sign beyond their bounds the node is one monotone piece, and the
 //    sweep of roots_scan.h runs on it with no critical point (Newton on the power form G);
 //  * one root: if every b_i clears its bound plus the noise bound and they change sign
-//    exactly once, the node holds exactly one simple root (Descartes' rule, oneVariation below), and its
-//    ends b_0 = G(va), b_n = G(vb) bracket it for the safeguarded Newton of the sweep.
+//    exactly once, the node holds exactly one simple root (Descartes' rule, oneVariation
+//    below), and its ends b_0 = G(va), b_n = G(vb) bracket it for the safeguarded Newton
+//    of the sweep.
 // Anything else is split by de Casteljau's algorithm, left half first, so the first node
 // with a root ends a First/Any query (Lane and Riesenfeld, "Bounds on a polynomial", BIT
 // 21, 1981; Farin, "Curves and Surfaces for CAGD", Sec. 4.2). A node still undecided at
@@ -49,10 +50,11 @@
 // the digit, one miss fewer at degree 40. With it a deeper or longer subdivision still
 // loses above degree 20 (depth 8-12, 64-200 nodes: 1.1-3.8x slower): the undecided nodes
 // there are those where G is within its noise, which only the sweep's critical points
-// settle.
+// settle. Up to degree 12 the nodes keep the uniform bound (see kPairNodeDegree: there
+// the second lane cost more than it decided).
 // The node ends va = lo + w u0 are rounded (the u ends are exact, see below), which moves
-// a node by up to 2u (|v| <= 1) and G by |G'| 2u <= 2n u sum|C_j| |v|^j, less than the noise
-// bound of G at v; so nodes are excluded only beyond (*) plus twice that noise bound.
+// a node by up to 2u (|v| <= 1) and G by |G'| 2u <= 2n u sum|C_j| |v|^j, less than the
+// noise bound of G at v; so nodes are excluded only beyond (*) plus twice that noise bound.
 #include "roots_detail.h"
 #include "roots_scan.h"
 
@@ -359,7 +361,8 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth,
   // at its hi) except the first node's, which is the interval's own.
   g.closedLo = st.closedLo && u0 == 0;
   int k = 0;
-  const bool small = vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
+  const bool small =
+      vb - va <= std::max(st.tol, 64 * kUnit<T> * std::max(std::abs(va), std::abs(vb)));
   const bool single = oneVariation(b, deg, margin);
   if (single || monotone(b, deg, st.err)) {
     // Start where the control polygon crosses zero (Bezier clipping's estimate, Sederberg
@@ -372,7 +375,8 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth,
         if (signBit(bi) != signBit(bj)) {
           const T u = (T(i) + bi / (bi - bj)) / T(n);
           const T x = va + (vb - va) * u;
-          if (x > a && x < c) return newtonFrom(g.c.data(), g.noise.data(), deg, a, c, fa, x, st.tol);
+          if (x > a && x < c)
+            return newtonFrom(g.c.data(), g.noise.data(), deg, a, c, fa, x, st.tol);
           break;
         }
       }
