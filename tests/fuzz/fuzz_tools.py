@@ -695,12 +695,18 @@ def extreme_clip():
     return ["--clip-box", ",".join(repr(v) for v in lo + hi)]
 
 
-def q_valid():
+def valid_equation():
+    """A seed equation, its numbers mutated 7 times in 10, with values for a and b if it names them."""
     eq = R.choice(EQUATIONS)
     if R.random() < 0.7:
         eq = num_mutate(eq)
     params = ["a=%r" % R.choice([1.0, 0.5, 1e-30, 1e30, 3.0]), "b=%r" % R.choice([0.5, 1e-10, 2.0])] \
         if re.search(r"\b[ab]\b", eq) else []
+    return eq, params
+
+
+def q_valid():
+    eq, params = valid_equation()
     rows = gen_rays()
     if R.random() < 0.5:  # origins near the clip region, any scale
         for row in rows:
@@ -711,11 +717,7 @@ def q_valid():
 
 
 def r_valid():
-    eq = R.choice(EQUATIONS)
-    if R.random() < 0.7:
-        eq = num_mutate(eq)
-    params = ["a=%r" % R.choice([1.0, 0.5, 1e-30, 1e30, 3.0]), "b=%r" % R.choice([0.5, 1e-10, 2.0])] \
-        if re.search(r"\b[ab]\b", eq) else []
+    eq, params = valid_equation()
     mid = ["--surface", eq] + sum((["--param", p] for p in params), [])
     mid += ["--clip-sphere", repr(10.0 ** R.uniform(-120, 120) if R.random() < 0.3 else R.uniform(0.3, 3))]
     if R.random() < 0.5:
