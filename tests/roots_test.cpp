@@ -38,6 +38,27 @@ std::vector<double> solveAll(const Problem& p, RootMethod m = RootMethod::Auto) 
   return out;
 }
 
+// The product of two polynomials (coefficients from the constant term up), in double: the
+// problems of the long-interval tests are these rounded products.
+std::vector<double> product(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> c(a.size() + b.size() - 1, 0.0);
+  for (size_t i = 0; i < a.size(); ++i)
+    for (size_t j = 0; j < b.size(); ++j) c[i + j] += a[i] * b[j];
+  return c;
+}
+
+// p(x) in long double (a 64-bit significand: an independent reference for the rounded
+// polynomial's sign and size) and the noise rule's bound gamma(2n+1) sum |c_i| |x|^i.
+long double evalLong(const std::vector<double>& p, long double x, long double& bound) {
+  long double v = 0, m = 0;
+  for (size_t i = p.size(); i-- > 0;) {
+    v = v * x + p[i];
+    m = m * std::fabs(x) + std::fabs(p[i]);
+  }
+  bound = (2.0L * static_cast<long double>(p.size() - 1) + 1) * 0x1p-53L * m;
+  return v;
+}
+
 double accuracyBound(const RefRoot& r) { return kAccuracyUlps * kU * r.conditioning; }
 
 // Separation of reference root i from its neighbours and the interval ends.
@@ -478,12 +499,6 @@ int countNear(const std::vector<double>& v, double x, double tol) {
 // change was reported as a tangent root wherever g was: 3 of these 8400 answers were no
 // root (|g| 3-26x its bound) before the noise rule was applied there too.
 TEST(RootsComparison, EveryAnswerIsARootOrWithinNoise) {
-  auto mul = [](const std::vector<double>& a, const std::vector<double>& b) {
-    std::vector<double> c(a.size() + b.size() - 1, 0.0);
-    for (size_t i = 0; i < a.size(); ++i)
-      for (size_t j = 0; j < b.size(); ++j) c[i + j] += a[i] * b[j];
-    return c;
-  };
   for (RootMethod method : {RootMethod::Sturm, RootMethod::Auto}) {
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> unit(0, 1);
@@ -494,29 +509,20 @@ TEST(RootsComparison, EveryAnswerIsARootOrWithinNoise) {
       for (int t = 0; t < 400; ++t) {
         std::vector<double> p{1};
         const int nReal = 1 + static_cast<int>(unit(rng) * 4);
-        for (int i = 0; i < nReal; ++i) p = mul(p, {-unit(rng), 1});
+        for (int i = 0; i < nReal; ++i) p = product(p, {-unit(rng), 1});
         while (static_cast<int>(p.size()) + 1 <= deg) {
           const double a = -0.5 + 2 * unit(rng), b = std::pow(10.0, -3 + 3 * unit(rng));
-          p = mul(p, {a * a + b * b, -2 * a, 1});
+          p = product(p, {a * a + b * b, -2 * a, 1});
         }
-        while (static_cast<int>(p.size()) - 1 < deg) p = mul(p, {-unit(rng), 1});
+        while (static_cast<int>(p.size()) - 1 < deg) p = product(p, {-unit(rng), 1});
         const double lo = 0.5 * unit(rng), hi = lo + 0.1 + (1 - lo - 0.1) * unit(rng);
         const std::optional<double> r = firstRoot(p, {}, lo, hi, options);
         if (!r) continue;
         ++answers;
-        auto eval = [&](long double x, long double& bound) {
-          long double v = 0, m = 0;
-          for (size_t i = p.size(); i-- > 0;) {
-            v = v * x + p[i];
-            m = m * std::fabs(x) + std::fabs(p[i]);
-          }
-          bound = (2.0L * static_cast<long double>(p.size() - 1) + 1) * 0x1p-53L * m;
-          return v;
-        };
         long double bound, unused;
-        const long double g = eval(*r, bound);
-        const bool change =
-            std::signbit(eval(*r - 1e-9, unused)) != std::signbit(eval(*r + 1e-9, unused));
+        const long double g = evalLong(p, *r, bound);
+        const bool change = std::signbit(evalLong(p, *r - 1e-9, unused)) !=
+                            std::signbit(evalLong(p, *r + 1e-9, unused));
         EXPECT_TRUE(change || std::fabs(g) <= bound)
             << "method " << static_cast<int>(method) << ", degree " << deg << ": answer " << *r
             << " with |g| = " << static_cast<double>(std::fabs(g)) << " beyond its bound "
@@ -656,22 +662,6 @@ TEST(RootsTangent, ComplexPairNearTheAxis) {
 TEST(RootsContract, HighDegreeLongIntervalsKeepEveryClearRoot) {
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> unit(0, 1);
-  auto mul = [](const std::vector<double>& a, const std::vector<double>& b) {
-    std::vector<double> c(a.size() + b.size() - 1, 0.0);
-    for (size_t i = 0; i < a.size(); ++i)
-      for (size_t j = 0; j < b.size(); ++j) c[i + j] += a[i] * b[j];
-    return c;
-  };
-  // g(x) in long double and the noise rule's bound gamma(2n+1) sum |c_i| |x|^i.
-  auto eval = [](const std::vector<double>& p, long double x, long double& bound) {
-    long double v = 0, m = 0;
-    for (size_t i = p.size(); i-- > 0;) {
-      v = v * x + p[i];
-      m = m * std::fabs(x) + std::fabs(p[i]);
-    }
-    bound = (2.0L * static_cast<long double>(p.size() - 1) + 1) * 0x1p-53L * m;
-    return v;
-  };
   int clearChecked = 0;
   for (int tangent = 0; tangent <= 1; ++tangent)
     for (int deg = 13; deg <= 40; ++deg)
@@ -682,9 +672,9 @@ TEST(RootsContract, HighDegreeLongIntervalsKeepEveryClearRoot) {
         int d = tangent ? 2 : 1;
         for (; d + 2 <= deg; d += 2) {
           const double a = 2 * unit(rng) - 0.5, b = 0.05 + unit(rng);
-          p = mul(p, {a * a + b * b, -2 * a, 1});
+          p = product(p, {a * a + b * b, -2 * a, 1});
         }
-        if (d < deg) p = mul(p, {1.5 + unit(rng), 1});
+        if (d < deg) p = product(p, {1.5 + unit(rng), 1});
         const double lo = -0.2 * unit(rng), hi = 1.0 + 0.5 * unit(rng);
         const std::optional<double> got = firstRoot(p, {}, lo, hi);
         const std::string what = "degree " + std::to_string(deg) +
@@ -692,12 +682,12 @@ TEST(RootsContract, HighDegreeLongIntervalsKeepEveryClearRoot) {
                                  " r = " + std::to_string(r);
         long double bound;
         if (got && *got < r - 1e-4) {
-          const long double v = eval(p, *got, bound);
+          const long double v = evalLong(p, *got, bound);
           EXPECT_LE(std::fabs(v), bound) << what << ": answer " << *got << " beyond the noise bound";
           continue;
         }
         long double b0, b1;
-        const long double g0 = eval(p, r - 1e-4, b0), g1 = eval(p, r + 1e-4, b1);
+        const long double g0 = evalLong(p, r - 1e-4, b0), g1 = evalLong(p, r + 1e-4, b1);
         if (std::fabs(g0) > b0 && std::fabs(g1) > b1 && std::signbit(g0) != std::signbit(g1)) {
           ++clearChecked;
           ASSERT_TRUE(got.has_value()) << what << ": no root";
