@@ -683,7 +683,8 @@ TEST(RootsContract, HighDegreeLongIntervalsKeepEveryClearRoot) {
         long double bound;
         if (got && *got < r - 1e-4) {
           const long double v = evalLong(p, *got, bound);
-          EXPECT_LE(std::fabs(v), bound) << what << ": answer " << *got << " beyond the noise bound";
+          EXPECT_LE(std::fabs(v), bound)
+              << what << ": answer " << *got << " beyond the noise bound";
           continue;
         }
         long double b0, b1;
