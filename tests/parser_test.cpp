@@ -314,6 +314,28 @@ TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
   EXPECT_TRUE(parsePolynomial("(x+1)^2 - x^2 - 2*x - 1").isZero());
 }
 
+// With rejectUnusedParameters a parameter the equation never reads is a ParameterError
+// naming it; without, it is ignored (a format's fixed set, jsurf's a, b, c, d).
+TEST(Parser, RejectsUnusedParametersOnlyWhenAsked) {
+  ParseOptions o;
+  o.parameters = {{"a", 2.0}, {"b", 3.0}, {"c", 5.0}};
+  const Polynomial f = parsePolynomial("a*x + b*y", o);
+  EXPECT_EQ(f, parsePolynomial("2*x + 3*y"));
+  o.rejectUnusedParameters = true;
+  try {
+    parsePolynomial("a*x + b*y", o);
+    ADD_FAILURE() << "unused parameter c accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(e.name(), "c");
+    EXPECT_NE(e.message().find("not used by the equation"), std::string::npos) << e.message();
+  }
+  // Read anywhere counts as used: inside a folded function, multiplied by zero, only on
+  // the right-hand side.
+  EXPECT_EQ(parsePolynomial("a*x + 0*b = -sqrt(c)", o), parsePolynomial("2*x + sqrt(5)"));
+  // A malformed equation is reported as such first.
+  EXPECT_THROW(parsePolynomial("a*x + ", o), ParseError);
+}
+
 TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
   // A bad parameter is a ParameterError naming it (not a ParseError at a column of the
   // equation), whether or not the equation uses it.

@@ -126,6 +126,7 @@ int run(int argc, char** argv) {
 
   // ---- Surface ------------------------------------------------------------------------
   ParseOptions parseOptions;
+  parseOptions.rejectUnusedParameters = true;
   for (const std::string& p : params) {
     const size_t eq = p.find('=');
     if (eq == std::string::npos || eq == 0) throw UsageError("--param '" + p + "': expected NAME=VALUE");

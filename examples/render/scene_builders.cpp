@@ -141,6 +141,10 @@ SceneDesc quickScene(const QuickOptions& options) {
   if (options.clipRadius && !(r > 0 && std::isfinite(r)))
     throw Error("--clip-sphere must be a positive number, got " + std::to_string(r));
   if (const GallerySurface* g = findGallerySurface(options.surface)) {
+    // As a scene file's gallery entry: its parameters are built in, a --param is a mistake.
+    if (!options.parameters.empty())
+      throw ParameterError(options.parameters.begin()->first,
+                           "gallery surface '" + options.surface + "' takes no parameters");
     s.polynomial = g->build();
     if (!options.clipRadius) r = g->clipRadius;
     s.label = "gallery surface '" + options.surface + "'" +
@@ -149,6 +153,7 @@ SceneDesc quickScene(const QuickOptions& options) {
   } else {
     ParseOptions po;
     po.parameters = options.parameters;
+    po.rejectUnusedParameters = true;
     s.polynomial = parsePolynomial(options.surface, po);
     if (!options.clipRadius) r = 2.0;
     // The library's refusals of the surface may be about the clip sphere's size: name it

@@ -393,6 +393,7 @@ class Loader {
       item.label = where(p) + ": gallery surface '" + name + "'";
     } else {
       ParseOptions options;
+      options.rejectUnusedParameters = true;
       if (j.contains("parameters")) {
         const json& params = object(j["parameters"], p + "/parameters");
         for (auto it = params.begin(); it != params.end(); ++it)

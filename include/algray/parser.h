@@ -43,7 +43,8 @@ class ParseError : public Error {
 // z, pi, e, a function) or a value that is not finite. It is about the parameter, not a
 // place in the equation, so it names the parameter instead of a column, and callers can
 // report it where the parameter came from (an option, a JSON key, a file line). Every
-// parameter is checked before the equation is read, used or not.
+// parameter is checked before the equation is read, used or not; with
+// ParseOptions::rejectUnusedParameters one the equation never reads is refused after it.
 class ParameterError : public Error {
  public:
   ParameterError(const std::string& name, const std::string& message);
@@ -58,6 +59,11 @@ class ParameterError : public Error {
 struct ParseOptions {
   std::map<std::string, double, std::less<>> parameters;  // named constants: a, b, ...
   int maxDegree = kMaxDegree;  // clamped to [0, kMaxDegree]
+  // A parameter the equation does not use is a ParameterError ("is not used by the
+  // equation") instead of being ignored: for a user's own parameters (a command line's
+  // --param, a scene file's), where it is a mistake; not for a file format that always
+  // defines the same set (jsurf's a, b, c, d).
+  bool rejectUnusedParameters = false;
 };
 
 // Parses "lhs = rhs" (meaning lhs - rhs) or a single expression. Throws ParameterError

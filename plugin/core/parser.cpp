@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <set>
 
 namespace algray {
 
@@ -66,6 +67,14 @@ class Parser {
       fail(t, "unbalanced parenthesis: ')' at column " + std::to_string(column(t)) + " has no matching '('");
     if (t.kind != TokenKind::End) missingOperator(t);
     return value.toPolynomial();
+  }
+
+  // After parseEquation: a parameter the equation never read (ParseOptions::
+  // rejectUnusedParameters).
+  void checkAllParametersUsed() const {
+    for (const auto& [name, value] : options_.parameters)
+      if (!used_.contains(name))
+        throw ParameterError(name, "is not used by the equation (a typo, or the wrong equation?)");
   }
 
  private:
@@ -259,6 +268,7 @@ class Parser {
     if (name == "e") return TrackedValue::constant(std::numbers::e);
     if (detail::isFunctionName(name)) return parseFunction(t, name);
     if (parameter != options_.parameters.end()) {
+      used_.insert(parameter->first);
       return TrackedValue::constant(parameter->second);
     }
     std::string message = "unknown name '" + std::string(name) + "'";
@@ -308,6 +318,7 @@ class Parser {
   std::vector<Token> tokens_;
   int pos_ = 0;
   int depth_ = 0;
+  std::set<std::string, std::less<>> used_;  // the parameters read so far
   static constexpr int kMaxNesting = 256;  // far beyond real equations; small stack frames even under ASan
 };
 
@@ -340,7 +351,10 @@ void checkParameters(const ParseOptions& options) {
 
 Polynomial parsePolynomial(std::string_view text, const ParseOptions& options) {
   checkParameters(options);
-  return Parser(text, options).parseEquation();
+  Parser parser(text, options);
+  Polynomial f = parser.parseEquation();
+  if (options.rejectUnusedParameters) parser.checkAllParametersUsed();
+  return f;
 }
 
 }  // namespace algray

@@ -567,6 +567,8 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2+y^2+z^2-1\" --param x=1 --clip-sphere 2 " + common(good),
        "algray-query: --param x: clashes with the built-in name 'x'\n"},
       {"--surface \"x^2+y^2+z^2-1\" --param sin=1 --clip-sphere 2 " + common(good), "--param sin: clashes"},
+      {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param b=2 --clip-sphere 2 " + common(good),
+       "algray-query: --param b: is not used by the equation"},
       {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param a=4 --clip-sphere 2 " + common(good),
        "--param a: given more than once"},
       {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param b=2 --param a=1 --clip-sphere 2 " + common(good),

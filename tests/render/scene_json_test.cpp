@@ -104,6 +104,13 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
   EXPECT_EQ(v.line(), 2);
   EXPECT_EQ(v.column(), 23);
   EXPECT_NE(v.message().find("x"), std::string::npos);
+  // A parameter the equation never reads: its value, on line 2.
+  SceneError w = errorOf(
+      "{\"surfaces\": [{\"equation\": \"x^2 + y^2 + z^2 - r^2\", \"clip\": {\"sphere\": {\"radius\": 2}},\n"
+      "  \"parameters\": {\"r\": 1, \"rr\": 2}}]}");
+  EXPECT_EQ(w.line(), 2);
+  EXPECT_EQ(w.column(), 32);
+  EXPECT_NE(w.message().find("not used"), std::string::npos) << w.message();
 }
 
 TEST(SceneJson, EquationErrorPointsIntoTheString) {
