@@ -110,7 +110,8 @@ int run(int argc, char** argv) {
   auto* sphereOpt = app.add_option("--clip-sphere", clipSphere, "clip sphere radius about the origin")->expected(1);
   auto* boxOpt = app.add_option("--clip-box", clipBox, "clip box X0,Y0,Z0,X1,Y1,Z1");
   sphereOpt->excludes(boxOpt);
-  app.add_option("--rays", raysPath, "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar (direction non-zero, 0 <= tnear <= tfar, tfar may be inf)")->required();
+  app.add_option("--rays", raysPath, "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar[,org_error] (direction non-zero, 0 <= tnear <= "
+                 "tfar, tfar may be inf; org_error: the origin's uncertainty, >= 0)")->required();
   app.add_option("--out", outPath, "output CSV: hit,t,nx,ny,nz")->required();
   app.add_flag("--float", useFloat, "trace Embree's float rays instead of algray's double channel");
   app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
@@ -154,20 +155,22 @@ int run(int argc, char** argv) {
   std::ifstream in(raysPath);
   if (!in) throw UsageError("--rays: cannot open '" + raysPath + "'");
   std::vector<RayD> rays;
+  bool givenOrgErrors = false;
   try {
-    rays = query::readRays(in, raysPath);
+    rays = query::readRays(in, raysPath, &givenOrgErrors);
   } catch (const query::CsvError& e) {
     throw UsageError(e.what());
   }
 
-  // IN.csv has no column for an origin's uncertainty, and a user's o + t d of a hit
-  // carries gamma(3) (|o| + |t d|) from the ray that found it, not the rounding of its own
-  // coordinates (orgError = 0): a ray leaving a cylinder from a hit point of a ray that
-  // started 10 clip radii away found its own origin at t = 2.5e-15. Every origin is taken
-  // to be such a point, of a ray that started within 32 clip radii of the clip centre; it
-  // only matters to an origin within about 1e-14 radii of the surface. (Origins beyond 4
-  // radii keep 0: the self-root rule ignores them, and the far-ray paths read orgError.)
-  {
+  // Without the column org_error, a user's o + t d of a hit carries gamma(3) (|o| + |t d|)
+  // from the ray that found it, not the rounding of its own coordinates (orgError = 0): a
+  // ray leaving a cylinder from a hit point of a ray that started 10 clip radii away found
+  // its own origin at t = 2.5e-15. Every origin is then taken to be such a point, of a ray
+  // that started within 32 clip radii of the clip centre; it only matters to an origin
+  // within about 1e-14 radii of the surface. (Origins beyond 4 radii keep 0: the self-root
+  // rule ignores them, and the far-ray paths read orgError.) With the column, each ray's
+  // own bound is used as given (hit points of rays from farther away).
+  if (!givenOrgErrors) {
     const glm::dvec3 centre = clipSphere.empty() ? 0.5 * (std::get<ClipBox>(desc.clip).lo + std::get<ClipBox>(desc.clip).hi)
                                                  : glm::dvec3(0.0);
     const double radius = clipSphere.empty()

@@ -13,7 +13,10 @@ namespace algray::query {
 
 namespace {
 
-constexpr std::array<std::string_view, 8> kColumns = {"ox", "oy", "oz", "dx", "dy", "dz", "tnear", "tfar"};
+// The required columns, then the optional one (kRequired: the count of the first).
+constexpr std::array<std::string_view, 9> kColumns = {"ox", "oy",    "oz",   "dx",       "dy",
+                                                      "dz", "tnear", "tfar", "org_error"};
+constexpr size_t kRequired = 8, kOrgError = 8;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -39,7 +42,7 @@ std::vector<std::string_view> split(std::string_view line) {
 
 }  // namespace
 
-std::vector<RayD> readRays(std::istream& in, const std::string& name) {
+std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasOrgError) {
   std::string text;
   long lineNo = 0;
   // ---- Header: map each required column to its field index --------------------------
@@ -63,7 +66,7 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
   }
   // Lines are 1-based: a file without a single line is reported at line 1.
   if (fieldCount == 0) fail(name, std::max(lineNo, 1L), "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
-  for (size_t c = 0; c < kColumns.size(); ++c)
+  for (size_t c = 0; c < kRequired; ++c)
     if (where[c] < 0)
       fail(name, lineNo, "the header has no column '" + std::string(kColumns[c]) +
                              "' (need ox,oy,oz,dx,dy,dz,tnear,tfar in any order)");
@@ -76,8 +79,9 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
     const auto fields = split(text);
     if (fields.size() != fieldCount)
       fail(name, lineNo, "expected " + std::to_string(fieldCount) + " fields, found " + std::to_string(fields.size()));
-    double v[kColumns.size()];
+    double v[kColumns.size()] = {};
     for (size_t c = 0; c < kColumns.size(); ++c) {
+      if (where[c] < 0) continue;  // the optional column, absent
       const std::string field(fields[where[c]]);
       const std::string at = "column '" + std::string(kColumns[c]) + "' (field " + std::to_string(where[c] + 1) + ")";
       char* end = nullptr;
@@ -98,6 +102,7 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
     ray.dir = {v[3], v[4], v[5]};
     ray.tnear = v[6];
     ray.tfar = v[7];
+    ray.orgError = v[kOrgError];
     auto columns = [&](size_t first, size_t last) {  // "column 'dx' (field 4)", ...
       std::string s;
       for (size_t c = first; c <= last; ++c)
@@ -110,8 +115,10 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name) {
     if (ray.dir == glm::dvec3(0.0)) fail(name, lineNo, columns(3, 5) + ": the direction is zero");
     if (ray.tnear < 0.0) fail(name, lineNo, columns(6, 6) + ": must be >= 0");
     if (ray.tfar < ray.tnear) fail(name, lineNo, columns(7, 7) + ": must be >= tnear");
+    if (ray.orgError < 0.0) fail(name, lineNo, columns(kOrgError, kOrgError) + ": must be >= 0");
     rays.push_back(ray);
   }
+  if (hasOrgError) *hasOrgError = where[kOrgError] >= 0;
   return rays;
 }
 

@@ -3,7 +3,8 @@
 //   rays: header naming ox,oy,oz,dx,dy,dz,tnear,tfar in any order (other columns are
 //         ignored), then one ray per line; numbers as strtod reads them, within double's
 //         range; a non-zero direction and 0 <= tnear <= tfar ("inf" allowed for tfar
-//         only). A leading UTF-8 byte order mark is skipped.
+//         only). A leading UTF-8 byte order mark is skipped. An optional column org_error
+//         is the origin's uncertainty (RayD::orgError: finite, >= 0).
 //   hits: hit,t,nx,ny,nz, one row per ray in input order; zeros on a miss.
 #include "algray/embree.h"
 
@@ -20,7 +21,8 @@ class CsvError : public Error {
   using Error::Error;
 };
 
-std::vector<RayD> readRays(std::istream& in, const std::string& name);
+// hasOrgError (if given) tells whether the header has the column org_error.
+std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasOrgError = nullptr);
 
 struct QueryHit {
   bool hit = false;
