@@ -471,6 +471,64 @@ TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInBothChannels) {
 // 40 ulps of the point, and with no column for that in IN.csv such rays found their own
 // origin (t = 2.5e-15 and 1.2e-13 leaving x^2 + y^2 = 0.140001, seen from 10 radii).
 // Rays into the solid must reach its far wall (closed form, long double).
+// ---- Rays leaving hit points ----------------------------------------------------------
+using Ray6 = std::array<double, 6>;  // ox, oy, oz, dx, dy, dz
+
+// `count` rays from distances in [near, far) towards random points within 0.4 of the
+// centre (appended to `rays`).
+void aimedRays(std::mt19937_64& rng, size_t count, double near, double far, std::vector<Ray6>& rays) {
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), dist(near, far);
+  while (rays.size() < count) {
+    double u[3], n = 0, target[3];
+    for (int a = 0; a < 3; ++a) u[a] = normal(rng), n += u[a] * u[a], target[a] = 0.4 * unit(rng);
+    const double r = dist(rng) / std::sqrt(n);
+    rays.push_back({target[0] + r * u[0], target[1] + r * u[1], target[2] + r * u[2], -u[0], -u[1], -u[2]});
+  }
+}
+
+// IN.csv of rays on [0, inf), with an org_error column when `orgErrors` is given.
+std::string raysCsv(const std::vector<Ray6>& rays, const std::vector<double>* orgErrors = nullptr) {
+  std::string csv = orgErrors ? "org_error,ox,oy,oz,dx,dy,dz,tnear,tfar\n" : "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  char buf[512];
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray6& r = rays[i];
+    if (orgErrors) csv += (std::snprintf(buf, sizeof buf, "%.17g,", (*orgErrors)[i]), buf);
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", r[0], r[1], r[2], r[3], r[4], r[5]);
+    csv += buf;
+  }
+  return csv;
+}
+
+// From each hit of `first` (the rays `rays`), two rays from the hit point o + t d along
+// the normal: into the solid (even index) and away from it (odd). orgErrors: each hit
+// point's bound gamma(3) (|o| + |t d|) (pbrt-v4 Sec. 6.8.6).
+std::vector<Ray6> leavingRays(const std::vector<Ray6>& rays, const RunResult& first, std::vector<double>& orgErrors) {
+  std::vector<Ray6> leaving;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (first.rows[i][0] != 1.0) continue;
+    const double t = first.rows[i][1];
+    const Ray6& r = rays[i];
+    const double p[3] = {r[0] + t * r[3], r[1] + t * r[4], r[2] + t * r[5]};
+    const double err = 3 * 0x1p-53 / (1 - 3 * 0x1p-53) *
+                       (std::hypot(r[0], r[1], r[2]) + std::abs(t) * std::hypot(r[3], r[4], r[5]));
+    for (double sign : {-1.0, 1.0}) {
+      leaving.push_back({p[0], p[1], p[2], sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]});
+      orgErrors.push_back(err);
+    }
+  }
+  return leaving;
+}
+
+// Far root along a ray into the solid of sum_{j < axes} x_j^2 = c (long double).
+double farRoot(const Ray6& l, int axes, double c) {
+  long double a = 0, b = 0, k = -(long double)c;
+  for (int j = 0; j < axes; ++j) a += (long double)l[3 + j] * l[3 + j], b += 2.0L * l[j] * l[3 + j], k += (long double)l[j] * l[j];
+  return (double)((-b + std::sqrt(b * b - 4 * a * k)) / (2 * a));
+}
+
+// Rays leaving hit points of rays from 10-40 radii (within the 32 the tool assumes
+// without org_error): none finds its own origin, those into the solid hit its far side.
 TEST_F(QueryTool, HitPointsOfRaysFromFarAwayDoNotHitThemselves) {
   struct Case {
     const char* surface;
@@ -479,131 +537,60 @@ TEST_F(QueryTool, HitPointsOfRaysFromFarAwayDoNotHitThemselves) {
   };
   for (const Case& k : {Case{"(x^2+y^2-0.14) - 1e-6", false, 0.14 + 1e-6}, Case{"x^2+y^2+z^2 - 0.3", true, 0.3}}) {
     std::mt19937_64 rng(84);
-    std::normal_distribution<double> normal;
-    std::uniform_real_distribution<double> unit(-1.0, 1.0), dist(10.0, 40.0);
-    std::vector<std::array<double, 6>> rays = {
-        {-19.843460565145342, -1.250984248354485, 1.1583122124118925, 0.996245764170719, 0.07760926223297725,
-         -0.038355961564706484}};
-    std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
-    while (rays.size() < 300) {
-      double u[3], n = 0, target[3];
-      for (int a = 0; a < 3; ++a) u[a] = normal(rng), n += u[a] * u[a], target[a] = 0.4 * unit(rng);
-      const double r = dist(rng) / std::sqrt(n);
-      rays.push_back({target[0] + r * u[0], target[1] + r * u[1], target[2] + r * u[2], -u[0], -u[1], -u[2]});
-    }
-    char buf[512];
-    for (const auto& ray : rays) {
-      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", ray[0], ray[1], ray[2], ray[3],
-                    ray[4], ray[5]);
-      csv += buf;
-    }
+    std::vector<Ray6> rays = {{-19.843460565145342, -1.250984248354485, 1.1583122124118925, 0.996245764170719,
+                               0.07760926223297725, -0.038355961564706484}};
+    aimedRays(rng, 300, 10.0, 40.0, rays);
     const std::string surface = std::string("--surface \"") + k.surface + "\" --clip-sphere 2 ";
-    const RunResult first = run(surface + common(write("rays.csv", csv)));
+    const RunResult first = run(surface + common(write("rays.csv", raysCsv(rays))));
     ASSERT_EQ(first.exitCode, 0) << first.err;
-    std::string second = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
-    std::vector<std::array<double, 6>> leaving;
-    for (size_t i = 0; i < rays.size(); ++i) {
-      if (first.rows[i][0] != 1.0) continue;
-      const double t = first.rows[i][1];
-      const auto& r = rays[i];
-      const double p[3] = {r[0] + t * r[3], r[1] + t * r[4], r[2] + t * r[5]};
-      for (double sign : {-1.0, 1.0}) {  // into the solid and away from it, along the normal
-        leaving.push_back({p[0], p[1], p[2], sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]});
-        const auto& l = leaving.back();
-        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", l[0], l[1], l[2], l[3], l[4], l[5]);
-        second += buf;
-      }
-    }
+    std::vector<double> orgErrors;
+    const std::vector<Ray6> leaving = leavingRays(rays, first, orgErrors);
     ASSERT_GT(leaving.size(), 100u) << k.surface;
-    const RunResult r = run(surface + common(write("second.csv", second)));
+    const RunResult r = run(surface + common(write("second.csv", raysCsv(leaving))));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     ASSERT_EQ(r.rows.size(), leaving.size());
     for (size_t i = 0; i < leaving.size(); ++i) {
-      const auto& l = leaving[i];
       if (r.rows[i][0] == 1.0) {
         EXPECT_GT(r.rows[i][1], 1e-3) << k.surface << ": ray " << i << " found its own origin";
       }
       if (i % 2 != 0) continue;
-      // Into the solid: the far root of the quadric along the ray (the larger one).
-      const int axes = k.sphere ? 3 : 2;
-      long double a = 0, b = 0, c = -(long double)k.c;
-      for (int j = 0; j < axes; ++j) a += (long double)l[3 + j] * l[3 + j], b += 2.0L * l[j] * l[3 + j], c += (long double)l[j] * l[j];
-      const long double far = (-b + std::sqrt(b * b - 4 * a * c)) / (2 * a);
       ASSERT_EQ(r.rows[i][0], 1.0) << k.surface << ": ray " << i;
-      EXPECT_NEAR(r.rows[i][1], (double)far, 1e-12) << k.surface << ": ray " << i;
+      EXPECT_NEAR(r.rows[i][1], farRoot(leaving[i], k.sphere ? 3 : 2, k.c), 1e-12) << k.surface << ": ray " << i;
     }
   }
 }
 
-// Hit points of rays from 300-3000 clip radii away, as origins of leaving rays: beyond
-// the 32 radii the tool assumes without the column org_error, a ray leaving the surface
-// can find its own origin; with each origin's bound gamma(3) (|o| + |t d|) in org_error
-// (the error of o + t d, pbrt-v4 Sec. 6.8.6) none does, and the rays into the solid hit
-// the far side where the closed form puts it.
+// The same from 300-3000 radii: beyond the tool's assumption a leaving ray can find its
+// own origin; with each origin's bound in the column org_error none does, and the rays
+// into the solid hit its far side.
 TEST_F(QueryTool, OriginErrorsFromTheColumnStopSelfHitsOfFarRays) {
   std::mt19937_64 rng(29);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> unit(-1.0, 1.0), dist(300.0, 3000.0);
-  std::vector<std::array<double, 6>> rays;
-  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
-  char buf[512];
-  while (rays.size() < 400) {
-    double u[3], n = 0, target[3];
-    for (int a = 0; a < 3; ++a) u[a] = normal(rng), n += u[a] * u[a], target[a] = 0.4 * unit(rng);
-    const double r = dist(rng) / std::sqrt(n);
-    rays.push_back({target[0] + r * u[0], target[1] + r * u[1], target[2] + r * u[2], -u[0], -u[1], -u[2]});
-    const auto& ray = rays.back();
-    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", ray[0], ray[1], ray[2], ray[3],
-                  ray[4], ray[5]);
-    csv += buf;
-  }
-  const double c = 0.3;  // x^2 + y^2 + z^2 = c
+  std::vector<Ray6> rays;
+  aimedRays(rng, 400, 300.0, 3000.0, rays);
   const std::string surface = "--surface \"x^2+y^2+z^2-0.3\" --clip-sphere 2 ";
-  const RunResult first = run(surface + common(write("far.csv", csv)));
+  const RunResult first = run(surface + common(write("far.csv", raysCsv(rays))));
   ASSERT_EQ(first.exitCode, 0) << first.err;
-  std::string without = "ox,oy,oz,dx,dy,dz,tnear,tfar\n", with = "org_error,ox,oy,oz,dx,dy,dz,tnear,tfar\n";
-  std::vector<std::array<double, 6>> leaving;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    if (first.rows[i][0] != 1.0) continue;
-    const double t = first.rows[i][1];
-    const auto& r = rays[i];
-    const double p[3] = {r[0] + t * r[3], r[1] + t * r[4], r[2] + t * r[5]};
-    const double err = 3 * 0x1p-53 / (1 - 3 * 0x1p-53) *
-                       (std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) +
-                        std::abs(t) * std::sqrt(r[3] * r[3] + r[4] * r[4] + r[5] * r[5]));
-    for (double sign : {-1.0, 1.0}) {  // into the solid and away from it, along the normal
-      leaving.push_back({p[0], p[1], p[2], sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]});
-      const auto& l = leaving.back();
-      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", l[0], l[1], l[2], l[3], l[4], l[5]);
-      without += buf;
-      std::snprintf(buf, sizeof buf, "%.17g,", err);
-      with += buf + std::string(without.substr(without.rfind('\n', without.size() - 2) + 1));
-    }
-  }
+  std::vector<double> orgErrors;
+  const std::vector<Ray6> leaving = leavingRays(rays, first, orgErrors);
   ASSERT_GT(leaving.size(), 300u);
-  const RunResult r = run(surface + common(write("with.csv", with)));
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  ASSERT_EQ(r.rows.size(), leaving.size());
-  int selfHitsWith = 0;
-  for (size_t i = 0; i < leaving.size(); ++i) {
-    const auto& l = leaving[i];
-    if (r.rows[i][0] == 1.0 && r.rows[i][1] <= 1e-3) ++selfHitsWith;
-    if (i % 2 != 0) continue;
-    long double a = 0, b = 0, k = -(long double)c;
-    for (int j = 0; j < 3; ++j) a += (long double)l[3 + j] * l[3 + j], b += 2.0L * l[j] * l[3 + j], k += (long double)l[j] * l[j];
-    const long double far = (-b + std::sqrt(b * b - 4 * a * k)) / (2 * a);
-    ASSERT_EQ(r.rows[i][0], 1.0) << "ray " << i;
-    EXPECT_NEAR(r.rows[i][1], (double)far, 1e-9) << "ray " << i;
+  auto selfHits = [&](const RunResult& r) {
+    int n = 0;
+    for (size_t i = 0; i < leaving.size(); ++i) n += r.rows[i][0] == 1.0 && r.rows[i][1] <= 1e-3;
+    return n;
+  };
+  const RunResult with = run(surface + common(write("with.csv", raysCsv(leaving, &orgErrors))));
+  ASSERT_EQ(with.exitCode, 0) << with.err;
+  ASSERT_EQ(with.rows.size(), leaving.size());
+  EXPECT_EQ(selfHits(with), 0);
+  for (size_t i = 0; i < leaving.size(); i += 2) {
+    ASSERT_EQ(with.rows[i][0], 1.0) << "ray " << i;
+    EXPECT_NEAR(with.rows[i][1], farRoot(leaving[i], 3, 0.3), 1e-9) << "ray " << i;
   }
-  EXPECT_EQ(selfHitsWith, 0);
-  // The same rays without the column: the tool's assumption is too small for them, and
-  // some find their own origin (so the column, not luck, made the difference above).
-  const RunResult w = run(surface + common(write("without.csv", without)));
-  ASSERT_EQ(w.exitCode, 0) << w.err;
-  int selfHitsWithout = 0;
-  for (size_t i = 0; i < leaving.size(); ++i)
-    if (w.rows[i][0] == 1.0 && w.rows[i][1] <= 1e-3) ++selfHitsWithout;
-  EXPECT_GT(selfHitsWithout, 0);
+  // Without the column the tool's assumption is too small for these origins and some find
+  // themselves (so the column, not luck, made the difference above).
+  const RunResult without = run(surface + common(write("without.csv", raysCsv(leaving))));
+  ASSERT_EQ(without.exitCode, 0) << without.err;
+  EXPECT_GT(selfHits(without), 0);
 }
 
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {

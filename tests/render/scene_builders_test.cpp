@@ -47,27 +47,24 @@ TEST(QuickScene, BadEquationThrowsParseError) {
 // --param values the surface never reads are refused by name: a parameter the equation
 // does not use, any parameter of a gallery surface (whose parameters are built in).
 TEST(QuickScene, RefusesParametersTheSurfaceDoesNotUse) {
+  auto expectRefused = [](const QuickOptions& q, const std::string& name, const std::string& message) {
+    try {
+      quickScene(q);
+      ADD_FAILURE() << "parameter " << name << " accepted for " << q.surface;
+    } catch (const ParameterError& e) {
+      EXPECT_EQ(e.name(), name);
+      EXPECT_NE(e.message().find(message), std::string::npos) << e.message();
+    }
+  };
   QuickOptions q;
   q.surface = "x^2 + y^2 + z^2 - r^2";
   q.parameters = {{"r", 1.0}};
   EXPECT_EQ(quickScene(q).surfaces.size(), 1u);
   q.parameters["s"] = 2.0;
-  try {
-    quickScene(q);
-    ADD_FAILURE() << "unused parameter accepted";
-  } catch (const ParameterError& e) {
-    EXPECT_EQ(e.name(), "s");
-    EXPECT_NE(e.message().find("not used"), std::string::npos) << e.message();
-  }
+  expectRefused(q, "s", "not used");
   q.surface = gallery().front().name;
   q.parameters = {{"r", 1.0}};
-  try {
-    quickScene(q);
-    ADD_FAILURE() << "parameter of a gallery surface accepted";
-  } catch (const ParameterError& e) {
-    EXPECT_EQ(e.name(), "r");
-    EXPECT_NE(e.message().find("takes no parameters"), std::string::npos) << e.message();
-  }
+  expectRefused(q, "r", "takes no parameters");
 }
 
 TEST(PovExport, PolynomialTermsMatchTheSurface) {
