@@ -316,6 +316,42 @@ TEST_F(EmbreeHits, SurfaceTransformMovesHitsAndNormals) {
   EXPECT_GT(glm::dot(glm::dvec3(hitNormal(rh)), n), 1 - 1e-6);
 }
 
+// An object placed far from the world origin (or tiny and far): a double ray from a point
+// inside it a few percent of its radius off the surface has no root at its origin, and
+// its first hit is the closed form's. The bound on the map's rounding once scaled with
+// |o| + |b| instead of |o - b|: such origins were taken to lie on the surface, and the
+// self-root rule's division by s lost the hit or moved it to where |f| was 0.16 of f's
+// scale. Quadric path (the sphere) and generic walk (the sphere times a far plane).
+TEST_F(EmbreeHits, SelfRootRuleOfFarTranslatedObjects) {
+  struct Case {
+    double scale, shift, z0;  // world = scale * object + (shift, 0, 0); origin at object (0, 0, z0)
+  };
+  for (const Case& k : {Case{1e-8, 6e5, 0.85}, Case{1.0, 1e12, 0.999}, Case{1e-3, 1e6, 0.99}}) {
+    for (const bool quadric : {true, false}) {
+      SurfaceDesc desc = sphereDesc(1.0, 1.2);
+      if (!quadric) desc.polynomial = spherePolynomial(1.0) * (X() - Polynomial(10.0));
+      desc.transform = glm::dmat4(k.scale);
+      desc.transform[3] = glm::dvec4(k.shift, 0, 0, 1);
+      const SurfaceScene scene(device, desc);
+      for (const glm::dvec3 objectDir : {glm::dvec3(1, 0, 0), glm::dvec3(0.6, 0, -0.8), glm::dvec3(0, 0.6, 0.8)}) {
+        RayD ray;
+        ray.org = glm::dvec3(k.shift, 0, 0) + k.scale * glm::dvec3(0, 0, k.z0);
+        ray.dir = objectDir;  // a uniform scale keeps directions; t scales by 1 / scale
+        ray.tfar = std::numeric_limits<double>::infinity();
+        // The object-space ray (o - b is exact here: Sterbenz, and z0 scale - 0), in long double.
+        const glm::dvec3 ob = ray.org - glm::dvec3(k.shift, 0, 0);
+        const auto ref = sphereRoot(ob / k.scale, objectDir / k.scale, 1.0L, 0.0L);
+        ASSERT_TRUE(ref.has_value());
+        const HitD hit = intersectD(scene, ray);
+        ASSERT_TRUE(hit.hit) << k.scale << " " << k.shift << " quadric " << quadric;
+        // Position error in object radii.
+        EXPECT_LT(std::abs(hit.t - (double)*ref) / k.scale, 1e-9)
+            << k.scale << " " << k.shift << " quadric " << quadric << " t " << hit.t << " ref " << (double)*ref;
+      }
+    }
+  }
+}
+
 TEST_F(EmbreeHits, MixedSceneClosestHitEitherOrder) {
   for (bool surfaceFirst : {true, false}) {
     SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));

@@ -70,9 +70,24 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
     // (Frobenius norm bounds the spectral one), plus the rounding of the map itself.
     const double inv = std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
                                  glm::dot(data.aInv[2], data.aInv[2]));
-    r.org = data.aInv * (o - data.b);
+    const glm::dvec3 ob = o - data.b;
+    r.org = data.aInv * ob;
     r.dir = data.aInv * d;
-    r.orgError = inv * (orgError + 4.0 * roundoff * (glm::length(o) + glm::length(data.b)));
+    if (roundoff > kUnitRoundoff) {
+      // A float ray: the bound the quadric packets (quadric_packet_group.inc) and the
+      // tight quadric box (boundedQuadricBox) repeat.
+      r.orgError = inv * (orgError + 4.0 * roundoff * (glm::length(o) + glm::length(data.b)));
+    } else {
+      // A double ray: the world origin stands for a point within orgError plus its own
+      // rounding, u |o| (twice, for margin); the map adds the rounding of o - b (u |o - b|)
+      // and of the product by A^-1 (gamma(3) |A^-1| |o - b|), gamma(5) |o - b| through the
+      // Frobenius norm. Not u (|o| + |b|) for the subtraction: an object of size 1e-8 placed
+      // 6e5 from the world origin has o ~ b, and that bound (with the rule's factors) put
+      // origins 0.15 radii off the surface on it, so the rule divided a root out of rays
+      // that had none at their origin (a clear hit missed, a hit reported where |f| was
+      // 0.16 of its scale: EmbreeHits.SelfRootRuleOfFarTranslatedObjects).
+      r.orgError = inv * (orgError + 2.0 * roundoff * glm::length(o) + gamma(5) * glm::length(ob));
+    }
   }
   // A float ray carries no error bound, and a float host computes a leaving ray's origin
   // as o + t d in float from a ray that started anywhere in the scene: its error is
