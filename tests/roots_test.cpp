@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <algorithm>
 #include <random>
 #include <string>
 #include <vector>
@@ -1015,6 +1016,106 @@ TEST(RootsContract, HugeIntervalsKeepTheRootsNearTheOrigin) {
         ASSERT_TRUE(first) << what;
         EXPECT_NEAR(*first, ref[0].value, tolerance(ref[0])) << what;
       }
+    }
+  }
+}
+
+// High degrees on intervals far wider than their roots: the frame's scaling took the
+// lower coefficients below double's range, and the cut to Cauchy's bound (1 + max |c_j /
+// c_n|, ~rho^n for roots of size rho) did not bring them back: s^40 - 2^40 on (0, 1e13]
+// gave 44762 instead of 2, degree 30-40 polynomials with roots near 1 lost them all from
+// hi ~ 1e10 on. Fujiwara's bound (within 2n of the largest root) fits the frame to the
+// roots. Against certified MPFR roots, every root within the accuracy bound.
+TEST(RootsContract, HighDegreesOnHugeIntervals) {
+  std::vector<double> power(41, 0.0);
+  power[0] = -0x1p40;
+  power[40] = 1;  // s^40 - 2^40: roots +-2
+  std::mt19937_64 rng(40);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  std::vector<std::vector<double>> polys = {power}, starts = {{-2.0, 2.0}};
+  for (int degree : {30, 35, 40}) {
+    std::vector<double> roots;
+    for (int i = 0; i < 6; ++i) roots.push_back(0.5 + 2 * uni(rng));
+    std::vector<std::pair<double, double>> pairs;
+    while (static_cast<int>(roots.size() + 2 * pairs.size()) < degree)
+      pairs.emplace_back(2 * uni(rng), 0.3 + std::abs(uni(rng)));
+    polys.push_back(test::expand(roots, pairs));
+    starts.push_back(roots);
+  }
+  for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel}) {
+    RootOptions o;
+    o.method = m;
+    for (std::size_t pi = 0; pi < polys.size(); ++pi) {
+      const std::vector<double>& c = polys[pi];
+      for (const double hi : {1e9, 1e13, 1e20, 1e100, 1e300}) {
+        const auto ref = test::refineAll(c, starts[pi], -hi, hi);
+        ASSERT_FALSE(ref.empty());
+        std::vector<double> out(c.size());
+        out.resize(allRoots(c, {}, -hi, hi, out, o));
+        ASSERT_EQ(out.size(), ref.size()) << "method " << static_cast<int>(m) << " polynomial " << pi << " hi " << hi;
+        for (std::size_t i = 0; i < ref.size(); ++i)
+          EXPECT_NEAR(out[i], ref[i].value, accuracyBound(ref[i])) << pi << " " << hi << " root " << i;
+        const auto first = firstRoot(c, {}, 0.0, hi, o);
+        const auto positive = std::find_if(ref.begin(), ref.end(), [](const test::RefRoot& r) { return r.value > 0; });
+        ASSERT_EQ(first.has_value(), positive != ref.end()) << pi << " " << hi;
+        if (first) {
+          EXPECT_NEAR(*first, positive->value, accuracyBound(*positive)) << pi << " " << hi;
+        }
+      }
+    }
+  }
+  // 1e200 s^2 - 1e-200 on (0, 1]: the root 1e-200 (the constant's term is below the
+  // frame's range on (0, 1]; the cut to the bound ~1e-200 brings it back). Reference:
+  // sqrt(c0 / c2) of the two doubles in long double (range to 1e-4931), whose relative
+  // conditioning is 1.
+  const std::vector<double> tiny = {-1e-200, 0, 1e200};
+  const auto r = firstRoot(tiny, {}, 0.0, 1.0);
+  ASSERT_TRUE(r);
+  const long double exact = std::sqrt(-static_cast<long double>(tiny[0]) / static_cast<long double>(tiny[2]));
+  EXPECT_NEAR(*r, static_cast<double>(exact), kAccuracyUlps * kU * static_cast<double>(exact));
+}
+
+// Roots near 0 of polynomials whose iterates come from far larger values, and steps
+// whose products underflow:
+//  * the polish stopped on its predicted truncation error after a step from ~1e-17 to a
+//    root near -2e-33, whose rounding (relative to the old iterate) was the root's size:
+//    -3.1e-33 for -2.05e-33; from a start at 0 (a bisection point) the prediction ignored
+//    the s^5 term: -3e-13 for -2.6e-22; Chebyshev's T3 scaled gave 5.7e-42 for its root 0;
+//  * the Halley step as f f' / (f'^2 - f f''/2) underflowed at s^3 + 1e-105 s + 1e-210:
+//    -9.99999934e-106 for -1e-105.
+// Every root against the certified MPFR one, within the accuracy bound (0 exactly).
+TEST(RootsKnown, TinyRootsAndTheStopRule) {
+  struct Case {
+    std::vector<double> c;
+    double lo, hi, start;
+  };
+  const Case cases[] = {
+      {{2e-34, 0.097598522835737805, -0.010772885332415393, -0.5280534357597656, -0.30926447151895853,
+        1.4686554215268472},
+       -0.55515309290547965, 0.70812546016398048, -2e-33},
+      {{1.2831019425889569e-108, 4.2086100465481105e-96, 1.0907295440171897e-92, 0, 0, 1}, -6.1690426470966653,
+       3.1810131915985282, -2.6e-22},
+      {{1e-210, 1e-105, 0, 1}, -1, 1, -1e-105},
+  };
+  for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel, RootMethod::ClosedForm}) {
+    RootOptions o;
+    o.method = m;
+    for (const Case& k : cases) {
+      const auto ref = test::refine(k.c, k.start);
+      ASSERT_TRUE(ref);
+      const auto r = firstRoot(k.c, {}, k.lo, k.hi, o);
+      ASSERT_TRUE(r) << static_cast<int>(m) << " " << k.start;
+      EXPECT_NEAR(*r, ref->value, accuracyBound(*ref)) << static_cast<int>(m) << " " << k.start;
+    }
+    const std::vector<double> t3 = {0, -932473.53166977689, 0, 1.2011735673761709e+17};
+    const double h = 3.2172494962167035e-06;
+    std::vector<double> out(4);
+    ASSERT_EQ(allRoots(t3, {}, -h, h, out, o), 3) << static_cast<int>(m);
+    EXPECT_EQ(out[1], 0.0) << static_cast<int>(m);
+    for (const int i : {0, 2}) {
+      const auto ref = test::refine(t3, i == 0 ? -2.786e-6 : 2.786e-6);
+      ASSERT_TRUE(ref);
+      EXPECT_NEAR(out[i], ref->value, accuracyBound(*ref));
     }
   }
 }

@@ -86,11 +86,19 @@ void checkSizes(std::span<const T> c, std::span<const T> err, const char* where)
 // Builds G(v) = g(2^e v) / 2^E with its noise bound (roots_detail.h). Returns false when
 // there can be no root: non-finite input, an empty or reversed interval, a constant or
 // zero polynomial.
-// Cauchy's bound with the noise of the tangent rule: every s with |s| >= bound has
-// (|c_n| - e_n) |s|^n > sum_{i<n} (|c_i| + e_i) |s|^i, e_i = err_i + gamma(2n+1) |c_i|, so
-// |g(s)| exceeds the noise bound there and no root, tangent or not, lies beyond it
-// (Cauchy's proof, for bound = 1 + max_i (|c_i| + e_i) / (|c_n| - e_n); the factor
-// 1 + 2^-20 covers the rounding of the bound's own arithmetic). False when there is none.
+// Fujiwara's bound with the noise of the tangent rule: with a_j = |c_j| + e_j (j < n, a_0
+// halved), a_n = |c_n| - e_n, e_j = err_j + gamma(2n+1) |c_j| and
+//   B = 2 max_{j<n} (a_j / a_n)^(1 / (n - j)),
+// every s with |s| > B has a_n |s|^n > sum_{j<n} (|c_j| + e_j) |s|^j (each term is at most
+// 2^(j-n) (B / |s|)^(n-j) of the left side, 2^(1-n) for j = 0, and these sum to 1), so |g(s)|
+// exceeds the noise bound there and no root, tangent or not, lies beyond it (M. Fujiwara,
+// Tohoku Math. J. 10, 1916; Knuth, TAOCP vol. 2, 4.6.2 exercise 20). Unlike Cauchy's
+// 1 + max_j a_j / a_n (sessions 1-10), it is within a factor 2n of the largest root, so a
+// frame cut to it fits the roots: s^40 - 2^40 on (0, 1e13] was cut to Cauchy's 1e12, where
+// the constant still left the normal range, and the root 2 came back as 44762 (see
+// toLocalSized). In log2 (the ratios overflow), then 1 + 2^-20 for that arithmetic's
+// rounding. False when there is no bound (no non-zero lower coefficient, a noise-level
+// leading one, or beyond T's range).
 template <class T>
 bool noisyRootBound(const T* c, int n, std::span<const T> err, T& bound) {
   const T gEval = gammaT<T>(2 * n + 1);
@@ -99,10 +107,17 @@ bool noisyRootBound(const T* c, int n, std::span<const T> err, T& bound) {
   };
   const T lead = std::abs(c[n]) - noise(n);
   if (!(lead > 0)) return false;
-  T ratio = 0;
-  for (int j = 0; j < n; ++j) ratio = std::max(ratio, (std::abs(c[j]) + noise(j)) / lead);
-  bound = (1 + ratio) * (1 + T(0x1p-20));
-  return bound <= std::numeric_limits<T>::max();
+  double maxLog = -std::numeric_limits<double>::infinity();
+  for (int j = 0; j < n; ++j) {
+    const double a = static_cast<double>(std::abs(c[j])) + static_cast<double>(noise(j));
+    if (a == 0) continue;
+    const double halved = j == 0 ? 1.0 : 0.0;
+    maxLog = std::max(maxLog, (std::log2(a) - halved - std::log2(static_cast<double>(lead))) / (n - j));
+  }
+  const double b = std::exp2(maxLog + 1) * (1 + 0x1p-20);
+  if (!(b > 0 && b <= static_cast<double>(std::numeric_limits<T>::max()))) return false;
+  bound = static_cast<T>(b);
+  return bound > 0;
 }
 
 template <class T, class Size>

@@ -19,6 +19,11 @@ namespace algray::roots_detail {
 template <class T>
 inline constexpr T kUnit = std::numeric_limits<T>::epsilon() / 2;  // unit roundoff
 
+// sqrt of T's smallest normal number (2^-1022, 2^-126): products of two numbers above it
+// stay normal.
+template <class T>
+inline constexpr T kSqrtMin = std::is_same_v<T, double> ? T(0x1p-511) : T(0x1p-63);
+
 // Higham's gamma_n for the precision T (Accuracy and Stability, Eq. (3.8)).
 template <class T>
 constexpr T gammaT(int n) {
@@ -217,9 +222,21 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
     // Methods for the Solution of Equations", 1964, Sec. 5.2), one division as Newton's.
     // With f''/2 = dd it is x - f df / (df^2 - f dd); where f dd is not small against
     // df^2 (far from the root, near an inflection) the plain Newton step is taken.
-    const T d2 = df * df, fdd = f * dd;
-    const bool halley = 2 * std::abs(fdd) < d2;
-    T xn = halley ? x - f * df / (d2 - fdd) : x - f / df;
+    // Where f or f' is below sqrt(T's smallest normal number) the products f f', f'^2
+    // underflow (a root near 1e-105 of s^3 + 1e-105 s + 1e-210 came out 7e-8 relative off,
+    // RootsKnown.TinyRootsAndTheStopRule); there the same steps are taken as ratios,
+    // whose extra division stays off the common path.
+    bool halley;
+    T xn;
+    if (std::abs(f) >= kSqrtMin<T> && std::abs(df) >= kSqrtMin<T>) [[likely]] {
+      const T d2 = df * df, fdd = f * dd;
+      halley = 2 * std::abs(fdd) < d2;
+      xn = halley ? x - f * df / (d2 - fdd) : x - f / df;
+    } else {
+      const T ratio = f / df, h = ratio * (dd / df);
+      halley = 2 * std::abs(h) < 1;
+      xn = halley ? x - ratio / (1 - h) : x - ratio;
+    }
     // Bisect when the step leaves the bracket (also df == 0, NaN) or when it does not at
     // least halve the previous step: far from the root of a steep piece (x^n-like growth
     // towards one end) Newton creeps by a factor 1 - 1/n per step (rtsafe's rule,
@@ -250,9 +267,16 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
       // |K| h^2, Halley's |K^2 - L| h^3, K = f''/(2f') = dd/df, L = f'''/(6f') = d3/df
       // (Traub, Sec. 5.2). When it is below the rounding of x the next step could not
       // move x.
+      // The prediction is trusted only where it is the whole error: the step is at most
+      // half of |x| (xn = x - step rounds relative to |x|, not |xn|: a step from 1e-17 to
+      // a root near 2e-33 left an error the size of the root), and the noise's own share
+      // of the step, nb / |f'|, is not large against |xn| (else the noise rule ends it).
+      // Both hold at any ordinary convergence; elsewhere one more step is taken.
       const T step = std::abs(xn - x), k = std::abs(dd / df);
       const T predicted = halley ? (k * k + std::abs(d3 / df)) * step * step * step : k * step * step;
-      if (step <= tol || predicted <= kUnit<T> * std::abs(xn) || step <= 4 * kUnit<T> * std::abs(xn))
+      const bool predictable = 2 * step <= std::abs(x) && nb <= 4 * std::abs(df) * std::abs(xn);
+      if (step <= tol || step <= 4 * kUnit<T> * std::abs(xn) ||
+          (predictable && predicted <= kUnit<T> * std::abs(xn)))
         return xn;
     }
     stepOld = std::abs(xn - x);
