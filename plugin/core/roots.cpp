@@ -83,9 +83,6 @@ void checkSizes(std::span<const T> c, std::span<const T> err, const char* where)
     throwSizeError(c.size(), err.size(), where);
 }
 
-// Builds G(v) = g(2^e v) / 2^E with its noise bound (roots_detail.h). Returns false when
-// there can be no root: non-finite input, an empty or reversed interval, a constant or
-// zero polynomial.
 // Fujiwara's bound with the noise of the tangent rule: with a_j = |c_j| + e_j (j < n, a_0
 // halved), a_n = |c_n| - e_n, e_j = err_j + gamma(2n+1) |c_j| and
 //   B = 2 max_{j<n} (a_j / a_n)^(1 / (n - j)),
@@ -120,6 +117,9 @@ bool noisyRootBound(const T* c, int n, std::span<const T> err, T& bound) {
   return bound > 0;
 }
 
+// Builds G(v) = g(2^e v) / 2^E with its noise bound (roots_detail.h). Returns false when
+// there can be no root: non-finite input, an empty or reversed interval, a constant or
+// zero polynomial.
 template <class T, class Size>
 bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
                   Frame<T>& fr, bool shrunk = false) {
