@@ -302,13 +302,19 @@ T newtonInBracket(const T* p, const T* noise, D deg, T a, T b, T fa, T fb, T tol
 // "On the cost of floating-point computation without extra-precise arithmetic", 2004;
 // Boldo, "Kahan's algorithm for a correct discriminant computation at last formally
 // proven", IEEE TC 2009): accurate to a few ulps even when the two products cancel.
+// Where they do not (|p - q| > (p + |q|) / 2) the correction, at most u (p + |q|) < 2u
+// |p - q|, is left out: std::fma is a library call in a build without FMA, two of them
+// on the dependency chain of every quadric ray (session 11, speed_report's sphere, seven
+// interleaved runs: primary rays 0.92-0.96x -> 0.98-1.00x of Embree's sphere). The
+// quadric path's scalar and SIMD kernels (quadric_path.cpp, quadric_packet_group.inc)
+// repeat this rule exactly.
 template <class T>
 inline T discriminant(T a, T b, T c) {
-  const T p = b * b;
+  const T p = b * b, q = 4 * a * c, d0 = p - q;
+  if (std::abs(d0) > T(0.5) * (p + std::abs(q))) return d0;
   const T dp = std::fma(b, b, -p);
-  const T q = 4 * a * c;
   const T dq = std::fma(4 * a, c, -q);
-  return (p - q) + (dp - dq);
+  return d0 + (dp - dq);
 }
 
 // Real roots of a v^2 + b v + c with a != 0, in increasing order; returns 0 or 2 (a

@@ -66,9 +66,11 @@ int quadraticFirst(const QuadricRay& g, double lo, double hi, double& s) {
   // Both roots by citardauq (quadraticRoots in roots_detail.h, with Kahan's
   // discriminant), before the sweep asks for one: they depend on c only, so their root
   // and divisions overlap the vertex's division instead of waiting for the sweep.
-  const double p = c1 * c1, dp = std::fma(c1, c1, -p);
-  const double q4 = 4 * c2 * c0, dq = std::fma(4 * c2, c0, -q4);
-  const double disc = (p - q4) + (dp - dq);
+  // (Kahan's correction only where p - q4 cancels, as discriminant() in roots_detail.h.)
+  const double p = c1 * c1, q4 = 4 * c2 * c0, d0 = p - q4;
+  double disc = d0;
+  if (!(std::abs(d0) > 0.5 * (p + std::abs(q4)))) [[unlikely]]
+    disc = d0 + (std::fma(c1, c1, -p) - std::fma(4 * c2, c0, -q4));
   // (The root of max(disc, 0): a negative disc has no root to use, and its NaN would
   // take libm's errno path.)
   const double q = -(c1 + std::copysign(std::sqrt(std::max(disc, 0.0)), c1)) / 2;
