@@ -184,14 +184,15 @@ T toBernsteinWithBound(const LocalPoly<T>& g, D deg, E* b) {
   }
   for (int k = 0; k < n; ++k)
     for (int i = n - 1; i >= k; --i) a[i] += shift * a[i + 1];
-  T p = 1;
-  for (int j = 0; j <= n; ++j, p *= w) a[j] *= p;
   // b_i = sum_{j <= i} C(i, j) a_j / C(n, j): divide by C(n, j) (a table of reciprocals,
   // two roundings), then n passes of b_i += b_{i-1} (i from n down to k in pass k) form
   // the binomial sums with additions only (Pascal's rule), each of which rounds relative
   // to a partial sum of |a_j| / C(n, j) C(i, j) <= beta_i.
+  // The scaling by w^j and the division share one loop (as two, the second re-read what
+  // the first had just stored, in pairs once vectorised: the stall of plugin/CMakeLists.txt).
   const T* inv = kInverseBinomials<T>.row(n);
-  for (int j = 0; j <= n; ++j) b[j] = a[j] * inv[j];
+  T p = 1;
+  for (int j = 0; j <= n; ++j, p *= w) b[j] = (a[j] * p) * inv[j];
   for (int k = 1; k <= n; ++k) {
     E cur = b[n];  // carried in a register (see splitBernstein)
     for (int i = n; i >= k; --i) {
