@@ -36,18 +36,22 @@ class Loader {
     if (thread_.joinable()) thread_.join();
   }
 
-  void start() {
-    std::call_once(started_, [this] {
+  void start(std::function<void(const ImageBackend*)> whenLoaded) {
+    std::call_once(started_, [this, &whenLoaded] {
+      whenLoaded_ = std::move(whenLoaded);
       // OpenBLAS (OIIO -> OpenCV -> ... -> OpenBLAS) starts one busy-waiting worker per
       // core when it loads; image I/O never calls BLAS. Set before the load, on the
       // calling thread; a user's own setting wins.
       setenv("OPENBLAS_NUM_THREADS", "1", 0);
-      thread_ = std::thread([this] { load(); });
+      thread_ = std::thread([this] {
+        load();
+        if (whenLoaded_) whenLoaded_(backend_);
+      });
     });
   }
 
   const ImageBackend& get() {
-    start();
+    start({});
     std::call_once(joined_, [this] { thread_.join(); });
     if (!backend_) throw std::runtime_error("cannot load the image module (OpenImageIO): " + error_);
     return *backend_;
@@ -72,6 +76,7 @@ class Loader {
   }
 
   std::once_flag started_, joined_;
+  std::function<void(const ImageBackend*)> whenLoaded_;
   std::thread thread_;
   const ImageBackend* backend_ = nullptr;  // written by the thread, read after join
   std::string error_;
@@ -84,7 +89,9 @@ Loader& loader() {
 
 }  // namespace
 
-void startLoadingImageBackend() { loader().start(); }
+void startLoadingImageBackend(std::function<void(const ImageBackend*)> whenLoaded) {
+  loader().start(std::move(whenLoaded));
+}
 
 const ImageBackend& imageBackend() { return loader().get(); }
 

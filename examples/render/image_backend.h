@@ -10,6 +10,7 @@
 // therefore live in a module (libalgray_render_oiio.so, oiio_backend.cpp) that main
 // starts loading before the scene is built; the first image read or write waits for it.
 // OpenImageIO stays the only image reader and writer.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,10 +40,14 @@ struct ImageBackend {
   WriteStatus (*write)(const std::string& formatPath, const std::string& filePath,
                        const RasterDesc& desc, const void* pixels, std::string& error);
   bool (*read)(const std::string& path, Raster& out, std::string& error);
+  // Whether OpenImageIO can write the format that formatPath's extension names.
+  bool (*canWrite)(const std::string& formatPath);
 };
 
 // Starts loading the module on a background thread (once; later calls do nothing).
-void startLoadingImageBackend();
+// whenLoaded, if given, runs on that thread once the module is loaded (with nullptr if it
+// could not be): work that needs OpenImageIO without making the caller wait for it.
+void startLoadingImageBackend(std::function<void(const ImageBackend*)> whenLoaded = {});
 
 // The loaded module (starts loading if needed and waits). Throws std::runtime_error
 // naming the paths tried if the module cannot be loaded.

@@ -9,8 +9,11 @@
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 #include <vector>
+
+#include <unistd.h>
 
 namespace algray::render {
 
@@ -133,7 +136,8 @@ void writeImage(const Image& image, const std::string& path, const RenderSetting
         bytes[3 * i + k] = encodeByte(static_cast<double>(image.color[i][k]) * scale, settings.toneMap);
   }
   // The format comes from the final name; the bytes go to the temporary one.
-  std::string tmp = path + ".tmp", error;
+  // (A name of this process's own: "OUT.tmp" replaced and removed a user's file.)
+  std::string tmp = path + ".algray-" + std::to_string(getpid()) + ".tmp", error;
   const void* pixels = desc.floating ? static_cast<const void*>(floats.data()) : bytes.data();
   const WriteStatus status = backend.write(path, tmp, desc, pixels, error);
   if (status == WriteStatus::UnsupportedFormat)

@@ -1,5 +1,5 @@
 #pragma once
-// Image output through OpenImageIO, written atomically (OUT.tmp, then rename).
+// Image output through OpenImageIO, written atomically (OUT.algray-PID.tmp, then rename).
 //  * .exr (and other float formats): linear radiance R,G,B plus the AOV channels
 //    Z (depth), N.X N.Y N.Z (normal), albedo.R albedo.G albedo.B, id.
 //  * .png, .jpg, ...: exposure, tone mapping and the sRGB transfer curve, 8 bits.

@@ -34,7 +34,15 @@
 namespace {
 
 std::atomic<bool> gCancel{false};
-extern "C" void onInterrupt(int) { gCancel.store(true); }
+// Set (with gCancel) when OpenImageIO, loaded during the render, cannot write -o's format:
+// a typo such as "-o out.pgn" stops the render instead of being reported after it.
+std::atomic<bool> gUnwritableFormat{false};
+// The first Ctrl-C asks the render to stop (the finished pixels are written); a second
+// one ends the program at once (signal() is async-signal-safe).
+extern "C" void onInterrupt(int) {
+  gCancel.store(true);
+  std::signal(SIGINT, SIG_DFL);
+}
 
 // Case-insensitive: "SURFACE.JSURF" is a jsurf file too (it was parsed as JSON).
 bool endsWith(const std::string& s, const std::string& suffix) {
@@ -50,7 +58,7 @@ int main(int argc, char** argv) {
   CLI::App app{"algray-render: path tracing of algebraic surfaces (algray) and meshes with Embree"};
   std::string input, output = "algray.png", integrator, aovList, surface, exportPov;
   std::optional<int> width, height, spp, threads, maxDepth;
-  std::optional<std::uint64_t> seed;
+  std::optional<long long> seed;  // signed: "-1" wrapped to 2^64 - 1 as an unsigned option
   std::optional<double> clipSphere, exposure;
   std::vector<std::string> params;
   bool quiet = false, listGallery = false, sturm = false;
@@ -62,7 +70,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   app.add_option("--integrator", integrator, "path (default) or direct")->check(CLI::IsMember({"path", "direct"}));
   app.add_option("--max-depth", maxDepth, "maximum path length")->check(CLI::Range(0, 1000));
-  app.add_option("--seed", seed, "random seed");
+  app.add_option("--seed", seed, "random seed")->check(CLI::Range(0LL, 1LL << 30));  // as the JSON "seed"
   app.add_option("--exposure", exposure, "exposure in stops (PNG)");
   app.add_option("--aov", aovList, "extra EXR channels: depth,normal,albedo,id (any of them: all are written)");
   auto* surfaceOpt =
@@ -103,8 +111,15 @@ int main(int argc, char** argv) {
 
   // ---- The scene -------------------------------------------------------------------------
   SceneDesc desc;
+  // An empty --surface or --export-pov was taken for an absent one: `--surface ""` rendered
+  // the default scene with exit 0, its --param and --clip-sphere (even invalid ones)
+  // ignored, and `--export-pov ""` rendered algray.png instead of exporting.
+  if (exportOpt->count() > 0 && exportPov.empty()) {
+    std::fprintf(stderr, "algray-render: --export-pov: the file name is empty\n");
+    return 2;
+  }
   try {
-    if (!surface.empty()) {
+    if (surfaceOpt->count() > 0) {
       if (!input.empty()) throw SceneError("--surface", 0, 0, "give either a scene file or --surface, not both");
       QuickOptions q;
       q.surface = surface;
@@ -155,7 +170,7 @@ int main(int argc, char** argv) {
   if (spp) s.spp = *spp;
   if (threads) s.threads = *threads;
   if (maxDepth) s.maxDepth = *maxDepth;
-  if (seed) s.seed = *seed;
+  if (seed) s.seed = static_cast<std::uint64_t>(*seed);
   if (exposure) {
     if (!std::isfinite(*exposure)) {
       std::fprintf(stderr, "algray-render: --exposure must be a finite number of stops\n");
@@ -167,7 +182,21 @@ int main(int argc, char** argv) {
 
   if (!exportPov.empty()) {
     try {
-      std::ofstream(exportPov) << povrayScene(desc, sturm);
+      const std::string text = povrayScene(desc, sturm);
+      // A file that cannot be written (missing directory, a directory, a full disk) was
+      // reported as success with exit code 0.
+      std::ofstream pov(exportPov);
+      if (!pov) {
+        std::fprintf(stderr, "algray-render: --export-pov %s: cannot write there (%s)\n", exportPov.c_str(),
+                     std::strerror(errno));
+        return 2;
+      }
+      pov << text;
+      pov.close();
+      if (!pov) {
+        std::fprintf(stderr, "algray-render: --export-pov %s: error writing the file\n", exportPov.c_str());
+        return 1;
+      }
     } catch (const std::exception& e) {
       std::fprintf(stderr, "algray-render: %s\n", e.what());
       return 2;
@@ -177,16 +206,34 @@ int main(int argc, char** argv) {
 
   // ---- Build, render, write ------------------------------------------------------------
   // The output's directory is checked before the render (a typo in -o should not cost
-  // the render); the format is the image library's to judge, when it writes.
+  // the render); the format is the image library's to judge, as soon as it is loaded. The
+  // probe has a name of its own ("OUT.tmp" removed a user's file of that name) and is
+  // created only if absent.
   {
-    const std::string probe = output + ".tmp";
-    std::FILE* f = std::fopen(probe.c_str(), "wb");
-    if (!f) {
+    const std::string probe = output + ".algray-probe-" + std::to_string(getpid());
+    std::FILE* f = std::fopen(probe.c_str(), "wbx");
+    if (!f && errno != EEXIST) {
       std::fprintf(stderr, "algray-render: -o %s: cannot write there (%s)\n", output.c_str(), std::strerror(errno));
       return 2;
     }
-    std::fclose(f);
-    std::remove(probe.c_str());
+    if (f) {
+      std::fclose(f);
+      std::remove(probe.c_str());
+    }
+  }
+  // The image's buffers (colour, depth, normal, albedo, id: 44 bytes a pixel, and the
+  // file's copy) beyond the machine's memory: refused by name before anything is
+  // allocated (32768 x 32768 asked for 47 GB and ended in std::bad_alloc or the OOM killer).
+  {
+    const double bytes = static_cast<double>(s.width) * s.height * (44.0 + 44.0);
+    const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (memory > 0 && bytes > memory) {
+      std::fprintf(stderr,
+                   "algray-render: an image of %d x %d needs about %.1f GiB, more than this machine's %.1f GiB "
+                   "(lower --width/--height or the scene's render size)\n",
+                   s.width, s.height, bytes / (1 << 30), memory / (1 << 30));
+      return 2;
+    }
   }
   try {
     Scene scene(desc);
@@ -196,7 +243,12 @@ int main(int argc, char** argv) {
     // Embree's and TBB's threads (measured: the scene build then waited 0.23-0.28 s). A
     // render on one thread without a progress bar creates none and overlaps fully; the
     // others wait at their first thread creation, i.e. cost what loading at write did.
-    startLoadingImageBackend();
+    startLoadingImageBackend([output](const ImageBackend* backend) {
+      if (backend && !backend->canWrite(output)) {
+        gUnwritableFormat.store(true);
+        gCancel.store(true);
+      }
+    });
     Image image;
     RenderOptions options;
     options.progress = !quiet && isatty(STDERR_FILENO);
@@ -204,6 +256,11 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, onInterrupt);
     RenderStats stats = render(scene, image, options);
     std::signal(SIGINT, SIG_DFL);
+    if (gUnwritableFormat.load()) {
+      std::fprintf(stderr, "algray-render: -o %s: unsupported image format (OpenImageIO cannot write it)\n",
+                   output.c_str());
+      return 2;
+    }
     try {
       writeImage(image, output, s, !aovList.empty());
     } catch (const std::exception& e) {  // an unsupported format: bad input
@@ -220,6 +277,9 @@ int main(int argc, char** argv) {
   } catch (const algray::Error& e) {  // the plugin rejected a surface: bad input
     std::fprintf(stderr, "algray-render: %s\n", e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "algray-render: out of memory (image %d x %d, %d spp)\n", s.width, s.height, s.spp);
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "algray-render: %s\n", e.what());
     return 1;

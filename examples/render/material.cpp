@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace algray::render {
 
@@ -32,6 +33,12 @@ std::shared_ptr<const Texture> Texture::load(const std::string& path) {
     const float* p = &pixels[i * nc];
     glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
     if (raster.encoded) c = {srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)};
+    // A float image may hold inf, NaN or negative values: as an environment they turned
+    // the whole render black (inf * 0 in the estimator) or negative, with exit code 0.
+    if (!(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) || c.r < 0 || c.g < 0 || c.b < 0)
+      throw std::runtime_error(path + ": texel (" + std::to_string(i % static_cast<size_t>(w)) + ", " +
+                               std::to_string(i / static_cast<size_t>(w)) +
+                               ") is not a finite non-negative colour");
     texels[i] = c;
   }
   return std::make_shared<Texture>(w, h, std::move(texels));

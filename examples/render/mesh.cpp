@@ -8,10 +8,18 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
 #include <map>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace algray::render {
 
@@ -129,7 +137,66 @@ MeshData makeIcosphere(int subdivisions) {
   return m;
 }
 
+namespace {
+
+// tinyobjloader reads what it can: "v inf 1 0", "v abc 1 0", "v 0 1" (no z) and a face
+// index beyond int all became 0 or some other vertex without a warning, and the mesh
+// rendered as if the file were right. The lines it turns into geometry are checked here
+// first, with their line numbers: every number of v, vn, vt must parse whole and be
+// finite (within float, which tinyobjloader stores), every face corner must be i, i/j,
+// i//k or i/j/k with non-zero integers in int's range. The reading stays tinyobjloader's.
+void checkObjNumbers(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return;  // tinyobjloader reports it
+  std::string line;
+  for (int lineNo = 1; std::getline(in, line); ++lineNo) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string kind, word;
+    words >> kind;
+    if (kind != "v" && kind != "vn" && kind != "vt" && kind != "f") continue;
+    auto fail = [&](const std::string& what) {
+      throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": " + what);
+    };
+    std::vector<std::string> items;
+    while (words >> word) items.push_back(word);
+    if (kind == "f") {
+      if (items.size() < 3) fail("a face needs at least 3 vertices");
+      for (const std::string& corner : items) {
+        size_t start = 0;
+        for (int part = 0; start <= corner.size() && part < 3; ++part) {
+          const size_t slash = std::min(corner.find('/', start), corner.size());
+          const std::string index = corner.substr(start, slash - start);
+          if (!(index.empty() && part > 0)) {  // "i//k": no uv index
+            char* end = nullptr;
+            errno = 0;
+            const long long v = std::strtoll(index.c_str(), &end, 10);
+            if (index.empty() || *end != '\0' || errno == ERANGE || v == 0 || v < INT_MIN || v > INT_MAX)
+              fail("bad face index '" + corner + "'");
+          }
+          start = slash + 1;
+          if (slash == corner.size()) break;
+          if (part == 2) fail("bad face index '" + corner + "'");
+        }
+      }
+      continue;
+    }
+    const size_t n = items.size();
+    const bool countOk = kind == "v" ? (n == 3 || n == 4 || n == 6 || n == 7) : kind == "vn" ? n == 3 : (n >= 1 && n <= 3);
+    if (!countOk) fail("'" + kind + "' with " + std::to_string(n) + " numbers");
+    for (const std::string& text : items) {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (*end != '\0' || !(std::abs(v) <= std::numeric_limits<float>::max()))
+        fail("'" + text + "' is not a finite number (in float's range)");
+    }
+  }
+}
+
+}  // namespace
+
 MeshData loadObj(const std::string& path) {
+  checkObjNumbers(path);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;

@@ -52,7 +52,9 @@ bool readRaster(const std::string& path, Raster& out, std::string& error) {
   return false;
 }
 
-constexpr ImageBackend kBackend{writeRaster, readRaster};
+bool canWriteFormat(const std::string& formatPath) { return OIIO::ImageOutput::create(formatPath) != nullptr; }
+
+constexpr ImageBackend kBackend{writeRaster, readRaster, canWriteFormat};
 
 }  // namespace
 

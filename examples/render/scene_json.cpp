@@ -9,6 +9,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -44,6 +47,12 @@ class Loader {
       const TextLocation loc = locateOffset(text_, at);
       throw SceneError(name_, loc.line, loc.column,
                        "nesting deeper than " + std::to_string(kMaxNesting) + " levels of arrays and objects");
+    }
+    // nlohmann's parser stops at a NUL byte as at the end of the input, so whatever
+    // followed one was accepted unread ({...}\0garbage rendered with exit code 0).
+    if (const size_t at = text_.find('\0'); at != std::string_view::npos) {
+      const TextLocation loc = locateOffset(text_, at);
+      throw SceneError(name_, loc.line, loc.column, "a NUL byte (the file is not JSON text)");
     }
     try {
       root_ = json::parse(text_.begin(), text_.end());
@@ -132,6 +141,14 @@ class Loader {
     for (auto it = j.begin(); it != j.end(); ++it)
       if (!allowed.count(it.key())) fail(p + "/" + jsonPointerToken(it.key()), "unknown key '" + it.key() + "'");
   }
+  // Keys the object type knows but this kind of it ignores: refused like unknown ones
+  // ("size" on an OBJ mesh, "roughness" on a diffuse material, "fov" on an orthographic
+  // camera were ignored without a word).
+  void notFor(const json& j, const std::string& p, std::initializer_list<const char*> keys,
+              const std::string& what) const {
+    for (const char* k : keys)
+      if (j.contains(k)) fail(p + "/" + jsonPointerToken(k), std::string("'") + k + "' does not apply to " + what);
+  }
   const json& object(const json& j, const std::string& p) const {
     if (!j.is_object()) fail(p, "expected an object");
     return j;
@@ -144,6 +161,21 @@ class Loader {
     if (!j.is_number()) fail(p, "expected a number");
     double v = j.get<double>();
     if (!std::isfinite(v)) fail(p, "expected a finite number");
+    // nlohmann rounds a literal below double's range to 0 without a word ("a": 1e-400 made
+    // x^2+y^2+z^2-a a point, exit 0); the command lines refuse such a --param. The literal
+    // is read again from the text, as strtod reports the underflow.
+    if (v == 0.0 && j.is_number_float()) {
+      if (auto it = offsets_.find(p); it != offsets_.end()) {
+        size_t end = it->second;
+        while (end < text_.size() && (std::isdigit(static_cast<unsigned char>(text_[end])) || text_[end] == '.' ||
+                                      text_[end] == 'e' || text_[end] == 'E' || text_[end] == '-' || text_[end] == '+'))
+          ++end;
+        const std::string literal(text_.substr(it->second, end - it->second));
+        errno = 0;
+        const double again = std::strtod(literal.c_str(), nullptr);
+        if (errno == ERANGE && again == 0.0) fail(p, "'" + literal + "' underflows to 0 in double");
+      }
+    }
     return v;
   }
   double positive(const json& j, const std::string& p) const {
@@ -239,6 +271,8 @@ class Loader {
       else if (v == "orthographic") c.type = CameraDesc::Type::Orthographic;
       else fail(p + "/type", "camera type must be \"perspective\" or \"orthographic\"");
     }
+    if (c.type == CameraDesc::Type::Perspective) notFor(j, p, {"height"}, "a perspective camera (it has \"fov\")");
+    else notFor(j, p, {"fov", "aperture", "focus_distance"}, "an orthographic camera");
     if (j.contains("position")) c.position = coordinate(j["position"], p + "/position");
     if (j.contains("look_at")) c.lookAt = coordinate(j["look_at"], p + "/look_at");
     if (j.contains("up")) c.up = direction(j["up"], p + "/up");
@@ -271,6 +305,14 @@ class Loader {
     else if (type == "dielectric") m.type = MaterialType::Dielectric, m.color = glm::dvec3(1.0);
     else if (type == "emissive") m.type = MaterialType::Emissive;
     else fail(p + "/type", "material type must be diffuse, conductor, dielectric or emissive");
+    switch (m.type) {
+      case MaterialType::Diffuse: notFor(j, p, {"roughness", "ior", "emission"}, "a diffuse material"); break;
+      case MaterialType::Conductor: notFor(j, p, {"ior", "emission"}, "a conductor"); break;
+      case MaterialType::Dielectric: notFor(j, p, {"roughness", "emission"}, "a (smooth) dielectric"); break;
+      case MaterialType::Emissive:
+        notFor(j, p, {"color", "roughness", "ior", "texture"}, "an emissive material (it has \"emission\")");
+        break;
+    }
     if (j.contains("color")) m.color = color(j["color"], p + "/color");
     if (j.contains("roughness")) {
       m.roughness = number(j["roughness"], p + "/roughness");
@@ -431,6 +473,7 @@ class Loader {
     MeshItem item;
     if (j.contains("obj") == j.contains("shape")) fail(p, "a mesh needs exactly one of \"obj\" and \"shape\"");
     if (j.contains("obj")) {
+      notFor(j, p, {"size", "subdivisions", "uv_scale"}, "an OBJ mesh (use \"transform\")");
       std::string file = path(j["obj"], p + "/obj");
       try {
         item.mesh = loadObj(file);
@@ -442,11 +485,14 @@ class Loader {
       std::string shape = string(j["shape"], p + "/shape");
       double size = j.contains("size") ? positive(j["size"], p + "/size") : 1.0;
       if (shape == "plane") {
+        notFor(j, p, {"subdivisions"}, "a plane");
         double uvScale = j.contains("uv_scale") ? positive(j["uv_scale"], p + "/uv_scale") : 1.0;
         item.mesh = makePlane(size, uvScale);
       } else if (shape == "box") {
+        notFor(j, p, {"subdivisions", "uv_scale"}, "a box");
         item.mesh = makeBox(glm::dvec3(size));
       } else if (shape == "icosphere") {
+        notFor(j, p, {"uv_scale"}, "an icosphere");
         int sub = j.contains("subdivisions") ? integer(j["subdivisions"], p + "/subdivisions", 0, 7) : 4;
         item.mesh = makeIcosphere(sub);
         for (glm::dvec3& v : item.mesh.positions) v *= size;

@@ -3,6 +3,7 @@
 
 #include "json_locate.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace algray::render {
 namespace {
@@ -250,6 +253,101 @@ TEST(SceneJson, ClipWithBothSphereAndBoxIsAnError) {
   EXPECT_NE(e.message().find("exactly one of sphere, box"), std::string::npos) << e.what();
 }
 
+// Keys a kind of object does not read were ignored (session 12's sweep): refused at the key.
+TEST(SceneJson, KeysThatDoNotApplyAreErrors) {
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"meshes": [{"obj": "m.obj", "size": 2}]})", "size"},
+      {R"({"meshes": [{"shape": "box", "uv_scale": 2}]})", "uv_scale"},
+      {R"({"meshes": [{"shape": "plane", "subdivisions": 2}]})", "subdivisions"},
+      {R"({"materials": {"m": {"type": "diffuse", "roughness": 0.5}}})", "roughness"},
+      {R"({"materials": {"m": {"type": "conductor", "ior": 1.5}}})", "ior"},
+      {R"({"materials": {"m": {"type": "emissive", "emission": 1, "color": 1}}})", "color"},
+      {R"({"materials": {"m": {"emission": 2}}})", "emission"},
+      {R"({"camera": {"type": "orthographic", "fov": 30}})", "fov"},
+      {R"({"camera": {"height": 3}})", "height"},
+  };
+  for (const auto& [text, key] : cases) {
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.column(), columnOf(text, "\"" + key + "\"") + static_cast<int>(key.size()) + 4) << text << ": " << e.what();
+    EXPECT_NE(e.message().find("'" + key + "' does not apply to"), std::string::npos) << text << ": " << e.what();
+  }
+  // Where they apply they are read.
+  EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"shape": "icosphere", "subdivisions": 2}], "camera": {"fov": 30}})",
+                                "t.json", "."));
+}
+
+// nlohmann stops at a NUL byte as at the end of the text, and rounds a literal below
+// double's range to 0: both were accepted without a word.
+TEST(SceneJson, NulBytesAndUnderflowingNumbersAreErrors) {
+  const std::string nul = std::string("{\"camera\": {\"fov\": 30}}\n") + '\0' + "garbage {{{";
+  SceneError e = errorOf(nul);
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.column(), 1);
+  EXPECT_NE(e.message().find("NUL byte"), std::string::npos) << e.what();
+  const std::string under =
+      R"({"surfaces": [{"equation": "x^2+y^2+z^2-a", "parameters": {"a": 1e-400}, "clip": {"sphere": {"radius": 2}}}]})";
+  SceneError f = errorOf(under);
+  EXPECT_EQ(f.column(), columnOf(under, "1e-400")) << f.what();
+  EXPECT_NE(f.message().find("'1e-400' underflows to 0"), std::string::npos) << f.what();
+  // An exact zero and a subnormal are values.
+  EXPECT_NO_THROW(loadSceneText(R"({"camera": {"aperture": 0.0e5}, "environment": {"color": 1e-310}})", "t.json", "."));
+}
+
+// OBJ lines tinyobjloader read as 0 or as another vertex, with exit code 0: refused with
+// the OBJ's line number, under the scene's position of "obj".
+TEST(SceneJson, MalformedObjNumbersAreErrors) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const std::pair<std::string, std::string> cases[] = {
+      {tri + "v inf 1 0\nf 1 2 3\n", "4: 'inf'"},
+      {tri + "v abc 1 0\nf 1 2 3\n", "4: 'abc'"},
+      {"v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n", "3: 'v' with 2 numbers"},
+      {tri + "vn 0 0 nan\nf 1 2 3\n", "4: 'nan'"},
+      {tri + "v 1e39 0 0\nf 1 2 3\n", "4: '1e39'"},
+      {tri + "f 1 2 99999999999999999999\n", "4: bad face index"},
+      {tri + "f 1 2 3x\n", "4: bad face index"},
+      {tri + "f 1/1/1/1 2 3\n", "4: bad face index"},
+      {tri + "f 1 2\n", "4: a face needs at least 3"},
+  };
+  for (const auto& [obj, expected] : cases) {
+    const std::filesystem::path file = dir / "algray_bad_numbers.obj";
+    std::ofstream(file) << obj;
+    const std::string text = R"({"meshes": [{"obj": ")" + file.string() + R"("}]})";
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.column(), columnOf(text, "\"/")) << obj << ": " << e.what();
+    EXPECT_NE(e.message().find("algray_bad_numbers.obj:" + expected), std::string::npos) << obj << ": " << e.what();
+    std::filesystem::remove(file);
+  }
+  // The forms OBJ allows load: w, vertex colours, uv and normal indices, negative indices.
+  const std::filesystem::path file = dir / "algray_good_numbers.obj";
+  std::ofstream(file) << "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\r\nvt 0.5\nvn 0 0 1\nf 1/1/1 2//1 -1/1\n";
+  EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"obj": ")" + file.string() + R"("}]})", "t.json", "."));
+  std::filesystem::remove(file);
+}
+
+// An image with inf, NaN or negative values made the whole render black (an environment)
+// or negative, with exit code 0.
+TEST(SceneJson, ImagesWithNonFiniteOrNegativeValuesAreErrors) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "algray_bad_texels.exr";
+  for (const float bad : {INFINITY, NAN, -0.5f}) {
+    std::vector<float> pixels(2 * 2 * 3, 0.5f);
+    pixels[3 * 3 + 1] = bad;  // texel (1, 1), green
+    auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    ASSERT_TRUE(out->close());
+    for (const std::string& text : {R"({"environment": {"image": ")" + file.string() + R"("}})",
+                                    R"({"materials": {"m": {"texture": ")" + file.string() + R"("}}})"}) {
+      SceneError e = errorOf(text);
+      EXPECT_EQ(e.column(), columnOf(text, "\"/")) << bad << ": " << e.what();
+      EXPECT_NE(e.message().find("texel (1, 1) is not a finite non-negative colour"), std::string::npos)
+          << bad << ": " << e.what();
+    }
+  }
+  std::filesystem::remove(file);
+}
+
 // nlohmann keeps the last of repeated keys; the loader refuses them.
 TEST(SceneJson, DuplicateKeysAreErrors) {
   SceneError e = errorOf("{\"camera\": {\"fov\": 30,\n  \"fov\": 40}}");
@@ -398,6 +496,14 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // The library refusing the clip sphere's size names the option that set it.
       {"--surface x^2+y^2+z^2-1 --clip-sphere 1e300", "--surface in --clip-sphere: "},
       {"--surface barth-sextic --clip-sphere 1e300", "in --clip-sphere: "},
+      // Session 12's sweep: an empty --surface or --export-pov was taken for none given (the
+      // default scene rendered, its options ignored), an unwritable --export-pov and a
+      // negative --seed (wrapped to 2^64 - 1) were accepted with exit code 0.
+      {"--surface '' --param a=1", "--surface:1:1: empty equation"},
+      {"--surface sphere --export-pov ''", "--export-pov: the file name is empty"},
+      {"--surface sphere --export-pov /nonexistent/dir/a.pov", "cannot write there"},
+      {"--surface sphere --seed -1", "--seed"},
+      {"--surface sphere --seed 1073741825", "--seed"},
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
@@ -405,6 +511,43 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
     EXPECT_EQ(code, 2) << args << ": " << out;
     EXPECT_NE(out.find(expected), std::string::npos) << args << ": " << out;
   }
+}
+
+// An -o format OpenImageIO cannot write stops the render once the image library has
+// loaded (it was reported after the whole render); Ctrl-C stops within a tile (it waited
+// for the tile, minutes at a high spp) and writes the partial image. Both renders below
+// take minutes if not stopped; `timeout` turns that into a failure.
+TEST(RenderProgram, BadFormatAndCtrlCStopTheRender) {
+  const std::string slow = "--surface sarti-dodecic --width 16 --height 16 --spp 1048576 --threads 1 -q";
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  {
+    const auto [code, out] = runRender(slow + " -o " + (dir / "algray_format.pgn").string() + " --seed 1");
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find("unsupported image format"), std::string::npos) << out;
+  }
+  const std::filesystem::path image = dir / "algray_interrupted.png";
+  const std::string cmd = "timeout -s KILL 60 timeout --foreground --preserve-status -s INT 3 " + std::string(ALGRAY_RENDER_EXE) +
+                          " " + slow + " -o " + image.string() + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_TRUE(pipe);
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pclose(pipe);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << status << ": " << out;
+  EXPECT_NE(out.find("interrupted: partial image"), std::string::npos) << out;
+  EXPECT_TRUE(std::filesystem::exists(image));
+  std::filesystem::remove(image);
+}
+
+// An image larger than the machine's memory is refused by name before any allocation
+// (32768 x 32768 ended in std::bad_alloc or the OOM killer).
+TEST(RenderProgram, ImageBeyondMemoryIsAnError) {
+  const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  if (memory > 80.0 * (1 << 30)) GTEST_SKIP() << "this machine could hold the image";
+  const auto [code, out] = runRender("--surface sphere --width 32768 --height 32768 -q -o /dev/null");
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("lower --width/--height"), std::string::npos) << out;
 }
 
 // A subnormal --param is its own value, as in algray-query (std::stod refused it as "not a
