@@ -531,6 +531,23 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
   SurfaceDesc projective = desc;
   projective.transform[0][3] = 0.5;
   EXPECT_THROW(make(projective), Error);
+  // Squashed along one axis beyond 2^40 (condition number): each column passes the
+  // singularity test, but the hits were noise (a torus of thickness 1e-16 was missed, one
+  // of 1e-15 had the normal (-0.6, -0.06, 0), exit code 0 in algray-render); 2^39 passes,
+  // and so does a uniform scale however small.
+  for (const double squash : {0x1p-41, 1e-20, 1e-300}) {
+    SurfaceDesc flat = desc;
+    flat.transform[2][2] = squash;
+    try {
+      make(flat);
+      ADD_FAILURE() << squash << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("condition number"), std::string::npos) << e.what();
+    }
+  }
+  SurfaceDesc flattish = desc;
+  flattish.transform[2][2] = 0x1p-39;
+  EXPECT_NO_THROW(make(flattish));
   for (const int depth : {-5, -2, 31, 1000}) {  // -1 and 0..30 only
     SurfaceDesc badDepth = desc;
     badDepth.options.cellDepth = depth;

@@ -68,6 +68,19 @@ TEST(Jsurf, PropertiesSyntax) {
   EXPECT_EQ(f.getNumbers("plain", 2), (std::vector<double>{1.0, 2.0}));
 }
 
+// An editor's UTF-8 byte order mark is not part of the first key (the file had "no
+// surface_equation"); the columns of the first line count from after it.
+TEST(Jsurf, ByteOrderMarkIsSkipped) {
+  const JsurfFile f = JsurfFile::parse("\xEF\xBB\xBFsurface_equation=x^2+y^2+z^2-1+\n", "t.jsurf");
+  ASSERT_TRUE(f.has("surface_equation"));
+  try {
+    f.polynomial();
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("t.jsurf:1:32:"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Jsurf, NumberErrorsCarryFileAndLine) {
   const JsurfFile f = JsurfFile::parse("a=1 2 x\nb=1.0E-4 2\nc=1 2 3\n", "n.jsurf");
   EXPECT_NE(expectError([&] { f.getNumbers("a"); }).find("n.jsurf:1: a: 'x' is not a finite number"),

@@ -88,6 +88,10 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   glm::dmat4 rotation(1.0);
   if (f.has("rotation_matrix")) {
     rotation = rowMajor(f.getNumbers("rotation_matrix", 16));
+    // Only its 3x3 part is used (SURFER rotates about the clip sphere's centre): a
+    // translation or a projective row was dropped without a word.
+    if (rotation[3] != glm::dvec4(0, 0, 0, 1) || rotation[0][3] != 0 || rotation[1][3] != 0 || rotation[2][3] != 0)
+      fail(f, "rotation_matrix", "must be a 3x3 rotation in a 4x4 matrix (last column and last row 0 0 0 1)");
     if (!wellConditioned(glm::dmat3(rotation))) fail(f, "rotation_matrix", "singular (or out of range) matrix");
   }
   glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -1});

@@ -8,10 +8,13 @@
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace algray::render {
 
 namespace {
+
+constexpr int kPovRayMaxDegree = 35;
 
 std::string vec(const glm::dvec3& v) {
   char buf[128];
@@ -65,6 +68,11 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
       throw std::runtime_error("POV-Ray export: surfaces need a clip sphere and no transform");
     const Polynomial& p = item.polynomial;
     int n = p.degree();
+    // POV-Ray's polynomial object stops at its MAX_ORDER ("Order of polynom is out of
+    // range" for degrees 36-40, which algray traces).
+    if (n > kPovRayMaxDegree)
+      throw std::runtime_error("POV-Ray export: POV-Ray's polynomial takes degree <= " +
+                               std::to_string(kPovRayMaxDegree) + ", this surface has degree " + std::to_string(n));
     out << "polynomial { " << n;
     for (int d = n; d >= 0; --d)
       for (int i = d; i >= 0; --i)
@@ -79,12 +87,25 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
     if (item.backMaterial >= 0) out << "  interior_texture { " << texture(item.backMaterial) << " }\n";
     out << "}\n";
   }
-  for (const MeshItem& m : scene.meshes) {
-    // Only flat floors (planes from makePlane) are exported, as infinite planes.
-    glm::dvec3 n = glm::normalize(glm::dvec3(m.transform * glm::dvec4(0, 0, 1, 0)));
-    glm::dvec3 o(m.transform * glm::dvec4(0, 0, 0, 1));
-    if (m.mesh.triangles.size() != 2) throw std::runtime_error("POV-Ray export: meshes other than planes");
-    out << "plane { " << vec(n) << ", " << glm::dot(n, o) << " texture { " << texture(m.material) << " } }\n";
+  // Meshes as mesh2 in scene space, the same triangles (and vertex normals) as algray's
+  // (every 2-triangle mesh was written as an infinite plane through the transform's z
+  // axis: a vertical wall became the floor).
+  for (const MeshItem& item : scene.meshes) {
+    MeshData m = item.mesh;
+    m.transform(item.transform);
+    out << "mesh2 {\n  vertex_vectors { " << m.positions.size();
+    for (const glm::dvec3& v : m.positions) out << ", " << vec(v);
+    out << " }\n";
+    if (!m.normals.empty()) {
+      out << "  normal_vectors { " << m.normals.size();
+      for (const glm::dvec3& v : m.normals) out << ", " << vec(v);
+      out << " }\n";
+    }
+    out << "  face_indices { " << m.triangles.size();
+    for (const auto& t : m.triangles) out << ", <" << t[0] << ", " << t[1] << ", " << t[2] << ">";
+    out << " }\n  texture { " << texture(item.material) << " }\n";
+    if (item.backMaterial >= 0) out << "  interior_texture { " << texture(item.backMaterial) << " }\n";
+    out << "}\n";
   }
   return out.str();
 }

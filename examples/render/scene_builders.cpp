@@ -2,6 +2,7 @@
 
 #include "sampling.h"
 #include "scene.h"
+#include "value_checks.h"
 
 #include <algray/gallery.h>
 #include <algray/parser.h>
@@ -162,6 +163,15 @@ SceneDesc quickScene(const QuickOptions& options) {
     scene.name = "surface";
   }
   if (!(r > 0) || !std::isfinite(r)) throw Error("--clip-sphere must be a positive number");
+  // The floor (40 r across) and the camera (~5 r away) must stay within what Embree's float
+  // rays and triangles resolve (value_checks.h): r = 1e17 lost the floor, r = 1e-20 showed
+  // only the floor, both with exit code 0.
+  if (!(20.0 * r <= kMaxCoordinate))
+    throw Error("--clip-sphere: beyond a radius of 5e15 the quick scene's floor (40 radii across) leaves "
+                "Embree's range: scale the scene down");
+  if (!(40.0 * r >= kMinMeshExtent))
+    throw Error("--clip-sphere: below a radius of 2.5e-17 the quick scene's floor is too small for Embree's float "
+                "triangles: scale the scene up");
   s.clip = ClipSphere{glm::dvec3(0.0), r};
   Material front{MaterialType::Diffuse, {0.85, 0.45, 0.15}, 0.3, 1.5, {}, nullptr};
   Material back{MaterialType::Diffuse, {0.25, 0.45, 0.80}, 0.3, 1.5, {}, nullptr};

@@ -506,9 +506,17 @@ class Loader {
     // Embree drops a float triangle beyond +-1.8e18 without a word (a floor of size 1e19
     // vanished from the image, exit code 0): the mesh in scene space keeps to the range of
     // every other position.
-    for (const glm::dvec3& v : item.mesh.positions)
-      if (!withinCoordinateRange(glm::dvec3(item.transform * glm::dvec4(v, 1.0))))
-        fail(p, std::string("a vertex of the mesh: ") + tooFar);
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& v : item.mesh.positions) {
+      const glm::dvec3 w(item.transform * glm::dvec4(v, 1.0));
+      if (!withinCoordinateRange(w)) fail(p, std::string("a vertex of the mesh: ") + tooFar);
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+    if (const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}); !(extent >= kMinMeshExtent))
+      fail(p, "the mesh is " + (std::ostringstream() << extent).str() +
+                  " across in scene space, below 1e-15, where Embree's float triangle test underflows: scale "
+                  "the scene up");
     item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene) : defaultMaterial(scene);
     if (j.contains("back_material")) item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
     scene.meshes.push_back(std::move(item));
@@ -538,8 +546,11 @@ class Loader {
         allowKeys(j, p, {"type", "corner", "edge1", "edge2", "radiance"});
         for (const char* k : {"corner", "edge1", "edge2"})
           if (!j.contains(k)) fail(p, std::string("a quad light needs \"") + k + "\"");
-        item.mesh = makeQuad(coordinate(j["corner"], p + "/corner"), coordinate(j["edge1"], p + "/edge1"),
-                             coordinate(j["edge2"], p + "/edge2"));
+        const glm::dvec3 e1 = coordinate(j["edge1"], p + "/edge1"), e2 = coordinate(j["edge2"], p + "/edge2");
+        // Parallel or zero edges: a light of no area, which emits nothing (accepted silently).
+        if (!(glm::length(glm::cross(e1, e2)) > 1e-12 * glm::length(e1) * glm::length(e2)))
+          fail(p + "/edge2", "a quad light's edges must span an area (edge1 and edge2 are parallel or zero)");
+        item.mesh = makeQuad(coordinate(j["corner"], p + "/corner"), e1, e2);
       } else {
         allowKeys(j, p, {"type", "center", "radius", "radiance"});
         if (!j.contains("center") || !j.contains("radius")) fail(p, "a sphere light needs \"center\" and \"radius\"");

@@ -18,6 +18,13 @@ namespace algray::render {
 // 1e17 leaves a factor 18 for the film and the rays built from these values.
 inline constexpr double kMaxCoordinate = 1e17;
 
+// Smallest extent of a triangle mesh in scene space. Embree's float triangle test forms
+// products of edge vectors (size s^2 for a mesh of size s): below s ~ 1e-19 they leave
+// float's normal range and the mesh covers the wrong pixels (measured: a plane of size
+// 1e-19 covered 5.5 % of the image instead of 2.2 %, of 1e-20 none; 1e-18 was still right).
+// 1e-15 keeps a margin of 1000.
+inline constexpr double kMinMeshExtent = 1e-15;
+
 inline bool withinCoordinateRange(double v) { return std::abs(v) <= kMaxCoordinate; }
 inline bool withinCoordinateRange(const glm::dvec3& v) {
   return withinCoordinateRange(v.x) && withinCoordinateRange(v.y) && withinCoordinateRange(v.z);

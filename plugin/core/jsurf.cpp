@@ -89,6 +89,9 @@ std::vector<std::vector<SourceChar>> logicalLines(std::string_view text) {
 }  // namespace
 
 JsurfFile JsurfFile::parse(std::string_view text, std::string name) {
+  // A UTF-8 byte order mark (an editor's, never SURFER's) is not part of the first key (it
+  // made the file "no surface_equation").
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   JsurfFile file;
   file.name_ = std::move(name);
   for (const auto& line : logicalLines(text)) {

@@ -125,6 +125,9 @@ TEST(JsurfImport, BadValuesAreErrorsAtTheirLine) {
       {"camera_transform=1 0 0 0 0 1 0 0 0 0 1 -1 0 0 1 1", ":3: camera_transform"},
       {"camera_transform=1 0 0 0 0 1 0 0 0 0 1 -1e30 0 0 0 1", ":3: camera_transform"},
       {"rotation_matrix=1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1", ":3: rotation_matrix"},
+      // A translation or a projective row was dropped without a word (session 12).
+      {"rotation_matrix=1 0 0 5 0 1 0 0 0 0 1 0 0 0 0 1", ":3: rotation_matrix"},
+      {"rotation_matrix=1 0 0 0 0 1 0 0 0 0 1 0 0 0 7 1", ":3: rotation_matrix"},
       {"rotation_matrix=1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\nscale_factor=-400", ":4: scale_factor"},
       {"scale_factor=400", ":3: scale_factor"},
       {"scale_factor=-150", ":3: scale_factor"},

@@ -1,6 +1,7 @@
 // Scenes built without a file: quick mode framing and the POV-Ray export used by
 // tests/bench/povray_compare.py.
 #include "camera.h"
+#include "mesh.h"
 #include "pov_export.h"
 #include "scene_builders.h"
 
@@ -84,6 +85,47 @@ TEST(PovExport, PolynomialTermsMatchTheSurface) {
     EXPECT_EQ(std::stod((*it)[4]), p.coeff(i, j, k)) << i << " " << j << " " << k;
   }
   EXPECT_EQ(terms, p.nonZeroCount());
+}
+
+// Meshes are exported as the same triangles in scene space (every 2-triangle mesh was an
+// infinite plane through its transform's z axis: a vertical wall became a floor), and a
+// surface of a degree POV-Ray's polynomial does not take is refused.
+TEST(PovExport, MeshesAreTheirTrianglesAndHighDegreesAreRefused) {
+  QuickOptions q;
+  q.surface = "sphere";
+  SceneDesc s = quickScene(q);
+  MeshItem wall;
+  wall.mesh = makePlane(2.0, 1.0);
+  wall.transform = glm::dmat4(1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 5, 0, 0, 1);  // x = 5 + x', z = y'
+  wall.material = s.meshes.front().material;
+  s.meshes = {wall};
+  const std::string pov = povrayScene(s, false);
+  EXPECT_EQ(pov.find("plane {"), std::string::npos) << pov;
+  ASSERT_NE(pov.find("mesh2 {"), std::string::npos) << pov;
+  // Every exported vertex is the transformed one: on the wall (y = 0), z in [-2, 2].
+  std::regex vertex(R"(<([-+0-9.eE]+), ([-+0-9.eE]+), ([-+0-9.eE]+)>)");
+  const size_t from = pov.find("vertex_vectors"), to = pov.find("normal_vectors", from);
+  ASSERT_NE(to, std::string::npos) << pov;
+  const std::string vertices = pov.substr(from, to - from);
+  int count = 0;
+  for (auto it = std::sregex_iterator(vertices.begin(), vertices.end(), vertex); it != std::sregex_iterator(); ++it) {
+    const glm::dvec3 v(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]));
+    const glm::dvec3 expected(wall.transform * glm::dvec4(wall.mesh.positions[count++], 1.0));
+    EXPECT_EQ(v, expected);
+  }
+  EXPECT_EQ(count, static_cast<int>(wall.mesh.positions.size()));
+  q.surface = "x^36 + y^36 + z^36 - 1";
+  q.clipRadius = 2;
+  EXPECT_THROW(
+      {
+        try {
+          povrayScene(quickScene(q), false);
+        } catch (const std::runtime_error& e) {
+          EXPECT_NE(std::string(e.what()).find("degree <= 35"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      std::runtime_error);
 }
 
 TEST(DefaultScene, SurfacesOfDifferentDegreesBesideMeshes) {

@@ -163,6 +163,9 @@ TEST(SceneJson, OutOfRangeCameraAndLightValuesAreErrors) {
       {R"({"lights": [{"type": "point", "position": [0, 0, 1e20]}]})", "1e20"},
       {R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})", "[0, 0, 0]"},
       {R"({"camera": {"up": [0, 0, 0]}})", "[0, 0, 0]"},
+      // A quad light of no area emitted nothing, accepted without a word.
+      {R"({"lights": [{"type": "quad", "corner": [0, 0, 2], "edge1": [1, 0, 0], "edge2": [-3, 0, 0], "radiance": 1}]})",
+       "[-3, 0, 0]"},
   };
   for (const auto& [text, value] : cases) {
     SceneError e = errorOf(text);
@@ -198,6 +201,15 @@ TEST(SceneJson, MeshesBeyondTheCoordinateRangeAreErrors) {
   }
   EXPECT_NO_THROW(
       loadSceneText(R"({"meshes": [{"shape": "plane", "size": 1e17}]})", "t.json", "."));
+  // And below Embree's float triangle test (a plane of size 1e-20 covered no pixel, one of
+  // 1e-19 the wrong ones, exit code 0); a flat mesh is fine, its extent is its largest side.
+  for (const std::string& text : {std::string(R"({"meshes": [{"shape": "plane", "size": 1e-20}]})"),
+                                  std::string(R"({"meshes": [{"shape": "box", "transform": {"scale": 1e-16}}]})")}) {
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.column(), columnOf(text, "{\"shape\"")) << text << ": " << e.what();
+    EXPECT_NE(e.message().find("below 1e-15"), std::string::npos) << text << ": " << e.what();
+  }
+  EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"shape": "plane", "size": 1e-15}]})", "t.json", "."));
 }
 
 // nlohmann's number overflow ("number overflow parsing '1e400'") had no position.
@@ -493,9 +505,10 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--clip-sphere -5", "--clip-sphere requires --surface"},
       {"--param a=nan", "--param requires --surface"},
       {"--sturm", "--sturm requires --export-pov"},
-      // The library refusing the clip sphere's size names the option that set it.
-      {"--surface x^2+y^2+z^2-1 --clip-sphere 1e300", "--surface in --clip-sphere: "},
-      {"--surface barth-sextic --clip-sphere 1e300", "in --clip-sphere: "},
+      // A clip sphere too large for the scene names the option that set it (the library's
+      // refusal did; since session 12 the quick scene's own range check comes first).
+      {"--surface x^2+y^2+z^2-1 --clip-sphere 1e300", "--clip-sphere: beyond a radius"},
+      {"--surface barth-sextic --clip-sphere 1e300", "--clip-sphere: beyond a radius"},
       // Session 12's sweep: an empty --surface or --export-pov was taken for none given (the
       // default scene rendered, its options ignored), an unwritable --export-pov and a
       // negative --seed (wrapped to 2^64 - 1) were accepted with exit code 0.
@@ -504,6 +517,10 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--surface sphere --export-pov /nonexistent/dir/a.pov", "cannot write there"},
       {"--surface sphere --seed -1", "--seed"},
       {"--surface sphere --seed 1073741825", "--seed"},
+      // The quick scene's floor beyond Embree's range (lost) or below its float triangles'
+      // (the floor covered the surface), with exit code 0.
+      {"--surface sphere --clip-sphere 1e-20", "--clip-sphere: below a radius of 2.5e-17"},
+      {"--surface x^2+y^2+z^2-1 --clip-sphere 1e16", "--clip-sphere: beyond a radius of 5e15"},
   };
   for (const auto& [args, expected] : cases) {
     const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
