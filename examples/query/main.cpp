@@ -170,17 +170,35 @@ int run(int argc, char** argv) {
   // within about 1e-14 radii of the surface. (Origins beyond 4 radii keep 0: the self-root
   // rule ignores them, and the far-ray paths read orgError.) With the column, each ray's
   // own bound is used as given (hit points of rays from farther away).
+  const glm::dvec3 centre = clipSphere.empty() ? 0.5 * (std::get<ClipBox>(desc.clip).lo + std::get<ClipBox>(desc.clip).hi)
+                                               : glm::dvec3(0.0);
+  const double radius = clipSphere.empty()
+                            ? 0.5 * glm::length(std::get<ClipBox>(desc.clip).hi - std::get<ClipBox>(desc.clip).lo)
+                            : clipSphere[0];
   if (!givenOrgErrors) {
-    const glm::dvec3 centre = clipSphere.empty() ? 0.5 * (std::get<ClipBox>(desc.clip).lo + std::get<ClipBox>(desc.clip).hi)
-                                                 : glm::dvec3(0.0);
-    const double radius = clipSphere.empty()
-                              ? 0.5 * glm::length(std::get<ClipBox>(desc.clip).hi - std::get<ClipBox>(desc.clip).lo)
-                              : clipSphere[0];
     for (RayD& ray : rays) {
       const glm::dvec3 oc = glm::abs(ray.org - centre);
       if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius) ray.orgError = gamma(3) * (glm::length(oc) + 64.0 * radius);
     }
   }
+
+  // A direction so short that the clip region's far side is beyond double's range of t
+  // (1e-310 from 3 radii away: t = 2e310) has hits whose t cannot be written; it was
+  // reported as a miss. t there is (|o - c| + R) / |d|, with everything scaled by d's
+  // largest component (lengths of huge or tiny vectors over- or underflow their squares).
+  auto length = [](const glm::dvec3& v) {
+    const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    return m > 0 ? m * glm::length(v / m) : 0.0;
+  };
+  auto farT = [&](const RayD& ray) {
+    const double m = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
+    const double d = length(ray.dir / m);
+    return length((ray.org - centre) / m) / d + radius / m / d;
+  };
+  for (size_t i = 0; i < rays.size(); ++i)
+    if (!std::isfinite(farT(rays[i])))
+      throw UsageError("--rays: ray " + std::to_string(i + 1) +
+                       ": the direction is so short that t at the clip region would overflow double (scale it up)");
 
   // The output is opened before tracing: a path that cannot be written is bad input.
   std::ofstream out(outPath);

@@ -64,6 +64,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
         }
     break;
   }
+  // A read error is not the end of the file (/proc/self/mem read nothing and was "empty").
+  if (in.bad()) fail(name, std::max(lineNo, 1L), "read error");
   // Lines are 1-based: a file without a single line is reported at line 1.
   if (fieldCount == 0) fail(name, std::max(lineNo, 1L), "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
   for (size_t c = 0; c < kRequired; ++c)
@@ -118,6 +120,7 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
     if (ray.orgError < 0.0) fail(name, lineNo, columns(kOrgError, kOrgError) + ": must be >= 0");
     rays.push_back(ray);
   }
+  if (in.bad()) fail(name, lineNo + 1, "read error");
   if (hasOrgError) *hasOrgError = where[kOrgError] >= 0;
   return rays;
 }

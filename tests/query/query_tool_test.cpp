@@ -661,6 +661,11 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
        "algray-query: --clip-sphere: the radius must be finite and > 0\n"},
       {"--surface \"x-x\" --clip-box -1,-1,-1,1,1,1 " + common(good), "algray-query: --surface, --clip-box: "},
       {"--surface \"7\" --clip-sphere 2 " + common(good), "algray-query: --surface, --clip-sphere: "},
+      // Session 12's sweep: a direction whose t at the clip region overflows double (the
+      // hit was reported as a miss), and a read error (reported as an empty file).
+      {sphere + common(write("sd.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n-3,0,0,1e-300,0,0,0,inf\n-3,0,0,1e-310,0,0,0,inf\n")),
+       "algray-query: --rays: ray 2: the direction is so short that t at the clip region would overflow double"},
+      {sphere + "--rays /proc/self/mem --out " + (dir / "out.csv").string(), "algray-query: /proc/self/mem:1: read error"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
