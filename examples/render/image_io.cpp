@@ -97,6 +97,12 @@ std::uint8_t toDisplayByte(double linear, double exposure, ToneMap toneMap) {
   return encodeByte(linear * std::exp2(exposure), toneMap);
 }
 
+bool holdsAovs(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  return isFloatFormat(ext) && ext != ".hdr";
+}
+
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,
                 bool aovs) {
   namespace fs = std::filesystem;

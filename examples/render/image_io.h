@@ -20,6 +20,10 @@ glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap)
 // search instead of std::pow: what PNG files get.
 std::uint8_t toDisplayByte(double linear, double exposure, ToneMap toneMap);
 
+// Whether the file format of `path` (its extension) can hold the AOV channels: a float
+// format with any number of channels (.exr, .tif, .tiff; not .hdr, which is RGB only).
+bool holdsAovs(const std::string& path);
+
 // aovs: also write depth/normal/albedo/id (float formats only). Throws
 // std::runtime_error naming the file on failure.
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,

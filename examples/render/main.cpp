@@ -102,6 +102,12 @@ int main(int argc, char** argv) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
+  // The channels were silently dropped for an 8-bit or RGB-only output.
+  if (!aovList.empty() && !holdsAovs(output)) {
+    std::fprintf(stderr, "algray-render: --aov: -o %s cannot hold extra channels (use .exr or .tif)\n",
+                 output.c_str());
+    return 2;
+  }
   if (listGallery) {
     for (const algray::GallerySurface& g : algray::gallery())
       std::printf("%-22s degree %2d  clip %.3g  %.*s\n", std::string(g.name).c_str(), g.build().degree(),

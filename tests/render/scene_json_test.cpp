@@ -517,6 +517,7 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--surface sphere --export-pov /nonexistent/dir/a.pov", "cannot write there"},
       {"--surface sphere --seed -1", "--seed"},
       {"--surface sphere --seed 1073741825", "--seed"},
+      {"--surface sphere --aov depth -o algray_aov.png", "--aov: -o algray_aov.png cannot hold extra channels"},
       // The quick scene's floor beyond Embree's range (lost) or below its float triangles'
       // (the floor covered the surface), with exit code 0.
       {"--surface sphere --clip-sphere 1e-20", "--clip-sphere: below a radius of 2.5e-17"},
