@@ -323,16 +323,16 @@ int solveLocal(const LocalPoly<T>& g, Query q, const RootOptions& o, LocalRoot<T
 }
 
 template <class T>
-std::optional<T> firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi,
-                            const RootOptions& o) {
+bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root, const RootOptions& o) {
   checkSizes(c, err, "firstRoot");
   LocalPoly<T> g;
   Frame<T> fr;
-  if (!toLocal(c, err, lo, hi, g, fr)) return std::nullopt;
+  if (!toLocal(c, err, lo, hi, g, fr)) return false;
   g.closedLo = o.closedLo;
   LocalRoot<T> r[1];
-  if (solveLocal(g, Query::First, o, r, 1) == 0) return std::nullopt;
-  return toCaller(fr, g, r[0]);
+  if (solveLocal(g, Query::First, o, r, 1) == 0) return false;
+  root = toCaller(fr, g, r[0]);
+  return true;
 }
 
 template <class T>
@@ -348,9 +348,9 @@ bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const Ro
 
 }  // namespace
 
-std::optional<double> firstRoot(std::span<const double> c, std::span<const double> err,
-                                double lo, double hi, const RootOptions& options) {
-  return firstRootT(c, err, lo, hi, options);
+bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi, double& root,
+                    const RootOptions& options) {
+  return firstRootT(c, err, lo, hi, root, options);
 }
 
 bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
@@ -379,9 +379,9 @@ int allRoots(std::span<const double> c, std::span<const double> err, double lo, 
   return m;
 }
 
-std::optional<float> firstRoot(std::span<const float> c, std::span<const float> err, float lo,
-                               float hi, const RootOptions& options) {
-  return firstRootT(c, err, lo, hi, options);
+bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi, float& root,
+                    const RootOptions& options) {
+  return firstRootT(c, err, lo, hi, root, options);
 }
 
 bool hasRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,

@@ -1,4 +1,4 @@
-// firstRootQuadratic (roots.h): the closed-form quadratic of roots_closed_form.cpp and
+// solveFirstRootQuadratic (roots.h, firstRootQuadratic): the closed-form quadratic of roots_closed_form.cpp and
 // the sweep of roots_scan.h in the caller's frame, for the plugin's quadric path, where
 // the general entry point's frame mapping (exponent extraction and power-of-two scaling
 // of every coefficient) cost as much as the solve itself (perf on the speed report's
@@ -20,8 +20,8 @@
 
 namespace algray {
 
-std::optional<double> firstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err,
-                                         double lo, double hi) {
+bool solveFirstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err, double lo, double hi,
+                             double& root) {
   auto inRange = [](double x) { return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100); };
   const double scale = std::max(std::abs(lo), std::abs(hi));
   bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c[2] != 0.0;
@@ -35,7 +35,7 @@ std::optional<double> firstRootQuadratic(std::span<const double, 3> c, std::span
     const double lower = std::max(std::abs(c[0]), std::abs(c[1]) * scale);
     safe = lead > 4.0 * roots_detail::kUnit<double> * lower && std::abs(c[2]) > 2.0 * err[2];
   }
-  if (!safe) return firstRoot(std::span<const double>(c), std::span<const double>(err), lo, hi);
+  if (!safe) return solveFirstRoot(std::span<const double>(c), std::span<const double>(err), lo, hi, root);
 
   roots_detail::LocalPoly<double> g;
   g.n = 2;
@@ -47,9 +47,9 @@ std::optional<double> firstRootQuadratic(std::span<const double, 3> c, std::span
     g.noise[i] = err[i] + gEval * std::abs(c[i]);
   }
   roots_detail::LocalRoot<double> r[1];
-  if (roots_detail::solveClosedForm(g, roots_detail::Query::First, 0.0, r, 1) == 0) return std::nullopt;
-  if (r[0].v >= hi) return hi;
-  return r[0].v > lo ? r[0].v : std::nextafter(lo, hi);
+  if (roots_detail::solveClosedForm(g, roots_detail::Query::First, 0.0, r, 1) == 0) return false;
+  root = r[0].v >= hi ? hi : r[0].v > lo ? r[0].v : std::nextafter(lo, hi);
+  return true;
 }
 
 }  // namespace algray

@@ -449,14 +449,11 @@ bool quadricRoot(const QuadricSpan& q, double slo, double& s) {
                     : g.degree == 1                ? linearFirst(g, slo, q.shi, s)
                                                    : -1;
   if (found >= 0) return found == 1;
-  const std::optional<double> r =
-      g.degree == 2 && g.c[2] != 0.0
-          ? firstRootQuadratic(std::span<const double, 3>(g.c, 3), std::span<const double, 3>(g.err, 3), slo, q.shi)
-          : firstRoot(std::span<const double>(g.c, g.degree + 1), std::span<const double>(g.err, g.degree + 1), slo,
-                      q.shi);
-  if (!r) return false;
-  s = *r;
-  return true;
+  return g.degree == 2 && g.c[2] != 0.0
+             ? solveFirstRootQuadratic(std::span<const double, 3>(g.c, 3), std::span<const double, 3>(g.err, 3), slo,
+                                       q.shi, s)
+             : solveFirstRoot(std::span<const double>(g.c, g.degree + 1), std::span<const double>(g.err, g.degree + 1),
+                              slo, q.shi, s);
 }
 
 }  // namespace algray

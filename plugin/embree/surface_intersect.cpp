@@ -282,20 +282,24 @@ RootOptions regionRoots(RootOptions options, bool closedLo) {
   return options;
 }
 
-std::optional<double> firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions& options,
-                                  bool singlePrecision) {
+// (The flag-and-out-parameter form of roots.h: an optional returned through this
+// function cost every ray a store-forwarding stall.)
+bool firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions& options, bool singlePrecision,
+                 double& root) {
   const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
-  if (!singlePrecision) return firstRoot(c, err, lo, hi, options);
+  if (!singlePrecision) return solveFirstRoot(c, err, lo, hi, root, options);
   // The float solver, kept for comparison (SurfaceOptions::singlePrecision).
   std::array<float, kMaxDegree + 1> cf{}, ef{};
   for (int i = 0; i <= g.degree; ++i) {
     cf[i] = static_cast<float>(g.coeff[i]);
     ef[i] = static_cast<float>(g.error[i]);
   }
-  const auto r = firstRoot(std::span<const float>(cf.data(), g.degree + 1),
-                           std::span<const float>(ef.data(), g.degree + 1), static_cast<float>(lo),
-                           static_cast<float>(hi), options);
-  return r ? std::optional<double>(*r) : std::nullopt;
+  float r;
+  if (!solveFirstRoot(std::span<const float>(cf.data(), g.degree + 1), std::span<const float>(ef.data(), g.degree + 1),
+                      static_cast<float>(lo), static_cast<float>(hi), r, options))
+    return false;
+  root = r;
+  return true;
 }
 
 // Whether a cached expansion (tShift = 0) keeps at least 6 digits over the span: its
@@ -363,11 +367,13 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
   const SurfaceOptions& opt = data.desc.options;
   const bool quadratic = data.quadric && rr.g.degree == 2 && rr.g.coeff[2] != 0.0 && !opt.singlePrecision &&
                          opt.roots.method == RootMethod::Auto && opt.roots.relTolerance == 0.0;
-  const auto s = quadratic ? firstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
-                                                std::span<const double, 3>(rr.g.error.data(), 3), rr.slo, rr.shi)
-                           : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots, rr.closedLo), opt.singlePrecision);
-  if (s) {
-    rr.roots[0] = *s;
+  double s;
+  const bool found =
+      quadratic ? solveFirstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
+                                          std::span<const double, 3>(rr.g.error.data(), 3), rr.slo, rr.shi, s)
+                : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots, rr.closedLo), opt.singlePrecision, s);
+  if (found) {
+    rr.roots[0] = s;
     rr.count = 1;
     rr.complete = false;
   }
