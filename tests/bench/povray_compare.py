@@ -3,7 +3,7 @@
 
 For each surface of `algray-render --list-gallery`:
   1. `algray-render --surface NAME --export-pov` writes the same scene for POV-Ray 3.7:
-     a `polynomial` object `clipped_by` its clip sphere, the floor plane, one parallel
+     a `polynomial` object `clipped_by` its clip sphere, the floor (a `mesh2` square), one parallel
      light with shadows, ambient light, the same camera;
   2. POV-Ray renders it (1 thread, no anti-aliasing: one ray per pixel);
   3. `algray-render --integrator direct --spp 1 --threads 1` renders the same scene;
