@@ -316,6 +316,9 @@ TEST(SceneJson, MalformedObjNumbersAreErrors) {
       {"v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n", "3: 'v' with 2 numbers"},
       {tri + "vn 0 0 nan\nf 1 2 3\n", "4: 'nan'"},
       {tri + "v 1e39 0 0\nf 1 2 3\n", "4: '1e39'"},
+      {tri + "v 0x1p3 0 0\nf 1 2 3\n", "4: '0x1p3'"},  // strtod's hex: tinyobjloader read 0
+      {tri + "vt 0.5 .\nf 1 2 3\n", "4: '.'"},
+      {tri + "f 1/2/ 2 3\n", "4: bad face index '1/2/'"},
       {tri + "f 1 2 99999999999999999999\n", "4: bad face index"},
       {tri + "f 1 2 3x\n", "4: bad face index"},
       {tri + "f 1/1/1/1 2 3\n", "4: bad face index"},
@@ -332,7 +335,7 @@ TEST(SceneJson, MalformedObjNumbersAreErrors) {
   }
   // The forms OBJ allows load: w, vertex colours, uv and normal indices, negative indices.
   const std::filesystem::path file = dir / "algray_good_numbers.obj";
-  std::ofstream(file) << "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\r\nvt 0.5\nvn 0 0 1\nf 1/1/1 2//1 -1/1\n";
+  std::ofstream(file) << "v 0 0 0 1\nv 1E+0 0 0 0.5 0.5 0.5\nv 0 +1. -.0e-3\r\nvt 0.5\nvn 0 0 1\n\tf 1/1/1 2//1 -1/1\n";
   EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"obj": ")" + file.string() + R"("}]})", "t.json", "."));
   std::filesystem::remove(file);
 }
