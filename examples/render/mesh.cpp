@@ -188,7 +188,8 @@ void checkObjNumbers(const std::string& path) {
       while (i < text.size() && isBlank(text[i])) ++i;
       const size_t start = i;
       while (i < text.size() && !isBlank(text[i])) ++i;
-      if (i > start) items.push_back(text.substr(start, i - start));
+      if (i == start || text[start] == '#') break;  // the rest is a comment
+      items.push_back(text.substr(start, i - start));
     }
     if (items.empty()) continue;
     const std::string_view kind = items.front();

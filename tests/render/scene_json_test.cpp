@@ -335,7 +335,7 @@ TEST(SceneJson, MalformedObjNumbersAreErrors) {
   }
   // The forms OBJ allows load: w, vertex colours, uv and normal indices, negative indices.
   const std::filesystem::path file = dir / "algray_good_numbers.obj";
-  std::ofstream(file) << "v 0 0 0 1\nv 1E+0 0 0 0.5 0.5 0.5\nv 0 +1. -.0e-3\r\nvt 0.5\nvn 0 0 1\n\tf 1/1/1 2//1 -1/1\n";
+  std::ofstream(file) << "v 0 0 0 1\nv 1E+0 0 0 0.5 0.5 0.5 # red\nv 0 +1. -.0e-3\r\nvt 0.5\nvn 0 0 1\n\tf 1/1/1 2//1 -1/1\n";
   EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"obj": ")" + file.string() + R"("}]})", "t.json", "."));
   std::filesystem::remove(file);
 }
