@@ -34,6 +34,13 @@ double srgbEncode(double c) {
   return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
+// The file name's extension in lower case (".EXR" names the same format as ".exr").
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  return ext;
+}
+
 bool isFloatFormat(const std::string& ext) {
   return ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff";
 }
@@ -98,16 +105,14 @@ std::uint8_t toDisplayByte(double linear, double exposure, ToneMap toneMap) {
 }
 
 bool holdsAovs(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  const std::string ext = lowerExtension(path);
   return isFloatFormat(ext) && ext != ".hdr";
 }
 
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,
                 bool aovs) {
   namespace fs = std::filesystem;
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  const std::string ext = lowerExtension(path);
   const ImageBackend& backend = imageBackend();
   RasterDesc desc;
   desc.width = image.width;

@@ -167,13 +167,13 @@ bool isDecimalLiteral(std::string_view t) {
 // (Not std::isspace: a library call per character, 5 % of loading a 74 MB OBJ.)
 bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
+// t comes from a word split at blanks, so strtoll's skipping of leading blanks never applies.
 bool isFaceIndex(std::string_view t) {
   const std::string text(t);
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(text.c_str(), &end, 10);
-  return !text.empty() && *end == '\0' && errno != ERANGE && v != 0 && v >= INT_MIN && v <= INT_MAX &&
-         !isBlank(text.front());
+  return !text.empty() && *end == '\0' && errno != ERANGE && v != 0 && v >= INT_MIN && v <= INT_MAX;
 }
 
 void checkObjNumbers(const std::string& path) {

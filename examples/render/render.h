@@ -23,7 +23,7 @@ struct Image {
 
 struct RenderOptions {
   bool progress = false;                    // draw a progress bar on stderr
-  const std::atomic<bool>* cancel = nullptr;  // stop starting new tiles when true
+  const std::atomic<bool>* cancel = nullptr;  // when true: stop, checked before every pixel
 };
 
 struct RenderStats {
