@@ -192,7 +192,7 @@ int run(int argc, char** argv) {
   };
   auto farT = [&](const RayD& ray) {
     const double m = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
-    const double d = length(ray.dir / m);
+    const double d = glm::length(ray.dir / m);  // its largest component is 1: no over- or underflow
     return length((ray.org - centre) / m) / d + radius / m / d;
   };
   for (size_t i = 0; i < rays.size(); ++i)
