@@ -116,6 +116,28 @@ inline T hornerAbs(const T* a, D deg, T x) {
   return r;
 }
 
+// horner(c, deg, x) and hornerAbs(noise, deg, x) in one loop: the same two chains, bit for
+// bit, but interleaved, so each hides the other's latency (written as two calls, GCC
+// emitted two loops one after the other: at degree 40 a value and its noise bound took
+// twice one Horner chain's ~320 cycles; perf, session 13).
+template <class T, class D>
+inline void hornerNoise(const T* c, const T* noise, D deg, T x, T& f, T& nb) {
+  const int n = deg;
+  if (n <= 12) {  // short, unrolled chains overlap anyway: as before, two calls
+    f = horner(c, deg, x);
+    nb = hornerAbs(noise, deg, x);
+    return;
+  }
+  const T ax = std::abs(x);
+  T r = c[n], a = noise[n];
+  for (int i = n - 1; i >= 0; --i) {
+    r = r * x + c[i];
+    a = a * ax + noise[i];
+  }
+  f = r;
+  nb = a;
+}
+
 // Derivative coefficients divided by the degree (d[i] = (i+1) c[i+1] / n): the same roots
 // as g', but the scale of the coefficients does not grow like n!/(n-k)! down the chain
 // of derivatives (degree 40 would otherwise approach the overflow threshold).
@@ -141,6 +163,54 @@ struct Binomials {
 };
 inline constexpr Binomials kBinomials;
 
+// ---- Taylor shift -------------------------------------------------------------------
+// p(x) -> p(x + m) in place: n passes p[i] += m p[i + 1], i from n - 1 down to k in pass
+// k (V: T, or a 2-lane vector of (value, magnitude) pairs). Within a pass each step
+// needs the one before it, a serial chain of multiply-adds; pass k + 1 needs of pass k
+// only the element it is at, so four passes run side by side, skewed by one element
+// each (pass k + d at element s + d in step s), as four independent chains. Each
+// element gets the same operations on the same operands as in the plain loop: bit for
+// bit the same coefficients. Measured (session 13, perf, whole rays of degree 40): the
+// shift of rootFreeOrder was its main cost, the plain passes overlapping only as far as
+// the out-of-order window reached.
+// Up to degree kShiftBlockMinDegree - 1 the plain loop: the short passes overlap anyway,
+// and with this and session 13's other changes at every degree, whole rays of degree 6-8
+// were 2-8 % slower (restricted as they are now: within noise).
+inline constexpr int kShiftBlockMinDegree = 10;
+template <class V, class M>
+inline void taylorShift(V* p, int n, M m) {
+  int k = 0;
+  for (; n >= kShiftBlockMinDegree && k + 4 <= n; k += 4) {
+    // c_d: pass k + d's last element; the prologue starts passes k + 1, k + 2, k + 3.
+    V c0 = p[n], c1 = p[n], c2 = p[n], c3 = p[n];
+    c0 = p[n - 1] + m * c0;
+    {
+      const V n0 = p[n - 2] + m * c0, n1 = c0 + m * c1;
+      c0 = n0;
+      c1 = n1;
+    }
+    {
+      const V n0 = p[n - 3] + m * c0, n1 = c0 + m * c1, n2 = c1 + m * c2;
+      c0 = n0;
+      c1 = n1;
+      c2 = n2;
+    }
+    for (int s = n - 4; s >= k; --s) {
+      const V n0 = p[s] + m * c0, n1 = c0 + m * c1, n2 = c1 + m * c2, n3 = c2 + m * c3;
+      c0 = n0;
+      c1 = n1;
+      c2 = n2;
+      c3 = n3;
+      p[s + 3] = n3;  // pass k + 3 is the last to touch element s + 3
+    }
+    p[k] = c0;
+    p[k + 1] = c1;
+    p[k + 2] = c2;
+  }
+  for (; k < n; ++k)
+    for (int i = n - 1; i >= k; --i) p[i] += m * p[i + 1];
+}
+
 // ---- Taylor coefficients at the midpoint (the exclusion tests) ----------------------
 // t_j of G at the midpoint m of (lo, hi) and ta_j, the same shift applied to |C| and |m|
 // (gamma(2n+2) ta_j bounds the rounding of t_j); returns the radius r of the interval
@@ -156,8 +226,7 @@ T midpointTaylor(const LocalPoly<T>& g, D deg, T* t, T* ta) {
   Pair p[kMaxDegree + 1];
   for (int i = 0; i <= n; ++i) p[i] = Pair{g.c[i], std::abs(g.c[i])};
   const Pair mm = {m, std::abs(m)};
-  for (int k = 0; k < n; ++k)
-    for (int i = n - 1; i >= k; --i) p[i] += mm * p[i + 1];
+  taylorShift(p, n, mm);
   for (int i = 0; i <= n; ++i) {
     t[i] = p[i][0];
     ta[i] = p[i][1];

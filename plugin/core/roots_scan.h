@@ -49,8 +49,9 @@ bool clearCrossing(const LocalPoly<T>& g, D deg, T clear, T fClear, T noisy, T& 
   for (int it = 0; it < 16; ++it) {
     m = a + (b - a) / 2;
     if (m == a || m == b) return false;
-    fm = horner(g.c.data(), deg, m);
-    if (std::abs(fm) <= hornerAbs(g.noise.data(), deg, m))
+    T nm;
+    hornerNoise(g.c.data(), g.noise.data(), deg, m, fm, nm);
+    if (std::abs(fm) <= nm)
       b = m;
     else if (signBit(fm) == signBit(fClear))
       a = m;
@@ -69,9 +70,9 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
     return q == Query::All && count < maxOut;  // keep going?
   };
 
-  T xPrev = g.lo;
-  T fPrev = horner(g.c.data(), deg, xPrev);
-  bool zPrev = std::abs(fPrev) <= hornerAbs(g.noise.data(), deg, xPrev);
+  T xPrev = g.lo, fPrev, nPrev;
+  hornerNoise(g.c.data(), g.noise.data(), deg, xPrev, fPrev, nPrev);
+  bool zPrev = std::abs(fPrev) <= nPrev;
   // Open cluster state.
   bool inCluster = zPrev, clusterAtLo = zPrev, clusterHasInterior = false;
   T best = xPrev, bestAbs = std::abs(fPrev);
@@ -79,8 +80,9 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
   for (int i = 0; i <= nCrit; ++i) {
     const bool interior = i < nCrit;
     const T x = interior ? crit[i] : g.hi;
-    const T f = horner(g.c.data(), deg, x);
-    const bool z = std::abs(f) <= hornerAbs(g.noise.data(), deg, x);
+    T f, nx;
+    hornerNoise(g.c.data(), g.noise.data(), deg, x, f, nx);
+    const bool z = std::abs(f) <= nx;
     T m, fm;
     if (z && !inCluster && clearCrossing(g, deg, xPrev, fPrev, x, m, fm)) {
       // Into a cluster: the piece's root lies clearly before it, in (xPrev, m).

@@ -12,6 +12,7 @@
 #include "roots_subdivide.h"
 
 #include <algorithm>
+#include <type_traits>
 #include <utility>
 
 namespace algray::roots_detail {
@@ -26,21 +27,33 @@ constexpr int kTemplateDegree = 20;
 // Sign-change roots of p (degree deg) in (lo, hi), given the sorted roots of p' there.
 // Used below the top level, where a tangent root of a derivative does not matter: G is
 // monotone through a critical point at which G' only touches zero.
+// ends (optional): p(lo) and p(hi), computed by the caller (derivRootsDyn evaluates the
+// whole chain's ends at once).
 template <class T, class D>
-int pieceRoots(const T* p, D deg, T lo, T hi, const T* crit, int nCrit, T tol, T* out) {
+int pieceRoots(const T* p, D deg, T lo, T hi, const T* crit, int nCrit, T tol, T* out,
+               const T* ends = nullptr) {
   const int n = deg;
   T noise[kMaxDegree + 1];
   const T gam = gammaT<T>(2 * n + 1);
-  for (int i = 0; i <= n; ++i) noise[i] = gam * std::abs(p[i]);
+  // Above kTemplateDegree the noise bounds are formed at the first sign change only (most
+  // levels of a long chain have none); below, up front as before (lazily there, together
+  // with the nodes' shared noise bounds, degree 6-8 whole rays were 2-3 % slower).
+  bool haveNoise = n <= kTemplateDegree;
+  if (haveNoise)
+    for (int j = 0; j <= n; ++j) noise[j] = gam * std::abs(p[j]);
   int k = 0;
-  T xa = lo, fa = horner(p, deg, xa);
+  T xa = lo, fa = ends ? ends[0] : horner(p, deg, xa);
   for (int i = 0; i <= nCrit; ++i) {
     const bool interior = i < nCrit;
     const T xb = interior ? crit[i] : hi;
-    const T fb = horner(p, deg, xb);
+    const T fb = interior || !ends ? horner(p, deg, xb) : ends[1];
     if (fb == 0) {
       if (interior) out[k++] = xb;
     } else if (fa != 0 && signBit(fa) != signBit(fb)) {
+      if (!haveNoise) {
+        for (int j = 0; j <= n; ++j) noise[j] = gam * std::abs(p[j]);
+        haveNoise = true;
+      }
       out[k++] = newtonInBracket(p, noise, deg, xa, xb, fa, fb, tol);
     }
     xa = xb;
@@ -93,17 +106,75 @@ int derivRootsSmall(int n, const T* p, T lo, T hi, T tol, T* out, int mono,
 }
 
 // Same with a run-time degree (1 <= n <= kMaxDegree).
+// Above kTemplateDegree the levels are not a recursion but one pass: every derivative of
+// the chain down to max(mono, kTemplateDegree + 1) first, then all their values at lo and
+// hi at once, then the levels from the lowest up. Why: most levels of a degree-30-40
+// chain have no critical point or one (perf and counters, whole rays of degree 40: 24
+// levels a solve, 56 evaluations, 0.3 critical points a level), so a level was its two
+// end evaluations, two serial Horner chains of ~35 multiply-adds, and the next level's
+// could not start before this level's Newton and branches were done. The ends of all
+// levels are independent of the critical points: evaluated together (two levels at a
+// time, lo and hi as one 2-lane vector, coefficients above a level's degree zero) they
+// run at the core's throughput instead of one chain's latency. Bit for bit the old
+// values: a level's Horner pass starts with zeros, 0 * x + 0 = +-0 and then
+// +-0 * x + c_m = c_m exactly (c_m, the leading coefficient, is not 0: the frame drops a
+// zero top coefficient, and the derivative's leading term is c_n times a non-zero factor).
 template <class T>
 int derivRootsDyn(const T* p, int n, T lo, T hi, T tol, T* out, int mono) {
   if (n <= kTemplateDegree)
     return derivRootsSmall(n, p, lo, hi, tol, out, mono,
                            std::make_integer_sequence<int, kTemplateDegree>{});
   if (n <= mono) return pieceRoots(p, n, lo, hi, static_cast<const T*>(nullptr), 0, tol, out);
-  T d[kMaxDegree] = {};  // initialized only to silence GCC's -Wmaybe-uninitialized at -O3
-  derivative(p, n, d);
-  T crit[kMaxDegree];
-  const int k = derivRootsDyn(d, n - 1, lo, hi, tol, crit, mono);
-  return pieceRoots(p, n, lo, hi, crit, k, tol, out);
+  // Levels j = 0..L-1 of degree n - j; the lowest is mono (monotone, no critical point)
+  // or kTemplateDegree + 1 (its critical points from the compiled chain below it).
+  const int mLow = std::max(mono, kTemplateDegree + 1), L = n - mLow + 1;
+  T chain[kMaxDegree - kTemplateDegree][kMaxDegree + 1];
+  copyCoeffs(p, n + 1, chain[0]);
+  for (int j = 1; j < L; ++j) {
+    derivative(chain[j - 1], n - j + 1, chain[j]);
+    chain[j][n - j + 1] = 0;
+    for (int i = n - j + 2; i <= n; ++i) chain[j][i] = chain[j - 1][i];  // zeros
+  }
+  T ends[kMaxDegree - kTemplateDegree][2];
+  {
+    typedef T V __attribute__((vector_size(2 * sizeof(T))));
+    const V x = {lo, hi};
+    int j = 0;
+    for (; j + 1 < L; j += 2) {
+      const T* a = chain[j];
+      const T* b = chain[j + 1];
+      V fa = {a[n], a[n]}, fb = {b[n], b[n]};
+      for (int i = n - 1; i >= 0; --i) {
+        fa = fa * x + V{a[i], a[i]};
+        fb = fb * x + V{b[i], b[i]};
+      }
+      ends[j][0] = fa[0];
+      ends[j][1] = fa[1];
+      ends[j + 1][0] = fb[0];
+      ends[j + 1][1] = fb[1];
+    }
+    if (j < L) {
+      ends[j][0] = horner(chain[j], n - j, lo);
+      ends[j][1] = horner(chain[j], n - j, hi);
+    }
+  }
+  T critA[kMaxDegree], critB[kMaxDegree];
+  T* crit = critA;
+  T* next = critB;
+  int k = 0;
+  if (mLow > mono) {
+    T d[kMaxDegree] = {};  // initialized only to silence GCC's -Wmaybe-uninitialized at -O3
+    derivative(chain[L - 1], mLow, d);
+    k = derivRootsDyn(d, mLow - 1, lo, hi, tol, crit, mono);
+  }
+  for (int j = L - 1; j >= 0; --j) {
+    T* dst = j == 0 ? out : next;
+    const int kj = pieceRoots(chain[j], n - j, lo, hi, k > 0 ? crit : static_cast<const T*>(nullptr), k,
+                              tol, dst, ends[j]);
+    std::swap(crit, next);
+    k = kj;
+  }
+  return k;
 }
 
 
@@ -135,7 +206,47 @@ int rootFreeOrder(const LocalPoly<T>& g, D deg) {
     err = gShift * (err + ta[0]) + hornerAbs(g.noise.data(), deg, std::max(std::abs(g.lo), std::abs(g.hi)));
     if (std::abs(t[0]) > rest + err) return 0;
   }
-  for (int k = 1; k <= n; ++k) {
+  int k = 1;
+  if constexpr (std::is_same_v<T, double>) {
+    // Four orders k..k+3 at a time, as two 2-lane vectors (GCC/Clang vector extension).
+    // Each order's sums are a serial chain of n - k multiply-adds, and one order after
+    // another left the core waiting on that latency (perf, whole rays of degree 40: the
+    // test was a fifth of the solve, its orders 12-23 on most undecided leaves); the
+    // lanes do the same operations in the same order, so every sum is bit for bit the
+    // old one. An order's chain runs while i > k: all four while i > k + 3, then the
+    // finished lanes step with binomial 0 and radius 1 (rest + 0 * t = rest exactly, t
+    // finite, and rest * 1 = rest).
+    typedef double V __attribute__((vector_size(16)));
+    for (; n >= kShiftBlockMinDegree && k + 3 <= n; k += 4) {
+      V restA = {0, 0}, errA = {0, 0}, restB = {0, 0}, errB = {0, 0};
+      const V rv = {r, r};
+      for (int i = n; i > k + 3; --i) {
+        const double* c = kBinomials.c[i] + k;
+        const V at = {std::abs(t[i]), std::abs(t[i])}, aa = {ta[i], ta[i]};
+        const V bA = {c[0], c[1]}, bB = {c[2], c[3]};
+        restA = (restA + bA * at) * rv;
+        errA = (errA + bA * aa) * rv;
+        restB = (restB + bB * at) * rv;
+        errB = (errB + bB * aa) * rv;
+      }
+      for (int i = k + 3; i > k; --i) {
+        const double* c = kBinomials.c[i] + k;
+        const V at = {std::abs(t[i]), std::abs(t[i])}, aa = {ta[i], ta[i]};
+        const V bA = {i > k ? c[0] : 0.0, i > k + 1 ? c[1] : 0.0};
+        const V bB = {i > k + 2 ? c[2] : 0.0, 0.0};
+        const V rA = {i > k ? r : 1.0, i > k + 1 ? r : 1.0}, rB = {i > k + 2 ? r : 1.0, 1.0};
+        restA = (restA + bA * at) * rA;
+        errA = (errA + bA * aa) * rA;
+        restB = (restB + bB * at) * rB;
+        errB = (errB + bB * aa) * rB;
+      }
+      const double rest[4] = {restA[0], restA[1], restB[0], restB[1]};
+      const double err[4] = {errA[0], errA[1], errB[0], errB[1]};
+      for (int l = 0; l < 4; ++l)
+        if (std::abs(t[k + l]) > rest[l] + gShift * (err[l] + ta[k + l])) return k + l;
+    }
+  }
+  for (; k <= n; ++k) {
     T rest = 0, err = 0;
     for (int j = n - k; j >= 1; --j) {
       const T b = static_cast<T>(kBinomials.c[j + k][k]);
