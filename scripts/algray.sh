@@ -13,7 +13,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 packages=(cmake ninja-build g++ pkg-config libembree-dev libopenimageio-dev openimageio-tools
           libglm-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev libmpfr-dev
           libgmp-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev python3
-          python3-matplotlib povray)
+          python3-matplotlib povray clang-format)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -327,9 +327,10 @@ TEST(StressShadow, EveryGallerySurface) {
 
 // ---- Random rays of every scale -----------------------------------------------------------
 // Origins from 1e-3 to 1e6 clip radii, direction lengths from 1e-30 to 1e15 (beyond the
-// float range see StressInput.HugeFiniteOriginThroughDoubleChannel), random intervals: whatever the answer, a hit must be finite and inside (tnear, tfar) (checked
-// by OneSurface), occlusion must agree with the existence of a hit, and no exception may
-// reach an Embree callback (checked when OneSurface is destroyed).
+// float range see StressInput.HugeFiniteOriginThroughDoubleChannel), random intervals: whatever the
+// answer, a hit must be finite and inside (tnear, tfar) (checked by OneSurface), occlusion must
+// agree with the existence of a hit, and no exception may reach an Embree callback (checked when
+// OneSurface is destroyed).
 TEST(StressRandom, EveryGallerySurfaceNeverNonFinite) {
   std::mt19937_64 rng(2026);
   std::normal_distribution<double> normal;

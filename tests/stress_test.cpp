@@ -589,8 +589,8 @@ TEST(StressScale, EmbreeRangeEnds) {
 // A camera on the unbounded part of a surface, outside the clip ball: f(o) = 0, but the
 // origin's root lies outside the span, and the self-root rule must not expand about it
 // (from 200 radii, a degree-8 f loses all its digits there: the spheres inside were
-// not hit at all; from 20 the polish on f still rescued the root). The cylinder x^2 + y^2 = 1 times spheres of radii 0.7, 0.5,
-// 0.3; the first hit is the sphere of radius 0.7 in closed form.
+// not hit at all; from 20 the polish on f still rescued the root). The cylinder x^2 + y^2 = 1 times
+// spheres of radii 0.7, 0.5, 0.3; the first hit is the sphere of radius 0.7 in closed form.
 TEST(StressFar, OriginOnTheSurfaceOutsideTheClipBall) {
   const Polynomial cylinder = X() * X() + Y() * Y() - Polynomial(1.0);
   Polynomial f = cylinder;

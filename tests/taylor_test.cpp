@@ -174,9 +174,10 @@ TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
 }
 
 // The box path's unrolled kernels (taylor_box.cpp) against its run-time-loop reference
-// (bit for bit) and the Polynomial path (value for value) on box shapes the gallery lacks (sparse random polynomials: gaps, rows longer or shorter than
-// their neighbours, zero blocks, degrees past the unrolled lengths) and on rays with zero
-// and negative-zero components (signed zeros through the value chain).
+// (bit for bit) and the Polynomial path (value for value) on box shapes the gallery lacks (sparse
+// random polynomials: gaps, rows longer or shorter than their neighbours, zero blocks, degrees past
+// the unrolled lengths) and on rays with zero and negative-zero components (signed zeros through
+// the value chain).
 TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -37,7 +37,8 @@ double srgbEncode(double c) {
 // The file name's extension in lower case (".EXR" names the same format as ".exr").
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return std::tolower(ch); });
   return ext;
 }
 
@@ -67,8 +68,10 @@ class EncodeTable {
       std::uint64_t lo = std::bit_cast<std::uint64_t>(0.0), hi = std::bit_cast<std::uint64_t>(1.0);
       while (lo < hi) {
         const std::uint64_t mid = lo + (hi - lo) / 2;
-        if (std::lround(255.0 * srgbEncode(std::bit_cast<double>(mid))) >= k) hi = mid;
-        else lo = mid + 1;
+        if (std::lround(255.0 * srgbEncode(std::bit_cast<double>(mid))) >= k)
+          hi = mid;
+        else
+          lo = mid + 1;
       }
       thresholds_[k - 1] = std::bit_cast<double>(lo);
     }
@@ -109,8 +112,30 @@ bool holdsAovs(const std::string& path) {
   return isFloatFormat(ext) && ext != ".hdr";
 }
 
+AovSet parseAovList(const std::string& list) {
+  AovSet set;
+  for (size_t start = 0; start <= list.size();) {
+    const size_t comma = list.find(',', start);
+    const std::string name =
+        list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (name == "depth")
+      set.depth = true;
+    else if (name == "normal")
+      set.normal = true;
+    else if (name == "albedo")
+      set.albedo = true;
+    else if (name == "id")
+      set.id = true;
+    else
+      throw std::invalid_argument("unknown channel '" + name + "' (depth, normal, albedo, id)");
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return set;
+}
+
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,
-                bool aovs) {
+                const AovSet& aovs) {
   namespace fs = std::filesystem;
   const std::string ext = lowerExtension(path);
   const ImageBackend& backend = imageBackend();
@@ -123,28 +148,32 @@ void writeImage(const Image& image, const std::string& path, const RenderSetting
   std::vector<float> floats;
   std::vector<unsigned char> bytes;
   if (desc.floating) {
-    if (aovs) {
-      desc.channels.insert(desc.channels.end(), {"Z", "N.X", "N.Y", "N.Z", "albedo.R", "albedo.G", "albedo.B", "id"});
-      desc.zChannel = 3;
+    // Only the channels asked for, in the order depth, normal, albedo, id.
+    if (aovs.depth) {
+      desc.zChannel = static_cast<int>(desc.channels.size());
+      desc.channels.push_back("Z");
     }
+    if (aovs.normal) desc.channels.insert(desc.channels.end(), {"N.X", "N.Y", "N.Z"});
+    if (aovs.albedo)
+      desc.channels.insert(desc.channels.end(), {"albedo.R", "albedo.G", "albedo.B"});
+    if (aovs.id) desc.channels.push_back("id");
     size_t nc = desc.channels.size();
     floats.resize(n * nc);
     for (size_t i = 0; i < n; ++i) {
       float* d = &floats[i * nc];
-      d[0] = image.color[i].r, d[1] = image.color[i].g, d[2] = image.color[i].b;
-      if (aovs) {
-        d[3] = image.depth[i];
-        d[4] = image.normal[i].x, d[5] = image.normal[i].y, d[6] = image.normal[i].z;
-        d[7] = image.albedo[i].r, d[8] = image.albedo[i].g, d[9] = image.albedo[i].b;
-        d[10] = image.id[i];
-      }
+      *d++ = image.color[i].r, *d++ = image.color[i].g, *d++ = image.color[i].b;
+      if (aovs.depth) *d++ = image.depth[i];
+      if (aovs.normal) *d++ = image.normal[i].x, *d++ = image.normal[i].y, *d++ = image.normal[i].z;
+      if (aovs.albedo) *d++ = image.albedo[i].r, *d++ = image.albedo[i].g, *d++ = image.albedo[i].b;
+      if (aovs.id) *d++ = image.id[i];
     }
   } else {
     const double scale = std::exp2(settings.exposure);
     bytes.resize(n * 3);
     for (size_t i = 0; i < n; ++i)
       for (int k = 0; k < 3; ++k)
-        bytes[3 * i + k] = encodeByte(static_cast<double>(image.color[i][k]) * scale, settings.toneMap);
+        bytes[3 * i + k] =
+            encodeByte(static_cast<double>(image.color[i][k]) * scale, settings.toneMap);
   }
   // The format comes from the final name; the bytes go to the temporary one.
   // (A name of this process's own: "OUT.tmp" replaced and removed a user's file.)

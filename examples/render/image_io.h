@@ -24,9 +24,21 @@ std::uint8_t toDisplayByte(double linear, double exposure, ToneMap toneMap);
 // format with any number of channels (.exr, .tif, .tiff; not .hdr, which is RGB only).
 bool holdsAovs(const std::string& path);
 
-// aovs: also write depth/normal/albedo/id (float formats only). Throws
-// std::runtime_error naming the file on failure.
+// The extra channels `--aov` asks for (float formats only): depth `Z`, normal `N.X N.Y
+// N.Z`, albedo `albedo.R/G/B`, object `id`.
+struct AovSet {
+  bool depth = false, normal = false, albedo = false, id = false;
+  bool any() const { return depth || normal || albedo || id; }
+  static AovSet all() { return {true, true, true, true}; }
+};
+
+// Parses a comma-separated `--aov` list ("depth,normal"); throws std::invalid_argument
+// naming an unknown or empty entry.
+AovSet parseAovList(const std::string& list);
+
+// Writes R, G, B and the channels of `aovs`. Throws std::runtime_error naming the file on
+// failure.
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,
-                bool aovs);
+                const AovSet& aovs = {});
 
 }  // namespace algray::render

@@ -14,22 +14,22 @@
 
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <new>
 #include <optional>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace {
@@ -48,8 +48,11 @@ extern "C" void onInterrupt(int) {
 // Case-insensitive: "SURFACE.JSURF" is a jsurf file too (it was parsed as JSON).
 bool endsWith(const std::string& s, const std::string& suffix) {
   if (s.size() < suffix.size()) return false;
-  return std::equal(suffix.begin(), suffix.end(), s.end() - static_cast<std::ptrdiff_t>(suffix.size()),
-                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b)); });
+  return std::equal(suffix.begin(), suffix.end(),
+                    s.end() - static_cast<std::ptrdiff_t>(suffix.size()), [](char a, char b) {
+                      return std::tolower(static_cast<unsigned char>(a)) ==
+                             std::tolower(static_cast<unsigned char>(b));
+                    });
 }
 
 }  // namespace
@@ -64,16 +67,22 @@ int main(int argc, char** argv) {
   std::vector<std::string> params;
   bool quiet = false, listGallery = false, sturm = false;
   app.add_option("scene", input, "SCENE.json or SURFACE.jsurf (default: the built-in scene)");
-  app.add_option("-o,--output", output, "output image: .png (tone-mapped sRGB) or .exr (linear + AOVs)");
+  app.add_option("-o,--output", output,
+                 "output image: .png (tone-mapped sRGB) or .exr (linear + AOVs)");
   app.add_option("--width", width, "image width")->check(CLI::Range(1, 1 << 15));
   app.add_option("--height", height, "image height")->check(CLI::Range(1, 1 << 15));
   app.add_option("--spp", spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
-  app.add_option("--threads", threads, "worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-  app.add_option("--integrator", integrator, "path (default) or direct")->check(CLI::IsMember({"path", "direct"}));
+  app.add_option("--threads", threads, "worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 1024));
+  app.add_option("--integrator", integrator, "path (default) or direct")
+      ->check(CLI::IsMember({"path", "direct"}));
   app.add_option("--max-depth", maxDepth, "maximum path length")->check(CLI::Range(0, 1000));
-  app.add_option("--seed", seed, "random seed")->check(CLI::Range(0LL, 1LL << 30));  // as the JSON "seed"
+  app.add_option("--seed", seed, "random seed")
+      ->check(CLI::Range(0LL, 1LL << 30));  // as the JSON "seed"
   app.add_option("--exposure", exposure, "exposure in stops (PNG)");
-  app.add_option("--aov", aovList, "extra EXR channels: depth,normal,albedo,id (any of them: all are written)");
+  app.add_option(
+      "--aov", aovList,
+      "extra EXR channels, any of depth,normal,albedo,id (only those listed are written)");
   auto* surfaceOpt =
       app.add_option("--surface", surface, "quick mode: an equation or a gallery name");
   // The quick-mode options mean nothing to a scene file: given without --surface they were
@@ -93,26 +102,27 @@ int main(int argc, char** argv) {
     int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
-  for (size_t start = 0; !aovList.empty() && start <= aovList.size();) {
-    size_t comma = aovList.find(',', start);
-    std::string name = aovList.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    if (name != "depth" && name != "normal" && name != "albedo" && name != "id") {
-      std::fprintf(stderr, "algray-render: --aov: unknown channel '%s' (depth, normal, albedo, id)\n", name.c_str());
+  AovSet aovs;
+  if (!aovList.empty()) {
+    try {
+      aovs = parseAovList(aovList);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "algray-render: --aov: %s\n", e.what());
       return 2;
     }
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
-  // The channels were silently dropped for an 8-bit or RGB-only output.
-  if (!aovList.empty() && !holdsAovs(output)) {
-    std::fprintf(stderr, "algray-render: --aov: -o %s cannot hold extra channels (use .exr or .tif)\n",
+  // The channels were silently dropped for an 8-bit or RGB-only output. (A TIFF holds
+  // them too, but without their names.)
+  if (aovs.any() && !holdsAovs(output)) {
+    std::fprintf(stderr, "algray-render: --aov: -o %s cannot hold extra channels (use .exr)\n",
                  output.c_str());
     return 2;
   }
   if (listGallery) {
     for (const algray::GallerySurface& g : algray::gallery())
-      std::printf("%-22s degree %2d  clip %.3g  %.*s\n", std::string(g.name).c_str(), g.build().degree(),
-                  g.clipRadius, static_cast<int>(g.description.size()), g.description.data());
+      std::printf("%-22s degree %2d  clip %.3g  %.*s\n", std::string(g.name).c_str(),
+                  g.build().degree(), g.clipRadius, static_cast<int>(g.description.size()),
+                  g.description.data());
     return 0;
   }
 
@@ -127,12 +137,14 @@ int main(int argc, char** argv) {
   }
   try {
     if (surfaceOpt->count() > 0) {
-      if (!input.empty()) throw SceneError("--surface", 0, 0, "give either a scene file or --surface, not both");
+      if (!input.empty())
+        throw SceneError("--surface", 0, 0, "give either a scene file or --surface, not both");
       QuickOptions q;
       q.surface = surface;
       for (const std::string& p : params) {
         auto eq = p.find('=');
-        if (eq == std::string::npos || eq == 0) throw SceneError("--param", 0, 0, "expected NAME=VALUE, got '" + p + "'");
+        if (eq == std::string::npos || eq == 0)
+          throw SceneError("--param", 0, 0, "expected NAME=VALUE, got '" + p + "'");
         // strtod, not std::stod: stod throws out_of_range for every ERANGE, so a subnormal
         // value (--param a=1e-320, its own value, as in algray-query) was "not a number",
         // and so were an overflow and an underflow to 0, which are refused by name.
@@ -185,7 +197,8 @@ int main(int argc, char** argv) {
     }
     s.exposure = *exposure;
   }
-  if (!integrator.empty()) s.integrator = integrator == "direct" ? IntegratorType::Direct : IntegratorType::Path;
+  if (!integrator.empty())
+    s.integrator = integrator == "direct" ? IntegratorType::Direct : IntegratorType::Path;
 
   if (!exportPov.empty()) {
     try {
@@ -194,14 +207,15 @@ int main(int argc, char** argv) {
       // reported as success with exit code 0.
       std::ofstream pov(exportPov);
       if (!pov) {
-        std::fprintf(stderr, "algray-render: --export-pov %s: cannot write there (%s)\n", exportPov.c_str(),
-                     std::strerror(errno));
+        std::fprintf(stderr, "algray-render: --export-pov %s: cannot write there (%s)\n",
+                     exportPov.c_str(), std::strerror(errno));
         return 2;
       }
       pov << text;
       pov.close();
       if (!pov) {
-        std::fprintf(stderr, "algray-render: --export-pov %s: error writing the file\n", exportPov.c_str());
+        std::fprintf(stderr, "algray-render: --export-pov %s: error writing the file\n",
+                     exportPov.c_str());
         return 1;
       }
     } catch (const std::exception& e) {
@@ -220,7 +234,8 @@ int main(int argc, char** argv) {
     const std::string probe = output + ".algray-probe-" + std::to_string(getpid());
     std::FILE* f = std::fopen(probe.c_str(), "wbx");
     if (!f && errno != EEXIST) {
-      std::fprintf(stderr, "algray-render: -o %s: cannot write there (%s)\n", output.c_str(), std::strerror(errno));
+      std::fprintf(stderr, "algray-render: -o %s: cannot write there (%s)\n", output.c_str(),
+                   std::strerror(errno));
       return 2;
     }
     if (f) {
@@ -233,10 +248,12 @@ int main(int argc, char** argv) {
   // allocated (32768 x 32768 asked for 47 GB and ended in std::bad_alloc or the OOM killer).
   {
     const double bytes = static_cast<double>(s.width) * s.height * (44.0 + 44.0);
-    const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    const double memory =
+        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
     if (memory > 0 && bytes > memory) {
       std::fprintf(stderr,
-                   "algray-render: an image of %d x %d needs about %.1f GiB, more than this machine's %.1f GiB "
+                   "algray-render: an image of %d x %d needs about %.1f GiB, more than this "
+                   "machine's %.1f GiB "
                    "(lower --width/--height or the scene's render size)\n",
                    s.width, s.height, bytes / (1 << 30), memory / (1 << 30));
       return 2;
@@ -264,12 +281,13 @@ int main(int argc, char** argv) {
     RenderStats stats = render(scene, image, options);
     std::signal(SIGINT, SIG_DFL);
     if (gUnwritableFormat.load()) {
-      std::fprintf(stderr, "algray-render: -o %s: unsupported image format (OpenImageIO cannot write it)\n",
+      std::fprintf(stderr,
+                   "algray-render: -o %s: unsupported image format (OpenImageIO cannot write it)\n",
                    output.c_str());
       return 2;
     }
     try {
-      writeImage(image, output, s, !aovList.empty());
+      writeImage(image, output, s, aovs);
     } catch (const std::exception& e) {  // an unsupported format: bad input
       std::fprintf(stderr, "algray-render: %s\n", e.what());
       return 2;
@@ -285,7 +303,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "algray-render: %s\n", e.what());
     return 2;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "algray-render: out of memory (image %d x %d, %d spp)\n", s.width, s.height, s.spp);
+    std::fprintf(stderr, "algray-render: out of memory (image %d x %d, %d spp)\n", s.width,
+                 s.height, s.spp);
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "algray-render: %s\n", e.what());

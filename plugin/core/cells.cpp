@@ -42,16 +42,15 @@ constexpr int kMaxAutoDepth = 12;
 //    cell pays ~0.1 us of Embree callback per cell on top of the solve. Measured on the
 //    gallery (cells_bench BM_TraceCells): where the cells meet most rays (coverage
 //    0.45-1.0: surfaces that fill their clip ball) the automatic level without this rule
-//    was 1.1-1.9x slower than one primitive; where they meet few (coverage 0.09-0.22: the same surfaces in a ball of
-//    3x the radius) 3.5-6x faster. So when the finest affordable level still meets
-//    more than kMaxCoverage of the rays (CellStats::rayCoverage), the automatic choice
-//    is one cell for the whole region.
-//    Measured and not kept (session 3): stopping the build early when a level's coverage,
-//    halved per remaining level, stays above kMaxCoverage. Coarse levels cannot tell the
-//    cases apart: Chmutov-12 in its clip ball (coverage 1.0 at depths 1-4, 0.57 at 5:
-//    falls back) and Chmutov-8 in a ball of 3x the radius (1.0 at depths 1-3, then 0.45,
-//    0.14, 0.08: its cells pay) look the same at depth 3, and the rule dropped the latter's
-//    cells.
+//    was 1.1-1.9x slower than one primitive; where they meet few (coverage 0.09-0.22: the same
+//    surfaces in a ball of 3x the radius) 3.5-6x faster. So when the finest affordable level still
+//    meets more than kMaxCoverage of the rays (CellStats::rayCoverage), the automatic choice is one
+//    cell for the whole region.
+//    Measured and not kept (session 3): stopping the build early when a level's coverage, halved
+//    per remaining level, stays above kMaxCoverage. Coarse levels cannot tell the cases apart:
+//    Chmutov-12 in its clip ball (coverage 1.0 at depths 1-4, 0.57 at 5: falls back) and Chmutov-8
+//    in a ball of 3x the radius (1.0 at depths 1-3, then 0.45, 0.14, 0.08: its cells pay) look the
+//    same at depth 3, and the rule dropped the latter's cells.
 constexpr double kBuildWork = 2e7;
 constexpr double kMaxCoverage = 0.3;
 constexpr double kTestsPerCell = 4.0;

@@ -1,7 +1,7 @@
-// solveFirstRootQuadratic (roots.h, firstRootQuadratic): the closed-form quadratic of roots_closed_form.cpp and
-// the sweep of roots_scan.h in the caller's frame, for the plugin's quadric path, where
-// the general entry point's frame mapping (exponent extraction and power-of-two scaling
-// of every coefficient) cost as much as the solve itself (perf on the speed report's
+// solveFirstRootQuadratic (roots.h, firstRootQuadratic): the closed-form quadratic of
+// roots_closed_form.cpp and the sweep of roots_scan.h in the caller's frame, for the plugin's
+// quadric path, where the general entry point's frame mapping (exponent extraction and power-of-two
+// scaling of every coefficient) cost as much as the solve itself (perf on the speed report's
 // sphere: toLocal 11 % of the run, the solve 5 %).
 //
 // Why the result is the same as firstRoot's: the local frame is an exact power-of-two

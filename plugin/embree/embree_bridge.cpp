@@ -750,11 +750,11 @@ namespace {
 // Embree re-parametrised: the direction scaled to length 2^56 (t_float, and the drift
 // with it, stays below ~30) and, for an origin outside the cube |x_i| <= 1.5e18, the
 // origin moved along the line to where it enters that cube (never before tnear; a line
-// that misses the cube is empty). Every surface lies within 1e18 (checkEmbreeRange, surface_geometry.cpp), so
-// no point a ray can hit is skipped. t = shift + (shiftLow + scale * t_float). The move
-// is made as rebaseFarOrigin's (error-free steps, repeated): one rounded step from an
-// origin at 1e150 lands anywhere within 1e134 of the cube's face along the line, also
-// past the scene.
+// that misses the cube is empty). Every surface lies within 1e18 (checkEmbreeRange,
+// surface_geometry.cpp), so no point a ray can hit is skipped. t = shift + (shiftLow + scale *
+// t_float). The move is made as rebaseFarOrigin's (error-free steps, repeated): one rounded step
+// from an origin at 1e150 lands anywhere within 1e134 of the cube's face along the line, also past
+// the scene.
 // Embree's traversal also replaces every direction component below 1e-18 in magnitude by
 // +1e-18 (rcp_safe: the sign is lost), so a ray whose whole direction is that small (a
 // scene at the scale of 1e-20) would pass beside the boxes it crosses. Such a direction

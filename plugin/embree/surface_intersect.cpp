@@ -305,13 +305,13 @@ bool firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions
 // Whether a cached expansion (tShift = 0) keeps at least 6 digits over the span: its
 // noise (coefficient error bound plus the rounding of evaluating it) at the span's ends
 // is below 1e-6 of the larger |g| there (measured from 3.2 radii, noise / |g|: Barth
-// sextic and Chmutov-8 1e-9 to 1e-6, Chmutov-16 1e-3 to 1). An expansion about a far eye cancels terms of
-// size sum|c_i| |t|^i down to f's values near the surface, and loses that many digits.
-// Confirming roots on f catches a spurious root but not a real one the expansion lost,
-// and with few digits left it can lose one: measured, 2 of 576 primary rays on
-// Chmutov-16 from 3.2 radii (~m log10 4 = 10 digits lost) hit a later root than the
-// first. Those rays take the re-centred restriction instead (and the entry counts them
-// as failures, so a camera too far for this degree stops using the cache).
+// sextic and Chmutov-8 1e-9 to 1e-6, Chmutov-16 1e-3 to 1). An expansion about a far eye cancels
+// terms of size sum|c_i| |t|^i down to f's values near the surface, and loses that many digits.
+// Confirming roots on f catches a spurious root but not a real one the expansion lost, and with few
+// digits left it can lose one: measured, 2 of 576 primary rays on Chmutov-16 from 3.2 radii (~m
+// log10 4 = 10 digits lost) hit a later root than the first. Those rays take the re-centred
+// restriction instead (and the entry counts them as failures, so a camera too far for this degree
+// stops using the cache).
 //
 // A local rule was measured against it (session 3): accept a cached root when its noise
 // region, 4 noise(s) / |g'(s)|, is below 1e-7 of the span. With the rigorous bound that

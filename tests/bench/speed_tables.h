@@ -145,7 +145,8 @@ inline std::string summaryTable(const std::vector<Entry>& entries) {
   auto both = [](const Entry& e, Metric m) { return fmt(e.mrays(m)) + " (" + fmt(e.mrays(m, true)) + ")"; };
   for (const Entry& a : entries) {
     if (a.method != "algray" || a.config != "default") continue;
-    // The other method of this surface to set beside it: Embree's sphere if any, else the last mesh.
+    // The other method of this surface to set beside it: Embree's sphere if any, else the last
+    // mesh.
     const Entry* other = nullptr;
     for (const Entry& e : entries)
       if (e.surface == a.surface && e.method != "algray" && e.method != "user-float-sphere" &&

@@ -6,9 +6,11 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace algray::render {
@@ -16,11 +18,13 @@ namespace {
 
 TEST(Display, SrgbAndClampClosedForms) {
   // sRGB: 12.92 c below 0.0031308, 1.055 c^(1/2.4) - 0.055 above (IEC 61966-2-1).
-  EXPECT_NEAR(toDisplay(glm::dvec3(0.5), 0.0, ToneMap::Clamp).r, 1.055 * std::pow(0.5, 1 / 2.4) - 0.055, 1e-12);
+  EXPECT_NEAR(toDisplay(glm::dvec3(0.5), 0.0, ToneMap::Clamp).r,
+              1.055 * std::pow(0.5, 1 / 2.4) - 0.055, 1e-12);
   EXPECT_NEAR(toDisplay(glm::dvec3(0.001), 0.0, ToneMap::Clamp).g, 0.01292, 1e-12);
   EXPECT_EQ(toDisplay(glm::dvec3(7.0), 0.0, ToneMap::Clamp).b, 1.0);
   // One stop of exposure doubles the linear value.
-  EXPECT_NEAR(toDisplay(glm::dvec3(0.25), 1.0, ToneMap::Clamp).r, toDisplay(glm::dvec3(0.5), 0.0, ToneMap::Clamp).r, 1e-12);
+  EXPECT_NEAR(toDisplay(glm::dvec3(0.25), 1.0, ToneMap::Clamp).r,
+              toDisplay(glm::dvec3(0.5), 0.0, ToneMap::Clamp).r, 1e-12);
   // The filmic curve is monotone, maps 0 to 0 and saturates below 1 + rounding.
   double prev = -1;
   for (double x = 0; x < 20; x += 0.05) {
@@ -48,7 +52,8 @@ TEST(Display, ByteIsRoundedDisplayValue) {
   // PNG bytes come from a threshold table (image_io.cpp); they must equal
   // lround(255 * toDisplay) for every input: dense near each rounding step of both
   // tone curves, plus random values over many magnitudes and the special values.
-  std::vector<double> xs = {0.0, -0.0, -1.0, 1e-300, 0.0031308, 1.0, 1e300, INFINITY, -INFINITY, NAN};
+  std::vector<double> xs = {0.0, -0.0,  -1.0,     1e-300,    0.0031308,
+                            1.0, 1e300, INFINITY, -INFINITY, NAN};
   std::uint64_t state = 12345;
   for (int i = 0; i < 200000; ++i) {
     state = state * 6364136223846793005ull + 1442695040888963407ull;
@@ -70,7 +75,8 @@ TEST(Display, ByteIsRoundedDisplayValue) {
     }
     for (double x : {std::nextafter(hi, 0.0), hi, std::nextafter(hi, 2.0)})
       ASSERT_EQ(toDisplayByte(x, 0.0, ToneMap::Clamp),
-                std::lround(255.0 * toDisplay(glm::dvec3(x), 0.0, ToneMap::Clamp).r)) << x;
+                std::lround(255.0 * toDisplay(glm::dvec3(x), 0.0, ToneMap::Clamp).r))
+          << x;
   }
 }
 
@@ -90,7 +96,7 @@ Image gradient() {
 TEST(ImageFile, ExrKeepsLinearValuesAndAovChannels) {
   auto path = (std::filesystem::temp_directory_path() / "algray_io_test.exr").string();
   Image image = gradient();
-  writeImage(image, path, RenderSettings{}, true);
+  writeImage(image, path, RenderSettings{}, AovSet::all());
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
   auto in = OIIO::ImageInput::open(path);
   ASSERT_TRUE(in);
@@ -115,12 +121,48 @@ TEST(ImageFile, ExrKeepsLinearValuesAndAovChannels) {
   std::filesystem::remove(path);
 }
 
+// --aov depth,id writes R, G, B and just those two channels, with their values.
+TEST(ImageFile, ExrWritesOnlyTheAovsAskedFor) {
+  auto path = (std::filesystem::temp_directory_path() / "algray_io_subset_test.exr").string();
+  Image image = gradient();
+  writeImage(image, path, RenderSettings{}, parseAovList("id,depth"));
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  const OIIO::ImageSpec& spec = in->spec();
+  ASSERT_EQ(spec.nchannels, 5);
+  std::vector<std::string> names(spec.channelnames.begin(), spec.channelnames.end());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "R", "Z", "id"}));
+  std::vector<float> data(32 * 5);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 5, OIIO::TypeDesc::FLOAT, data.data()));
+  auto channel = [&](const std::string& name) {
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (spec.channelnames[c] == name) return c;
+    return -1;
+  };
+  for (int i = 0; i < 32; ++i) {
+    EXPECT_FLOAT_EQ(data[i * 5 + channel("Z")], image.depth[i]);
+    EXPECT_FLOAT_EQ(data[i * 5 + channel("id")], image.id[i]);
+    EXPECT_FLOAT_EQ(data[i * 5 + channel("G")], image.color[i].g);
+  }
+  in->close();
+  std::filesystem::remove(path);
+}
+
+TEST(ImageFile, AovListsAreParsedStrictly) {
+  const AovSet s = parseAovList("normal,albedo");
+  EXPECT_TRUE(s.normal && s.albedo && !s.depth && !s.id);
+  EXPECT_TRUE(parseAovList("depth,normal,albedo,id").depth);
+  for (const char* bad : {"", "depth,", ",id", "Depth", "depth,,id", "z"})
+    EXPECT_THROW(parseAovList(bad), std::invalid_argument) << bad;
+}
+
 TEST(ImageFile, PngIsToneMappedSrgb) {
   auto path = (std::filesystem::temp_directory_path() / "algray_io_test.png").string();
   Image image = gradient();
   RenderSettings settings;
   settings.toneMap = ToneMap::Clamp;
-  writeImage(image, path, settings, false);
+  writeImage(image, path, settings);
   auto in = OIIO::ImageInput::open(path);
   ASSERT_TRUE(in);
   std::vector<unsigned char> data(32 * 3);
@@ -136,7 +178,7 @@ TEST(ImageFile, PngIsToneMappedSrgb) {
 TEST(ImageFile, UnwritablePathThrowsWithTheName) {
   Image image = gradient();
   try {
-    writeImage(image, "/nonexistent-dir/x.png", RenderSettings{}, false);
+    writeImage(image, "/nonexistent-dir/x.png", RenderSettings{});
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.png"), std::string::npos);

@@ -18,7 +18,8 @@
 //      so it does not depend on where the ray starts), no other root within kMargin R,
 //      no local extremum of h before it whose value a perturbation of f by kTangent S or
 //      of the point by 1e4 u |o + t d| could bring to zero (a near-tangency that such a
-//      perturbation turns into a hit), not within kEndMargin R of a span end. A miss is well-conditioned when no extremum or span end is that close to 0.
+//      perturbation turns into a hit), not within kEndMargin R of a span end. A miss is
+//      well-conditioned when no extremum or span end is that close to 0.
 //
 // Used by tests/stress_test.cpp and tests/bench/intersector_report.cpp.
 #include "algray/polynomial.h"
