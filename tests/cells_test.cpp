@@ -16,8 +16,8 @@
 #include <cmath>
 #include <random>
 #include <set>
-#include <tuple>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #if defined(__SSE__)
@@ -130,8 +130,8 @@ bool inside(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
 // Every certified surface point inside the clip region has a cell touching its segment.
 // Returns the number of points checked (the caller asserts it is not vacuous).
 int checkCovered(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
-                 const std::optional<CellSphere>& sphere, const std::vector<Cell>& cells,
-                 int lines, unsigned seed) {
+                 const std::optional<CellSphere>& sphere, const std::vector<Cell>& cells, int lines,
+                 unsigned seed) {
   int checked = 0;
   for (const SurfacePoint& s : sampleSurface(f, lo, hi, lines, seed)) {
     const glm::dvec3 sLo = glm::min(s.a, s.b), sHi = glm::max(s.a, s.b);
@@ -150,9 +150,15 @@ int checkCovered(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi
 }
 
 // ---- Surfaces built from Polynomial operations (independent of the parser) -------------
-Polynomial X() { return Polynomial::variable(0); }
-Polynomial Y() { return Polynomial::variable(1); }
-Polynomial Z() { return Polynomial::variable(2); }
+Polynomial X() {
+  return Polynomial::variable(0);
+}
+Polynomial Y() {
+  return Polynomial::variable(1);
+}
+Polynomial Z() {
+  return Polynomial::variable(2);
+}
 Polynomial sphere(glm::dvec3 c, double r) {
   return (X() - Polynomial(c.x)).pow(2) + (Y() - Polynomial(c.y)).pow(2) +
          (Z() - Polynomial(c.z)).pow(2) - Polynomial(r * r);
@@ -192,10 +198,12 @@ TEST(RangeBoundTest, ContainsExactValuesAtRandomPoints) {
         lo[a] = u(rng);
         hi[a] = lo[a] + std::ldexp(w(rng), -(box % 12));
       }
-      const Interval r = rangeOverBox(f, lo, hi, box % 2 ? RangeBound::Bernstein : RangeBound::Centred);
+      const Interval r =
+          rangeOverBox(f, lo, hi, box % 2 ? RangeBound::Bernstein : RangeBound::Centred);
       for (int s = 0; s < 20; ++s) {
         glm::dvec3 p;
-        for (int a = 0; a < 3; ++a) p[a] = std::clamp(lo[a] + w(rng) * (hi[a] - lo[a]), lo[a], hi[a]);
+        for (int a = 0; a < 3; ++a)
+          p[a] = std::clamp(lo[a] + w(rng) * (hi[a] - lo[a]), lo[a], hi[a]);
         if (s < 8)  // the corners too
           for (int a = 0; a < 3; ++a) p[a] = (s >> a) & 1 ? hi[a] : lo[a];
         // Exact containment: f(p) - lower >= 0 and upper - f(p) >= 0 in exact arithmetic.
@@ -348,11 +356,13 @@ TEST(CellsTest, CoverSurfacePointsOfClassicSurfaces) {
 TEST(CellsTest, BernsteinCellsCoverAndPruneMore) {
   const Polynomial f = torus(1.0, 0.3);
   const auto centred = buildCells(f, kLo, kHi, std::nullopt, {.depth = 3});
-  const auto bern = buildCells(f, kLo, kHi, std::nullopt, {.depth = 3, .bound = RangeBound::Bernstein});
+  const auto bern =
+      buildCells(f, kLo, kHi, std::nullopt, {.depth = 3, .bound = RangeBound::Bernstein});
   EXPECT_LT(bern.size(), centred.size());
   EXPECT_GE(checkCovered(f, kLo, kHi, std::nullopt, bern, 100, 21), 40);
   const Polynomial chain = sphereChain(6, 0.4);
-  const auto chainCells = buildCells(chain, kLo, kHi, std::nullopt, {.depth = 3, .bound = RangeBound::Bernstein});
+  const auto chainCells =
+      buildCells(chain, kLo, kHi, std::nullopt, {.depth = 3, .bound = RangeBound::Bernstein});
   EXPECT_GE(checkCovered(chain, kLo, kHi, std::nullopt, chainCells, 100, 22), 20);
 }
 
@@ -360,7 +370,8 @@ TEST(CellsTest, CoverWithClipSphereAndAutomaticDepth) {
   const Polynomial f = torus(1.0, 0.4);
   // A clip ball much larger than the torus: most rays miss the surface, cells pay.
   const CellSphere ball{{0.2, 0.0, 0.1}, 3.5};
-  const glm::dvec3 lo = ball.center - glm::dvec3(ball.radius), hi = ball.center + glm::dvec3(ball.radius);
+  const glm::dvec3 lo = ball.center - glm::dvec3(ball.radius),
+                   hi = ball.center + glm::dvec3(ball.radius);
   CellStats stats;
   const auto cells = buildCells(f, lo, hi, ball, {}, &stats);
   ASSERT_FALSE(cells.empty());
@@ -372,7 +383,8 @@ TEST(CellsTest, CoverWithClipSphereAndAutomaticDepth) {
     const glm::dvec3 nearest = glm::clamp(ball.center, c.lo, c.hi);
     EXPECT_LE(glm::length(nearest - ball.center), ball.radius * (1 + 1e-12));
   }
-  EXPECT_GE(checkCovered(f, lo, hi, ball, cells, 200, 5), 25);  // 38 measured: the ball is mostly empty
+  EXPECT_GE(checkCovered(f, lo, hi, ball, cells, 200, 5),
+            25);  // 38 measured: the ball is mostly empty
   // rayCoverage against sampled axis-parallel rays through the ball.
   std::mt19937_64 rng(8);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -386,7 +398,8 @@ TEST(CellsTest, CoverWithClipSphereAndAutomaticDepth) {
       o[axis] = lo[axis] - 1.0;
       d[axis] = 1.0;
       const glm::dvec3 q = o - ball.center;
-      if (q[(axis + 1) % 3] * q[(axis + 1) % 3] + q[(axis + 2) % 3] * q[(axis + 2) % 3] > ball.radius * ball.radius)
+      if (q[(axis + 1) % 3] * q[(axis + 1) % 3] + q[(axis + 2) % 3] * q[(axis + 2) % 3] >
+          ball.radius * ball.radius)
         continue;
       ++through;
       bool any = false;
@@ -429,8 +442,8 @@ TEST(CellsTest, AutomaticDepthSkipsBuildsThatCannotPay) {
     for (const double scale : {1.0, 3.0}) {
       const double r = scale * s.clipRadius;
       CellStats stats;
-      const auto cells = buildCells(s.build(), glm::dvec3(-r), glm::dvec3(r), CellSphere{glm::dvec3(0.0), r},
-                                    {.maxCells = 4096}, &stats);
+      const auto cells = buildCells(s.build(), glm::dvec3(-r), glm::dvec3(r),
+                                    CellSphere{glm::dvec3(0.0), r}, {.maxCells = 4096}, &stats);
       if (scale == 1.0) {
         EXPECT_EQ(cells.size(), 1u) << scale;
         EXPECT_EQ(stats.boxesTested, 0) << scale;
@@ -449,7 +462,7 @@ TEST(CellsTest, CoverInElongatedBox) {
   ASSERT_FALSE(cells.empty());
   for (const Cell& c : cells) {
     EXPECT_TRUE(inside(c.lo, lo, hi) && inside(c.hi, lo, hi));  // clipped to the box
-    EXPECT_LE(c.hi.x - c.lo.x, 6.0 / 32 * (1 + 1e-12));          // depth 5 of the 6-long edge
+    EXPECT_LE(c.hi.x - c.lo.x, 6.0 / 32 * (1 + 1e-12));         // depth 5 of the 6-long edge
     EXPECT_LE(c.hi.y - c.lo.y, 6.0 / 32 * (1 + 1e-12));
   }
   EXPECT_GE(checkCovered(f, lo, hi, std::nullopt, cells, 80, 3), 40);
@@ -480,7 +493,8 @@ TEST(CellsTest, DegreeFortyProductOfSpheres) {
     const glm::dvec3 pa = c + ta * dir, pb = c + tb * dir;
     if (exactSign(f, pa) * exactSign(f, pb) > 0) continue;  // long double misjudged: skip
     bool found = false;
-    for (const Cell& cell : cells) found = found || boxesOverlap(glm::min(pa, pb), glm::max(pa, pb), cell);
+    for (const Cell& cell : cells)
+      found = found || boxesOverlap(glm::min(pa, pb), glm::max(pa, pb), cell);
     EXPECT_TRUE(found) << "sphere " << i;
     ++checked;
   }
@@ -504,9 +518,9 @@ TEST(CellsTest, EmptyRegionsGiveNoCells) {
   EXPECT_TRUE(buildCells(f, glm::dvec3(5.0), glm::dvec3(6.0), std::nullopt, {}, &stats).empty());
   EXPECT_EQ(stats.boxesTested, 1);
   // The clip box overlaps the surface but the clip sphere (radius 0.5) does not.
-  EXPECT_TRUE(buildCells(f, glm::dvec3(-2.0), glm::dvec3(2.0), CellSphere{{0, 0, 0}, 0.5},
-                         {.depth = 5})
-                  .empty());
+  EXPECT_TRUE(
+      buildCells(f, glm::dvec3(-2.0), glm::dvec3(2.0), CellSphere{{0, 0, 0}, 0.5}, {.depth = 5})
+          .empty());
   // A constant non-zero polynomial has no surface.
   EXPECT_TRUE(buildCells(Polynomial(2.0), kLo, kHi).empty());
 }
@@ -604,10 +618,12 @@ TEST(CellsTest, GridIndicesDescribeTheCells) {
 TEST(CellsTest, HugeBoxesStayConservative) {
   const Polynomial f = sphere({0, 0, 0}, 1.0);
   CellStats stats;
-  const auto cells = buildCells(f, glm::dvec3(-1e300), glm::dvec3(1e300), std::nullopt, {.depth = 2}, &stats);
+  const auto cells =
+      buildCells(f, glm::dvec3(-1e300), glm::dvec3(1e300), std::nullopt, {.depth = 2}, &stats);
   EXPECT_FALSE(cells.empty());
   bool containsOrigin = false;
-  for (const Cell& c : cells) containsOrigin = containsOrigin || inside(glm::dvec3(1, 0, 0), c.lo, c.hi);
+  for (const Cell& c : cells)
+    containsOrigin = containsOrigin || inside(glm::dvec3(1, 0, 0), c.lo, c.hi);
   EXPECT_TRUE(containsOrigin);
 }
 

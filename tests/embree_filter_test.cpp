@@ -41,7 +41,8 @@ void rejectingFilter(const RTCFilterFunctionNArguments* args) {
 struct FilteredSurface {
   SurfaceGeometry geometry;
   Scene scene;
-  FilteredSurface(RTCDevice device, const SurfaceDesc& desc) : geometry(device, desc), scene(device) {
+  FilteredSurface(RTCDevice device, const SurfaceDesc& desc)
+      : geometry(device, desc), scene(device) {
     rtcSetGeometryIntersectFilterFunction(geometry.geometry(), &rejectingFilter);
     rtcCommitGeometry(geometry.geometry());
     scene.attach(geometry.geometry());
@@ -80,7 +81,8 @@ std::vector<GridEdgeRay> gridEdgeRays(std::initializer_list<double> dists) {
   std::vector<GridEdgeRay> rays;
   for (const double delta : {0.0, 1e-7, 1e-5, 1e-4})
     for (const double dist : dists)
-      for (const glm::dvec3& dir : {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
+      for (const glm::dvec3& dir :
+           {glm::dvec3(1, -1, 0.5), glm::dvec3(-0.3, 0.7, -1), glm::dvec3(0.2, 0.1, 1)}) {
         const glm::dvec3 d = glm::normalize(dir), p(delta, delta, 0.1);
         rays.push_back({RayD{p - dist * d, d, 0.0, 1e30}, delta, dist});
       }
@@ -140,7 +142,8 @@ TEST_F(EmbreeFilter, EveryRootOfferedOnceAcrossCells) {
     const bool onGrid = i % 3 == 0;
     const float x = onGrid ? 0.25f * std::round(4 * u(rng)) : u(rng);
     const float y = onGrid ? 0.125f * std::round(8 * u(rng)) : u(rng);
-    rays.push_back(onGrid ? makeRay({x, y, -4}, {0, 0, 1}) : makeRay({x, y, -4}, {0.2f * u(rng), 0.1f * u(rng), 1}));
+    rays.push_back(onGrid ? makeRay({x, y, -4}, {0, 0, 1})
+                          : makeRay({x, y, -4}, {0.2f * u(rng), 0.1f * u(rng), 1}));
     rays.push_back(makeRay({-4, x, y}, {1, 0, 0}));
   }
   for (int cells = 0; cells < 2; ++cells) {
@@ -158,8 +161,13 @@ TEST_F(EmbreeFilter, EveryRootOfferedOnceAcrossCells) {
   }
   int total = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
-    ASSERT_EQ(seen[0][i].size(), seen[1][i].size()) << "ray " << i << " " << rays[i].ray.org_x << " " << rays[i].ray.org_y << " " << rays[i].ray.org_z << " d " << rays[i].ray.dir_x << " " << rays[i].ray.dir_y << " " << rays[i].ray.dir_z << " t " << (seen[1][i].empty() ? 0.f : seen[1][i][0]) << " " << (seen[1][i].size() > 1 ? seen[1][i][1] : 0.f);
-    for (size_t k = 0; k < seen[0][i].size(); ++k) EXPECT_NEAR(seen[0][i][k], seen[1][i][k], 1e-5f) << i;
+    ASSERT_EQ(seen[0][i].size(), seen[1][i].size())
+        << "ray " << i << " " << rays[i].ray.org_x << " " << rays[i].ray.org_y << " "
+        << rays[i].ray.org_z << " d " << rays[i].ray.dir_x << " " << rays[i].ray.dir_y << " "
+        << rays[i].ray.dir_z << " t " << (seen[1][i].empty() ? 0.f : seen[1][i][0]) << " "
+        << (seen[1][i].size() > 1 ? seen[1][i][1] : 0.f);
+    for (size_t k = 0; k < seen[0][i].size(); ++k)
+      EXPECT_NEAR(seen[0][i][k], seen[1][i][k], 1e-5f) << i;
     total += static_cast<int>(seen[0][i].size());
   }
   EXPECT_GT(total, 500);
@@ -211,7 +219,8 @@ TEST_F(EmbreeFilter, PlanesOnCellFacesOfferedOnce) {
     for (size_t i = 0; i < rays.size(); ++i) {
       ASSERT_EQ(offers[0][i], offers[1][i]) << equation << " ray " << i;
       ASSERT_EQ(firstT[0][i] >= 0.0, firstT[1][i] >= 0.0) << equation << " ray " << i;
-      EXPECT_NEAR(firstT[0][i], firstT[1][i], 1e-12 * std::max(1.0, firstT[0][i])) << equation << " ray " << i;
+      EXPECT_NEAR(firstT[0][i], firstT[1][i], 1e-12 * std::max(1.0, firstT[0][i]))
+          << equation << " ray " << i;
       crossings += static_cast<int>(offers[0][i]);
       // The plane x = 0 in closed form (away from the box's edges).
       if (std::string_view(equation) == "x") {
@@ -256,7 +265,8 @@ TEST_F(EmbreeFilter, DoubleChannelOffersAnOrphanRootOnce) {
         rtcOccluded1(g.scene, &context.base, &rh.ray);
       else
         rtcIntersect1(g.scene, &context.base, &rh);
-      ASSERT_EQ(log.seenT.size(), 1u) << "delta " << delta << " dist " << dist << " occlusion " << occlusion;
+      ASSERT_EQ(log.seenT.size(), 1u)
+          << "delta " << delta << " dist " << dist << " occlusion " << occlusion;
       EXPECT_FALSE(hit.hit);
       ++rays;
     }
@@ -510,7 +520,8 @@ TEST_F(EmbreeFilter, InstancesWithTransforms) {
   Scene top(device);
   // Two instances: scaled by 2 at x = -10, and translated to x = +10.
   std::vector<unsigned> instIds;
-  const float xfms[2][12] = {{2, 0, 0, 0, 2, 0, 0, 0, 2, -10, 0, 0}, {1, 0, 0, 0, 1, 0, 0, 0, 1, 10, 0, 0}};
+  const float xfms[2][12] = {{2, 0, 0, 0, 2, 0, 0, 0, 2, -10, 0, 0},
+                             {1, 0, 0, 0, 1, 0, 0, 0, 1, 10, 0, 0}};
   for (const auto& xfm : xfms) {
     RTCGeometry inst = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(inst, inner);

@@ -1,7 +1,7 @@
 // Hit records of algray surfaces through Embree (rtcIntersect1 / rtcOccluded1), against
 // closed forms and brute-force references computed independently of the library.
-#include "embree_test_util.h"
 #include "../plugin/embree/surface_data.h"
+#include "embree_test_util.h"
 #include "support/scales.h"
 
 #include <gtest/gtest.h>
@@ -23,10 +23,13 @@ constexpr float kInfF = std::numeric_limits<float>::infinity();
 
 // First root of |o + t d|^2 = r^2 with t > tnear, in long double (closed form, stable
 // variant of the quadratic formula, Press et al., "Numerical Recipes", Sec. 5.6).
-std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long double r, long double tnear) {
+std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long double r,
+                                      long double tnear) {
   const long double a = (long double)d.x * d.x + (long double)d.y * d.y + (long double)d.z * d.z;
-  const long double b = 2 * ((long double)o.x * d.x + (long double)o.y * d.y + (long double)o.z * d.z);
-  const long double c = (long double)o.x * o.x + (long double)o.y * o.y + (long double)o.z * o.z - r * r;
+  const long double b =
+      2 * ((long double)o.x * d.x + (long double)o.y * d.y + (long double)o.z * d.z);
+  const long double c =
+      (long double)o.x * o.x + (long double)o.y * o.y + (long double)o.z * o.z - r * r;
   const long double disc = b * b - 4 * a * c;
   if (disc < 0) return std::nullopt;
   const long double q = -0.5L * (b + (b < 0 ? -1 : 1) * std::sqrt(disc));
@@ -55,7 +58,9 @@ std::optional<long double> torusRoot(glm::dvec3 o, glm::dvec3 d, double R, doubl
   if (h2 <= 0) return std::nullopt;
   const double dt = std::sqrt(h2 / dd);
   const long double t0 = std::max(0.0, tc - dt), t1 = tc + dt;
-  auto g = [&](long double t) { return torusValue(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z, R, r); };
+  auto g = [&](long double t) {
+    return torusValue(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z, R, r);
+  };
   const int n = 20000;
   long double prev = g(t0);
   for (int i = 1; i <= n; ++i) {
@@ -64,7 +69,10 @@ std::optional<long double> torusRoot(glm::dvec3 o, glm::dvec3 d, double R, doubl
     if ((prev < 0) != (gb < 0)) {
       for (int k = 0; k < 200; ++k) {
         const long double m = 0.5L * (a + b);
-        if ((g(m) < 0) == (prev < 0)) a = m; else b = m;
+        if ((g(m) < 0) == (prev < 0))
+          a = m;
+        else
+          b = m;
       }
       return 0.5L * (a + b);
     }
@@ -210,12 +218,13 @@ TEST_F(EmbreeHits, FloatUvAreTheDoubleOnesToAnUlp) {
   const auto& data = *static_cast<const SurfaceData*>(rtcGetGeometryUserData(g.geometry()));
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   auto ulps = [](float a, float b) {
-    return std::abs(static_cast<long>(std::bit_cast<std::int32_t>(a)) - std::bit_cast<std::int32_t>(b));
+    return std::abs(static_cast<long>(std::bit_cast<std::int32_t>(a)) -
+                    std::bit_cast<std::int32_t>(b));
   };
   for (int i = 0; i < 200000; ++i) {
     glm::dvec3 r(uni(rng), uni(rng), uni(rng));
-    if (i % 5 == 1) r[i % 3] *= 1e-9;                        // near an axis plane
-    if (i % 5 == 2) r.x *= 1e-12, r.y *= 1e-12;              // near a pole
+    if (i % 5 == 1) r[i % 3] *= 1e-9;            // near an axis plane
+    if (i % 5 == 2) r.x *= 1e-12, r.y *= 1e-12;  // near a pole
     r *= std::pow(10.0, 8.0 * uni(rng));
     const glm::dvec3 point = data.centre + r;
     const glm::dvec3 rr = point - data.centre;  // as the kernel rounds it
@@ -257,7 +266,8 @@ TEST_F(EmbreeHits, TorusMatchesBruteForce) {
     ++hits;
     EXPECT_NEAR(rh.ray.tfar, (double)*ref, 4e-7 * (double)*ref) << i;
     const glm::dvec3 p = asD(rh, true) + (double)*ref * asD(rh, false);
-    EXPECT_GT(glm::dot(glm::dvec3(hitNormal(rh)), glm::normalize(torusGradient(p, R, r))), 1 - 1e-5) << i;
+    EXPECT_GT(glm::dot(glm::dvec3(hitNormal(rh)), glm::normalize(torusGradient(p, R, r))), 1 - 1e-5)
+        << i;
   }
   EXPECT_GT(hits, 100);
 }
@@ -333,7 +343,8 @@ TEST_F(EmbreeHits, SelfRootRuleOfFarTranslatedObjects) {
       desc.transform = glm::dmat4(k.scale);
       desc.transform[3] = glm::dvec4(k.shift, 0, 0, 1);
       const SurfaceScene scene(device, desc);
-      for (const glm::dvec3 objectDir : {glm::dvec3(1, 0, 0), glm::dvec3(0.6, 0, -0.8), glm::dvec3(0, 0.6, 0.8)}) {
+      for (const glm::dvec3 objectDir :
+           {glm::dvec3(1, 0, 0), glm::dvec3(0.6, 0, -0.8), glm::dvec3(0, 0.6, 0.8)}) {
         RayD ray;
         ray.org = glm::dvec3(k.shift, 0, 0) + k.scale * glm::dvec3(0, 0, k.z0);
         ray.dir = objectDir;  // a uniform scale keeps directions; t scales by 1 / scale
@@ -346,7 +357,8 @@ TEST_F(EmbreeHits, SelfRootRuleOfFarTranslatedObjects) {
         ASSERT_TRUE(hit.hit) << k.scale << " " << k.shift << " quadric " << quadric;
         // Position error in object radii.
         EXPECT_LT(std::abs(hit.t - (double)*ref) / k.scale, 1e-9)
-            << k.scale << " " << k.shift << " quadric " << quadric << " t " << hit.t << " ref " << (double)*ref;
+            << k.scale << " " << k.shift << " quadric " << quadric << " t " << hit.t << " ref "
+            << (double)*ref;
       }
     }
   }
@@ -431,9 +443,9 @@ TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
   const SurfaceScene scene(device, sphereDesc(1.0, 1.5));
   // Float rays Embree accepts (Embree 3 itself asserts on NaN/inf origins or directions,
   // so those never reach a user geometry): zero direction, inverted or empty span.
-  const std::vector<RTCRayHit> rays = {makeRay({0, 0, -5}, {0, 0, 0}), makeRay({0, 0, 0}, {0, 0, 0}),
-                                       makeRay({0, 0, -5}, {0, 0, 1}, 5.0f, 3.0f),
-                                       makeRay({0, 0, -5}, {0, 0, 1}, 3.0f, 3.0f)};
+  const std::vector<RTCRayHit> rays = {
+      makeRay({0, 0, -5}, {0, 0, 0}), makeRay({0, 0, 0}, {0, 0, 0}),
+      makeRay({0, 0, -5}, {0, 0, 1}, 5.0f, 3.0f), makeRay({0, 0, -5}, {0, 0, 1}, 3.0f, 3.0f)};
   for (size_t i = 0; i < rays.size(); ++i) {
     EXPECT_EQ(intersect1(scene, rays[i]).hit.geomID, RTC_INVALID_GEOMETRY_ID) << i;
     EXPECT_FALSE(occluded1(scene, rays[i].ray)) << i;
@@ -446,10 +458,11 @@ TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
   // Non-finite double rays reach the kernel through the double channel (the float ray
   // Embree sees is valid): no hit, no error, no hang.
   const double dnan = std::nan(""), dinf = std::numeric_limits<double>::infinity();
-  const std::vector<RayD> bad = {{{0, 0, dnan}, {0, 0, 1}, 0, 10, 0},    {{0, 0, -5}, {dnan, 0, 1}, 0, 10, 0},
-                                 {{0, 0, -5}, {0, 0, dinf}, 0, 10, 0},   {{-dinf, 0, 0}, {1, 0, 0}, 0, 10, 0},
-                                 {{0, 0, -5}, {0, 0, 1}, dnan, 10, 0},   {{0, 0, -5}, {0, 0, 1}, 0, dnan, 0},
-                                 {{0, 0, -5}, {0, 0, 0}, 0, 10, 0},      {{0, 0, -5}, {0, 0, 1}, 0, 10, dnan}};
+  const std::vector<RayD> bad = {
+      {{0, 0, dnan}, {0, 0, 1}, 0, 10, 0},  {{0, 0, -5}, {dnan, 0, 1}, 0, 10, 0},
+      {{0, 0, -5}, {0, 0, dinf}, 0, 10, 0}, {{-dinf, 0, 0}, {1, 0, 0}, 0, 10, 0},
+      {{0, 0, -5}, {0, 0, 1}, dnan, 10, 0}, {{0, 0, -5}, {0, 0, 1}, 0, dnan, 0},
+      {{0, 0, -5}, {0, 0, 0}, 0, 10, 0},    {{0, 0, -5}, {0, 0, 1}, 0, 10, dnan}};
   for (size_t i = 0; i < bad.size(); ++i) {
     HitD hit;
     IntersectContext context;
@@ -466,7 +479,8 @@ TEST_F(EmbreeHits, NonFiniteAndDegenerateRaysMissQuietly) {
   // hits nothing.
   for (const RayD& r : bad) {
     bool finiteRay = true;
-    for (int k = 0; k < 3; ++k) finiteRay = finiteRay && std::isfinite(r.org[k]) && std::isfinite(r.dir[k]);
+    for (int k = 0; k < 3; ++k)
+      finiteRay = finiteRay && std::isfinite(r.org[k]) && std::isfinite(r.dir[k]);
     if (finiteRay) continue;
     EXPECT_FALSE(intersectD(scene, r).hit);
   }
@@ -804,9 +818,11 @@ TEST_F(EmbreeHits, QuadricCallbacksMatchGenericWalk) {
   const std::vector<Case> cases = {
       {spherePolynomial(1.0), ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
       {x * x + 4.0 * y * y + 0.25 * z * z - Polynomial(1.0), ClipSphere{{0, 0, 0}, 1.5}, skew},
-      {x * x + y * y - z * z - Polynomial(0.25), ClipBox{{-1, -1.2, -0.8}, {1.1, 1, 1}}, glm::dmat4(1.0)},
+      {x * x + y * y - z * z - Polynomial(0.25), ClipBox{{-1, -1.2, -0.8}, {1.1, 1, 1}},
+       glm::dmat4(1.0)},
       {x * x + y * y - z, ClipSphere{{0.1, 0, 0.3}, 1.0}, skew},
-      {x * y + y * z + x * z - 0.2 * x + Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0)},
+      {x * y + y * z + x * z - 0.2 * x + Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.5},
+       glm::dmat4(1.0)},
   };
   std::uniform_real_distribution<double> u(-1.2, 1.2);
   int hits = 0;
@@ -831,7 +847,8 @@ TEST_F(EmbreeHits, QuadricCallbacksMatchGenericWalk) {
       for (double dist : {2.0, 4.0, 1e4, 1e7}) {
         const glm::dvec3 eye = dist * glm::dvec3(randomDir());
         for (int i = 0; i < 100; ++i) {
-          SCOPED_TRACE(testing::Message() << "case " << ci << " filter " << filter << " dist " << dist << " ray " << i);
+          SCOPED_TRACE(testing::Message() << "case " << ci << " filter " << filter << " dist "
+                                          << dist << " ray " << i);
           // Float values, so that the float and double rays are the same line.
           const glm::dvec3 o(glm::vec3(i % 2 ? eye : dist * glm::dvec3(randomDir())));
           const glm::dvec3 d(glm::vec3(glm::dvec3(u(rng), u(rng), u(rng)) - o));
@@ -949,7 +966,8 @@ std::vector<BoundedCase> boundedCases() {
   // definite), with a cross term.
   const Polynomial xs = x - Polynomial(0.3), ys = y + Polynomial(0.2), zs = z - Polynomial(0.1);
   const Polynomial tilted =
-      Polynomial(-1.0) * (xs * xs * (1 / 0.16) + ys * ys * (1 / 0.09) + zs * zs * (1 / 0.25) + 2.0 * xs * ys - Polynomial(1.0));
+      Polynomial(-1.0) * (xs * xs * (1 / 0.16) + ys * ys * (1 / 0.09) + zs * zs * (1 / 0.25) +
+                          2.0 * xs * ys - Polynomial(1.0));
   return {
       {spherePolynomial(1.0), ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
       {ellipsoid, ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
@@ -966,8 +984,8 @@ RTCBounds sceneBounds(RTCScene scene) {
 }
 
 bool inBounds(const RTCBounds& b, const glm::dvec3& p) {
-  return p.x >= b.lower_x && p.x <= b.upper_x && p.y >= b.lower_y && p.y <= b.upper_y && p.z >= b.lower_z &&
-         p.z <= b.upper_z;
+  return p.x >= b.lower_x && p.x <= b.upper_x && p.y >= b.lower_y && p.y <= b.upper_y &&
+         p.z >= b.lower_z && p.z <= b.upper_z;
 }
 }  // namespace
 
@@ -994,8 +1012,10 @@ TEST_F(EmbreeHits, QuadricTightBoundsKeepHits) {
       sb.commit();
       // The bounds did shrink (by at least 10 % of the volume in every case here).
       const RTCBounds ba = sceneBounds(sa), bb = sceneBounds(sb);
-      const double va = double(ba.upper_x - ba.lower_x) * (ba.upper_y - ba.lower_y) * (ba.upper_z - ba.lower_z);
-      const double vb = double(bb.upper_x - bb.lower_x) * (bb.upper_y - bb.lower_y) * (bb.upper_z - bb.lower_z);
+      const double va =
+          double(ba.upper_x - ba.lower_x) * (ba.upper_y - ba.lower_y) * (ba.upper_z - ba.lower_z);
+      const double vb =
+          double(bb.upper_x - bb.lower_x) * (bb.upper_y - bb.lower_y) * (bb.upper_z - bb.lower_z);
       EXPECT_LT(va, 0.9 * vb);
       const glm::dvec3 centre = glm::dvec3(c.transform * glm::dvec4(0, 0, 0, 1));
       for (double dist : {2.5, 6.0, 1e5}) {
@@ -1006,7 +1026,8 @@ TEST_F(EmbreeHits, QuadricTightBoundsKeepHits) {
           glm::dvec3 target = centre + glm::dvec3(u(rng), u(rng), u(rng));
           if (i % 2) {
             const int axis = i % 3;
-            const float lo[3] = {ba.lower_x, ba.lower_y, ba.lower_z}, hi[3] = {ba.upper_x, ba.upper_y, ba.upper_z};
+            const float lo[3] = {ba.lower_x, ba.lower_y, ba.lower_z},
+                        hi[3] = {ba.upper_x, ba.upper_y, ba.upper_z};
             target[axis] = (i % 4 < 2) ? lo[axis] : hi[axis];
             ++grazing;
           }
@@ -1055,7 +1076,8 @@ TEST_F(EmbreeHits, QuadricTightBoundsKeepHits) {
       for (int i = 0; i < 100; ++i) {
         const glm::dvec3 w = glm::dvec3(randomDir());
         const double sw = std::sqrt(-f0 / glm::dot(w, q.a * w));
-        const glm::dvec3 n = glm::normalize(q.a * w), tangent = glm::normalize(glm::cross(n, glm::dvec3(randomDir())));
+        const glm::dvec3 n = glm::normalize(q.a * w),
+                         tangent = glm::normalize(glm::cross(n, glm::dvec3(randomDir())));
         const double eps = std::array<double, 5>{-1e-3, -1e-6, 0.0, 1e-6, 1e-3}[i % 5];
         const glm::dvec3 touch = x0 + sw * w + eps * sw * n;
         const glm::dvec3 wo = glm::dvec3(c.transform * glm::dvec4(touch - 3.0 * tangent, 1.0));
@@ -1129,7 +1151,8 @@ TEST_F(EmbreeHits, QuadricTightBoundsHoldTheSurface) {
       const glm::dvec3 p = x0 + map * glm::normalize(glm::dvec3(randomDir()));
       ASSERT_LT(std::abs(f.evaluate(p)), 1e-12);
       const bool inClip = std::holds_alternative<ClipSphere>(c.clip)
-                              ? glm::length(p - std::get<ClipSphere>(c.clip).center) <= std::get<ClipSphere>(c.clip).radius
+                              ? glm::length(p - std::get<ClipSphere>(c.clip).center) <=
+                                    std::get<ClipSphere>(c.clip).radius
                               : glm::all(glm::lessThanEqual(std::get<ClipBox>(c.clip).lo, p)) &&
                                     glm::all(glm::lessThanEqual(p, std::get<ClipBox>(c.clip).hi));
       if (!inClip) continue;
@@ -1178,8 +1201,12 @@ TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
 struct FlushToZero {
 #if defined(__SSE__)
   unsigned saved = _mm_getcsr();
-  FlushToZero() { _mm_setcsr(saved | 0x8040u); }  // FTZ (bit 15) | DAZ (bit 6)
-  ~FlushToZero() { _mm_setcsr(saved); }
+  FlushToZero() {
+    _mm_setcsr(saved | 0x8040u);
+  }  // FTZ (bit 15) | DAZ (bit 6)
+  ~FlushToZero() {
+    _mm_setcsr(saved);
+  }
 #endif
 };
 
@@ -1219,7 +1246,8 @@ TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
             {{0.08387603324281967, 0.2311673387930015, -0.29900011676272537},
              {-0.3584908178481061, -0.09607198081603684, -0.006696342454642689}}};
         for (int i = 0; i < 2000; ++i)
-          rays.push_back({{inside(gen), inside(gen), inside(gen)}, {gauss(gen), gauss(gen), gauss(gen)}});
+          rays.push_back(
+              {{inside(gen), inside(gen), inside(gen)}, {gauss(gen), gauss(gen), gauss(gen)}});
         int hits = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
           RayD ray = rays[i];
@@ -1232,7 +1260,8 @@ TEST_F(EmbreeHits, OverallFactorOfThePolynomialChangesNoHit) {
           if (exact)
             EXPECT_EQ(got.t, want.t) << factor << (flush ? " flush-to-zero" : "") << " ray " << i;
           else
-            EXPECT_NEAR(got.t, want.t, 1e-13 * std::max(1.0, want.t)) << factor << (flush ? " flush-to-zero" : "") << " ray " << i;
+            EXPECT_NEAR(got.t, want.t, 1e-13 * std::max(1.0, want.t))
+                << factor << (flush ? " flush-to-zero" : "") << " ray " << i;
         }
         EXPECT_GT(hits, 500) << factor;
       }
@@ -1252,15 +1281,16 @@ TEST_F(EmbreeHits, DirectionsAndOriginsNear1e308HitTheEntry) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const SurfaceScene scene(device, sphereDesc(1.0, 2.0));
   constexpr double c = 1.7e308;
-  const RayD rays[] = {{{3, 0, 0}, {-c, 0, 0}, 0, kInf, 0},     {{c, 0, 0}, {-c, 0, 0}, 0, kInf, 0},
-                       {{c, c, c}, {-1, -1, -1}, 0, kInf, 0},   {{c, c, c}, {-c, -c, -c}, 0, kInf, 0},
-                       {{-c, 0, 0}, {1, 0, 0}, 0, kInf, 0},     {{0, -c, c}, {0, 1, -1}, 0, kInf, 0}};
+  const RayD rays[] = {{{3, 0, 0}, {-c, 0, 0}, 0, kInf, 0},   {{c, 0, 0}, {-c, 0, 0}, 0, kInf, 0},
+                       {{c, c, c}, {-1, -1, -1}, 0, kInf, 0}, {{c, c, c}, {-c, -c, -c}, 0, kInf, 0},
+                       {{-c, 0, 0}, {1, 0, 0}, 0, kInf, 0},   {{0, -c, c}, {0, 1, -1}, 0, kInf, 0}};
   for (const bool flush : {false, true}) {
     std::optional<FlushToZero> mode;
     if (flush) mode.emplace();
     for (const RayD& ray : rays) {
-      SCOPED_TRACE(testing::Message() << "flush " << flush << " o " << ray.org.x << " " << ray.org.y << " "
-                                      << ray.org.z << " d " << ray.dir.x << " " << ray.dir.y << " " << ray.dir.z);
+      SCOPED_TRACE(testing::Message()
+                   << "flush " << flush << " o " << ray.org.x << " " << ray.org.y << " "
+                   << ray.org.z << " d " << ray.dir.x << " " << ray.dir.y << " " << ray.dir.z);
       // |o + t d| = 1, first root, with o and d scaled by 2^-1024 (exact) for the squares.
       using LD = long double;
       const LD s = std::ldexp(LD(1), -1024);
@@ -1282,7 +1312,8 @@ TEST_F(EmbreeHits, DirectionsAndOriginsNear1e308HitTheEntry) {
       ASSERT_NE(viaFloat.hit.geomID, RTC_INVALID_GEOMETRY_ID);
       const double tFloat = fromFloatParameter(ray, viaFloat.ray.tfar, scene);
       EXPECT_NEAR(tFloat, double(tExact), 1e-6 * double(tExact) + subnormalSteps);
-      const glm::dvec3 n = glm::normalize(glm::dvec3(viaFloat.hit.Ng_x, viaFloat.hit.Ng_y, viaFloat.hit.Ng_z));
+      const glm::dvec3 n =
+          glm::normalize(glm::dvec3(viaFloat.hit.Ng_x, viaFloat.hit.Ng_y, viaFloat.hit.Ng_z));
       const glm::dvec3 nd = glm::normalize(hit.Ng);
       const double m = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
       const glm::dvec3 expected = -glm::normalize(ray.dir / m);
@@ -1427,7 +1458,8 @@ TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
         EXPECT_EQ(pb.hit.u[l], 0.0f);
         EXPECT_EQ(pb.hit.v[l], 0.0f);
         // The double channel.
-        const RayD ray{glm::dvec3(eye), glm::dvec3(singles[l].ray.dir_x, singles[l].ray.dir_y, singles[l].ray.dir_z),
+        const RayD ray{glm::dvec3(eye),
+                       glm::dvec3(singles[l].ray.dir_x, singles[l].ray.dir_y, singles[l].ray.dir_z),
                        0.0, 1e30, 0.0};
         const HitD da = intersectD(sa, ray), db = intersectD(sb, ray);
         ASSERT_TRUE(da.hit && db.hit);

@@ -28,7 +28,9 @@ void rejectEveryOther(const RTCFilterFunctionNArguments* args) {
     if (args->valid[i] != 0 && (filterCalls++ % 2) == 0) args->valid[i] = 0;
 }
 
-std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
+std::uint32_t bits(float f) {
+  return std::bit_cast<std::uint32_t>(f);
+}
 
 // Embree's SoA packets of width N, as a plain float array (the layout of RTCRayHitN).
 template <unsigned N>
@@ -37,22 +39,34 @@ template <>
 struct PacketOf<4> {
   using RayHit = RTCRayHit4;
   using Ray = RTCRay4;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect4(v, s, c, r); }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded4(v, s, c, r); }
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect4(v, s, c, r);
+  }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded4(v, s, c, r);
+  }
 };
 template <>
 struct PacketOf<8> {
   using RayHit = RTCRayHit8;
   using Ray = RTCRay8;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect8(v, s, c, r); }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded8(v, s, c, r); }
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect8(v, s, c, r);
+  }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded8(v, s, c, r);
+  }
 };
 template <>
 struct PacketOf<16> {
   using RayHit = RTCRayHit16;
   using Ray = RTCRay16;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect16(v, s, c, r); }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(v, s, c, r); }
+  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect16(v, s, c, r);
+  }
+  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded16(v, s, c, r);
+  }
 };
 
 struct Case {
@@ -78,15 +92,19 @@ std::vector<Case> cases() {
       {"ellipsoid", ellipsoid, ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
       {"ellipsoid skew", ellipsoid, ClipSphere{{0, 0, 0}, 1.2}, skew},
       {"ellipsoid off-centre", ellipsoid, ClipSphere{{0.4, 0.1, 0}, 1.0}, glm::dmat4(1.0)},
-      {"hyperboloid", x * x + y * y - z * z - Polynomial(0.25), ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0)},
-      {"hyperboloid box", x * x + y * y - z * z - Polynomial(0.25), ClipBox{{-1, -1.2, -0.8}, {1.1, 1, 1}},
+      {"hyperboloid", x * x + y * y - z * z - Polynomial(0.25), ClipSphere{{0, 0, 0}, 1.5},
        glm::dmat4(1.0)},
+      {"hyperboloid box", x * x + y * y - z * z - Polynomial(0.25),
+       ClipBox{{-1, -1.2, -0.8}, {1.1, 1, 1}}, glm::dmat4(1.0)},
       {"paraboloid skew", x * x + y * y - z, ClipSphere{{0.1, 0, 0.3}, 1.0}, skew},
-      {"saddle", x * y + y * z + x * z - 0.2 * x + Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0)},
+      {"saddle", x * y + y * z + x * z - 0.2 * x + Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.5},
+       glm::dmat4(1.0)},
       {"cylinder", x * x + y * y - Polynomial(0.5), ClipSphere{{0, 0, 0}, 1.0}, glm::dmat4(1.0)},
       {"huge sphere", 1e200 * spherePolynomial(1.0), ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
-      {"cone", (x - Polynomial(0.1)) * (x - Polynomial(0.1)) + (y - Polynomial(0.2)) * (y - Polynomial(0.2)) -
-                   (z - Polynomial(0.3)) * (z - Polynomial(0.3)),
+      {"cone",
+       (x - Polynomial(0.1)) * (x - Polynomial(0.1)) +
+           (y - Polynomial(0.2)) * (y - Polynomial(0.2)) -
+           (z - Polynomial(0.3)) * (z - Polynomial(0.3)),
        ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0), glm::vec3(0.1f, 0.2f, 0.3f)},
   };
 }
@@ -110,7 +128,8 @@ class EmbreePacket : public ::testing::Test {
     glm::dvec3 lo, hi;
     clipRegionBox(c.clip, lo, hi);
     const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = std::holds_alternative<ClipSphere>(c.clip) ? 0.5 * (hi.x - lo.x) : 0.5 * glm::length(hi - lo);
+    const double radius = std::holds_alternative<ClipSphere>(c.clip) ? 0.5 * (hi.x - lo.x)
+                                                                     : 0.5 * glm::length(hi - lo);
     for (int k = 0; k < 200 && outside.size() < 50; ++k) {
       const glm::dvec3 a = centre + 4.0 * radius * glm::dvec3(randomDir()),
                        b = centre + 1.5 * radius * glm::dvec3(randomDir());
@@ -123,7 +142,8 @@ class EmbreePacket : public ::testing::Test {
           const bool negAtL = f(l) < 0.0;
           for (int j = 0; j < 80; ++j) ((f(0.5 * (l + h)) < 0.0) == negAtL ? l : h) = 0.5 * (l + h);
           const glm::dvec3 p = a + l * (b - a);
-          if (glm::length(p - centre) > 1.01 * radius) outside.push_back(glm::vec3(c.transform * glm::dvec4(p, 1.0)));
+          if (glm::length(p - centre) > 1.01 * radius)
+            outside.push_back(glm::vec3(c.transform * glm::dvec4(p, 1.0)));
         }
         s0 = s1;
       }
@@ -137,7 +157,9 @@ class EmbreePacket : public ::testing::Test {
   // degenerate ones (zero or tiny direction, inverted or empty span). (No NaN or infinite
   // lanes: Embree 3 asserts on them before any user geometry sees them.)
   RTCRay randomRay(RTCScene scene, const glm::vec3& eye, float scale, const glm::mat4& world) {
-    auto target = [&] { return glm::vec3(world * glm::vec4(uniform(-1.3f, 1.3f) * randomDir(), 1)); };
+    auto target = [&] {
+      return glm::vec3(world * glm::vec4(uniform(-1.3f, 1.3f) * randomDir(), 1));
+    };
     const int kind = std::uniform_int_distribution<int>(0, 13)(rng);
     glm::vec3 o = eye, d = target() - eye;
     float tnear = 0.0f, tfar = kInf;
@@ -196,8 +218,8 @@ class EmbreePacket : public ::testing::Test {
   }
 
   template <unsigned N>
-  void compare(RTCScene scene, const glm::vec3& eye, float scale, const glm::mat4& world, int packets, int& lanes,
-               int& hits) {
+  void compare(RTCScene scene, const glm::vec3& eye, float scale, const glm::mat4& world,
+               int packets, int& lanes, int& hits) {
     using P = PacketOf<N>;
     for (int k = 0; k < packets; ++k) {
       alignas(64) typename P::RayHit rh{};
@@ -299,7 +321,9 @@ TEST_F(EmbreePacket, QuadricPacketsMatchSingleRays) {
   EXPECT_GT(hits, 2000);
 }
 
-std::uint64_t bits(double f) { return std::bit_cast<std::uint64_t>(f); }
+std::uint64_t bits(double f) {
+  return std::bit_cast<std::uint64_t>(f);
+}
 
 // The packet lanes' doubles against the scalar kernel's, bit for bit: the object-space
 // ray (hostObjectRay), the span and restriction (quadricSpan), the first root (quadricRoot)
@@ -341,8 +365,9 @@ TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
           SCOPED_TRACE(testing::Message() << "dist " << dist << " packet " << k << " lane " << l);
           ++total;
           nearTotal += dist < 10.0f;
-          const KernelRay kr = hostObjectRay(data, {p.ox[l], p.oy[l], p.oz[l]}, {p.dx[l], p.dy[l], p.dz[l]},
-                                         p.tnear[l], p.tfar[l], 0x1p-24, 0.0);
+          const KernelRay kr =
+              hostObjectRay(data, {p.ox[l], p.oy[l], p.oz[l]}, {p.dx[l], p.dy[l], p.dz[l]},
+                            p.tnear[l], p.tfar[l], 0x1p-24, 0.0);
           QuadricSpan q;
           double s = 0.0;
           const bool found = quadricSpan(data, kr, q) && quadricRoot(q, q.slo, s) && s < q.shi;

@@ -14,9 +14,9 @@ namespace algray::test {
 namespace {
 
 struct Counts {
-  int primary = 0;      // primary hits (each gives the origin of leaving rays)
-  int leaving = 0;      // leaving rays traced
-  int selfHits = 0;     // leaving rays that hit within selfDistance of their origin
+  int primary = 0;         // primary hits (each gives the origin of leaving rays)
+  int leaving = 0;         // leaving rays traced
+  int selfHits = 0;        // leaving rays that hit within selfDistance of their origin
   double closest = 1e300;  // closest accepted hit distance seen, relative to the clip radius
 };
 
@@ -59,7 +59,8 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
       // ---- Double channel: p = o + t d and its pbrt-style error bound ----------------
       if (hit.hit) {
         const glm::dvec3 p = primary.org + hit.t * primary.dir;
-        const double pError = gamma(3) * (glm::length(primary.org) + glm::length(hit.t * primary.dir));
+        const double pError =
+            gamma(3) * (glm::length(primary.org) + glm::length(hit.t * primary.dir));
         RayD ray{p, dir, 0.0, std::numeric_limits<double>::infinity(), pError};
         const HitD h = intersectD(scene, ray);
         ++dbl.leaving;
@@ -99,8 +100,8 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
   EXPECT_EQ(flt.selfHits, 0) << g->name << " float channel, closest " << flt.closest;
   EXPECT_EQ(surface.callbackErrors(), 0u);
   std::printf("%-16s primary %3d/%3d  leaving %4d/%4d  closest leaving hit %.3g / %.3g R\n",
-              std::string(g->name).c_str(), dbl.primary, flt.primary, dbl.leaving, flt.leaving, dbl.closest,
-              flt.closest);
+              std::string(g->name).c_str(), dbl.primary, flt.primary, dbl.leaving, flt.leaving,
+              dbl.closest, flt.closest);
 }
 
 std::vector<std::string_view> galleryNames() {

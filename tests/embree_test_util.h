@@ -12,12 +12,20 @@
 
 namespace algray::test {
 
-inline Polynomial X() { return Polynomial::variable(0); }
-inline Polynomial Y() { return Polynomial::variable(1); }
-inline Polynomial Z() { return Polynomial::variable(2); }
+inline Polynomial X() {
+  return Polynomial::variable(0);
+}
+inline Polynomial Y() {
+  return Polynomial::variable(1);
+}
+inline Polynomial Z() {
+  return Polynomial::variable(2);
+}
 
 // x^2 + y^2 + z^2 - r^2
-inline Polynomial spherePolynomial(double r) { return X() * X() + Y() * Y() + Z() * Z() - Polynomial(r * r); }
+inline Polynomial spherePolynomial(double r) {
+  return X() * X() + Y() * Y() + Z() * Z() - Polynomial(r * r);
+}
 // (x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4 R^2 (x^2 + y^2): torus about the z axis.
 inline Polynomial torusPolynomial(double R, double r) {
   const Polynomial s = X() * X() + Y() * Y() + Z() * Z() + Polynomial(R * R - r * r);
@@ -121,12 +129,12 @@ inline glm::vec3 hitNormal(const RTCRayHit& rh) {
 // A quad (two triangles) in the plane z = zPlane covering [-s, s]^2.
 inline RTCGeometry makeQuad(RTCDevice device, float zPlane, float s) {
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(
-      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
   const float verts[12] = {-s, -s, zPlane, s, -s, zPlane, s, s, zPlane, -s, s, zPlane};
   for (int i = 0; i < 12; ++i) v[i] = verts[i];
-  auto* idx = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2));
   const unsigned tris[6] = {0, 1, 2, 0, 2, 3};
   for (int i = 0; i < 6; ++i) idx[i] = tris[i];
   rtcCommitGeometry(g);

@@ -66,7 +66,8 @@ TEST(EmbreeThreads, FirstRayOfAThreadDoesNotWaitForTheLoader) {
       std::unique_lock lock(gMutex);
       gChanged.wait(lock, [] { return gInsideDlopen; });
     }
-    for (float& t : tfar) t = intersect1(scene, makeRay({0.0f, -3.0f, 0.2f}, {0.0f, 1.0f, 0.0f})).ray.tfar;
+    for (float& t : tfar)
+      t = intersect1(scene, makeRay({0.0f, -3.0f, 0.2f}, {0.0f, 1.0f, 0.0f})).ray.tfar;
     std::lock_guard lock(gMutex);
     gTraced = true;
     gChanged.notify_all();

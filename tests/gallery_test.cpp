@@ -8,12 +8,12 @@
 #include <array>
 #include <cmath>
 #include <functional>
-#include <vector>
 #include <map>
 #include <numbers>
 #include <random>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace algray {
 namespace {
@@ -37,8 +37,10 @@ LD chebyshevT(int n, LD v) {
 using Quat = std::array<LD, 4>;  // (w, x, y, z)
 
 Quat mul(const Quat& a, const Quat& b) {
-  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3], a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1], a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+          a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+          a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
 }
 
 bool close(const Quat& a, const Quat& b, LD tol = 1e-12L) {
@@ -64,7 +66,9 @@ const std::vector<Quat>& binaryIcosahedral() {
   return group;
 }
 
-LD dot(const Quat& a, const Quat& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]; }
+LD dot(const Quat& a, const Quat& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+}
 
 // S(p) - S(p*) Q(p)^6 with S(p) = 1/2 sum over all 120 elements c of <c, p>^12.
 LD sartiS(const Quat& p) {
@@ -102,12 +106,13 @@ const std::map<std::string, Reference>& references() {
                     const LD R = 1, r = 0.4L, q = x * x + y * y + z * z + R * R - r * r;
                     return q * q - 4 * R * R * (x * x + y * y);
                   }};
-    m["clebsch-cubic"] = {3, [](LD x, LD y, LD z) {
-                            return 81 * (x * x * x + y * y * y + z * z * z) -
-                                   189 * (x * x * y + x * x * z + y * y * x + y * y * z + z * z * x + z * z * y) +
-                                   54 * x * y * z + 126 * (x * y + y * z + z * x) - 9 * (x * x + y * y + z * z) -
-                                   9 * (x + y + z) + 1;
-                          }};
+    m["clebsch-cubic"] = {
+        3, [](LD x, LD y, LD z) {
+          return 81 * (x * x * x + y * y * y + z * z * z) -
+                 189 * (x * x * y + x * x * z + y * y * x + y * y * z + z * z * x + z * z * y) +
+                 54 * x * y * z + 126 * (x * y + y * z + z * x) - 9 * (x * x + y * y + z * z) -
+                 9 * (x + y + z) + 1;
+        }};
     m["cayley-cubic"] = {3, [](LD x, LD y, LD z) {
                            const LD s = x + y + z + 1;
                            return 4 * (x * x * x + y * y * y + z * z * z + 1) - s * s * s;
@@ -118,34 +123,39 @@ const std::map<std::string, Reference>& references() {
     m["kummer-quartic"] = {4, [s2](LD x, LD y, LD z) {
                              const LD mu2 = 1.69L, lambda = (3 * mu2 - 1) / (3 - mu2);
                              const LD q = x * x + y * y + z * z - mu2;
-                             return q * q - lambda * (1 - z - s2 * x) * (1 - z + s2 * x) * (1 + z + s2 * y) *
-                                                (1 + z - s2 * y);
+                             return q * q - lambda * (1 - z - s2 * x) * (1 - z + s2 * x) *
+                                                (1 + z + s2 * y) * (1 + z - s2 * y);
                            }};
     m["barth-sextic"] = {6, [phi](LD x, LD y, LD z) {
                            const LD p2 = phi * phi, q = x * x + y * y + z * z - 1;
-                           return 4 * (p2 * x * x - y * y) * (p2 * y * y - z * z) * (p2 * z * z - x * x) -
+                           return 4 * (p2 * x * x - y * y) * (p2 * y * y - z * z) *
+                                      (p2 * z * z - x * x) -
                                   (1 + 2 * phi) * q * q;
                          }};
-    m["barth-decic"] = {10, [phi](LD x, LD y, LD z) {
-                          const LD p4 = phi * phi * phi * phi, x2 = x * x, y2 = y * y, z2 = z * z;
-                          const LD r = x2 + y2 + z2;
-                          return 8 * (x2 - p4 * y2) * (y2 - p4 * z2) * (z2 - p4 * x2) *
-                                     (x2 * x2 + y2 * y2 + z2 * z2 - 2 * x2 * y2 - 2 * y2 * z2 - 2 * z2 * x2) +
-                                 (3 + 5 * phi) * (r - 1) * (r - 1) * (r - (2 - phi)) * (r - (2 - phi));
-                        }};
+    m["barth-decic"] = {
+        10, [phi](LD x, LD y, LD z) {
+          const LD p4 = phi * phi * phi * phi, x2 = x * x, y2 = y * y, z2 = z * z;
+          const LD r = x2 + y2 + z2;
+          return 8 * (x2 - p4 * y2) * (y2 - p4 * z2) * (z2 - p4 * x2) *
+                     (x2 * x2 + y2 * y2 + z2 * z2 - 2 * x2 * y2 - 2 * y2 * z2 - 2 * z2 * x2) +
+                 (3 + 5 * phi) * (r - 1) * (r - 1) * (r - (2 - phi)) * (r - (2 - phi));
+        }};
     m["heart"] = {6, [](LD x, LD y, LD z) {
                     const LD q = x * x + 9 * y * y / 4 + z * z - 1;
                     return q * q * q - x * x * z * z * z - 9 * y * y * z * z * z / 80;
                   }};
     for (int n : {8, 12, 16})
-      m["chmutov-" + std::to_string(n)] = {
-          n, [n](LD x, LD y, LD z) { return chebyshevT(n, x) + chebyshevT(n, y) + chebyshevT(n, z) + 1; }};
+      m["chmutov-" + std::to_string(n)] = {n, [n](LD x, LD y, LD z) {
+                                             return chebyshevT(n, x) + chebyshevT(n, y) +
+                                                    chebyshevT(n, z) + 1;
+                                           }};
     m["endrass-octic"] = {8, [s2](LD x, LD y, LD z) {
                             const LD r = x * x + y * y, z2 = z * z;
-                            const LD lhs = 64 * (x * x - 1) * (y * y - 1) * ((x + y) * (x + y) - 2) *
-                                           ((x - y) * (x - y) - 2);
-                            const LD q = -4 * (1 + s2) * r * r + (8 * (2 + s2) * z2 + 2 * (2 + 7 * s2)) * r -
-                                         16 * z2 * z2 + 8 * (1 - 2 * s2) * z2 - (1 + 12 * s2);
+                            const LD lhs = 64 * (x * x - 1) * (y * y - 1) *
+                                           ((x + y) * (x + y) - 2) * ((x - y) * (x - y) - 2);
+                            const LD q = -4 * (1 + s2) * r * r +
+                                         (8 * (2 + s2) * z2 + 2 * (2 + 7 * s2)) * r - 16 * z2 * z2 +
+                                         8 * (1 - 2 * s2) * z2 - (1 + 12 * s2);
                             return lhs - q * q;
                           }};
     m["sarti-dodecic"] = {12, [](LD x, LD y, LD z) { return sartiReference({1, x, y, z}); }};
@@ -163,9 +173,10 @@ TEST(Gallery, NamesAreUniqueAndFindable) {
     EXPECT_GT(s.clipRadius, 0.0);
   }
   EXPECT_EQ(findGallerySurface("no-such-surface"), nullptr);
-  for (const char* required : {"sphere", "ellipsoid", "torus", "clebsch-cubic", "cayley-cubic", "roman-surface",
-                               "kummer-quartic", "barth-sextic", "heart", "chmutov-8", "chmutov-12", "chmutov-16",
-                               "endrass-octic", "sarti-dodecic"})
+  for (const char* required :
+       {"sphere", "ellipsoid", "torus", "clebsch-cubic", "cayley-cubic", "roman-surface",
+        "kummer-quartic", "barth-sextic", "heart", "chmutov-8", "chmutov-12", "chmutov-16",
+        "endrass-octic", "sarti-dodecic"})
     EXPECT_NE(findGallerySurface(required), nullptr) << required;
 }
 
@@ -184,7 +195,8 @@ TEST(Gallery, MatchesTheDefiningFormula) {
       const glm::dvec3 p(u(rng), u(rng), u(rng));
       const auto e = f.evaluateWithBound(p);
       const LD ref = it->second.f(p.x, p.y, p.z);
-      EXPECT_LE(std::abs(static_cast<double>(ref - e.value)), 1e-13 * e.magnitude + 4 * e.valueError)
+      EXPECT_LE(std::abs(static_cast<double>(ref - e.value)),
+                1e-13 * e.magnitude + 4 * e.valueError)
           << p.x << " " << p.y << " " << p.z;
     }
   }
@@ -218,7 +230,8 @@ TEST(Gallery, ClipRadiusFramesTheSurface) {
 // |f| and |grad f| vanish at p relative to the size of the terms of f there.
 void expectNode(const Polynomial& f, const glm::dvec3& p, bool gradientToo = true) {
   const auto e = f.evaluateWithBound(p);
-  EXPECT_LE(std::abs(e.value), 1e-13 * e.magnitude + 4 * e.valueError) << p.x << " " << p.y << " " << p.z;
+  EXPECT_LE(std::abs(e.value), 1e-13 * e.magnitude + 4 * e.valueError)
+      << p.x << " " << p.y << " " << p.z;
   if (gradientToo) {
     EXPECT_LE(glm::length(e.gradient), 1e-12 * e.magnitude) << p.x << " " << p.y << " " << p.z;
   }
@@ -235,15 +248,17 @@ TEST(Gallery, KnownPointsAndNodes) {
       expectNode(sphere, n, false);
       expectNode(ellipsoid, n * glm::dvec3(1.0, 0.75, 0.5), false);
       const double R = 1.0, r = 0.4;
-      expectNode(torus, glm::dvec3((R + r * std::cos(b * 2)) * std::cos(a), (R + r * std::cos(b * 2)) * std::sin(a),
-                                   r * std::sin(b * 2)),
+      expectNode(torus,
+                 glm::dvec3((R + r * std::cos(b * 2)) * std::cos(a),
+                            (R + r * std::cos(b * 2)) * std::sin(a), r * std::sin(b * 2)),
                  false);
       // Steiner's map (u, v, w) -> (vw, uw, uv) on the unit sphere.
       expectNode(roman, glm::dvec3(n.y * n.z, n.x * n.z, n.x * n.y), false);
     }
   // Cayley: four nodes at the vertices of a tetrahedron (derivation in gallery.cpp).
   const Polynomial cayley = get("cayley-cubic");
-  for (const glm::dvec3 p : {glm::dvec3(1, 1, -1), glm::dvec3(1, -1, 1), glm::dvec3(-1, 1, 1), glm::dvec3(-1, -1, -1)})
+  for (const glm::dvec3 p :
+       {glm::dvec3(1, 1, -1), glm::dvec3(1, -1, 1), glm::dvec3(-1, 1, 1), glm::dvec3(-1, -1, -1)})
     expectNode(cayley, p);
   // Barth sextic: at (0, 0, +-1) and permutations every factor phi^2 u^2 - v^2 with
   // u = v = 0 vanishes to second order, and so does (r^2 - 1)^2.
@@ -290,7 +305,8 @@ TEST(Gallery, KnownPointsAndNodes) {
                          static_cast<double>(q[3] / q[0]));
       const auto e = sarti.evaluateWithBound(p);
       EXPECT_LE(std::abs(e.value), 1e-11 * e.magnitude) << p.x << " " << p.y << " " << p.z;
-      EXPECT_LE(glm::length(e.gradient), 1e-10 * e.magnitude * (1 + glm::length(p))) << p.x << " " << p.y;
+      EXPECT_LE(glm::length(e.gradient), 1e-10 * e.magnitude * (1 + glm::length(p)))
+          << p.x << " " << p.y;
       ++affine;
     }
     EXPECT_GT(affine, 400);

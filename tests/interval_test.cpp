@@ -79,15 +79,23 @@ class RandomDoubles {
 };
 
 // ulps between two finite doubles of the same sign (how far a bound is from exact).
-double ulpsApart(double a, double b) { return std::abs(a - b) / std::max(
-    std::nextafter(std::abs(b), kInf) - std::abs(b), std::numeric_limits<double>::denorm_min()); }
+double ulpsApart(double a, double b) {
+  return std::abs(a - b) / std::max(std::nextafter(std::abs(b), kInf) - std::abs(b),
+                                    std::numeric_limits<double>::denorm_min());
+}
 
 TEST(IntervalTest, NextUpDownMatchNextafter) {
-  std::vector<double> special = {0.0, -0.0, std::numeric_limits<double>::denorm_min(),
+  std::vector<double> special = {0.0,
+                                 -0.0,
+                                 std::numeric_limits<double>::denorm_min(),
                                  -std::numeric_limits<double>::denorm_min(),
                                  std::numeric_limits<double>::min(),
                                  std::numeric_limits<double>::max(),
-                                 -std::numeric_limits<double>::max(), 1.0, -1.0, 0.5, -2.0};
+                                 -std::numeric_limits<double>::max(),
+                                 1.0,
+                                 -1.0,
+                                 0.5,
+                                 -2.0};
   RandomDoubles rnd(1);
   for (int i = 0; i < 10000; ++i) special.push_back(rnd.next(-1074, 1023));
   for (double v : special) {
@@ -219,7 +227,7 @@ TEST(IntervalTest, NonFiniteNeverHangsAndStaysConservative) {
   EXPECT_EQ(overflow.upper(), kInf);
   EXPECT_FALSE(overflow.isFinite());
   const Interval inf(-kInf, kInf);
-  EXPECT_EQ(inf * Interval(0.0), Interval(0.0));  // every real times 0
+  EXPECT_EQ(inf * Interval(0.0), Interval(0.0));       // every real times 0
   const Interval r = Interval(kInf) - Interval(kInf);  // NaN bounds, no crash
   EXPECT_FALSE(r.lower() > 0.0);  // NaN compares false: never "proves" anything
   EXPECT_FALSE(r.upper() < 0.0);

@@ -83,16 +83,23 @@ TEST(Jsurf, ByteOrderMarkIsSkipped) {
 
 TEST(Jsurf, NumberErrorsCarryFileAndLine) {
   const JsurfFile f = JsurfFile::parse("a=1 2 x\nb=1.0E-4 2\nc=1 2 3\n", "n.jsurf");
-  EXPECT_NE(expectError([&] { f.getNumbers("a"); }).find("n.jsurf:1: a: 'x' is not a finite number"),
-            std::string::npos);
+  EXPECT_NE(
+      expectError([&] { f.getNumbers("a"); }).find("n.jsurf:1: a: 'x' is not a finite number"),
+      std::string::npos);
   EXPECT_EQ(f.getNumbers("b"), (std::vector<double>{1e-4, 2.0}));
-  EXPECT_NE(expectError([&] { f.getNumbers("c", 16); }).find("n.jsurf:3: c: expected 16 numbers, found 3"),
+  EXPECT_NE(expectError([&] {
+              f.getNumbers("c", 16);
+            }).find("n.jsurf:3: c: expected 16 numbers, found 3"),
             std::string::npos);
-  EXPECT_NE(expectError([&] { f.getNumber("c", 0.0); }).find("expected 1 numbers"), std::string::npos);
+  EXPECT_NE(expectError([&] { f.getNumber("c", 0.0); }).find("expected 1 numbers"),
+            std::string::npos);
   EXPECT_NE(expectError([&] { f.getNumbers("zz"); }).find("missing key 'zz'"), std::string::npos);
-  EXPECT_NE(expectError([] { JsurfFile::parse("k=\\u12\n", "u.jsurf"); }).find("u.jsurf:1: malformed \\uXXXX"),
+  EXPECT_NE(expectError([] {
+              JsurfFile::parse("k=\\u12\n", "u.jsurf");
+            }).find("u.jsurf:1: malformed \\uXXXX"),
             std::string::npos);
-  EXPECT_NE(expectError([] { JsurfFile::parse("k=\\uZZZZ\n", "u.jsurf"); }).find("malformed"), std::string::npos);
+  EXPECT_NE(expectError([] { JsurfFile::parse("k=\\uZZZZ\n", "u.jsurf"); }).find("malformed"),
+            std::string::npos);
   EXPECT_NE(expectError([] { JsurfFile::read("/nonexistent/dir/f.jsurf"); }).find("cannot read"),
             std::string::npos);
   // One sign only, as Java's Double.parseDouble: "+-2" and "++2" are not numbers.
@@ -125,38 +132,52 @@ TEST(Jsurf, SurrogatePairsBecomeOneCharacter) {
   EXPECT_EQ(f.get("pair"), "\xF0\x9F\x98\x80!");
   EXPECT_EQ(f.get("lone"), "\xEF\xBF\xBDx\xEF\xBF\xBD");
   // One character, shown whole in the message, at the column of its escape.
-  EXPECT_NE(expectError([&] { f.polynomial(); })
-                .find("p.jsurf:3:18: unexpected character '\xF0\x9F\x98\x80'"),
+  EXPECT_NE(expectError([&] {
+              f.polynomial();
+            }).find("p.jsurf:3:18: unexpected character '\xF0\x9F\x98\x80'"),
             std::string::npos);
 }
 
 TEST(Jsurf, EquationErrorsPointIntoTheFile) {
   // 'q' is value column 7; the value starts at file column 18.
   const JsurfFile a = JsurfFile::parse("# c\nsurface_equation=x^2 + q\n", "a.jsurf");
-  EXPECT_NE(expectError([&] { a.polynomial(); }).find("a.jsurf:2:24: unknown name 'q'"), std::string::npos);
+  EXPECT_NE(expectError([&] { a.polynomial(); }).find("a.jsurf:2:24: unknown name 'q'"),
+            std::string::npos);
   // Across a continuation the location follows the physical line.
   const JsurfFile b = JsurfFile::parse("surface_equation=x^2 + \\\n      y^2 + q\n", "b.jsurf");
-  EXPECT_NE(expectError([&] { b.polynomial(); }).find("b.jsurf:2:13: unknown name 'q'"), std::string::npos);
+  EXPECT_NE(expectError([&] { b.polynomial(); }).find("b.jsurf:2:13: unknown name 'q'"),
+            std::string::npos);
   // At the end of the value: one past its last character.
   const JsurfFile c = JsurfFile::parse("surface_equation = (x+1\n", "c.jsurf");
-  EXPECT_NE(expectError([&] { c.polynomial(); }).find("c.jsurf:1:20: unbalanced parenthesis"), std::string::npos);
+  EXPECT_NE(expectError([&] { c.polynomial(); }).find("c.jsurf:1:20: unbalanced parenthesis"),
+            std::string::npos);
   const JsurfFile d = JsurfFile::parse("surface_equation=x^3\n", "d.jsurf");
-  EXPECT_NE(expectError([&] { d.polynomial(2); }).find("d.jsurf:1:19: degree 3 exceeds the limit 2"),
+  EXPECT_NE(
+      expectError([&] { d.polynomial(2); }).find("d.jsurf:1:19: degree 3 exceeds the limit 2"),
+      std::string::npos);
+  EXPECT_NE(expectError([] {
+              JsurfFile::parse("a=1\n", "e.jsurf").polynomial();
+            }).find("e.jsurf: no surface_equation"),
             std::string::npos);
-  EXPECT_NE(expectError([] { JsurfFile::parse("a=1\n", "e.jsurf").polynomial(); }).find("e.jsurf: no surface_equation"),
-            std::string::npos);
-  const JsurfFile g = JsurfFile::parse("surface_parameter_a=abc\nsurface_equation=x+a\n", "g.jsurf");
-  EXPECT_NE(expectError([&] { g.polynomial(); }).find("g.jsurf:1: surface_parameter_a: 'abc' is not a finite number"),
+  const JsurfFile g =
+      JsurfFile::parse("surface_parameter_a=abc\nsurface_equation=x+a\n", "g.jsurf");
+  EXPECT_NE(expectError([&] {
+              g.polynomial();
+            }).find("g.jsurf:1: surface_parameter_a: 'abc' is not a finite number"),
             std::string::npos);
   // A parameter named after a built-in is reported at its own line, not in the equation.
-  const JsurfFile h = JsurfFile::parse("surface_equation=x^2+y^2-1\n\nsurface_parameter_x=1\n", "h.jsurf");
-  EXPECT_NE(expectError([&] { h.polynomial(); }).find("h.jsurf:3: surface_parameter_x: clashes with the built-in name 'x'"),
+  const JsurfFile h =
+      JsurfFile::parse("surface_equation=x^2+y^2-1\n\nsurface_parameter_x=1\n", "h.jsurf");
+  EXPECT_NE(expectError([&] {
+              h.polynomial();
+            }).find("h.jsurf:3: surface_parameter_x: clashes with the built-in name 'x'"),
             std::string::npos);
 }
 
 TEST(Jsurf, ParametersFeedTheEquation) {
   const JsurfFile f = JsurfFile::parse(
-      "surface_parameter_b=0.5\nsurface_parameter_a=0.25\nsurface_equation=(x^2+y^2+z^2+a^2-b^2)^2-4*b^2*(x^2+y^2)\n");
+      "surface_parameter_b=0.5\nsurface_parameter_a=0.25\nsurface_equation=(x^2+y^2+z^2+a^2-b^2)^2-"
+      "4*b^2*(x^2+y^2)\n");
   const auto p = f.parameters();
   ASSERT_EQ(p.size(), 2u);
   EXPECT_EQ(p.at("a"), 0.25);
@@ -194,14 +215,17 @@ TEST(Jsurf, EveryRealGalleryFile) {
       const auto e = f.evaluateWithBound(p);
       const long double ref = direct(p.x, p.y, p.z);
       ASSERT_FALSE(std::isnan(static_cast<double>(ref)));
-      EXPECT_LE(std::abs(static_cast<double>(ref - e.value)), 1e-12 * e.magnitude + 4 * e.valueError);
+      EXPECT_LE(std::abs(static_cast<double>(ref - e.value)),
+                1e-12 * e.magnitude + 4 * e.valueError);
     }
     int degree = -1;
     for (int i = 0; i < 5; ++i) {
       const glm::dvec3 p(u(rng), u(rng), u(rng));
       const long double far = direct(1e4L * p.x, 1e4L * p.y, 1e4L * p.z);
       const long double near = direct(1e3L * p.x, 1e3L * p.y, 1e3L * p.z);
-      degree = std::max(degree, static_cast<int>(std::lround(std::log10(std::abs(static_cast<double>(far / near))))));
+      degree = std::max(
+          degree,
+          static_cast<int>(std::lround(std::log10(std::abs(static_cast<double>(far / near))))));
     }
     EXPECT_EQ(f.degree(), degree);
   }

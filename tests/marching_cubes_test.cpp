@@ -64,12 +64,13 @@ TEST(MarchingCubesTable, PolygonBoundariesRunAlongCubeFaces) {
     for (const auto& [side, count] : sides) {
       ASSERT_LE(count, 2) << "case " << mask;
       if (count == 2) continue;
-      EXPECT_TRUE(shareFace(side.first, side.second)) << "case " << mask << " edges " << side.first << " "
-                                                      << side.second;
+      EXPECT_TRUE(shareFace(side.first, side.second))
+          << "case " << mask << " edges " << side.first << " " << side.second;
       ++boundaryDegree[side.first];
       ++boundaryDegree[side.second];
     }
-    for (const auto& [edge, degree] : boundaryDegree) EXPECT_EQ(degree, 2) << "case " << mask << " edge " << edge;
+    for (const auto& [edge, degree] : boundaryDegree)
+      EXPECT_EQ(degree, 2) << "case " << mask << " edge " << edge;
   }
 }
 
@@ -114,7 +115,8 @@ TEST(MarchingCubes, SphereIsAClosedSphereCloseToTheTrueOne) {
 }
 
 TEST(MarchingCubes, TorusHasEulerCharacteristicZero) {
-  const TriangleMesh m = marchingCubes(findGallerySurface("torus")->build(), glm::dvec3(0.0), 1.6, 48);
+  const TriangleMesh m =
+      marchingCubes(findGallerySurface("torus")->build(), glm::dvec3(0.0), 1.6, 48);
   const Topology top = topology(m);
   EXPECT_TRUE(top.closedOriented);
   EXPECT_EQ(top.euler, 0);
@@ -124,7 +126,8 @@ TEST(MarchingCubes, TorusHasEulerCharacteristicZero) {
 // + 1 cannot vanish beyond), well inside its clip sphere: a closed surface with many
 // saddles, i.e. many ambiguous faces.
 TEST(MarchingCubes, ChmutovOcticIsClosed) {
-  const TriangleMesh m = marchingCubes(findGallerySurface("chmutov-8")->build(), glm::dvec3(0.0), 1.75, 60);
+  const TriangleMesh m =
+      marchingCubes(findGallerySurface("chmutov-8")->build(), glm::dvec3(0.0), 1.75, 60);
   ASSERT_GT(m.triangles.size(), 1000u);
   EXPECT_TRUE(topology(m).closedOriented);
 }
@@ -132,7 +135,8 @@ TEST(MarchingCubes, ChmutovOcticIsClosed) {
 TEST(MarchingCubes, ResolutionGivesAboutTheRequestedCount) {
   const Polynomial f = findGallerySurface("barth-sextic")->build();
   const int cells = marchingCubesResolution(f, glm::dvec3(0.0), 2.0, 50000);
-  const double count = static_cast<double>(marchingCubes(f, glm::dvec3(0.0), 2.0, cells).triangles.size());
+  const double count =
+      static_cast<double>(marchingCubes(f, glm::dvec3(0.0), 2.0, cells).triangles.size());
   EXPECT_GT(count, 0.7 * 50000);
   EXPECT_LT(count, 1.3 * 50000);
 }

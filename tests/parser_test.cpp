@@ -23,7 +23,8 @@ using test::Mp;
 // Compares the expanded polynomial with the direct evaluation of the text at random
 // points. The tolerance is relative to the sum of |terms| of the expansion (the scale of
 // its own rounding), so it fails for any wrong or missing coefficient.
-void expectMatchesDirect(const std::string& text, const ParseOptions& options = {}, double radius = 1.5) {
+void expectMatchesDirect(const std::string& text, const ParseOptions& options = {},
+                         double radius = 1.5) {
   SCOPED_TRACE(text);
   const Polynomial f = parsePolynomial(text, options);
   DirectEvaluator direct(text, options.parameters);
@@ -59,10 +60,12 @@ TEST(Parser, ParametersAndConstants) {
   ParseOptions o;
   o.parameters = {{"a", 0.5}, {"b", 0.25}, {"R", 1.0}, {"r", 0.4}};
   expectMatchesDirect("(x^2+y^2+z^2+R^2-r^2)^2 = 4*R^2*(x^2+y^2)", o);
-  expectMatchesDirect("(x^2+y^2+z^2-1*(0.5+2*a)^2)^2-1*(3.0*((0.5+2*a)^2)-1*1.0)/(3.0-1*((0.5+2*a)^2))"
-                      "*(1-1*z-1*sqrt(2)*x)*(1-1*z+sqrt(2)*x)*(1+z+sqrt(2)*y)*(1+z-1*sqrt(2)*y)",
+  expectMatchesDirect(
+      "(x^2+y^2+z^2-1*(0.5+2*a)^2)^2-1*(3.0*((0.5+2*a)^2)-1*1.0)/(3.0-1*((0.5+2*a)^2))"
+      "*(1-1*z-1*sqrt(2)*x)*(1-1*z+sqrt(2)*x)*(1+z+sqrt(2)*y)*(1+z-1*sqrt(2)*y)",
+      o);
+  expectMatchesDirect("pi*x + e*y - sin(pi/6)*z + cos(0)*exp(1)*log(2)*tan(1) + abs(-3)*ln(e)*x*y",
                       o);
-  expectMatchesDirect("pi*x + e*y - sin(pi/6)*z + cos(0)*exp(1)*log(2)*tan(1) + abs(-3)*ln(e)*x*y", o);
   // Folded constants are the libm values, as the text asks.
   const Polynomial f = parsePolynomial("sqrt(2)*x + pi*y + e*z");
   EXPECT_EQ(f.coeff(1, 0, 0), std::sqrt(2.0));
@@ -84,7 +87,8 @@ TEST(Parser, LiteralsWhitespaceAndPrecedence) {
   EXPECT_EQ(parsePolynomial("  x ^2 +\ty ^ 2\n- 1 "), parsePolynomial("x^2+y^2-1"));
   // Exponent forms: ^2, ^(1+1), ^2.0 and ** are the same power.
   const Polynomial x2 = parsePolynomial("x*x");
-  for (const char* t : {"x^2", "x^(1+1)", "x^2.0", "x**2", "x^ +2"}) EXPECT_EQ(parsePolynomial(t), x2) << t;
+  for (const char* t : {"x^2", "x^(1+1)", "x^2.0", "x**2", "x^ +2"})
+    EXPECT_EQ(parsePolynomial(t), x2) << t;
   // -x^2 = -(x^2); 2^-1 = 1/2; ^ is right-associative; unary minus after an operator.
   EXPECT_EQ(parsePolynomial("-x^2").coeff(2, 0, 0), -1.0);
   EXPECT_EQ(parsePolynomial("-2^2").coeff(0, 0, 0), -4.0);
@@ -163,10 +167,12 @@ TEST(Parser, PrunesJunkToExactZero) {
     const int n = 2 + trial % 7;
     for (int i = 0; i < n; ++i) {
       factors.emplace_back(u(rng), u(rng));
-      product += (i ? "*(" : "(") + literal(factors.back().first) + "*x+" + literal(factors.back().second) + ")";
+      product += (i ? "*(" : "(") + literal(factors.back().first) + "*x+" +
+                 literal(factors.back().second) + ")";
     }
     const auto c = mpExpandLinear(factors);
-    for (size_t k = 0; k < c.size(); ++k) expanded += " + " + literal(c[k]) + "*x^" + std::to_string(k);
+    for (size_t k = 0; k < c.size(); ++k)
+      expanded += " + " + literal(c[k]) + "*x^" + std::to_string(k);
     EXPECT_TRUE(parsePolynomial(product + " - (" + expanded + ")").isZero()) << product;
     // A real small term survives the same cancellation.
     const Polynomial g = parsePolynomial(product + " - (" + expanded + ") + 1e-9*y");
@@ -192,7 +198,8 @@ TEST(Parser, KeepsRealSmallCoefficients) {
       const Polynomial g = parsePolynomial("(x + " + literal(b) + ")^" + std::to_string(n));
       const auto c = mpExpandLinear(std::vector<std::pair<double, double>>(n, {1.0, b}));
       for (int k = 0; k <= n; ++k)
-        EXPECT_NEAR(g.coeff(k, 0, 0), c[k], 1e-14 * std::abs(c[k])) << "b=" << b << " n=" << n << " k=" << k;
+        EXPECT_NEAR(g.coeff(k, 0, 0), c[k], 1e-14 * std::abs(c[k]))
+            << "b=" << b << " n=" << n << " k=" << k;
     }
   }
 }
@@ -306,8 +313,9 @@ TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
               std::exp(1e15 * std::log1p(0x1p-52)), 1e-6);
   // Exact cancellations of functions at their zeros stay exact zeros (sin(k pi), cos at
   // odd multiples of pi/2, tan(k pi), log(1 + u)).
-  for (const char* zero : {"sin(pi)*x", "cos(pi/2)*x", "x + cos(3*pi/2) - x", "sin(2*pi)*x + sin(-pi)",
-                           "tan(pi)*x", "tan(-2*pi)", "log(1.0000000000000002)*x", "ln(0.9999999999999999)*y"})
+  for (const char* zero :
+       {"sin(pi)*x", "cos(pi/2)*x", "x + cos(3*pi/2) - x", "sin(2*pi)*x + sin(-pi)", "tan(pi)*x",
+        "tan(-2*pi)", "log(1.0000000000000002)*x", "ln(0.9999999999999999)*y"})
     EXPECT_TRUE(parsePolynomial(zero).isZero()) << zero;
   EXPECT_EQ(parsePolynomial("sin(pi)*x + y"), Polynomial::variable(1));
   EXPECT_TRUE(parsePolynomial("x - x").isZero());
@@ -346,10 +354,14 @@ TEST(Parser, RejectsBadParametersAndHonoursTheDegreeOption) {
     const char* message;
   };
   const BadParameter bad[] = {
-      {"a", std::nan(""), "z + a", "is not finite"}, {"b", INFINITY, "z*b", "is not finite"},
-      {"b", -INFINITY, "z", "is not finite"},       {"x", 2.0, "c*x", "clashes with the built-in name 'x'"},
-      {"z", 2.0, "x + y", "clashes"},               {"pi", 3.0, "x", "clashes"},
-      {"e", 3.0, "e*x", "clashes"},                 {"sqrt", 3.0, "x", "clashes"},
+      {"a", std::nan(""), "z + a", "is not finite"},
+      {"b", INFINITY, "z*b", "is not finite"},
+      {"b", -INFINITY, "z", "is not finite"},
+      {"x", 2.0, "c*x", "clashes with the built-in name 'x'"},
+      {"z", 2.0, "x + y", "clashes"},
+      {"pi", 3.0, "x", "clashes"},
+      {"e", 3.0, "e*x", "clashes"},
+      {"sqrt", 3.0, "x", "clashes"},
       {"ln", 3.0, "x", "clashes"},
       {"2b", 1.0, "x", "is not a name an equation can use"},
       {"a ", 1.0, "a*x", "is not a name an equation can use"},
@@ -429,8 +441,9 @@ TEST(Parser, NeverCrashesOnShortInputs) {
 // Random token soup: every input is either accepted, with an expansion that agrees with
 // the direct evaluation, or rejected with a column inside the text (or just past it).
 TEST(Parser, RandomTokenSequences) {
-  const char* tokens[] = {"x", "y", "z", "2", "0.5", "3", "1e-3", "pi", "e", "sqrt(2)", "+", "-", "*",
-                          "/", "^", "(", ")", "=", "sin(", " ", "^2", "^3", "(x+1)", "7/3"};
+  const char* tokens[] = {"x", "y",       "z",    "2", "0.5", "3",  "1e-3",  "pi",
+                          "e", "sqrt(2)", "+",    "-", "*",   "/",  "^",     "(",
+                          ")", "=",       "sin(", " ", "^2",  "^3", "(x+1)", "7/3"};
   std::mt19937_64 rng(2024);
   std::uniform_int_distribution<int> pick(0, std::size(tokens) - 1), length(1, 25);
   std::uniform_real_distribution<double> u(-1.2, 1.2);
@@ -453,7 +466,8 @@ TEST(Parser, RandomTokenSequences) {
     const long double ref = direct(p.x, p.y, p.z);
     const auto ev = f.evaluateWithBound(p);
     ASSERT_FALSE(std::isnan(static_cast<double>(ref))) << text;
-    EXPECT_LE(std::abs(static_cast<double>(ref - ev.value)), 1e-12 * ev.magnitude + 4 * ev.valueError + 1e-300)
+    EXPECT_LE(std::abs(static_cast<double>(ref - ev.value)),
+              1e-12 * ev.magnitude + 4 * ev.valueError + 1e-300)
         << text;
   }
   EXPECT_GT(accepted, 300);

@@ -34,7 +34,8 @@ Mp mpEvaluate(const Polynomial& f, const glm::dvec3& p) {
 double magnitude(const Polynomial& f, const glm::dvec3& p) {
   Polynomial a;
   for (int n = 0; n <= f.degree(); ++n)
-    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) { a.setCoeff(i, j, k, std::abs(f.coeffs()[idx])); });
+    forEachMonomialOfDegree(
+        n, [&](int i, int j, int k, int idx) { a.setCoeff(i, j, k, std::abs(f.coeffs()[idx])); });
   return mpEvaluate(a, glm::abs(p)).toDouble();
 }
 
@@ -43,8 +44,10 @@ Polynomial randomPolynomial(std::mt19937_64& rng, int degree, double density = 1
   Polynomial f;
   for (int n = 0; n <= degree; ++n)
     forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
-      if (n == degree && i == degree) f.setCoeff(i, j, k, 1.0);  // fixes the degree
-      else if (keep(rng) < density) f.setCoeff(i, j, k, c(rng));
+      if (n == degree && i == degree)
+        f.setCoeff(i, j, k, 1.0);  // fixes the degree
+      else if (keep(rng) < density)
+        f.setCoeff(i, j, k, c(rng));
     });
   return f;
 }
@@ -78,8 +81,8 @@ TEST(Polynomial, BinomialExpansion) {
   for (int i = 0; i <= 5; ++i)
     for (int j = 0; i + j <= 5; ++j) {
       const int k = 5 - i - j;
-      const double expected = fact(5) / (fact(i) * fact(j) * fact(k)) * std::pow(2.0, j) *
-                              std::pow(-1.0, k);
+      const double expected =
+          fact(5) / (fact(i) * fact(j) * fact(k)) * std::pow(2.0, j) * std::pow(-1.0, k);
       EXPECT_EQ(f.coeff(i, j, k), expected) << i << j << k;
     }
 }
@@ -159,7 +162,8 @@ TEST(Polynomial, EvaluationErrorBoundCoversUnderflow) {
 TEST(Polynomial, ProductAndPowerEvaluateToProducts) {
   std::mt19937_64 rng(11);
   for (int trial = 0; trial < 20; ++trial) {
-    const Polynomial a = randomPolynomial(rng, 3 + trial % 5), b = randomPolynomial(rng, 2 + trial % 3, 0.3);
+    const Polynomial a = randomPolynomial(rng, 3 + trial % 5),
+                     b = randomPolynomial(rng, 2 + trial % 3, 0.3);
     const Polynomial ab = a * b, a3 = a.pow(3);
     for (int s = 0; s < 5; ++s) {
       const glm::dvec3 p = randomPoint(rng, 1.2);

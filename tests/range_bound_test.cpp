@@ -29,8 +29,8 @@ TEST(RangeBound, NoRootTestsSurviveUnderflow) {
     // Every third: a (s - r)^2 / 2^1074, a double root.
     if (trial % 3 == 0) g = {a * r * r * tiny, -2 * a * r * tiny, a * tiny};
     const double lo = r - reach(rng), hi = r + reach(rng);
-    SCOPED_TRACE(testing::Message() << "root " << r << " in [" << lo << ", " << hi << "], degree "
-                                    << g.size() - 1);
+    SCOPED_TRACE(testing::Message()
+                 << "root " << r << " in [" << lo << ", " << hi << "], degree " << g.size() - 1);
     EXPECT_FALSE(quickNoRoot(g, {}, lo, hi));
     EXPECT_FALSE(provablyNoRoot(g, {}, lo, hi));
   }
@@ -54,8 +54,8 @@ TEST(RangeBound, SubBoxKeepsCoefficientsWhosePowerOfTwoUnderflows) {
   for (int e = 0; e <= 40; ++e) {
     const double exact = std::ldexp(binomial, 800 - (40 - e) - 29 * e);
     const Interval c = sub.coeffs()[Polynomial::index(e, 0, 0)];
-    EXPECT_TRUE(c.contains(exact)) << "w^" << e << ": [" << c.lower() << ", " << c.upper()
-                                   << "] misses " << exact;
+    EXPECT_TRUE(c.contains(exact))
+        << "w^" << e << ": [" << c.lower() << ", " << c.upper() << "] misses " << exact;
     binomial = binomial * (40 - e) / (e + 1);
   }
 }

@@ -22,10 +22,22 @@ inline constexpr mpfr_prec_t kRefBits = 256;
 
 class Mp {
  public:
-  Mp() { mpfr_init2(v_, kRefBits); mpfr_set_zero(v_, 1); }
-  explicit Mp(double x) { mpfr_init2(v_, kRefBits); mpfr_set_d(v_, x, MPFR_RNDN); }
-  Mp(const Mp& o) { mpfr_init2(v_, kRefBits); mpfr_set(v_, o.v_, MPFR_RNDN); }
-  Mp& operator=(const Mp& o) { mpfr_set(v_, o.v_, MPFR_RNDN); return *this; }
+  Mp() {
+    mpfr_init2(v_, kRefBits);
+    mpfr_set_zero(v_, 1);
+  }
+  explicit Mp(double x) {
+    mpfr_init2(v_, kRefBits);
+    mpfr_set_d(v_, x, MPFR_RNDN);
+  }
+  Mp(const Mp& o) {
+    mpfr_init2(v_, kRefBits);
+    mpfr_set(v_, o.v_, MPFR_RNDN);
+  }
+  Mp& operator=(const Mp& o) {
+    mpfr_set(v_, o.v_, MPFR_RNDN);
+    return *this;
+  }
   ~Mp() { mpfr_clear(v_); }
   mpfr_ptr get() { return v_; }
   mpfr_srcptr get() const { return v_; }
@@ -61,7 +73,7 @@ inline std::vector<double> expand(const std::vector<double>& realRoots,
     mpfr_mul(c0.get(), ma.get(), ma.get(), MPFR_RNDN);
     mpfr_mul(mb.get(), mb.get(), mb.get(), MPFR_RNDN);
     mpfr_add(c0.get(), c0.get(), mb.get(), MPFR_RNDN);  // a^2 + b^2
-    mpfr_mul_si(c1.get(), ma.get(), -2, MPFR_RNDN);      // -2a
+    mpfr_mul_si(c1.get(), ma.get(), -2, MPFR_RNDN);     // -2a
     mulFactor({c0, c1, Mp(1.0)});
   }
   std::vector<double> c;
@@ -98,7 +110,10 @@ inline std::optional<RefRoot> refine(const std::vector<double>& c, double start)
   bool converged = false;
   for (int it = 0; it < 400; ++it) {
     evaluate(c, x, f, df);
-    if (mpfr_zero_p(f.get())) { converged = true; break; }
+    if (mpfr_zero_p(f.get())) {
+      converged = true;
+      break;
+    }
     if (mpfr_zero_p(df.get())) return std::nullopt;
     mpfr_div(step.get(), f.get(), df.get(), MPFR_RNDN);
     mpfr_sub(x.get(), x.get(), step.get(), MPFR_RNDN);
@@ -145,9 +160,9 @@ inline std::vector<RefRoot> refineAll(const std::vector<double>& c,
     if (r && r->value > lo && r->value < hi) out.push_back(*r);
   }
   std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.value < b.value; });
-  out.erase(std::unique(out.begin(), out.end(),
-                        [](auto& a, auto& b) { return a.value == b.value; }),
-            out.end());
+  out.erase(
+      std::unique(out.begin(), out.end(), [](auto& a, auto& b) { return a.value == b.value; }),
+      out.end());
   return out;
 }
 

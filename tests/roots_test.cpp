@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <algorithm>
 #include <random>
 #include <string>
 #include <vector>
@@ -60,7 +60,9 @@ long double evalLong(const std::vector<double>& p, long double x, long double& b
   return v;
 }
 
-double accuracyBound(const RefRoot& r) { return kAccuracyUlps * kU * r.conditioning; }
+double accuracyBound(const RefRoot& r) {
+  return kAccuracyUlps * kU * r.conditioning;
+}
 
 // Separation of reference root i from its neighbours and the interval ends.
 double separation(const std::vector<RefRoot>& ref, size_t i, double lo, double hi) {
@@ -195,10 +197,10 @@ TEST(RootsKnown, RandomRootsAllDegrees) {
       const double lead = (uni(rng) < 0.5 ? -1 : 1) * std::pow(10.0, -3 + 6 * uni(rng));
       const double lo = -1.2 + 2 * uni(rng);
       const double hi = lo + 0.2 + 1.8 * uni(rng);
-      checkProblem(fromRoots("random degree " + std::to_string(deg) + " trial " +
-                                 std::to_string(trial),
-                             roots, pairs, lo, hi, lead),
-                   &tally);
+      checkProblem(
+          fromRoots("random degree " + std::to_string(deg) + " trial " + std::to_string(trial),
+                    roots, pairs, lo, hi, lead),
+          &tally);
     }
   }
   std::printf("random: %d roots checked, worst error %.2f u cond\n", tally.checked,
@@ -212,9 +214,9 @@ TEST(RootsKnown, Wilkinson) {
     for (int i = 1; i <= k; ++i) roots.push_back(i);
     Tally tally;
     checkProblem(fromRoots("wilkinson " + std::to_string(k), roots, {}, 0.5, k + 0.5), &tally);
-    checkProblem(fromRoots("wilkinson scaled " + std::to_string(k), roots, {}, 0.0, 2.0 * k,
-                           1.0 / 1024),
-                 &tally);
+    checkProblem(
+        fromRoots("wilkinson scaled " + std::to_string(k), roots, {}, 0.0, 2.0 * k, 1.0 / 1024),
+        &tally);
     EXPECT_GE(tally.checked, std::min(k, 10));
   }
 }
@@ -225,8 +227,7 @@ TEST(RootsKnown, GeometricRoots) {
     for (int k = 0; k < n; ++k) roots.push_back(std::ldexp(1.0, -k));
     Tally tally;
     checkProblem(fromRoots("geometric " + std::to_string(n), roots, {}, 0.0, 1.5), &tally);
-    checkProblem(fromRoots("geometric wide " + std::to_string(n), roots, {}, -3.0, 7.0),
-                 &tally);
+    checkProblem(fromRoots("geometric wide " + std::to_string(n), roots, {}, -3.0, 7.0), &tally);
     EXPECT_GE(tally.checked, n);  // all of them are well separated relative to size
   }
 }
@@ -372,8 +373,7 @@ void checkComparison(const std::vector<double>& c, double lo, double hi, double 
     SCOPED_TRACE(static_cast<int>(m));
     RootOptions o;
     o.method = m;
-    const double bound =
-        accuracyBound(*ref) + (m == RootMethod::Bernstein ? 1e-12 * (hi - lo) : 0);
+    const double bound = accuracyBound(*ref) + (m == RootMethod::Bernstein ? 1e-12 * (hi - lo) : 0);
     const auto first = firstRoot(c, {}, lo, hi, o);
     ASSERT_TRUE(first.has_value());
     EXPECT_LE(std::abs(*first - ref->value), bound) << *first << " for " << ref->value;
@@ -449,17 +449,20 @@ TEST(RootsComparison, BernsteinBasisOnAWideInterval) {
 // 0.47, 0.48): only hi was reported (roots_scan.h, withEndRules and leaveNoise).
 TEST(RootsComparison, NoiseRegionOverMostOfTheInterval) {
   const std::vector<double> c = {
-      0x1.b0a9ea1b9244ap-44, -0x1.e9eec94617906p-36, 0x1.aeca6c62515fdp-31, -0x1.39dd3831eae0cp-29,
-      -0x1.bb8014e3b242cp-24, 0x1.4399d7c116b33p-26, 0x1.7bb5695fe402dp-16, -0x1.a1ab4e0b87cfbp-13,
-      0x1.36fd2ee5f8274p-14, 0x1.b8a2a4fd69a15p-8, -0x1.0c9426d5269a7p-5, 0x1.11b83b98f84p-8,
-      0x1.f7a93214ba19p-2, -0x1.d9f3bfba24482p+0, 0x1.6b55b42ac039ep+0, 0x1.6235c97dbdde6p+3,
-      -0x1.713912297983ep+5, 0x1.2f1473c65c37ap+6, 0x1.9103ee7c32da1p+4, -0x1.d700a1c946f79p+8,
-      0x1.4d8758b9aa3b7p+10, -0x1.e589d0661102bp+10, 0x1.4fb19bbf5dca4p+7, 0x1.b94d9ec5ebb96p+12,
-      -0x1.3a9acb689f0aep+14, 0x1.e35fac1dd1901p+14, -0x1.515357fa6764fp+14,
-      -0x1.829f44dcdc5e3p+14, 0x1.9b9e8a6ad488p+16, -0x1.73fdc10b250c1p+17, 0x1.d4275aea25a9fp+17,
-      -0x1.c44355cf76cb9p+17, 0x1.5ac31732378fcp+17, -0x1.aaa6898a60e1cp+16, 0x1.a4b5338e72302p+15,
-      -0x1.48fbc4cd0b2ebp+14, 0x1.8fa52b007b2d5p+12, -0x1.6c19bcca31309p+10, 0x1.d49e977129bb2p+7,
-      -0x1.7c23c549545e2p+4, 0x1.24776d8b84e7cp+0};
+      0x1.b0a9ea1b9244ap-44,  -0x1.e9eec94617906p-36, 0x1.aeca6c62515fdp-31,
+      -0x1.39dd3831eae0cp-29, -0x1.bb8014e3b242cp-24, 0x1.4399d7c116b33p-26,
+      0x1.7bb5695fe402dp-16,  -0x1.a1ab4e0b87cfbp-13, 0x1.36fd2ee5f8274p-14,
+      0x1.b8a2a4fd69a15p-8,   -0x1.0c9426d5269a7p-5,  0x1.11b83b98f84p-8,
+      0x1.f7a93214ba19p-2,    -0x1.d9f3bfba24482p+0,  0x1.6b55b42ac039ep+0,
+      0x1.6235c97dbdde6p+3,   -0x1.713912297983ep+5,  0x1.2f1473c65c37ap+6,
+      0x1.9103ee7c32da1p+4,   -0x1.d700a1c946f79p+8,  0x1.4d8758b9aa3b7p+10,
+      -0x1.e589d0661102bp+10, 0x1.4fb19bbf5dca4p+7,   0x1.b94d9ec5ebb96p+12,
+      -0x1.3a9acb689f0aep+14, 0x1.e35fac1dd1901p+14,  -0x1.515357fa6764fp+14,
+      -0x1.829f44dcdc5e3p+14, 0x1.9b9e8a6ad488p+16,   -0x1.73fdc10b250c1p+17,
+      0x1.d4275aea25a9fp+17,  -0x1.c44355cf76cb9p+17, 0x1.5ac31732378fcp+17,
+      -0x1.aaa6898a60e1cp+16, 0x1.a4b5338e72302p+15,  -0x1.48fbc4cd0b2ebp+14,
+      0x1.8fa52b007b2d5p+12,  -0x1.6c19bcca31309p+10, 0x1.d49e977129bb2p+7,
+      -0x1.7c23c549545e2p+4,  0x1.24776d8b84e7cp+0};
   const double hi = 0x1.dea13c9ade744p-1;
   for (double lo : {0x1.d19272a67aca4p-2, 0.47, 0.48}) {
     SCOPED_TRACE(lo);
@@ -473,14 +476,17 @@ TEST(RootsComparison, NoiseRegionOverMostOfTheInterval) {
 // there: 0.7134 was the first root (roots_sturm.cpp, rootInBracket()).
 TEST(RootsComparison, SturmBracketWithANoiseLevelDip) {
   const std::vector<double> c = {
-      0x1.e0e56e0dd1318p-43, -0x1.4a2a409fb09efp-36, 0x1.13b8c1e99cccp-31, -0x1.273c6a1886a3bp-29,
-      -0x1.1825d5dc8cd68p-24, 0x1.73e97695b766bp-21, 0x1.64f507e57ab51p-21, -0x1.27f60e7d5ecap-15,
-      0x1.f7cf608bfa9c7p-14, 0x1.b9e9e5848f7cfp-13, -0x1.d1c1e3a78544dp-13, -0x1.f4fe57679ff06p-7,
-      0x1.12bb35496a4cfp-4, 0x1.02e0fbfa068b8p-7, -0x1.84e8b6ddca066p-1, 0x1.ed47114cd33d2p+0,
-      0x1.96afef07846adp-2, -0x1.60ef1ced77f6ep+3, 0x1.4bc1c5bccc951p+4, -0x1.a7b42710dbb34p-2,
-      -0x1.e6b70d02f5bd3p+5, 0x1.ae68d91e30f3ep+6, -0x1.c243411f48219p+5, -0x1.70cf08d61c99ep+6,
-      0x1.c5dd619936d54p+7, -0x1.f0cb3022062d1p+7, 0x1.5633dc8cd84a6p+7, -0x1.39c4428135098p+6,
-      0x1.76eee1436bd7bp+4, -0x1.09fd199ade37p+2, 0x1.5590b484a8025p-2};
+      0x1.e0e56e0dd1318p-43,  -0x1.4a2a409fb09efp-36, 0x1.13b8c1e99cccp-31,
+      -0x1.273c6a1886a3bp-29, -0x1.1825d5dc8cd68p-24, 0x1.73e97695b766bp-21,
+      0x1.64f507e57ab51p-21,  -0x1.27f60e7d5ecap-15,  0x1.f7cf608bfa9c7p-14,
+      0x1.b9e9e5848f7cfp-13,  -0x1.d1c1e3a78544dp-13, -0x1.f4fe57679ff06p-7,
+      0x1.12bb35496a4cfp-4,   0x1.02e0fbfa068b8p-7,   -0x1.84e8b6ddca066p-1,
+      0x1.ed47114cd33d2p+0,   0x1.96afef07846adp-2,   -0x1.60ef1ced77f6ep+3,
+      0x1.4bc1c5bccc951p+4,   -0x1.a7b42710dbb34p-2,  -0x1.e6b70d02f5bd3p+5,
+      0x1.ae68d91e30f3ep+6,   -0x1.c243411f48219p+5,  -0x1.70cf08d61c99ep+6,
+      0x1.c5dd619936d54p+7,   -0x1.f0cb3022062d1p+7,  0x1.5633dc8cd84a6p+7,
+      -0x1.39c4428135098p+6,  0x1.76eee1436bd7bp+4,   -0x1.09fd199ade37p+2,
+      0x1.5590b484a8025p-2};
   checkComparison(c, 0x1.f1d35ce7f73afp-2, 0x1.e7a671b458653p-1, 0.612);
 }
 
@@ -589,7 +595,8 @@ TEST(RootsTangent, HighMultiplicityRootsOnWholeRays) {
   for (int m = 2; m <= 10; ++m) {
     int missed = 0, tried = 0;
     for (int k = 0; k < 1500; ++k) {
-      const double r = 0.7 * uni(rng), b = std::ldexp(1.0 + 0.5 * uni(rng), static_cast<int>(4 * uni(rng)));
+      const double r = 0.7 * uni(rng),
+                   b = std::ldexp(1.0 + 0.5 * uni(rng), static_cast<int>(4 * uni(rng)));
       const double a = -b * r;
       // (a + b s)^m by repeated multiplication in double, with the running error bound of
       // each coefficient (Higham, ch. 3): |computed - exact| <= gamma(2j) * exact |.| sums.
@@ -610,7 +617,8 @@ TEST(RootsTangent, HighMultiplicityRootsOnWholeRays) {
       const double lo = -1.0, hi = 1.0;
       // The noise region: |b (s - r)|^m below the bound of g there.
       double bound = 0, p = 1;
-      for (size_t i = 0; i < c.size(); ++i, p *= std::abs(r)) bound += (err[i] + gamma(2 * m + 1) * std::abs(c[i])) * p;
+      for (size_t i = 0; i < c.size(); ++i, p *= std::abs(r))
+        bound += (err[i] + gamma(2 * m + 1) * std::abs(c[i])) * p;
       const double zone = 4.0 * std::pow(bound, 1.0 / m) / std::abs(b);
       if (r - lo < zone || hi - r < zone) continue;
       ++tried;
@@ -668,8 +676,8 @@ TEST(RootsContract, HighDegreeLongIntervalsKeepEveryClearRoot) {
     for (int deg = 13; deg <= 40; ++deg)
       for (int t = 0; t < 300; ++t) {
         const double r = 0.1 + 0.8 * unit(rng);
-        std::vector<double> p = tangent ? std::vector<double>{r * r, -2 * r, 1}
-                                        : std::vector<double>{-r, 1};
+        std::vector<double> p =
+            tangent ? std::vector<double>{r * r, -2 * r, 1} : std::vector<double>{-r, 1};
         int d = tangent ? 2 : 1;
         for (; d + 2 <= deg; d += 2) {
           const double a = 2 * unit(rng) - 0.5, b = 0.05 + unit(rng);
@@ -771,8 +779,8 @@ TEST(RootsClosedForm, TinyRootsRescale) {
     checkProblem(fromRoots("tiny cubic", {1e-40, 2e-40, -4e-40}, {}, -1, 1), &tiny, m);
     checkProblem(fromRoots("tiny quartic", {1e-40, 2e-40, -4e-40, 3e-40}, {}, -1, 1), &tiny, m);
     checkProblem(fromRoots("tiny + pair", {1e-40, -3e-40}, {{2e-40, 1e-40}}, -1, 1), &tiny, m);
-    checkProblem(fromRoots("tiny sextic", {1e-40, -2e-40, 5e-40, 1e-30, -1e-20, 0.5}, {}, -1, 1), &tiny,
-                 m);
+    checkProblem(fromRoots("tiny sextic", {1e-40, -2e-40, 5e-40, 1e-30, -1e-20, 0.5}, {}, -1, 1),
+                 &tiny, m);
     EXPECT_EQ(tiny.checked, 15);
   }
 }
@@ -850,11 +858,12 @@ TEST(RootsContract, IntervalEnds) {
 // the scale) are reported with it and not without it, by every method; a root inside
 // is unaffected.
 TEST(RootsContract, ClosedLoReportsARootAtLo) {
-  const std::vector<double> linear{-0.25, 1.0};                                     // x - 1/4
-  const std::vector<double> quadruple = test::expand({0.3, 0.3, 0.3, 0.3, -0.75}, {}, 1.0);  // root 0.3 (rounded)
+  const std::vector<double> linear{-0.25, 1.0};  // x - 1/4
+  const std::vector<double> quadruple =
+      test::expand({0.3, 0.3, 0.3, 0.3, -0.75}, {}, 1.0);  // root 0.3 (rounded)
   const std::vector<double> inside = test::expand({0.5, -0.2, 0.9}, {}, 1.0);
-  for (RootMethod m : {RootMethod::Auto, RootMethod::ClosedForm, RootMethod::Yuksel, RootMethod::Sturm,
-                       RootMethod::Bernstein}) {
+  for (RootMethod m : {RootMethod::Auto, RootMethod::ClosedForm, RootMethod::Yuksel,
+                       RootMethod::Sturm, RootMethod::Bernstein}) {
     RootOptions open, closed;
     open.method = closed.method = m;
     closed.closedLo = true;
@@ -872,7 +881,8 @@ TEST(RootsContract, ClosedLoReportsARootAtLo) {
     all.resize(allRoots(quadruple, {}, 0.3 - 1e-6, 1.0, all, closed));
     EXPECT_EQ(all.size(), 1u) << id;
     // A root away from lo: the same answer either way.
-    EXPECT_EQ(firstRoot(inside, {}, -0.5, 1.0, open), firstRoot(inside, {}, -0.5, 1.0, closed)) << id;
+    EXPECT_EQ(firstRoot(inside, {}, -0.5, 1.0, open), firstRoot(inside, {}, -0.5, 1.0, closed))
+        << id;
   }
 }
 
@@ -899,7 +909,8 @@ TEST(RootsContract, SimpleRootBeforeANoiseLevelEnd) {
       RootOptions open, closed;
       open.method = closed.method = m;
       closed.closedLo = true;
-      const std::string what = "n = " + std::to_string(n) + ", method " + std::to_string(static_cast<int>(m));
+      const std::string what =
+          "n = " + std::to_string(n) + ", method " + std::to_string(static_cast<int>(m));
       for (const RootOptions& o : {open, closed}) {
         const auto r = firstRoot(falling, {}, -1.375, 1.625, o);
         ASSERT_TRUE(r) << what;
@@ -997,9 +1008,8 @@ TEST(RootsContract, HugeIntervalsKeepTheRootsNearTheOrigin) {
     for (std::size_t pi = 0; pi < polys.size(); ++pi) {
       const std::vector<double>& c = polys[pi];
       for (const auto& [lo, hi] : spans) {
-        const auto ref =
-            test::refineAll(c, {-8.0, -2.5, -1.5, -0.5, 0.0, 0.3, 0.9, 1.5, 2.5, 5.0, 6.5, 12.0}, lo,
-                            hi);
+        const auto ref = test::refineAll(
+            c, {-8.0, -2.5, -1.5, -0.5, 0.0, 0.3, 0.9, 1.5, 2.5, 5.0, 6.5, 12.0}, lo, hi);
         ASSERT_FALSE(ref.empty());
         std::vector<double> out(c.size());
         out.resize(allRoots(c, {}, lo, hi, out, o));
@@ -1052,11 +1062,14 @@ TEST(RootsContract, HighDegreesOnHugeIntervals) {
         ASSERT_FALSE(ref.empty());
         std::vector<double> out(c.size());
         out.resize(allRoots(c, {}, -hi, hi, out, o));
-        ASSERT_EQ(out.size(), ref.size()) << "method " << static_cast<int>(m) << " polynomial " << pi << " hi " << hi;
+        ASSERT_EQ(out.size(), ref.size())
+            << "method " << static_cast<int>(m) << " polynomial " << pi << " hi " << hi;
         for (std::size_t i = 0; i < ref.size(); ++i)
-          EXPECT_NEAR(out[i], ref[i].value, accuracyBound(ref[i])) << pi << " " << hi << " root " << i;
+          EXPECT_NEAR(out[i], ref[i].value, accuracyBound(ref[i]))
+              << pi << " " << hi << " root " << i;
         const auto first = firstRoot(c, {}, 0.0, hi, o);
-        const auto positive = std::find_if(ref.begin(), ref.end(), [](const test::RefRoot& r) { return r.value > 0; });
+        const auto positive = std::find_if(ref.begin(), ref.end(),
+                                           [](const test::RefRoot& r) { return r.value > 0; });
         ASSERT_EQ(first.has_value(), positive != ref.end()) << pi << " " << hi;
         if (first) {
           EXPECT_NEAR(*first, positive->value, accuracyBound(*positive)) << pi << " " << hi;
@@ -1071,7 +1084,8 @@ TEST(RootsContract, HighDegreesOnHugeIntervals) {
   const std::vector<double> tiny = {-1e-200, 0, 1e200};
   const auto r = firstRoot(tiny, {}, 0.0, 1.0);
   ASSERT_TRUE(r);
-  const long double exact = std::sqrt(-static_cast<long double>(tiny[0]) / static_cast<long double>(tiny[2]));
+  const long double exact =
+      std::sqrt(-static_cast<long double>(tiny[0]) / static_cast<long double>(tiny[2]));
   EXPECT_NEAR(*r, static_cast<double>(exact), kAccuracyUlps * kU * static_cast<double>(exact));
 }
 
@@ -1090,11 +1104,15 @@ TEST(RootsKnown, TinyRootsAndTheStopRule) {
     double lo, hi, start;
   };
   const Case cases[] = {
-      {{2e-34, 0.097598522835737805, -0.010772885332415393, -0.5280534357597656, -0.30926447151895853,
-        1.4686554215268472},
-       -0.55515309290547965, 0.70812546016398048, -2e-33},
-      {{1.2831019425889569e-108, 4.2086100465481105e-96, 1.0907295440171897e-92, 0, 0, 1}, -6.1690426470966653,
-       3.1810131915985282, -2.6e-22},
+      {{2e-34, 0.097598522835737805, -0.010772885332415393, -0.5280534357597656,
+        -0.30926447151895853, 1.4686554215268472},
+       -0.55515309290547965,
+       0.70812546016398048,
+       -2e-33},
+      {{1.2831019425889569e-108, 4.2086100465481105e-96, 1.0907295440171897e-92, 0, 0, 1},
+       -6.1690426470966653,
+       3.1810131915985282,
+       -2.6e-22},
       {{1e-210, 1e-105, 0, 1}, -1, 1, -1e-105},
   };
   for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel, RootMethod::ClosedForm}) {

@@ -91,12 +91,14 @@ TEST(StressDegree, ChmutovDegrees16To40) {
     const long double c = chebyshevValue(n, y0) + chebyshevValue(n, z0) + 1;
     for (double xStart : {-2.0, -0.3, 0.2}) {
       const RayD ray = rayD({xStart, y0, z0}, {1, 0, 0});
-      const std::string what = "Chmutov degree " + std::to_string(n) + " from x = " + std::to_string(xStart);
+      const std::string what =
+          "Chmutov degree " + std::to_string(n) + " from x = " + std::to_string(xStart);
       const auto hit = s.intersect(ray, what);
       const auto root = chmutovFirstRoot(n, c, xStart);
       ASSERT_TRUE(root) << what;
       const glm::dvec3 p(static_cast<double>(*root), y0, z0);
-      const long double slope = std::abs(n * std::sin(n * std::acos(*root)) / std::sin(std::acos(*root)));
+      const long double slope =
+          std::abs(n * std::sin(n * std::acos(*root)) / std::sin(std::acos(*root)));
       const double cond = kUnitRoundoff * absTermSum(f, p) / static_cast<double>(slope) / radius;
       if (hit) {
         const glm::dvec3 q = ray.org + hit->t * ray.dir;
@@ -105,7 +107,8 @@ TEST(StressDegree, ChmutovDegrees16To40) {
       }
       if (cond < 1e-6) {
         ASSERT_TRUE(hit) << what << " (condition " << cond << ")";
-        EXPECT_NEAR(hit->t, static_cast<double>(*root - xStart), std::max(kContract, 1e3 * cond) * radius)
+        EXPECT_NEAR(hit->t, static_cast<double>(*root - xStart),
+                    std::max(kContract, 1e3 * cond) * radius)
             << what << " (condition " << cond << ")";
       }
     }
@@ -134,7 +137,8 @@ TEST(StressDegree, ProductsOfSpheresDegrees16To40) {
         if (i != j) slope *= (long double)r[j] * r[j] - (long double)r[i] * r[i];
       return kUnitRoundoff * absTermSum(f, p) / static_cast<double>(std::abs(slope)) / radius;
     };
-    const glm::dvec3 dirs[] = {glm::normalize(glm::dvec3(0.3, -0.2, 1.0)), glm::normalize(glm::dvec3(-1, 0.5, 0.1))};
+    const glm::dvec3 dirs[] = {glm::normalize(glm::dvec3(0.3, -0.2, 1.0)),
+                               glm::normalize(glm::dvec3(-1, 0.5, 0.1))};
     for (const glm::dvec3& u : dirs) {
       // From outside, radially inwards: the outermost sphere at t = 1.15 - 1.
       {
@@ -151,7 +155,8 @@ TEST(StressDegree, ProductsOfSpheresDegrees16To40) {
         const auto hit = s.intersect(ray, "product from inside");
         const double cond = radialCond(j, r[j] * u);
         if (cond > 1e-6) continue;  // too ill-conditioned to expect anything but finiteness
-        ASSERT_TRUE(hit) << "degree " << n << " between spheres " << j << ", " << j + 1 << ", condition " << cond;
+        ASSERT_TRUE(hit) << "degree " << n << " between spheres " << j << ", " << j + 1
+                         << ", condition " << cond;
         EXPECT_NEAR(hit->t, r[j] - rho, std::max(kContract, 1e3 * cond) * radius)
             << "degree " << n << " sphere " << j << ", condition " << cond;
       }
@@ -173,9 +178,9 @@ TEST(StressDegree, ShortAndLongDirectionsOnHighDegrees) {
     std::string name;
     Polynomial f;
     double radius;
-    glm::dvec3 o, u;   // origin and unit direction
-    long double t;     // the first root along o + t u (closed form)
-    double cond;       // its condition number relative to the radius
+    glm::dvec3 o, u;  // origin and unit direction
+    long double t;    // the first root along o + t u (closed form)
+    double cond;      // its condition number relative to the radius
   };
   std::vector<Case> cases;
   for (int n : {16, 24, 40}) {
@@ -189,7 +194,11 @@ TEST(StressDegree, ShortAndLongDirectionsOnHighDegrees) {
     const glm::dvec3 p(static_cast<double>(*root), y0, z0);
     const long double slope =
         std::abs(n * std::sin(n * std::acos(*root)) / std::sin(std::acos(*root)));
-    cases.push_back({"Chmutov-" + std::to_string(n), f, 1.75, {xStart, y0, z0}, {1, 0, 0},
+    cases.push_back({"Chmutov-" + std::to_string(n),
+                     f,
+                     1.75,
+                     {xStart, y0, z0},
+                     {1, 0, 0},
                      *root - xStart,
                      kUnitRoundoff * absTermSum(f, p) / static_cast<double>(slope) / 1.75});
   }
@@ -253,9 +262,10 @@ TEST(StressRange, ExtremeCoefficients) {
       glm::dvec3 o, d;
       double t;
     };
-    for (const Case& c : {Case{{-2e4, 0, 0}, {1, 0, 0}, 2e4 - 1e-4}, Case{{0, -2e4, 0}, {0, 1, 0}, 2e4 - 1.0},
-                          Case{{0, 0, -2e4}, {0, 0, 1}, 1e4}, Case{{0, 0, 0}, {0, 0, 1}, 1e4},
-                          Case{{0, 0, 0}, {0, 1, 0}, 1.0}, Case{{0, 0, 0}, {1, 0, 0}, 1e-4}}) {
+    for (const Case& c :
+         {Case{{-2e4, 0, 0}, {1, 0, 0}, 2e4 - 1e-4}, Case{{0, -2e4, 0}, {0, 1, 0}, 2e4 - 1.0},
+          Case{{0, 0, -2e4}, {0, 0, 1}, 1e4}, Case{{0, 0, 0}, {0, 0, 1}, 1e4},
+          Case{{0, 0, 0}, {0, 1, 0}, 1.0}, Case{{0, 0, 0}, {1, 0, 0}, 1e-4}}) {
       const auto hit = s.intersect(rayD(c.o, c.d), "ellipsoid");
       ASSERT_TRUE(hit) << c.o.x << " " << c.o.y << " " << c.o.z;
       EXPECT_NEAR(hit->t, c.t, kContract * radius);
@@ -268,7 +278,8 @@ TEST(StressRange, ExtremeCoefficients) {
       const long double b = (long double)o.z * d.z, disc = b * b - ((long double)o.z * o.z - 1);
       const auto hit = s.intersect(rayD(o, d), "scaled coefficients");
       ASSERT_TRUE(hit) << scale << " " << a;
-      EXPECT_NEAR(hit->t, static_cast<double>(-b - std::sqrt(disc)), kContract * 1.5) << scale << " " << a;
+      EXPECT_NEAR(hit->t, static_cast<double>(-b - std::sqrt(disc)), kContract * 1.5)
+          << scale << " " << a;
     }
   }
 }
@@ -288,13 +299,15 @@ TEST(StressShadow, EveryGallerySurface) {
     OneSurface s(describe(f, radius));
     const glm::dvec3 eye = 3.0 * radius * glm::normalize(glm::dvec3(1.0, 0.7, 0.5));
     const glm::dvec3 light = 4.0 * radius * glm::normalize(glm::dvec3(-0.5, 0.9, 1.0));
-    const glm::dvec3 fwd = glm::normalize(-eye), right = glm::normalize(glm::cross(fwd, glm::dvec3(0, 0, 1)));
+    const glm::dvec3 fwd = glm::normalize(-eye),
+                     right = glm::normalize(glm::cross(fwd, glm::dvec3(0, 0, 1)));
     const glm::dvec3 up = glm::cross(right, fwd);
     const int n = 7;
     int hits = 0, compared = 0, speckles = 0;
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
-        const glm::dvec3 target = ((2.0 * i + 1) / n - 1.0) * 0.9 * radius * right + ((2.0 * j + 1) / n - 1.0) * 0.9 * radius * up;
+        const glm::dvec3 target = ((2.0 * i + 1) / n - 1.0) * 0.9 * radius * right +
+                                  ((2.0 * j + 1) / n - 1.0) * 0.9 * radius * up;
         const auto hit = s.intersect(rayD(eye, glm::normalize(target - eye)), std::string(g.name));
         if (!hit) continue;
         ++hits;
@@ -307,7 +320,8 @@ TEST(StressShadow, EveryGallerySurface) {
         const double dl = glm::length(shadow.dir), self = 1e-6 * radius / dl;
         // Where two sheets cross at the origin (a double line, a node) a hit at the origin
         // is a true intersection: only an origin with one simple root about it counts.
-        const RayRef near = referenceFirstHit(f, p, shadow.dir, -self, self, glm::dvec3(0.0), radius);
+        const RayRef near =
+            referenceFirstHit(f, p, shadow.dir, -self, self, glm::dvec3(0.0), radius);
         if (!(near.hit && near.roots == 1 && near.wellConditioned)) continue;
         if (sh && sh->t * dl < 1e-6 * radius) ++speckles;
         const RayRef ref = referenceFirstHit(f, p, shadow.dir, self, 1.0, glm::dvec3(0.0), radius);
@@ -315,15 +329,16 @@ TEST(StressShadow, EveryGallerySurface) {
         ++compared;
         EXPECT_EQ(sh.has_value(), ref.hit) << g.name << " shadow ray from pixel " << i << ", " << j;
         if (sh && ref.hit) {
-          EXPECT_NEAR(sh->t * dl, ref.t * dl, kContract * radius) << g.name << " pixel " << i << ", " << j;
+          EXPECT_NEAR(sh->t * dl, ref.t * dl, kContract * radius)
+              << g.name << " pixel " << i << ", " << j;
         }
       }
     EXPECT_EQ(speckles, 0) << g.name << ": shadow rays hitting their own origin";
     EXPECT_GT(hits, 0) << g.name << ": the camera sees nothing";
-    RecordProperty(std::string(g.name), std::to_string(compared) + " of " + std::to_string(hits) + " compared");
+    RecordProperty(std::string(g.name),
+                   std::to_string(compared) + " of " + std::to_string(hits) + " compared");
   }
 }
-
 
 // ---- Random rays of every scale -----------------------------------------------------------
 // Origins from 1e-3 to 1e6 clip radii, direction lengths from 1e-30 to 1e15 (beyond the
@@ -345,7 +360,8 @@ TEST(StressRandom, EveryGallerySurfaceNeverNonFinite) {
       const glm::dvec3 target = radius * 0.8 * glm::dvec3{normal(rng), normal(rng), normal(rng)};
       const glm::dvec3 d = std::pow(10.0, -30.0 + 45.0 * unit(rng)) * glm::normalize(target - o);
       const double tScale = glm::length(target - o) / glm::length(d);
-      const double tnear = k % 3 == 0 ? 0.0 : unit(rng) * tScale, tfar = k % 4 == 0 ? kInfD : (1.0 + unit(rng)) * tScale;
+      const double tnear = k % 3 == 0 ? 0.0 : unit(rng) * tScale,
+                   tfar = k % 4 == 0 ? kInfD : (1.0 + unit(rng)) * tScale;
       const RayD ray = rayD(o, d, tnear, tfar);
       const auto hit = s.intersect(ray, std::string(g.name) + " random ray " + std::to_string(k));
       hits += hit.has_value();

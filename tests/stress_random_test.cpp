@@ -21,13 +21,13 @@ namespace {
 struct Quadric {  // c + b.x + x^T A x, in the monomials 1 x y z xx yy zz xy yz zx
   long double a[10];
   long double operator()(long double x, long double y, long double z) const {
-    return a[0] + a[1] * x + a[2] * y + a[3] * z + a[4] * x * x + a[5] * y * y + a[6] * z * z + a[7] * x * y +
-           a[8] * y * z + a[9] * z * x;
+    return a[0] + a[1] * x + a[2] * y + a[3] * z + a[4] * x * x + a[5] * y * y + a[6] * z * z +
+           a[7] * x * y + a[8] * y * z + a[9] * z * x;
   }
   Polynomial polynomial() const {
     auto c = [&](int i) { return Polynomial(static_cast<double>(a[i])); };
-    return c(0) + c(1) * X() + c(2) * Y() + c(3) * Z() + c(4) * X() * X() + c(5) * Y() * Y() + c(6) * Z() * Z() +
-           c(7) * X() * Y() + c(8) * Y() * Z() + c(9) * Z() * X();
+    return c(0) + c(1) * X() + c(2) * Y() + c(3) * Z() + c(4) * X() * X() + c(5) * Y() * Y() +
+           c(6) * Z() * Z() + c(7) * X() * Y() + c(8) * Y() * Z() + c(9) * Z() * X();
   }
 };
 
@@ -80,7 +80,8 @@ TEST(StressRandom, ProductsOfQuadricsAgainstBruteForce) {
     for (int p : power) simple = simple && p == 1;
     OneSurface s(desc);
     for (int r = 0; r < 400; ++r, ++rays) {
-      const glm::dvec3 o(3 * u(rng), 3 * u(rng), 3 * u(rng)), target(0.7 * u(rng), 0.7 * u(rng), 0.7 * u(rng));
+      const glm::dvec3 o(3 * u(rng), 3 * u(rng), 3 * u(rng)),
+          target(0.7 * u(rng), 0.7 * u(rng), 0.7 * u(rng));
       const glm::dvec3 d = target - o;
       auto object = [&](long double t, long double p[3]) {
         const long double w[3] = {o.x + t * d.x - b.x, o.y + t * d.y - b.y, o.z + t * d.z - b.z};
@@ -89,13 +90,16 @@ TEST(StressRandom, ProductsOfQuadricsAgainstBruteForce) {
       auto value = [&](long double t) {
         long double p[3], v = 1;
         object(t, p);
-        for (int k = 0; k < factors; ++k) v *= power[k] == 1 ? qs[k](p[0], p[1], p[2]) : std::pow(qs[k](p[0], p[1], p[2]), 3);
+        for (int k = 0; k < factors; ++k)
+          v *= power[k] == 1 ? qs[k](p[0], p[1], p[2]) : std::pow(qs[k](p[0], p[1], p[2]), 3);
         return v;
       };
       auto inClip = [&](long double t) {
         long double p[3];
         object(t, p);
-        if (box) return p[0] >= boxLo.x && p[0] <= boxHi.x && p[1] >= boxLo.y && p[1] <= boxHi.y && p[2] >= boxLo.z && p[2] <= boxHi.z;
+        if (box)
+          return p[0] >= boxLo.x && p[0] <= boxHi.x && p[1] >= boxLo.y && p[1] <= boxHi.y &&
+                 p[2] >= boxLo.z && p[2] <= boxHi.z;
         const long double dx = p[0] - centre.x, dy = p[1], dz = p[2] - centre.z;
         return dx * dx + dy * dy + dz * dz <= 1.0L;
       };
@@ -126,8 +130,10 @@ TEST(StressRandom, ProductsOfQuadricsAgainstBruteForce) {
       ++withRoot;
       if (!hit) {
         ++misses;
-        ADD_FAILURE() << "surface " << surface << " ray " << r << " missed t = " << static_cast<double>(ref)
-                      << " (the ray enters the clip region at " << static_cast<double>(entry) << ")";
+        ADD_FAILURE() << "surface " << surface << " ray " << r
+                      << " missed t = " << static_cast<double>(ref)
+                      << " (the ray enters the clip region at " << static_cast<double>(entry)
+                      << ")";
         continue;
       }
       // A hit before the reference is a root the sampling stepped over (two close ones,
@@ -168,10 +174,13 @@ TEST(StressRandom, QuadricsAgainstClosedForms) {
     if (kind == 3) l[1] = l[2] = 0;  // plane pair or parabolic cylinder
     const glm::dvec3 r0 = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
     const glm::dvec3 r1(u(rng), u(rng), u(rng));
-    const glm::dvec3 e1 = glm::normalize(r1 - glm::dot(r0, r1) * r0), rot[3] = {r0, e1, glm::cross(r0, e1)};
+    const glm::dvec3 e1 = glm::normalize(r1 - glm::dot(r0, r1) * r0),
+                     rot[3] = {r0, e1, glm::cross(r0, e1)};
     double a[3][3];
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) a[i][j] = rot[0][i] * l[0] * rot[0][j] + rot[1][i] * l[1] * rot[1][j] + rot[2][i] * l[2] * rot[2][j];
+      for (int j = 0; j < 3; ++j)
+        a[i][j] = rot[0][i] * l[0] * rot[0][j] + rot[1][i] * l[1] * rot[1][j] +
+                  rot[2][i] * l[2] * rot[2][j];
     double b[3] = {0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)}, c = 0.3 * u(rng);
     if (kind == 5) b[0] = b[1] = b[2] = c = 0;  // a cone through the origin
     const Polynomial vars[3] = {X(), Y(), Z()};
@@ -184,9 +193,12 @@ TEST(StressRandom, QuadricsAgainstClosedForms) {
     const bool box = rng() % 2;
     const glm::dvec3 centre(0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
     const double radius = 0.8 + 0.4 * std::abs(u(rng));
-    const glm::dvec3 lo = centre - glm::dvec3(radius), hi = centre + glm::dvec3(0.8 * radius, radius, 1.1 * radius);
+    const glm::dvec3 lo = centre - glm::dvec3(radius),
+                     hi = centre + glm::dvec3(0.8 * radius, radius, 1.1 * radius);
     auto inClip = [&](const LD p[3]) {
-      if (box) return p[0] >= lo.x && p[0] <= hi.x && p[1] >= lo.y && p[1] <= hi.y && p[2] >= lo.z && p[2] <= hi.z;
+      if (box)
+        return p[0] >= lo.x && p[0] <= hi.x && p[1] >= lo.y && p[1] <= hi.y && p[2] >= lo.z &&
+               p[2] <= hi.z;
       const LD dx = p[0] - centre.x, dy = p[1] - centre.y, dz = p[2] - centre.z;
       return dx * dx + dy * dy + dz * dz <= static_cast<LD>(radius) * radius;
     };
@@ -240,7 +252,8 @@ TEST(StressRandom, QuadricsAgainstClosedForms) {
           if (t0 > t1) std::swap(t0, t1);
           roots = {t0, t1};
         }
-        bool ambiguous = roots.size() == 2 && std::abs(static_cast<double>(roots[1] - roots[0])) < 1e-6;
+        bool ambiguous =
+            roots.size() == 2 && std::abs(static_cast<double>(roots[1] - roots[0])) < 1e-6;
         LD ref = -1;
         for (const LD t : roots) {
           if (t <= 1e-9L) continue;
@@ -254,9 +267,11 @@ TEST(StressRandom, QuadricsAgainstClosedForms) {
         const auto hit = s.intersect(rayD(o, d), "quadric");
         if (ambiguous) continue;
         ++checked;
-        ASSERT_EQ(hit.has_value(), ref >= 0) << "surface " << surface << " kind " << kind << " path " << path << " ray " << r;
+        ASSERT_EQ(hit.has_value(), ref >= 0)
+            << "surface " << surface << " kind " << kind << " path " << path << " ray " << r;
         if (!hit) continue;
-        EXPECT_NEAR(hit->t, static_cast<double>(ref), 1e-9 * (1 + static_cast<double>(ref))) << "surface " << surface;
+        EXPECT_NEAR(hit->t, static_cast<double>(ref), 1e-9 * (1 + static_cast<double>(ref)))
+            << "surface " << surface;
         // Leaving the hit: roots 0 (the origin, on the surface) and -qb/qa.
         const glm::dvec3 p = o + hit->t * d;
         RayD leave = rayD(p, e);
@@ -267,12 +282,15 @@ TEST(StressRandom, QuadricsAgainstClosedForms) {
         const auto next = s.intersect(leave, "leaving");
         ++leaving;
         if (next) {
-          EXPECT_GT(next->t, 1e-6) << "self-hit, surface " << surface << " kind " << kind << " path " << path;
+          EXPECT_GT(next->t, 1e-6)
+              << "self-hit, surface " << surface << " kind " << kind << " path " << path;
         }
         if (other > 1e-6L && !nearBoundary(q) && std::abs(static_cast<double>(qa)) > 1e-6) {
-          ASSERT_EQ(next.has_value(), inClip(q)) << "surface " << surface << " kind " << kind << " path " << path;
+          ASSERT_EQ(next.has_value(), inClip(q))
+              << "surface " << surface << " kind " << kind << " path " << path;
           if (next) {
-            EXPECT_NEAR(next->t, static_cast<double>(other), 1e-8 * (1 + static_cast<double>(other)));
+            EXPECT_NEAR(next->t, static_cast<double>(other),
+                        1e-8 * (1 + static_cast<double>(other)));
           }
         }
       }

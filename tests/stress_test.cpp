@@ -24,7 +24,8 @@ constexpr double kContract = 1e-9;
 constexpr double kDoubleRoot = 1e-6;
 
 long double dotL(const glm::dvec3& a, const glm::dvec3& b) {
-  return static_cast<long double>(a.x) * b.x + static_cast<long double>(a.y) * b.y + static_cast<long double>(a.z) * b.z;
+  return static_cast<long double>(a.x) * b.x + static_cast<long double>(a.y) * b.y +
+         static_cast<long double>(a.z) * b.z;
 }
 
 // ---- Tangent and grazing rays ---------------------------------------------------------
@@ -94,7 +95,8 @@ TEST(StressTangent, MultipleRootJustInsideTheClipBall) {
       const double eps = 1e-4 * (1 + 9 * std::abs(u(rng))), phi = 3.14159 * u(rng);
       const double rho = std::sqrt(1 - eps * eps);
       const glm::dvec3 e(-eps, rho * std::cos(phi), rho * std::sin(phi));
-      const glm::dvec3 d = glm::normalize(glm::dvec3(0.5 + 0.4 * std::abs(u(rng)), 0.0, 0.0) - 0.6 * e);
+      const glm::dvec3 d =
+          glm::normalize(glm::dvec3(0.5 + 0.4 * std::abs(u(rng)), 0.0, 0.0) - 0.6 * e);
       const glm::dvec3 o = e - 2.0 * d;
       const double t = -o.x / d.x;  // the plane, about eps / d.x after the entry at t = 2
       const auto hit = s.intersect(rayD(o, d), "x^" + std::to_string(m));
@@ -108,7 +110,8 @@ TEST(StressTangent, MultipleRootJustInsideTheClipBall) {
 // Each ray passes through the singular point at t = 2 (o = node - 2 d); the search window
 // (2 - w, 2 + w) holds no other intersection, so the expected answer is a hit at t = 2
 // within the double-root accuracy.
-void expectNodeHits(OneSurface& s, const std::vector<glm::dvec3>& nodes, double radius, const char* name) {
+void expectNodeHits(OneSurface& s, const std::vector<glm::dvec3>& nodes, double radius,
+                    const char* name) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
   const double w = 1e-3;
@@ -118,8 +121,8 @@ void expectNodeHits(OneSurface& s, const std::vector<glm::dvec3>& nodes, double 
       d = radius * glm::normalize(d);
       const RayD ray = rayD(nodes[k] - 2.0 * d, d, 2.0 - w, 2.0 + w);
       const auto hit = s.intersect(ray, name);
-      ASSERT_TRUE(hit) << name << " node " << k << " (" << nodes[k].x << ", " << nodes[k].y << ", " << nodes[k].z
-                       << ") ray " << rep;
+      ASSERT_TRUE(hit) << name << " node " << k << " (" << nodes[k].x << ", " << nodes[k].y << ", "
+                       << nodes[k].z << ") ray " << rep;
       EXPECT_NEAR(hit->t, 2.0, kDoubleRoot) << name << " node " << k;
     }
 }
@@ -140,14 +143,17 @@ void traceAllNodes(const Polynomial& f, const std::vector<glm::dvec3>& construct
   expectNodeHits(s, all, radius, name);
 }
 
-Polynomial X3(int axis, int power) { return Polynomial::variable(axis).pow(power); }
+Polynomial X3(int axis, int power) {
+  return Polynomial::variable(axis).pow(power);
+}
 
 // Cayley's cubic 4(x^3 + y^3 + z^3 + 1) = (x + y + z + 1)^3: the gradient 12 x_i^2 =
 // 3 S^2 (S = x + y + z + 1) vanishes where every x_i = +-S/2, on the surface exactly at the
 // four points with an odd number of minus signs among (x, y, z, 1).
 TEST(StressNodes, CayleyCubicFourNodes) {
   const Polynomial x = X(), y = Y(), z = Z();
-  const Polynomial f = 4.0 * (X3(0, 3) + X3(1, 3) + X3(2, 3) + Polynomial(1.0)) - (x + y + z + Polynomial(1.0)).pow(3);
+  const Polynomial f = 4.0 * (X3(0, 3) + X3(1, 3) + X3(2, 3) + Polynomial(1.0)) -
+                       (x + y + z + Polynomial(1.0)).pow(3);
   OneSurface s(describe(f, 2.5));
   expectNodeHits(s, {{1, 1, -1}, {1, -1, 1}, {-1, 1, 1}, {-1, -1, -1}}, 2.5, "cayley");
 }
@@ -167,8 +173,9 @@ TEST(StressNodes, RaysLeavingASingularPointFromARoundedOrigin) {
   const Polynomial cone = x * x + y * y - z * z, quartic = x.pow(4) + y.pow(4) - z.pow(4);
   SurfaceDesc generic = describe(cone, 1.5);
   generic.options.quadricCallbacks = false;
-  const std::pair<SurfaceDesc, const char*> cases[] = {
-      {describe(cone, 1.5), "cone, quadric path"}, {generic, "cone, generic walk"}, {describe(quartic, 1.5), "quartic cone"}};
+  const std::pair<SurfaceDesc, const char*> cases[] = {{describe(cone, 1.5), "cone, quadric path"},
+                                                       {generic, "cone, generic walk"},
+                                                       {describe(quartic, 1.5), "quartic cone"}};
   const glm::dvec3 apex(glm::vec3(0.1f, 0.2f, 0.3f));
   std::mt19937_64 rng(5);
   std::normal_distribution<double> normal;
@@ -261,7 +268,8 @@ TEST(StressInput, NegativeTnearReachesCellsBehindTheOrigin) {
 TEST(StressNodes, KummerQuarticSixteenNodes) {
   const double mu2 = 1.69, lambda = (3.0 * mu2 - 1.0) / (3.0 - mu2), s2 = std::numbers::sqrt2;
   const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
-  const Polynomial p = one - z - s2 * x, q = one - z + s2 * x, r = one + z + s2 * y, t = one + z - s2 * y;
+  const Polynomial p = one - z - s2 * x, q = one - z + s2 * x, r = one + z + s2 * y,
+                   t = one + z - s2 * y;
   const Polynomial f = (x * x + y * y + z * z - Polynomial(mu2)).pow(2) - lambda * (p * q * r * t);
   const glm::dvec3 n[4] = {{s2, 0, 1}, {-s2, 0, 1}, {0, -s2, -1}, {0, s2, -1}};  // plane: n . x = c
   const double c[4] = {1, 1, 1, 1};
@@ -269,9 +277,11 @@ TEST(StressNodes, KummerQuarticSixteenNodes) {
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) {
       const glm::dvec3 e = glm::normalize(glm::cross(n[i], n[j]));
-      const double g11 = glm::dot(n[i], n[i]), g12 = glm::dot(n[i], n[j]), g22 = glm::dot(n[j], n[j]);
+      const double g11 = glm::dot(n[i], n[i]), g12 = glm::dot(n[i], n[j]),
+                   g22 = glm::dot(n[j], n[j]);
       const double det = g11 * g22 - g12 * g12;
-      const glm::dvec3 x0 = ((c[i] * g22 - c[j] * g12) / det) * n[i] + ((c[j] * g11 - c[i] * g12) / det) * n[j];
+      const glm::dvec3 x0 =
+          ((c[i] * g22 - c[j] * g12) / det) * n[i] + ((c[j] * g11 - c[i] * g12) / det) * n[j];
       const double h = mu2 - glm::dot(x0, x0);
       ASSERT_GT(h, 0.0);
       for (double sg : {1.0, -1.0}) nodes.push_back(x0 + sg * std::sqrt(h) * e);
@@ -302,9 +312,11 @@ TEST(StressNodes, BarthSexticFiftyFiniteNodes) {
       v[ax] = sg;
       nodes.push_back(v);
     }
-  for (glm::dvec3 b : {glm::dvec3(1, phi, p2), glm::dvec3(p2, 1, phi), glm::dvec3(1, phi, 1 / phi)}) {
+  for (glm::dvec3 b :
+       {glm::dvec3(1, phi, p2), glm::dvec3(p2, 1, phi), glm::dvec3(1, phi, 1 / phi)}) {
     b = glm::normalize(b);
-    for (int sg = 0; sg < 8; ++sg) nodes.push_back({sg & 1 ? -b.x : b.x, sg & 2 ? -b.y : b.y, sg & 4 ? -b.z : b.z});
+    for (int sg = 0; sg < 8; ++sg)
+      nodes.push_back({sg & 1 ? -b.x : b.x, sg & 2 ? -b.y : b.y, sg & 4 ? -b.z : b.z});
   }
   for (const glm::dvec3& v : nodes) {
     EXPECT_LE(std::abs(f.evaluate(v)), 1e-13 * absTermSum(f, glm::abs(v) + glm::dvec3(1.0)));
@@ -358,23 +370,30 @@ void expectFarRays(const Polynomial& f, double radius, const char* name) {
   int compared = 0;
   for (double dist : {1e3, 1e4, 1e5, 1e6})
     for (int k = 0; k < 12; ++k) {
-      const glm::dvec3 o = dist * radius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+      const glm::dvec3 o =
+          dist * radius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
       const glm::dvec3 target = 0.4 * radius * glm::dvec3{normal(rng), normal(rng), normal(rng)};
       const RayD ray = rayD(o, glm::normalize(target - o));
-      const RayRef ref = referenceFirstHit(f, ray.org, ray.dir, 0.0, kInfD, glm::dvec3(0.0), radius);
+      const RayRef ref =
+          referenceFirstHit(f, ray.org, ray.dir, 0.0, kInfD, glm::dvec3(0.0), radius);
       const auto hit = s.intersect(ray, name);
       if (!ref.wellConditioned) continue;
       ++compared;
       ASSERT_EQ(hit.has_value(), ref.hit) << name << " at " << dist << " radii, ray " << k;
       if (hit) {
-        EXPECT_NEAR(hit->t, ref.t, kContract * radius) << name << " at " << dist << " radii, ray " << k;
+        EXPECT_NEAR(hit->t, ref.t, kContract * radius)
+            << name << " at " << dist << " radii, ray " << k;
       }
     }
   EXPECT_GT(compared, 24) << name << ": too few well-conditioned rays to mean anything";
 }
 
-TEST(StressFar, SphereFrom1e3To1e6Radii) { expectFarRays(spherePolynomial(1.0), 1.5, "sphere"); }
-TEST(StressFar, TorusFrom1e3To1e6Radii) { expectFarRays(torusPolynomial(1.0, 0.4), 1.6, "torus"); }
+TEST(StressFar, SphereFrom1e3To1e6Radii) {
+  expectFarRays(spherePolynomial(1.0), 1.5, "sphere");
+}
+TEST(StressFar, TorusFrom1e3To1e6Radii) {
+  expectFarRays(torusPolynomial(1.0, 0.4), 1.6, "torus");
+}
 
 // From 1e9 to 1e150 clip radii, where t = |o| / |d| resolves the clip region coarsely or
 // (beyond ~1e15) not at all: the double channel re-bases such rays near the surface
@@ -383,7 +402,8 @@ TEST(StressFar, TorusFrom1e3To1e6Radii) { expectFarRays(torusPolynomial(1.0, 0.4
 // Random aims lose the surface from ~1e15 radii on (the double line through a far point
 // passes u |o| from the aim), so the farthest rays pass exactly through a point: o = p - K d
 // with K a power of two, d small integers and p_i = 0 where d_i != 0 (exact in double).
-void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double refRadius, const char* name) {
+void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double refRadius,
+                       const char* name) {
   OneSurface s(desc);
   RefOptions opt;
   opt.positionNoise = 0.0;  // no singular curves on these surfaces; |o| would swamp it
@@ -408,7 +428,8 @@ void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double
     }
   for (const double dist : {1e6, 1e9, 1e12, 1e14})
     for (int k = 0; k < 12; ++k) {
-      const glm::dvec3 o = dist * refRadius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+      const glm::dvec3 o =
+          dist * refRadius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
       const glm::dvec3 aim = 0.3 * refRadius * glm::dvec3{normal(rng), normal(rng), normal(rng)};
       rays.push_back(rayD(o, glm::normalize(aim - o)));
     }
@@ -417,7 +438,8 @@ void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double
     const RayD& ray = rays[i];
     const std::string what = std::string(name) + " ray " + std::to_string(i) + " from " +
                              std::to_string(glm::length(ray.org) / refRadius) + " radii";
-    const RayRef ref = referenceFirstHit(fWorld, ray.org, ray.dir, 0.0, kInfD, glm::dvec3(0.0), refRadius, opt);
+    const RayRef ref =
+        referenceFirstHit(fWorld, ray.org, ray.dir, 0.0, kInfD, glm::dvec3(0.0), refRadius, opt);
     const auto hit = s.intersect(ray, what);
     const bool occluded = s.occluded(ray);
     if (!ref.wellConditioned) continue;
@@ -427,7 +449,9 @@ void expectVeryFarRays(const SurfaceDesc& desc, const Polynomial& fWorld, double
     if (!hit) continue;
     ++hits;
     const double len = glm::length(ray.dir);
-    EXPECT_NEAR(hit->t * len, ref.t * len, kContract * refRadius + 4 * kUnitRoundoff * std::abs(ref.t) * len) << what;
+    EXPECT_NEAR(hit->t * len, ref.t * len,
+                kContract * refRadius + 4 * kUnitRoundoff * std::abs(ref.t) * len)
+        << what;
   }
   EXPECT_GT(compared, 100) << name;
   EXPECT_GT(hits, 40) << name;
@@ -455,7 +479,8 @@ TEST(StressFar, ThinTorusInCellsBeyondTheResolutionOfT) {
 // core circle, so every ray through it hits; the generic walk, and a transform applied
 // after the re-basing.
 TEST(StressFar, TransformedTorusBeyondTheResolutionOfT) {
-  const glm::dmat3 a = 2.0 * glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0.5, 1, 0), glm::dvec3(0, 0.25, 1));
+  const glm::dmat3 a =
+      2.0 * glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0.5, 1, 0), glm::dvec3(0, 0.25, 1));
   const glm::dvec3 b(-2, 0, 0);
   SurfaceDesc desc = describe(torusPolynomial(1.0, 0.4), 1.6);
   desc.transform = glm::dmat4(a);
@@ -479,17 +504,20 @@ TEST(StressScale, SphereAndTorusAt1eMinus6And1e6) {
         const glm::dvec3 d = glm::normalize(glm::dvec3(a, 0.1 * a, -3.0));
         const auto hit = s.intersect(rayD(o, d), "scaled sphere");
         // |o + t d|^2 = r^2 with |d| = 1: t = -b - sqrt(b^2 - c), b = o.d, c = |o|^2 - r^2.
-        const long double b = (long double)o.z * d.z, c = (long double)o.z * o.z - (long double)scale * scale;
+        const long double b = (long double)o.z * d.z,
+                          c = (long double)o.z * o.z - (long double)scale * scale;
         const long double disc = b * b - c;
         ASSERT_EQ(hit.has_value(), disc > 0) << scale << " " << a;
         if (!hit) continue;
-        EXPECT_NEAR(hit->t, static_cast<double>(-b - std::sqrt(disc)), kContract * 1.5 * scale) << scale << " " << a;
+        EXPECT_NEAR(hit->t, static_cast<double>(-b - std::sqrt(disc)), kContract * 1.5 * scale)
+            << scale << " " << a;
         // Leaving the surface: the next hit is the far side, t = 2 sqrt(disc) from there.
         const glm::dvec3 p = o + hit->t * d;
         const auto exit = s.intersect(rayD(p, d), "scaled sphere exit");
         ASSERT_TRUE(exit) << "shadow ray from the hit misses the far side, scale " << scale;
         EXPECT_GT(exit->t, 1e-6 * scale) << "speckle: the ray hit its own origin";
-        EXPECT_NEAR(exit->t, static_cast<double>(2.0L * std::sqrt(disc)), 1e-8 * scale) << scale << " " << a;
+        EXPECT_NEAR(exit->t, static_cast<double>(2.0L * std::sqrt(disc)), 1e-8 * scale)
+            << scale << " " << a;
       }
     }
     {
@@ -500,7 +528,8 @@ TEST(StressScale, SphereAndTorusAt1eMinus6And1e6) {
       const auto hit = s.intersect(rayD(o, {0, 0, -1}), "scaled torus");
       ASSERT_TRUE(hit) << scale;
       EXPECT_NEAR(hit->t, 2.0 * scale - r, kContract * 1.6 * scale);
-      const auto exit = s.intersect(rayD(o + glm::dvec3(0, 0, -hit->t), {0, 0, -1}), "scaled torus exit");
+      const auto exit =
+          s.intersect(rayD(o + glm::dvec3(0, 0, -hit->t), {0, 0, -1}), "scaled torus exit");
       ASSERT_TRUE(exit) << scale;
       EXPECT_NEAR(exit->t, 2.0 * r, 1e-8 * scale);
       // Through the hole: no hit.
@@ -518,17 +547,21 @@ TEST(StressScale, DirectionLengthsFrom1eMinus300To1e300) {
   OneSurface sphere(describe(spherePolynomial(1.0), 1.5));
   OneSurface torus(describe(torusPolynomial(1.0, 0.4), 1.6));
   const double tSphere = 5.0 - std::sqrt(0.95L), tTorus = 4.6;
-  for (const double len : {1e-300, 1e-200, 1e-160, 1e-100, 1e-20, 1.0, 1e20, 1e100, 1e160, 1e200, 1e300}) {
+  for (const double len :
+       {1e-300, 1e-200, 1e-160, 1e-100, 1e-20, 1.0, 1e20, 1e100, 1e160, 1e200, 1e300}) {
     for (int which = 0; which < 2; ++which) {
       OneSurface& s = which == 0 ? sphere : torus;
-      const RayD ray = which == 0 ? rayD({0.1, 0.2, -5}, {0, 0, len}) : rayD({1, 0, -5}, {0, 0, len});
+      const RayD ray =
+          which == 0 ? rayD({0.1, 0.2, -5}, {0, 0, len}) : rayD({1, 0, -5}, {0, 0, len});
       const double expected = (which == 0 ? tSphere : tTorus) / len;
-      const std::string what = std::string(which == 0 ? "sphere" : "torus") + ", |d| = " + std::to_string(len);
+      const std::string what =
+          std::string(which == 0 ? "sphere" : "torus") + ", |d| = " + std::to_string(len);
       const auto hit = s.intersect(ray, what);
       ASSERT_TRUE(hit) << what;
       EXPECT_NEAR(hit->t, expected, 1e-12 * expected) << what;
       EXPECT_TRUE(s.occluded(ray)) << what;
-      EXPECT_FALSE(s.occluded(rayD(ray.org, ray.dir, 0.0, 0.99 * expected))) << what << ", ending before the hit";
+      EXPECT_FALSE(s.occluded(rayD(ray.org, ray.dir, 0.0, 0.99 * expected)))
+          << what << ", ending before the hit";
     }
   }
 }
@@ -562,9 +595,11 @@ TEST(StressScale, EmbreeRangeEnds) {
     for (double x : {0.0, 0.3, 0.7}) {
       // Down through the tube at (R + x r, 0): top at z = r sqrt(1 - x^2), from z = 2 scale
       // with d = (0, 0, -scale): t = 2 - 0.4 sqrt(1 - x^2).
-      check(t, rayD({R + x * r, 0.0, 2.0 * scale}, {0.0, 0.0, -scale}), 2.0 - 0.4 * std::sqrt(1.0 - x * x));
+      check(t, rayD({R + x * r, 0.0, 2.0 * scale}, {0.0, 0.0, -scale}),
+            2.0 - 0.4 * std::sqrt(1.0 - x * x));
       // The unit sphere along the same line (x scaled into it): z = sqrt(1 - (x / 2)^2).
-      check(s, rayD({0.5 * x * scale, 0.0, 2.0 * scale}, {0.0, 0.0, -scale}), 2.0 - std::sqrt(1.0 - 0.25 * x * x));
+      check(s, rayD({0.5 * x * scale, 0.0, 2.0 * scale}, {0.0, 0.0, -scale}),
+            2.0 - std::sqrt(1.0 - 0.25 * x * x));
     }
     // From 3e18 scale away along -x (the double channel moves such origins to Embree's
     // range): the torus's outer equator at x = -1.4 scale.
@@ -604,7 +639,8 @@ TEST(StressFar, OriginOnTheSurfaceOutsideTheClipBall) {
       const double expected = static_cast<double>((-b - std::sqrt(b * b - a * c)) / a);
       const auto hit = s.intersect(rayD(o, d), "origin on the cylinder");
       ASSERT_TRUE(hit) << "z " << z;
-      EXPECT_NEAR(hit->t, expected, kContract * 1.5 / std::sqrt(static_cast<double>(a))) << "z " << z;
+      EXPECT_NEAR(hit->t, expected, kContract * 1.5 / std::sqrt(static_cast<double>(a)))
+          << "z " << z;
     }
   }
 }
@@ -617,10 +653,18 @@ TEST(StressInput, NonFiniteAndZeroLengthRaysMissThroughDoubleChannel) {
   OneSurface s(describe(torusPolynomial(1.0, 0.4), 1.6));
   const double nan = std::nan(""), inf = kInfD;
   const std::vector<RayD> rays = {
-      rayD({nan, 0, 3}, {0, 0, -1}),       rayD({0, 0, 3}, {nan, 0, -1}),      rayD({inf, 0, 3}, {0, 0, -1}),
-      rayD({1, 0, 3}, {0, 0, -inf}),       rayD({1, 0, 3}, {inf, inf, -inf}),  rayD({-inf, inf, 0}, {1, 0, 0}),
-      rayD({1, 0, 3}, {0, 0, 0}),          rayD({1, 0, 0}, {0, 0, 0}),         rayD({1, 0, 3}, {0, 0, -1}, nan, inf),
-      rayD({1, 0, 3}, {0, 0, -1}, 0, nan), rayD({1, 0, 3}, {0, 0, -1}, 5, 1),  rayD({1, 0, 3}, {0, 0, -1}, 2, 2),
+      rayD({nan, 0, 3}, {0, 0, -1}),
+      rayD({0, 0, 3}, {nan, 0, -1}),
+      rayD({inf, 0, 3}, {0, 0, -1}),
+      rayD({1, 0, 3}, {0, 0, -inf}),
+      rayD({1, 0, 3}, {inf, inf, -inf}),
+      rayD({-inf, inf, 0}, {1, 0, 0}),
+      rayD({1, 0, 3}, {0, 0, 0}),
+      rayD({1, 0, 0}, {0, 0, 0}),
+      rayD({1, 0, 3}, {0, 0, -1}, nan, inf),
+      rayD({1, 0, 3}, {0, 0, -1}, 0, nan),
+      rayD({1, 0, 3}, {0, 0, -1}, 5, 1),
+      rayD({1, 0, 3}, {0, 0, -1}, 2, 2),
       rayD({1, 0, 3}, {0, 0, -1}, -inf, -inf),
   };
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -667,9 +711,9 @@ TEST(StressInput, HugeFiniteOriginIsSafe) {
 // non-finite float rays): zero direction, subnormal direction, empty intervals.
 TEST(StressInput, DegenerateFloatRaysMiss) {
   OneSurface s(describe(torusPolynomial(1.0, 0.4), 1.6));
-  const std::vector<RayD> rays = {rayD({1, 0, 3}, {0, 0, 0}), rayD({1, 0, 0}, {0, 0, 0}),
-                                  rayD({1, 0, 3}, {0, 0, -1}, 5, 1), rayD({1, 0, 3}, {0, 0, -1}, 2, 2),
-                                  rayD({1, 0, 3}, {0, 0, -1e-44})};
+  const std::vector<RayD> rays = {
+      rayD({1, 0, 3}, {0, 0, 0}), rayD({1, 0, 0}, {0, 0, 0}), rayD({1, 0, 3}, {0, 0, -1}, 5, 1),
+      rayD({1, 0, 3}, {0, 0, -1}, 2, 2), rayD({1, 0, 3}, {0, 0, -1e-44})};
   for (size_t i = 0; i < rays.size(); ++i) {
     const std::string what = "degenerate float ray " + std::to_string(i);
     const auto hit = s.intersectFloat(rays[i], what);
@@ -687,7 +731,8 @@ TEST(StressInput, EmptyClipRegion) {
   for (const ClipRegion& clip :
        {ClipRegion{ClipSphere{{0, 0, 0}, -1.0}}, ClipRegion{ClipSphere{{0, 0, 0}, nan}},
         ClipRegion{ClipSphere{{nan, 0, 0}, 1.0}}, ClipRegion{ClipSphere{{kInfD, 0, 0}, 1.0}},
-        ClipRegion{ClipBox{{1, 1, 1}, {-1, -1, -1}}}, ClipRegion{ClipBox{{0, 0, 0}, {1, nan, 1}}}}) {
+        ClipRegion{ClipBox{{1, 1, 1}, {-1, -1, -1}}},
+        ClipRegion{ClipBox{{0, 0, 0}, {1, nan, 1}}}}) {
     SurfaceDesc desc;
     desc.polynomial = spherePolynomial(1.0);
     desc.clip = clip;
@@ -704,7 +749,8 @@ TEST(StressInput, EmptyClipRegion) {
   }
   // A clip ball that does not meet the sphere.
   OneSurface s(describe(spherePolynomial(1.0), 0.5));
-  for (const glm::dvec3& d : {glm::dvec3(-1, 0, 0), glm::dvec3(-1, 0.1, 0.05), glm::dvec3(-1, -0.2, 0.1)})
+  for (const glm::dvec3& d :
+       {glm::dvec3(-1, 0, 0), glm::dvec3(-1, 0.1, 0.05), glm::dvec3(-1, -0.2, 0.1)})
     EXPECT_FALSE(s.intersect(rayD({3, 0, 0}, d), "clip ball inside the sphere"));
 }
 
@@ -730,7 +776,10 @@ TEST(StressClip, SurfaceOnTheClipBoundary) {
     SurfaceDesc desc = describe(sphere, 1.0);
     if (variant == 2) desc.polynomial = sphere * (sphere + Polynomial(2.0));  // (r^2 - 1)(r^2 + 1)
     desc.options.quadricPath = variant == 0;
-    spheres.emplace_back(variant == 0 ? "quadric path" : variant == 1 ? "generic walk" : "degree 4", desc);
+    spheres.emplace_back(variant == 0   ? "quadric path"
+                         : variant == 1 ? "generic walk"
+                                        : "degree 4",
+                         desc);
   }
   for (const auto& [name, desc] : spheres) {
     OneSurface s(desc);
@@ -768,7 +817,8 @@ TEST(StressClip, SurfaceOnTheClipBoundary) {
       ASSERT_TRUE(hit) << "depth " << depth << " ray " << i;
       EXPECT_NEAR(hit->t, 2.0 / d.x, kContract * 2.0) << depth;
       // From inside: the face x = 1.
-      const auto exit = s.intersect(rayD(target, {1.0, 0.1 * u(rng), 0.1 * u(rng)}), "plane on a face, exit");
+      const auto exit =
+          s.intersect(rayD(target, {1.0, 0.1 * u(rng), 0.1 * u(rng)}), "plane on a face, exit");
       ASSERT_TRUE(exit) << "depth " << depth << " exit " << i;
       EXPECT_NEAR(exit->t, 1.0, kContract * 2.0) << depth;
     }

@@ -67,7 +67,8 @@ struct Case {
 
 std::vector<Case> cases() {
   std::vector<Case> out;
-  for (const GallerySurface& s : gallery()) out.push_back({std::string(s.name), s.build(), s.clipRadius});
+  for (const GallerySurface& s : gallery())
+    out.push_back({std::string(s.name), s.build(), s.clipRadius});
   std::mt19937_64 rng(1234);
   std::uniform_real_distribution<double> c(-1.0, 1.0);
   for (int degree : {3, 7, 10}) {
@@ -167,7 +168,8 @@ TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
         // support/box_reference.h), and the same bits as before its unrolled kernels.
         const RayPolynomial gb = restrictToRay(box, o, d, tShift);
         expectSameValues(gb, g, what + " box");
-        expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift), what + " box vs reference");
+        expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift),
+                       what + " box vs reference");
       }
     }
   }
@@ -194,8 +196,8 @@ TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
       f.setCoeff(degree, 0, 0, 1.0);  // keep the degree
       polys.push_back(f);
     }
-  const std::vector<glm::dvec3> special = {{0.0, 0.0, 1.0}, {-0.0, 1.0, -0.0}, {1.0, -0.0, 0.0},
-                                           {0.0, -0.6, 0.8}, {-0.0, -0.0, -1.0}};
+  const std::vector<glm::dvec3> special = {
+      {0.0, 0.0, 1.0}, {-0.0, 1.0, -0.0}, {1.0, -0.0, 0.0}, {0.0, -0.6, 0.8}, {-0.0, -0.0, -1.0}};
   for (const Polynomial& f : polys) {
     const HornerForm box(f);
     for (int ray = 0; ray < 12; ++ray) {
@@ -204,7 +206,8 @@ TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
       if (ray >= 5 && ray < 8) o = glm::dvec3(0.0);
       if (ray == 8) o = glm::dvec3(-0.0, 0.5, -0.0);
       const double tShift = ray % 2 == 0 ? 0.0 : closestParameter(o, d, glm::dvec3(0.0));
-      const std::string what = "degree " + std::to_string(f.degree()) + " ray " + std::to_string(ray);
+      const std::string what =
+          "degree " + std::to_string(f.degree()) + " ray " + std::to_string(ray);
       const RayPolynomial gb = restrictToRay(box, o, d, tShift);
       expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift), what + " vs reference");
       expectSameValues(gb, restrictToRay(f, o, d, tShift), what + " vs Polynomial path");
@@ -220,13 +223,14 @@ TEST(Taylor, ClosestParameterWithinItsBound) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 20000; ++i) {
-    const glm::dvec3 o = std::pow(10.0, 6.0 * std::abs(u(rng))) * glm::dvec3(u(rng), u(rng), u(rng));
+    const glm::dvec3 o =
+        std::pow(10.0, 6.0 * std::abs(u(rng))) * glm::dvec3(u(rng), u(rng), u(rng));
     const glm::dvec3 c(u(rng), u(rng), u(rng));
     glm::dvec3 d = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
     const int kind = i % 4;
-    if (kind == 1) d = glm::dvec3(glm::normalize(glm::vec3(d)));    // float-normalised
-    if (kind == 2) d *= 1.0 + 0x1p-21 * u(rng);                      // near unit
-    if (kind == 3) d *= std::pow(10.0, 3.0 * u(rng));                 // any length
+    if (kind == 1) d = glm::dvec3(glm::normalize(glm::vec3(d)));  // float-normalised
+    if (kind == 2) d *= 1.0 + 0x1p-21 * u(rng);                   // near unit
+    if (kind == 3) d *= std::pow(10.0, 3.0 * u(rng));             // any length
     const double dd = glm::dot(d, d), inv = inverseSquaredLength(dd);
     if (std::abs(dd - 1.0) <= 0x1p-20)
       EXPECT_LE(std::abs((long double)inv * dd - 1.0L), 0x1p-40L + 0x1p-51L) << dd;
@@ -282,8 +286,12 @@ TEST(Taylor, HomogeneousPartsAreTheDirectionalDerivatives) {
 struct FlushToZero {
 #if defined(__SSE__)
   unsigned saved = _mm_getcsr();
-  FlushToZero() { _mm_setcsr(saved | 0x8040u); }
-  ~FlushToZero() { _mm_setcsr(saved); }
+  FlushToZero() {
+    _mm_setcsr(saved | 0x8040u);
+  }
+  ~FlushToZero() {
+    _mm_setcsr(saved);
+  }
 #endif
 };
 
@@ -298,8 +306,8 @@ int boundViolations(const RayPolynomial& g, const Polynomial& f, const glm::dvec
   for (int n = 0; n <= f.degree(); ++n) {
     const double c = n <= g.degree ? g.coeff[n] : 0.0;
     const double bound = n <= g.degree ? g.error[n] : 0.0;
-    const bool ok = std::isfinite(c) ? std::abs((Mp(c) - ref[n]).toDouble()) <= bound
-                                     : bound == INFINITY;
+    const bool ok =
+        std::isfinite(c) ? std::abs((Mp(c) - ref[n]).toDouble()) <= bound : bound == INFINITY;
     if (ok) continue;
     if (bad++ == 0) {
       char buf[256];
@@ -403,8 +411,8 @@ TEST(Taylor, EvaluateWithBoundHoldsWhereProductsUnderflow) {
         if (flush) mode.emplace();
         v = g.evaluateWithBound(s, bound);
       }
-      const bool ok = std::isfinite(v) ? std::abs((Mp(v) - exact).toDouble()) <= bound
-                                       : bound == INFINITY;
+      const bool ok =
+          std::isfinite(v) ? std::abs((Mp(v) - exact).toDouble()) <= bound : bound == INFINITY;
       if (!ok && bad++ == 0) {
         char buf[200];
         std::snprintf(buf, sizeof buf, "degree %d at s = %.17g%s: %.17g, exact %.17g, bound %.3g",

@@ -14,12 +14,12 @@ int main() {
 
   // ---- The host's own geometry: a floor quad at z = -0.5 ---------------------------------
   RTCGeometry floor = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(
-      rtcSetNewGeometryBuffer(floor, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(floor, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
   const float verts[12] = {-4, -4, -0.5f, 4, -4, -0.5f, 4, 4, -0.5f, -4, 4, -0.5f};
   for (int i = 0; i < 12; ++i) v[i] = verts[i];
-  auto* idx = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(floor, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      floor, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2));
   const unsigned tris[6] = {0, 1, 2, 0, 2, 3};
   for (int i = 0; i < 6; ++i) idx[i] = tris[i];
   rtcCommitGeometry(floor);
@@ -37,11 +37,11 @@ int main() {
 
   // ---- A few rays --------------------------------------------------------------------------
   const float rays[][6] = {
-      {-3, 0, 0, 1, 0, 0},       // along the x axis: the torus' outer wall at x = -1.4
-      {0, 0, 3, 0, 0, -1},       // down the axis: through the hole onto the floor
-      {1, 0, 3, 0, 0, -1},       // down onto the tube's top at (1, 0, 0.4)
-      {3, 3, 3, 0, 0, -1},       // beside everything: the floor
-      {3, 3, 3, 1, 0, 0},        // into the void
+      {-3, 0, 0, 1, 0, 0},  // along the x axis: the torus' outer wall at x = -1.4
+      {0, 0, 3, 0, 0, -1},  // down the axis: through the hole onto the floor
+      {1, 0, 3, 0, 0, -1},  // down onto the tube's top at (1, 0, 0.4)
+      {3, 3, 3, 0, 0, -1},  // beside everything: the floor
+      {3, 3, 3, 1, 0, 0},   // into the void
   };
   for (const auto& r : rays) {
     RTCRayHit rh{};
@@ -55,13 +55,15 @@ int main() {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect1(scene, &context, &rh);
-    const char* what = rh.hit.geomID == torusID ? "torus" : rh.hit.geomID == floorID ? "floor" : "nothing";
+    const char* what = rh.hit.geomID == torusID   ? "torus"
+                       : rh.hit.geomID == floorID ? "floor"
+                                                  : "nothing";
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
       std::printf("ray (%g %g %g) -> (%g %g %g): miss\n", r[0], r[1], r[2], r[3], r[4], r[5]);
       continue;
     }
-    std::printf("ray (%g %g %g) -> (%g %g %g): %s at t = %.6g, Ng = (%.3g %.3g %.3g)\n", r[0], r[1], r[2], r[3],
-                r[4], r[5], what, rh.ray.tfar, rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    std::printf("ray (%g %g %g) -> (%g %g %g): %s at t = %.6g, Ng = (%.3g %.3g %.3g)\n", r[0], r[1],
+                r[2], r[3], r[4], r[5], what, rh.ray.tfar, rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   }
 
   rtcReleaseScene(scene);

@@ -10,9 +10,9 @@
 #include "algray/embree.h"
 #include "algray/parser.h"
 
-#include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -42,7 +42,8 @@ double parseNumber(const std::string& text, const std::string& what) {
     throw UsageError(what + ": not a finite number: '" + text + "'");
   // As in IN.csv: a literal below double's range is refused, not silently 0 (--param
   // a=1e-400 turned x^2+y^2+z^2-a into a point). A subnormal result is its value.
-  if (errno == ERANGE && v == 0.0) throw UsageError(what + ": '" + text + "' underflows to 0 in double");
+  if (errno == ERANGE && v == 0.0)
+    throw UsageError(what + ": '" + text + "' underflows to 0 in double");
   return v;
 }
 
@@ -53,13 +54,16 @@ ClipRegion parseClip(const std::vector<double>& sphere, const std::string& box) 
     return ClipSphere{glm::dvec3(0.0), sphere[0]};
   }
   // getline drops a trailing empty field: "1,2,3,4,5,6," would pass as six numbers.
-  if (!box.empty() && box.back() == ',') throw UsageError("--clip-box: a value is missing after the last ','");
+  if (!box.empty() && box.back() == ',')
+    throw UsageError("--clip-box: a value is missing after the last ','");
   std::vector<double> v;
   std::stringstream s(box);
   std::string item;
   while (std::getline(s, item, ','))
     v.push_back(parseNumber(item, "--clip-box value " + std::to_string(v.size() + 1)));
-  if (v.size() != 6) throw UsageError("--clip-box: expected X0,Y0,Z0,X1,Y1,Z1 (6 numbers), got " + std::to_string(v.size()));
+  if (v.size() != 6)
+    throw UsageError("--clip-box: expected X0,Y0,Z0,X1,Y1,Z1 (6 numbers), got " +
+                     std::to_string(v.size()));
   ClipBox b{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
   if (!(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z))
     throw UsageError("--clip-box: need X0 < X1, Y0 < Y1, Z0 < Z1");
@@ -105,32 +109,42 @@ int run(int argc, char** argv) {
   std::vector<double> clipSphere;
   bool useFloat = false;
   int threads = 0;
-  app.add_option("--surface", equation, "equation f(x,y,z) = 0, e.g. \"x^2+y^2+z^2-1\"")->required();
+  app.add_option("--surface", equation, "equation f(x,y,z) = 0, e.g. \"x^2+y^2+z^2-1\"")
+      ->required();
   app.add_option("--param", params, "NAME=VALUE for a parameter of the equation (repeatable)");
-  auto* sphereOpt = app.add_option("--clip-sphere", clipSphere, "clip sphere radius about the origin")->expected(1);
+  auto* sphereOpt =
+      app.add_option("--clip-sphere", clipSphere, "clip sphere radius about the origin")
+          ->expected(1);
   auto* boxOpt = app.add_option("--clip-box", clipBox, "clip box X0,Y0,Z0,X1,Y1,Z1");
   sphereOpt->excludes(boxOpt);
-  app.add_option("--rays", raysPath, "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar[,org_error] (direction non-zero, 0 <= tnear <= "
-                 "tfar, tfar may be inf; org_error: the origin's uncertainty, >= 0)")->required();
+  app.add_option(
+         "--rays", raysPath,
+         "input CSV: ox,oy,oz,dx,dy,dz,tnear,tfar[,org_error] (direction non-zero, 0 <= tnear <= "
+         "tfar, tfar may be inf; org_error: the origin's uncertainty, >= 0)")
+      ->required();
   app.add_option("--out", outPath, "output CSV: hit,t,nx,ny,nz")->required();
   app.add_flag("--float", useFloat, "trace Embree's float rays instead of algray's double channel");
-  app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  app.add_option("--threads", threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "algray-query: " << e.what() << "\n" << "run with --help for usage\n";
+    std::cerr << "algray-query: " << e.what() << "\n"
+              << "run with --help for usage\n";
     return 2;
   }
-  if (clipSphere.empty() && clipBox.empty()) throw UsageError("one of --clip-sphere R or --clip-box X0,Y0,Z0,X1,Y1,Z1 is required");
+  if (clipSphere.empty() && clipBox.empty())
+    throw UsageError("one of --clip-sphere R or --clip-box X0,Y0,Z0,X1,Y1,Z1 is required");
 
   // ---- Surface ------------------------------------------------------------------------
   ParseOptions parseOptions;
   parseOptions.rejectUnusedParameters = true;
   for (const std::string& p : params) {
     const size_t eq = p.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError("--param '" + p + "': expected NAME=VALUE");
+    if (eq == std::string::npos || eq == 0)
+      throw UsageError("--param '" + p + "': expected NAME=VALUE");
     const std::string name = p.substr(0, eq);
     const double value = parseNumber(p.substr(eq + 1), "--param " + name);
     // A second value would silently win: which one the user meant is not ours to guess.
@@ -143,15 +157,17 @@ int run(int argc, char** argv) {
   } catch (const ParameterError& e) {
     throw UsageError("--param " + e.name() + ": " + e.message());
   } catch (const ParseError& e) {
-    throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() + "\n  " + equation +
-                     "\n  " + std::string(std::max(0, e.column() - 1), ' ') + "^");
+    throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() +
+                     "\n  " + equation + "\n  " + std::string(std::max(0, e.column() - 1), ' ') +
+                     "^");
   }
   desc.clip = parseClip(clipSphere, clipBox);
 
   // ---- Rays -----------------------------------------------------------------------------
   // A directory opens as a stream that reads nothing: it was reported as an empty file.
   std::error_code ec;
-  if (std::filesystem::is_directory(raysPath, ec)) throw UsageError("--rays: '" + raysPath + "' is a directory");
+  if (std::filesystem::is_directory(raysPath, ec))
+    throw UsageError("--rays: '" + raysPath + "' is a directory");
   std::ifstream in(raysPath);
   if (!in) throw UsageError("--rays: cannot open '" + raysPath + "'");
   std::vector<RayD> rays;
@@ -170,15 +186,18 @@ int run(int argc, char** argv) {
   // within about 1e-14 radii of the surface. (Origins beyond 4 radii keep 0: the self-root
   // rule ignores them, and the far-ray paths read orgError.) With the column, each ray's
   // own bound is used as given (hit points of rays from farther away).
-  const glm::dvec3 centre = clipSphere.empty() ? 0.5 * (std::get<ClipBox>(desc.clip).lo + std::get<ClipBox>(desc.clip).hi)
-                                               : glm::dvec3(0.0);
-  const double radius = clipSphere.empty()
-                            ? 0.5 * glm::length(std::get<ClipBox>(desc.clip).hi - std::get<ClipBox>(desc.clip).lo)
-                            : clipSphere[0];
+  const glm::dvec3 centre =
+      clipSphere.empty() ? 0.5 * (std::get<ClipBox>(desc.clip).lo + std::get<ClipBox>(desc.clip).hi)
+                         : glm::dvec3(0.0);
+  const double radius =
+      clipSphere.empty()
+          ? 0.5 * glm::length(std::get<ClipBox>(desc.clip).hi - std::get<ClipBox>(desc.clip).lo)
+          : clipSphere[0];
   if (!givenOrgErrors) {
     for (RayD& ray : rays) {
       const glm::dvec3 oc = glm::abs(ray.org - centre);
-      if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius) ray.orgError = gamma(3) * (glm::length(oc) + 64.0 * radius);
+      if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius)
+        ray.orgError = gamma(3) * (glm::length(oc) + 64.0 * radius);
     }
   }
 
@@ -198,7 +217,8 @@ int run(int argc, char** argv) {
   for (size_t i = 0; i < rays.size(); ++i)
     if (!std::isfinite(farT(rays[i])))
       throw UsageError("--rays: ray " + std::to_string(i + 1) +
-                       ": the direction is so short that t at the clip region would overflow double (scale it up)");
+                       ": the direction is so short that t at the clip region would overflow "
+                       "double (scale it up)");
 
   // The output is opened before tracing: a path that cannot be written is bad input.
   std::ofstream out(outPath);
@@ -216,8 +236,8 @@ int run(int argc, char** argv) {
     } catch (const Error& e) {
       rtcReleaseDevice(device);
       // The library's message names its own class; the user needs the options it came from.
-      throw UsageError(std::string("--surface, ") + (clipSphere.empty() ? "--clip-box" : "--clip-sphere") + ": " +
-                       e.what());
+      throw UsageError(std::string("--surface, ") +
+                       (clipSphere.empty() ? "--clip-box" : "--clip-sphere") + ": " + e.what());
     }
     RTCScene scene = rtcNewScene(device);
     const unsigned geomID = rtcAttachGeometry(scene, surface->geometry());
@@ -227,13 +247,16 @@ int run(int argc, char** argv) {
     const int workers = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
     tbb::global_control control(tbb::global_control::max_allowed_parallelism, workers);
     const auto start = std::chrono::steady_clock::now();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = trace(scene, geomID, rays[i], useFloat);
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 64),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i != r.end(); ++i)
+                          hits[i] = trace(scene, geomID, rays[i], useFloat);
+                      });
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     rtcReleaseScene(scene);
     if (surface->callbackErrors() > 0)
-      std::cerr << "algray-query: warning: " << surface->callbackErrors() << " rays failed inside the plugin (counted as misses)\n";
+      std::cerr << "algray-query: warning: " << surface->callbackErrors()
+                << " rays failed inside the plugin (counted as misses)\n";
   }
   rtcReleaseDevice(device);
 

@@ -20,7 +20,8 @@ constexpr size_t kRequired = 8, kOrgError = 8;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -29,7 +30,8 @@ std::vector<std::string_view> split(std::string_view line) {
   size_t start = 0;
   while (true) {
     const size_t comma = line.find(',', start);
-    fields.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    fields.push_back(trim(line.substr(
+        start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
     if (comma == std::string_view::npos) break;
     start = comma + 1;
   }
@@ -59,7 +61,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
     for (size_t f = 0; f < fields.size(); ++f)
       for (size_t c = 0; c < kColumns.size(); ++c)
         if (fields[f] == kColumns[c]) {
-          if (where[c] >= 0) fail(name, lineNo, "column '" + std::string(kColumns[c]) + "' appears twice");
+          if (where[c] >= 0)
+            fail(name, lineNo, "column '" + std::string(kColumns[c]) + "' appears twice");
           where[c] = static_cast<int>(f);
         }
     break;
@@ -67,11 +70,14 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
   // A read error is not the end of the file (/proc/self/mem read nothing and was "empty").
   if (in.bad()) fail(name, std::max(lineNo, 1L), "read error");
   // Lines are 1-based: a file without a single line is reported at line 1.
-  if (fieldCount == 0) fail(name, std::max(lineNo, 1L), "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
+  if (fieldCount == 0)
+    fail(name, std::max(lineNo, 1L),
+         "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
   for (size_t c = 0; c < kRequired; ++c)
     if (where[c] < 0)
-      fail(name, lineNo, "the header has no column '" + std::string(kColumns[c]) +
-                             "' (need ox,oy,oz,dx,dy,dz,tnear,tfar in any order)");
+      fail(name, lineNo,
+           "the header has no column '" + std::string(kColumns[c]) +
+               "' (need ox,oy,oz,dx,dy,dz,tnear,tfar in any order)");
 
   // ---- Rows ----------------------------------------------------------------------------
   std::vector<RayD> rays;
@@ -80,12 +86,15 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
     if (trim(text).empty()) continue;
     const auto fields = split(text);
     if (fields.size() != fieldCount)
-      fail(name, lineNo, "expected " + std::to_string(fieldCount) + " fields, found " + std::to_string(fields.size()));
+      fail(name, lineNo,
+           "expected " + std::to_string(fieldCount) + " fields, found " +
+               std::to_string(fields.size()));
     double v[kColumns.size()] = {};
     for (size_t c = 0; c < kColumns.size(); ++c) {
       if (where[c] < 0) continue;  // the optional column, absent
       const std::string field(fields[where[c]]);
-      const std::string at = "column '" + std::string(kColumns[c]) + "' (field " + std::to_string(where[c] + 1) + ")";
+      const std::string at =
+          "column '" + std::string(kColumns[c]) + "' (field " + std::to_string(where[c] + 1) + ")";
       char* end = nullptr;
       errno = 0;
       v[c] = field.empty() ? 0.0 : std::strtod(field.c_str(), &end);
@@ -93,11 +102,14 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
         fail(name, lineNo, at + ": not a number: '" + field + "'");
       // strtod reports a literal outside double's range with ERANGE: an overflow returns
       // inf, an underflow 0 or a subnormal. Only the subnormal is the literal's value.
-      if (errno == ERANGE && std::isinf(v[c])) fail(name, lineNo, at + ": '" + field + "' overflows double");
-      if (errno == ERANGE && v[c] == 0.0) fail(name, lineNo, at + ": '" + field + "' underflows to 0 in double");
+      if (errno == ERANGE && std::isinf(v[c]))
+        fail(name, lineNo, at + ": '" + field + "' overflows double");
+      if (errno == ERANGE && v[c] == 0.0)
+        fail(name, lineNo, at + ": '" + field + "' underflows to 0 in double");
       if (std::isnan(v[c])) fail(name, lineNo, at + ": NaN is not a valid value");
       const bool isTfar = kColumns[c] == "tfar";
-      if (std::isinf(v[c]) && !(isTfar && v[c] > 0)) fail(name, lineNo, at + ": must be finite: '" + field + "'");
+      if (std::isinf(v[c]) && !(isTfar && v[c] > 0))
+        fail(name, lineNo, at + ": must be finite: '" + field + "'");
     }
     RayD ray;
     ray.org = {v[0], v[1], v[2]};
@@ -108,8 +120,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
     auto columns = [&](size_t first, size_t last) {  // "column 'dx' (field 4)", ...
       std::string s;
       for (size_t c = first; c <= last; ++c)
-        s += std::string(c > first ? ", " : "") + "column '" + std::string(kColumns[c]) + "' (field " +
-             std::to_string(where[c] + 1) + ")";
+        s += std::string(c > first ? ", " : "") + "column '" + std::string(kColumns[c]) +
+             "' (field " + std::to_string(where[c] + 1) + ")";
       return s;
     };
     // A zero direction has no ray to trace; a negative or reversed interval none to search
@@ -133,7 +145,8 @@ void writeHits(std::ostream& out, const std::vector<QueryHit>& hits) {
       out << "0,0,0,0,0\n";
       continue;
     }
-    std::snprintf(buf, sizeof buf, "1,%.17g,%.17g,%.17g,%.17g\n", h.t, h.normal.x, h.normal.y, h.normal.z);
+    std::snprintf(buf, sizeof buf, "1,%.17g,%.17g,%.17g,%.17g\n", h.t, h.normal.x, h.normal.y,
+                  h.normal.z);
     out << buf;
   }
 }

@@ -32,7 +32,8 @@ Camera::Camera(const CameraDesc& desc, int width, int height)
   upv_ = glm::cross(right_, forward_);
   double aspect = static_cast<double>(width) / height;
   if (desc.type == CameraDesc::Type::Perspective) {
-    if (!(desc.fovY > 0 && desc.fovY < 180)) throw std::runtime_error("camera: fov out of (0, 180)");
+    if (!(desc.fovY > 0 && desc.fovY < 180))
+      throw std::runtime_error("camera: fov out of (0, 180)");
     halfH_ = std::tan(0.5 * desc.fovY * kPi / 180.0);
   } else {
     if (!(desc.height > 0)) throw std::runtime_error("camera: height must be positive");
@@ -40,7 +41,8 @@ Camera::Camera(const CameraDesc& desc, int width, int height)
   }
   halfW_ = halfH_ * aspect;
   // dist may overflow for far-apart points; the focus plane then is as far as a double goes.
-  focus_ = desc.focusDistance > 0 ? desc.focusDistance : std::min(dist, std::numeric_limits<double>::max());
+  focus_ = desc.focusDistance > 0 ? desc.focusDistance
+                                  : std::min(dist, std::numeric_limits<double>::max());
 }
 
 CameraRay Camera::generateRay(glm::dvec2 film, glm::dvec2 lens) const {

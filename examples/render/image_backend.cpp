@@ -24,7 +24,9 @@ std::vector<std::string> candidatePaths() {
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (!ec) {
     paths.push_back((exe.parent_path() / kModuleName).string());
-    paths.push_back((exe.parent_path().parent_path() / ALGRAY_RENDER_INSTALL_LIBDIR / "algray" / kModuleName).string());
+    paths.push_back(
+        (exe.parent_path().parent_path() / ALGRAY_RENDER_INSTALL_LIBDIR / "algray" / kModuleName)
+            .string());
   }
   paths.push_back(ALGRAY_RENDER_OIIO_MODULE);
   return paths;
@@ -53,7 +55,8 @@ class Loader {
   const ImageBackend& get() {
     start({});
     std::call_once(joined_, [this] { thread_.join(); });
-    if (!backend_) throw std::runtime_error("cannot load the image module (OpenImageIO): " + error_);
+    if (!backend_)
+      throw std::runtime_error("cannot load the image module (OpenImageIO): " + error_);
     return *backend_;
   }
 
@@ -93,6 +96,8 @@ void startLoadingImageBackend(std::function<void(const ImageBackend*)> whenLoade
   loader().start(std::move(whenLoaded));
 }
 
-const ImageBackend& imageBackend() { return loader().get(); }
+const ImageBackend& imageBackend() {
+  return loader().get();
+}
 
 }  // namespace algray::render

@@ -59,14 +59,17 @@ glm::dvec3 estimateDirect(const Scene& scene, const Hit& hit, const Shading& sh,
   if (glm::dot(ls.wi, sh.ngFacing) <= 0) return glm::dvec3(0.0);  // reflection only
   glm::dvec3 wiL = sh.frame.toLocal(ls.wi);
   glm::dvec3 f = evalBsdf(m, albedo, sh.woLocal, wiL) * std::abs(wiL.z);
-  if (f == glm::dvec3(0.0) || ls.radiance == glm::dvec3(0.0) || !(ls.pdf > 0)) return glm::dvec3(0.0);
+  if (f == glm::dvec3(0.0) || ls.radiance == glm::dvec3(0.0) || !(ls.pdf > 0))
+    return glm::dvec3(0.0);
   if (shadowed(scene, hit, ls, counter)) return glm::dvec3(0.0);
   double w = 1.0;
   if (mis && !ls.delta) w = powerHeuristic(ls.pdf, pdfBsdf(m, sh.woLocal, wiL));
   return f * ls.radiance * (w / ls.pdf);
 }
 
-double maxComponent(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+double maxComponent(const glm::dvec3& v) {
+  return std::max(v.x, std::max(v.y, v.z));
+}
 
 // Firefly clamp for contributions of paths with at least one bounce.
 glm::dvec3 clampPath(const glm::dvec3& c, int depth, double limit) {
@@ -117,7 +120,8 @@ glm::dvec3 tracePath(const Scene& scene, const CameraRay& cameraRay, Rng& rng, S
       for (int light = 0; light < scene.lightCount(); ++light) {
         glm::dvec2 u = rng.uniform2();
         if (auto ls = scene.sampleLight(light, hit->p, u))
-          L += clampPath(beta * estimateDirect(scene, *hit, sh, m, albedo, *ls, true, counter), depth, limit);
+          L += clampPath(beta * estimateDirect(scene, *hit, sh, m, albedo, *ls, true, counter),
+                         depth, limit);
       }
     }
     // ---- BSDF sampling for the next vertex ------------------------------------------

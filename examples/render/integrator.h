@@ -13,7 +13,7 @@ namespace algray::render {
 
 // First-hit data for the extra image channels (AOVs).
 struct SampleAov {
-  double depth = 0;  // distance to the first hit, 0 when nothing is hit
+  double depth = 0;        // distance to the first hit, 0 when nothing is hit
   glm::dvec3 normal{0.0};  // shading normal facing the camera
   glm::dvec3 albedo{0.0};
   double id = 0;  // geomID + 1, 0 for the background

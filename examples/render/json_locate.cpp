@@ -21,7 +21,8 @@ namespace {
 
 class Scanner {
  public:
-  Scanner(std::string_view text, std::map<std::string, size_t>& out, std::vector<DuplicateKey>* duplicates)
+  Scanner(std::string_view text, std::map<std::string, size_t>& out,
+          std::vector<DuplicateKey>* duplicates)
       : s_(text), out_(out), duplicates_(duplicates) {}
 
   void value(const std::string& pointer) {
@@ -94,13 +95,26 @@ class Scanner {
       const char e = s_[i_ + 1];
       i_ += 2;
       switch (e) {
-        case 'b': r += '\b'; break;
-        case 'f': r += '\f'; break;
-        case 'n': r += '\n'; break;
-        case 'r': r += '\r'; break;
-        case 't': r += '\t'; break;
-        case 'u': appendUtf8(r, codePoint()); break;
-        default: r += e;  // \" \\ \/
+        case 'b':
+          r += '\b';
+          break;
+        case 'f':
+          r += '\f';
+          break;
+        case 'n':
+          r += '\n';
+          break;
+        case 'r':
+          r += '\r';
+          break;
+        case 't':
+          r += '\t';
+          break;
+        case 'u':
+          appendUtf8(r, codePoint());
+          break;
+        default:
+          r += e;  // \" \\ \/
       }
     }
     ++i_;
@@ -128,7 +142,8 @@ class Scanner {
     if (v >= 0xD800 && v < 0xDC00 && i_ + 6 <= s_.size() && s_[i_] == '\\' && s_[i_ + 1] == 'u') {
       i_ += 2;
       unsigned low = 0;
-      if (hex4(low) && low >= 0xDC00 && low < 0xE000) return 0x10000 + ((v - 0xD800) << 10) + (low - 0xDC00);
+      if (hex4(low) && low >= 0xDC00 && low < 0xE000)
+        return 0x10000 + ((v - 0xD800) << 10) + (low - 0xDC00);
     }
     return v;
   }
@@ -158,7 +173,8 @@ class Scanner {
 
 }  // namespace
 
-std::map<std::string, size_t> locateJsonValues(std::string_view text, std::vector<DuplicateKey>* duplicates) {
+std::map<std::string, size_t> locateJsonValues(std::string_view text,
+                                               std::vector<DuplicateKey>* duplicates) {
   std::map<std::string, size_t> out;
   Scanner(text, out, duplicates).value("");
   return out;
@@ -167,9 +183,12 @@ std::map<std::string, size_t> locateJsonValues(std::string_view text, std::vecto
 std::string jsonPointerToken(std::string_view key) {
   std::string r;
   for (char c : key) {
-    if (c == '~') r += "~0";
-    else if (c == '/') r += "~1";
-    else r += c;
+    if (c == '~')
+      r += "~0";
+    else if (c == '/')
+      r += "~1";
+    else
+      r += c;
   }
   return r;
 }

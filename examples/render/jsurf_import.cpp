@@ -69,7 +69,8 @@ bool wellConditioned(const glm::dmat3& a) {
 SceneDesc jsurfScene(const std::filesystem::path& path) {
   std::error_code ec;
   // An ifstream opens a directory and reads nothing ("no surface_equation").
-  if (std::filesystem::is_directory(path, ec)) throw Error(path.string() + ": is a directory, not a .jsurf file");
+  if (std::filesystem::is_directory(path, ec))
+    throw Error(path.string() + ": is a directory, not a .jsurf file");
   JsurfFile f = JsurfFile::read(path);
   SceneDesc scene;
   scene.name = path.filename().string();
@@ -83,16 +84,20 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   // its cube, which must stay a normal double for the plugin (beyond +-100 it overflowed
   // to "singular rotation_matrix" at line 0, or to an infinite clip radius).
   const double scaleFactor = f.getNumber("scale_factor", 0.0);
-  if (!(std::abs(scaleFactor) <= 100)) fail(f, "scale_factor", "must be in [-100, 100] (10^scale_factor is the zoom)");
+  if (!(std::abs(scaleFactor) <= 100))
+    fail(f, "scale_factor", "must be in [-100, 100] (10^scale_factor is the zoom)");
   const double scale = std::pow(10.0, scaleFactor);
   glm::dmat4 rotation(1.0);
   if (f.has("rotation_matrix")) {
     rotation = rowMajor(f.getNumbers("rotation_matrix", 16));
     // Only its 3x3 part is used (SURFER rotates about the clip sphere's centre): a
     // translation or a projective row was dropped without a word.
-    if (rotation[3] != glm::dvec4(0, 0, 0, 1) || rotation[0][3] != 0 || rotation[1][3] != 0 || rotation[2][3] != 0)
-      fail(f, "rotation_matrix", "must be a 3x3 rotation in a 4x4 matrix (last column and last row 0 0 0 1)");
-    if (!wellConditioned(glm::dmat3(rotation))) fail(f, "rotation_matrix", "singular (or out of range) matrix");
+    if (rotation[3] != glm::dvec4(0, 0, 0, 1) || rotation[0][3] != 0 || rotation[1][3] != 0 ||
+        rotation[2][3] != 0)
+      fail(f, "rotation_matrix",
+           "must be a 3x3 rotation in a 4x4 matrix (last column and last row 0 0 0 1)");
+    if (!wellConditioned(glm::dmat3(rotation)))
+      fail(f, "rotation_matrix", "singular (or out of range) matrix");
   }
   glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -1});
   if (f.has("camera_transform")) {
@@ -100,7 +105,8 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     if (cameraTransform[0][3] != 0 || cameraTransform[1][3] != 0 || cameraTransform[2][3] != 0 ||
         cameraTransform[3][3] != 1)
       fail(f, "camera_transform", "the matrix must be affine (last row 0 0 0 1), not projective");
-    if (!wellConditioned(glm::dmat3(cameraTransform))) fail(f, "camera_transform", "singular (or out of range) matrix");
+    if (!wellConditioned(glm::dmat3(cameraTransform)))
+      fail(f, "camera_transform", "singular (or out of range) matrix");
   }
   // World = SURFER's world; surface = scale * rotation * world. The clip sphere (unit in
   // clipping space) has radius `scale` in surface space.
@@ -130,8 +136,10 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   // ---- Camera: SURFER's camera at the origin of camera space, looking down -z ---------
   glm::dmat4 cameraToWorld = glm::inverse(cameraTransform);
   glm::dvec3 eye(cameraToWorld * glm::dvec4(0, 0, 0, 1));
-  const std::optional<glm::dvec3> forward = safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(0, 0, -1, 0)));
-  const std::optional<glm::dvec3> up = safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(0, 1, 0, 0)));
+  const std::optional<glm::dvec3> forward =
+      safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(0, 0, -1, 0)));
+  const std::optional<glm::dvec3> up =
+      safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(0, 1, 0, 0)));
   if (!withinCoordinateRange(eye) || !forward || !up)
     fail(f, "camera_transform", "puts the camera beyond 1e17 (Embree's float rays reach 1.8e18)");
   scene.camera.position = eye;
@@ -141,13 +149,15 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   if (type == "PERSPECTIVE_CAMERA") {
     scene.camera.type = CameraDesc::Type::Perspective;
     scene.camera.fovY = f.getNumber("camera_fov_y", 60.0);
-    if (!(scene.camera.fovY > 0 && scene.camera.fovY < 180)) fail(f, "camera_fov_y", "must be in (0, 180) degrees");
+    if (!(scene.camera.fovY > 0 && scene.camera.fovY < 180))
+      fail(f, "camera_fov_y", "must be in (0, 180) degrees");
   } else if (type == "ORTHOGRAPHIC_CAMERA") {
     scene.camera.type = CameraDesc::Type::Orthographic;
     scene.camera.height = f.getNumber("camera_height", 2.0);
     if (!(scene.camera.height > 0)) fail(f, "camera_height", "must be positive");
     if (!withinCoordinateRange(scene.camera.height))
-      fail(f, "camera_height", "beyond 1e17, outside the range Embree's float rays can trace (1.8e18)");
+      fail(f, "camera_height",
+           "beyond 1e17, outside the range Embree's float rays can trace (1.8e18)");
   } else {
     fail(f, "camera_type", "'" + type + "' is not ORTHOGRAPHIC_CAMERA or PERSPECTIVE_CAMERA");
   }
@@ -159,14 +169,16 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     glm::dvec3 color = colorOf(f, "light_color_" + n, glm::dvec3(1.0));
     double intensity = nonNegative(f, "light_intensity_" + n, 1.0);
     const glm::dvec3 irradiance = color * (intensity * 3.14159265358979323846);
-    if (!isFloatColor(irradiance)) fail(f, "light_intensity_" + n, "colour times intensity beyond 3.4e38");
+    if (!isFloatColor(irradiance))
+      fail(f, "light_intensity_" + n, "colour times intensity beyond 3.4e38");
     if (f.get("light_status_" + n).value_or("OFF") != "ON") continue;
     glm::dvec3 pos = vec3Of(f, "light_position_" + n, glm::dvec3(0.0));
     if (pos == glm::dvec3(0.0)) continue;
     // safeNormalize: glm::normalize of 1e-200 or 1e308 components gave NaN rays.
     const std::optional<glm::dvec3> toLight = safeNormalize(pos);
     const std::optional<glm::dvec3> dirWorld =
-        toLight ? safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(*toLight, 0.0))) : std::nullopt;
+        toLight ? safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(*toLight, 0.0)))
+                : std::nullopt;
     if (!dirWorld) fail(f, "light_position_" + n, "no direction can be taken from this position");
     scene.directionalLights.push_back({*dirWorld, irradiance});
   }

@@ -35,9 +35,10 @@ std::shared_ptr<const Texture> Texture::load(const std::string& path) {
     if (raster.encoded) c = {srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)};
     // A float image may hold inf, NaN or negative values: as an environment they turned
     // the whole render black (inf * 0 in the estimator) or negative, with exit code 0.
-    if (!(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) || c.r < 0 || c.g < 0 || c.b < 0)
-      throw std::runtime_error(path + ": texel (" + std::to_string(i % static_cast<size_t>(w)) + ", " +
-                               std::to_string(i / static_cast<size_t>(w)) +
+    if (!(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) || c.r < 0 || c.g < 0 ||
+        c.b < 0)
+      throw std::runtime_error(path + ": texel (" + std::to_string(i % static_cast<size_t>(w)) +
+                               ", " + std::to_string(i / static_cast<size_t>(w)) +
                                ") is not a finite non-negative colour");
     texels[i] = c;
   }
@@ -74,7 +75,9 @@ glm::dvec3 Texture::average() const {
 
 namespace {
 
-double ggxAlpha(const Material& m) { return std::max(m.roughness * m.roughness, 1e-4); }
+double ggxAlpha(const Material& m) {
+  return std::max(m.roughness * m.roughness, 1e-4);
+}
 
 // Trowbridge-Reitz normal distribution D(h), Walter et al. Eq. 33.
 double ggxD(double cosH, double alpha) {

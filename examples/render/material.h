@@ -50,9 +50,7 @@ struct Material {
 
   // True when the BSDF is a Dirac delta (no light sampling, no MIS).
   bool isSpecular() const { return type == MaterialType::Dielectric; }
-  glm::dvec3 albedo(glm::dvec2 uv) const {
-    return texture ? color * texture->lookup(uv) : color;
-  }
+  glm::dvec3 albedo(glm::dvec2 uv) const { return texture ? color * texture->lookup(uv) : color; }
 };
 
 struct BsdfSample {

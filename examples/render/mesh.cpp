@@ -2,14 +2,14 @@
 
 #include "sampling.h"
 
+#include <tiny_obj_loader.h>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
-#include <tiny_obj_loader.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cctype>
+#include <cerrno>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
@@ -89,9 +89,11 @@ MeshData makeBox(glm::dvec3 half) {
         m.uvs.push_back({0.5 * (c[0] + 1), 0.5 * (c[1] + 1)});
       }
       if (sign > 0)
-        m.triangles.push_back({base, base + 1, base + 2}), m.triangles.push_back({base, base + 2, base + 3});
+        m.triangles.push_back({base, base + 1, base + 2}),
+            m.triangles.push_back({base, base + 2, base + 3});
       else
-        m.triangles.push_back({base, base + 2, base + 1}), m.triangles.push_back({base, base + 3, base + 2});
+        m.triangles.push_back({base, base + 2, base + 1}),
+            m.triangles.push_back({base, base + 3, base + 2});
     }
   return m;
 }
@@ -104,9 +106,9 @@ MeshData makeIcosphere(int subdivisions) {
                                {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
   for (glm::dvec3& p : v) p = glm::normalize(p);
   std::vector<std::array<unsigned, 3>> f = {
-      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
       {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int s = 0; s < subdivisions; ++s) {
     std::map<std::pair<unsigned, unsigned>, unsigned> mid;
     auto midpoint = [&](unsigned a, unsigned b) {
@@ -133,7 +135,8 @@ MeshData makeIcosphere(int subdivisions) {
   m.positions = v;
   m.normals = v;
   for (const glm::dvec3& p : v)
-    m.uvs.push_back({0.5 + std::atan2(p.y, p.x) / (2 * kPi), std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi});
+    m.uvs.push_back(
+        {0.5 + std::atan2(p.y, p.x) / (2 * kPi), std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi});
   m.triangles = std::move(f);
   return m;
 }
@@ -165,7 +168,9 @@ bool isDecimalLiteral(std::string_view t) {
 }
 
 // (Not std::isspace: a library call per character, 5 % of loading a 74 MB OBJ.)
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool isBlank(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
 
 // t comes from a word split at blanks, so strtoll's skipping of leading blanks never applies.
 bool isFaceIndex(std::string_view t) {
@@ -202,22 +207,26 @@ void checkObjNumbers(const std::string& path) {
       if (n < 3) fail("a face needs at least 3 vertices");
       for (size_t k = 1; k <= n; ++k) {
         const std::string_view corner = items[k];
-        const size_t a = corner.find('/'), b = a == std::string_view::npos ? a : corner.find('/', a + 1);
-        const bool ok =
-            isFaceIndex(corner.substr(0, a)) &&
-            (a == std::string_view::npos ||
-             (b == std::string_view::npos ? isFaceIndex(corner.substr(a + 1))
-                                          : (b == a + 1 || isFaceIndex(corner.substr(a + 1, b - a - 1))) &&
-                                                isFaceIndex(corner.substr(b + 1))));
+        const size_t a = corner.find('/'),
+                     b = a == std::string_view::npos ? a : corner.find('/', a + 1);
+        const bool ok = isFaceIndex(corner.substr(0, a)) &&
+                        (a == std::string_view::npos ||
+                         (b == std::string_view::npos
+                              ? isFaceIndex(corner.substr(a + 1))
+                              : (b == a + 1 || isFaceIndex(corner.substr(a + 1, b - a - 1))) &&
+                                    isFaceIndex(corner.substr(b + 1))));
         if (!ok) fail("bad face index '" + std::string(corner) + "'");
       }
       continue;
     }
-    const bool countOk = kind == "v" ? (n == 3 || n == 4 || n == 6 || n == 7) : kind == "vn" ? n == 3 : (n >= 1 && n <= 3);
+    const bool countOk = kind == "v"    ? (n == 3 || n == 4 || n == 6 || n == 7)
+                         : kind == "vn" ? n == 3
+                                        : (n >= 1 && n <= 3);
     if (!countOk) fail("'" + std::string(kind) + "' with " + std::to_string(n) + " numbers");
     for (size_t k = 1; k <= n; ++k) {
       const std::string number(items[k]);
-      if (!isDecimalLiteral(number) || !(std::abs(std::strtod(number.c_str(), nullptr)) <= std::numeric_limits<float>::max()))
+      if (!isDecimalLiteral(number) ||
+          !(std::abs(std::strtod(number.c_str(), nullptr)) <= std::numeric_limits<float>::max()))
         fail("'" + number + "' is not a finite decimal number (in float's range)");
     }
   }
@@ -259,7 +268,8 @@ MeshData loadObj(const std::string& path) {
         if (it == remap.end()) {
           // tinyobjloader only warns about an index beyond its list: every index is checked
           // before it is read (a normal or uv index was not: "f 1//900" read past the heap).
-          if (idx.vertex_index < 0 || 3 * static_cast<size_t>(idx.vertex_index) + 2 >= attrib.vertices.size())
+          if (idx.vertex_index < 0 ||
+              3 * static_cast<size_t>(idx.vertex_index) + 2 >= attrib.vertices.size())
             throw std::runtime_error(path + ": vertex index out of range");
           if (allNormals && 3 * static_cast<size_t>(idx.normal_index) + 2 >= attrib.normals.size())
             throw std::runtime_error(path + ": normal index out of range");

@@ -22,7 +22,9 @@ std::string vec(const glm::dvec3& v) {
   return buf;
 }
 
-std::string rgb(const glm::dvec3& c) { return "rgb " + vec(c); }
+std::string rgb(const glm::dvec3& c) {
+  return "rgb " + vec(c);
+}
 
 std::string finish(double ambient) {
   std::ostringstream s;
@@ -40,22 +42,25 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
   if (cam.type != CameraDesc::Type::Perspective || cam.aperture > 0)
     throw std::runtime_error("POV-Ray export: only pinhole perspective cameras");
   glm::dvec3 env = scene.environment.color;
-  if (env.r != env.g || env.g != env.b) throw std::runtime_error("POV-Ray export: grey environments only");
+  if (env.r != env.g || env.g != env.b)
+    throw std::runtime_error("POV-Ray export: grey environments only");
   double aspect = static_cast<double>(s.width) / s.height;
   double hfov = 2.0 * std::atan(aspect * std::tan(0.5 * cam.fovY * kPi / 180.0)) * 180.0 / kPi;
-  out << "// Written by algray-render --export-pov: the same scene as algray's direct integrator.\n";
+  out << "// Written by algray-render --export-pov: the same scene as algray's direct "
+         "integrator.\n";
   out << "#version 3.7;\n";
   out << "global_settings { assumed_gamma 1.0 ambient_light rgb <1, 1, 1> max_trace_level 5 }\n";
   // POV-Ray is left-handed; a negative `right` makes the picture right-handed like ours.
-  out << "camera { perspective location " << vec(cam.position) << " sky " << vec(cam.up)
-      << " up " << vec(cam.up) << " right <" << -aspect << ", 0, 0> angle " << hfov << " look_at "
+  out << "camera { perspective location " << vec(cam.position) << " sky " << vec(cam.up) << " up "
+      << vec(cam.up) << " right <" << -aspect << ", 0, 0> angle " << hfov << " look_at "
       << vec(cam.lookAt) << " }\n";
   out << "background { color " << rgb(scene.hasBackground ? scene.background : env) << " }\n";
   double far = 1e3 * std::max(1.0, glm::length(cam.position - cam.lookAt));
   for (const DirectionalLight& l : scene.directionalLights)
     out << "light_source { " << vec(far * glm::normalize(l.direction)) << " color "
         << rgb(l.irradiance / kPi) << " parallel point_at <0, 0, 0> }\n";
-  if (!scene.pointLights.empty()) throw std::runtime_error("POV-Ray export: point lights are not exported");
+  if (!scene.pointLights.empty())
+    throw std::runtime_error("POV-Ray export: point lights are not exported");
   auto texture = [&](int m) {
     const Material& mat = scene.materials.at(m);
     if (mat.type != MaterialType::Diffuse || mat.texture)
@@ -72,7 +77,8 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
     // range" for degrees 36-40, which algray traces).
     if (n > kPovRayMaxDegree)
       throw std::runtime_error("POV-Ray export: POV-Ray's polynomial takes degree <= " +
-                               std::to_string(kPovRayMaxDegree) + ", this surface has degree " + std::to_string(n));
+                               std::to_string(kPovRayMaxDegree) + ", this surface has degree " +
+                               std::to_string(n));
     out << "polynomial { " << n;
     for (int d = n; d >= 0; --d)
       for (int i = d; i >= 0; --i)
@@ -81,10 +87,11 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
           double c = p.coeff(i, j, k);
           if (c != 0) out << ",\n  xyz(" << i << ", " << j << ", " << k << "): " << c;
         }
-    out << "\n  " << (sturm ? "sturm\n  " : "") << "clipped_by { sphere { " << vec(clip->center) << ", "
-        << clip->radius << " } }\n  bounded_by { clipped_by }\n";
+    out << "\n  " << (sturm ? "sturm\n  " : "") << "clipped_by { sphere { " << vec(clip->center)
+        << ", " << clip->radius << " } }\n  bounded_by { clipped_by }\n";
     out << "  texture { " << texture(item.material) << " }\n";
-    if (item.backMaterial >= 0) out << "  interior_texture { " << texture(item.backMaterial) << " }\n";
+    if (item.backMaterial >= 0)
+      out << "  interior_texture { " << texture(item.backMaterial) << " }\n";
     out << "}\n";
   }
   // Meshes as mesh2 in scene space, the same triangles (and vertex normals) as algray's
@@ -104,7 +111,8 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
     out << "  face_indices { " << m.triangles.size();
     for (const auto& t : m.triangles) out << ", <" << t[0] << ", " << t[1] << ", " << t[2] << ">";
     out << " }\n  texture { " << texture(item.material) << " }\n";
-    if (item.backMaterial >= 0) out << "  interior_texture { " << texture(item.backMaterial) << " }\n";
+    if (item.backMaterial >= 0)
+      out << "  interior_texture { " << texture(item.backMaterial) << " }\n";
     out << "}\n";
   }
   return out.str();

@@ -46,8 +46,9 @@ void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, 
     glm::dvec2 lens = rng.uniform2();
     CameraRay ray = camera.generateRay({x + jitter.x, y + jitter.y}, lens);
     SampleAov aov;
-    glm::dvec3 L = s.integrator == IntegratorType::Path ? tracePath(scene, ray, rng, aov, counter)
-                                                         : traceDirect(scene, ray, rng, aov, counter);
+    glm::dvec3 L = s.integrator == IntegratorType::Path
+                       ? tracePath(scene, ray, rng, aov, counter)
+                       : traceDirect(scene, ray, rng, aov, counter);
     // A non-finite sample (should not happen) must not poison the pixel.
     if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) sum += L;
     depth += aov.depth;
@@ -73,8 +74,8 @@ void drawProgress(int done, int total, double seconds, std::uint64_t rays) {
   bar[width] = 0;
   double rate = seconds > 0 ? rays / seconds : 0;
   double eta = done > 0 ? seconds * (total - done) / done : 0;
-  std::fprintf(stderr, "\r[%s] %3d%%  %6.2f Mrays/s  ETA %4.0fs ", bar, total ? 100 * done / total : 100,
-               rate * 1e-6, eta);
+  std::fprintf(stderr, "\r[%s] %3d%%  %6.2f Mrays/s  ETA %4.0fs ", bar,
+               total ? 100 * done / total : 100, rate * 1e-6, eta);
   std::fflush(stderr);
 }
 

@@ -22,7 +22,7 @@ struct Image {
 };
 
 struct RenderOptions {
-  bool progress = false;                    // draw a progress bar on stderr
+  bool progress = false;                      // draw a progress bar on stderr
   const std::atomic<bool>* cancel = nullptr;  // when true: stop, checked before every pixel
 };
 

@@ -25,7 +25,7 @@ struct Scene::Geom {
 
 struct Scene::Light {
   enum class Type { Point, Directional, Mesh, Environment } type;
-  int index = 0;  // point/directional list index or geomID
+  int index = 0;            // point/directional list index or geomID
   std::vector<double> cdf;  // mesh: cumulative triangle areas
   double area = 0;
   glm::dvec3 emission{0.0};
@@ -93,12 +93,14 @@ void Scene::build() {
     g->mesh.transform(item.transform);
     g->mesh.validate(item.label);
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), g->mesh.positions.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                          g->mesh.positions.size()));
     for (size_t i = 0; i < g->mesh.positions.size(); ++i)
       for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(g->mesh.positions[i][k]);
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), g->mesh.triangles.size()));
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), g->mesh.triangles.size()));
     for (size_t i = 0; i < g->mesh.triangles.size(); ++i)
       for (int k = 0; k < 3; ++k) idx[3 * i + k] = g->mesh.triangles[i][k];
     rtcCommitGeometry(geom);
@@ -122,7 +124,9 @@ void Scene::build() {
     sd.transform = item.transform;
     // The surface's u, v (its spherical parametrisation) only where a texture reads them:
     // an untextured surface skips the atan2/acos of every hit.
-    auto textured = [&](int m) { return m >= 0 && desc_.materials[static_cast<size_t>(m)].texture != nullptr; };
+    auto textured = [&](int m) {
+      return m >= 0 && desc_.materials[static_cast<size_t>(m)].texture != nullptr;
+    };
     sd.options.uv = textured(item.material) || textured(item.backMaterial);
     try {
       g->surface = std::make_unique<SurfaceGeometry>(device_, std::move(sd));
@@ -144,7 +148,8 @@ void Scene::build() {
   RTCBounds b;
   rtcGetSceneBounds(scene_, &b);
   if (std::isfinite(b.lower_x) && b.upper_x >= b.lower_x)
-    radius_ = 0.5 * glm::length(glm::dvec3(b.upper_x - b.lower_x, b.upper_y - b.lower_y, b.upper_z - b.lower_z));
+    radius_ = 0.5 * glm::length(glm::dvec3(b.upper_x - b.lower_x, b.upper_y - b.lower_y,
+                                           b.upper_z - b.lower_z));
 
   // ---- Light table -----------------------------------------------------------------
   geomLight_.assign(geoms_.size(), -1);
@@ -177,7 +182,9 @@ void Scene::build() {
   }
 }
 
-Scene::~Scene() { release(); }
+Scene::~Scene() {
+  release();
+}
 
 void Scene::release() noexcept {
   if (scene_) rtcReleaseScene(scene_);
@@ -206,7 +213,8 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   rtcIntersect1(scene_, &context, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.geomID >= geoms_.size()) return std::nullopt;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.geomID >= geoms_.size())
+    return std::nullopt;
   const Geom* g = geoms_[rh.hit.geomID].get();
   if (!g) return std::nullopt;
 
@@ -305,7 +313,9 @@ glm::dvec3 Scene::background(const glm::dvec3& dir) const {
   return desc_.hasBackground ? desc_.background : environment(dir);
 }
 
-int Scene::lightCount() const { return static_cast<int>(lights_.size()); }
+int Scene::lightCount() const {
+  return static_cast<int>(lights_.size());
+}
 
 double Scene::environmentPdf() const {
   return envLight_ < 0 ? 0.0 : kUniformSpherePdf;

@@ -31,12 +31,12 @@ struct RayCounter {
 
 // A sampled point on a light, as seen from a shading point.
 struct LightSample {
-  glm::dvec3 wi{0.0};       // unit direction towards the light
-  double distance = 0;      // infinity for directional and environment lights
-  glm::dvec3 radiance{0.0}; // incident radiance (or irradiance-like for delta lights)
-  double pdf = 0;           // solid-angle pdf; 1 for delta lights
-  bool delta = false;       // point or directional: no MIS
-  bool isSurface = false;   // sample lies on geometry that is an algebraic surface
+  glm::dvec3 wi{0.0};        // unit direction towards the light
+  double distance = 0;       // infinity for directional and environment lights
+  glm::dvec3 radiance{0.0};  // incident radiance (or irradiance-like for delta lights)
+  double pdf = 0;            // solid-angle pdf; 1 for delta lights
+  bool delta = false;        // point or directional: no MIS
+  bool isSurface = false;    // sample lies on geometry that is an algebraic surface
 };
 
 class Scene {

@@ -47,8 +47,10 @@ double lowestPoint(const SurfaceItem& item, double radius) {
   const int n = 48;
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
-      glm::dvec3 org = c + glm::dvec3(radius * (2.0 * i / n - 1.0), radius * (2.0 * j / n - 1.0), -2.0 * radius);
-      if (auto hit = scene.intersect(org, {0, 0, 1}, 0.0, counter)) lowest = std::min(lowest, hit->p.z);
+      glm::dvec3 org =
+          c + glm::dvec3(radius * (2.0 * i / n - 1.0), radius * (2.0 * j / n - 1.0), -2.0 * radius);
+      if (auto hit = scene.intersect(org, {0, 0, 1}, 0.0, counter))
+        lowest = std::min(lowest, hit->p.z);
     }
   return lowest;
 }
@@ -91,7 +93,7 @@ SceneDesc defaultScene() {
   scene.meshes.push_back(ball);
 
   // ---- Gallery surfaces of different degrees (whatever the gallery holds of these) ----
-  const char* preferred[] = {"clebsch-cubic", "torus", "barth-sextic", "chmutov-8",
+  const char* preferred[] = {"clebsch-cubic",  "torus",       "barth-sextic", "chmutov-8",
                              "kummer-quartic", "barth-decic", "cayley-cubic"};
   std::vector<const GallerySurface*> chosen;
   std::set<int> degrees;
@@ -104,7 +106,8 @@ SceneDesc defaultScene() {
   };
   for (const char* name : preferred) tryAdd(findGallerySurface(name));
   for (const GallerySurface& g : gallery()) tryAdd(&g);
-  std::sort(chosen.begin(), chosen.end(), [](auto* a, auto* b) { return a->build().degree() < b->build().degree(); });
+  std::sort(chosen.begin(), chosen.end(),
+            [](auto* a, auto* b) { return a->build().degree() < b->build().degree(); });
   const glm::dvec2 spots[] = {{-2.9, 0.0}, {-0.85, 0.5}, {1.15, 0.0}};
   const double yaw[] = {25.0, 0.0, 20.0};
   const double size = 1.05;
@@ -167,11 +170,14 @@ SceneDesc quickScene(const QuickOptions& options) {
   // rays and triangles resolve (value_checks.h): r = 1e17 lost the floor, r = 1e-20 showed
   // only the floor, both with exit code 0.
   if (!(20.0 * r <= kMaxCoordinate))
-    throw Error("--clip-sphere: beyond a radius of 5e15 the quick scene's floor (40 radii across) leaves "
-                "Embree's range: scale the scene down");
+    throw Error(
+        "--clip-sphere: beyond a radius of 5e15 the quick scene's floor (40 radii across) leaves "
+        "Embree's range: scale the scene down");
   if (!(40.0 * r >= kMinMeshExtent))
-    throw Error("--clip-sphere: below a radius of 2.5e-17 the quick scene's floor is too small for Embree's float "
-                "triangles: scale the scene up");
+    throw Error(
+        "--clip-sphere: below a radius of 2.5e-17 the quick scene's floor is too small for "
+        "Embree's float "
+        "triangles: scale the scene up");
   s.clip = ClipSphere{glm::dvec3(0.0), r};
   Material front{MaterialType::Diffuse, {0.85, 0.45, 0.15}, 0.3, 1.5, {}, nullptr};
   Material back{MaterialType::Diffuse, {0.25, 0.45, 0.80}, 0.3, 1.5, {}, nullptr};

@@ -26,7 +26,7 @@ struct RenderSettings {
   int maxDepth = 8;  // path vertices after the camera; Russian roulette from depth 3
   IntegratorType integrator = IntegratorType::Path;
   std::uint64_t seed = 0;
-  int threads = 0;  // 0 = all cores
+  int threads = 0;        // 0 = all cores
   double exposure = 0.0;  // stops, applied before tone mapping (PNG only)
   // Path tracer: largest contribution of one indirect light path (0 = no clamp). Biased,
   // but removes the caustic fireflies a few samples per pixel cannot average out.

@@ -21,8 +21,8 @@
 namespace algray::render {
 
 SceneError::SceneError(const std::string& file, int line, int column, const std::string& message)
-    : std::runtime_error(line > 0 ? file + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                                        ": " + message
+    : std::runtime_error(line > 0 ? file + ":" + std::to_string(line) + ":" +
+                                        std::to_string(column) + ": " + message
                                   : file + ": " + message),
       file_(file),
       line_(line),
@@ -45,8 +45,9 @@ class Loader {
     constexpr int kMaxNesting = 64;
     if (const size_t at = findExcessiveNesting(text_, kMaxNesting); at != std::string_view::npos) {
       const TextLocation loc = locateOffset(text_, at);
-      throw SceneError(name_, loc.line, loc.column,
-                       "nesting deeper than " + std::to_string(kMaxNesting) + " levels of arrays and objects");
+      throw SceneError(
+          name_, loc.line, loc.column,
+          "nesting deeper than " + std::to_string(kMaxNesting) + " levels of arrays and objects");
     }
     // nlohmann's parser stops at a NUL byte as at the end of the input, so whatever
     // followed one was accepted unread ({...}\0garbage rendered with exit code 0).
@@ -67,15 +68,19 @@ class Loader {
       // Other parse failures carry no position: out_of_range.406 "number overflow parsing
       // '1e400'" quotes the literal, which is then found in the text.
       std::string what = e.what();
-      if (auto close = what.find("] "); what.rfind("[json.exception.", 0) == 0 && close != std::string::npos)
+      if (auto close = what.find("] ");
+          what.rfind("[json.exception.", 0) == 0 && close != std::string::npos)
         what = what.substr(close + 2);
       size_t at = std::string::npos;
-      if (auto open = what.find('\''), end = what.rfind('\''); open != std::string::npos && end > open)
+      if (auto open = what.find('\''), end = what.rfind('\'');
+          open != std::string::npos && end > open)
         at = locateNumberLiteral(text_, std::string_view(what).substr(open + 1, end - open - 1));
       if (at == std::string::npos) throw SceneError(name_, 0, 0, what);
       TextLocation loc = locateOffset(text_, at);
       throw SceneError(name_, loc.line, loc.column,
-                       what.find("overflow") != std::string::npos ? what + " (beyond the range of a double)" : what);
+                       what.find("overflow") != std::string::npos
+                           ? what + " (beyond the range of a double)"
+                           : what);
     }
     std::vector<DuplicateKey> duplicates;
     offsets_ = locateJsonValues(text_, &duplicates);
@@ -85,21 +90,24 @@ class Loader {
       const DuplicateKey& d = duplicates.front();
       TextLocation first = locateOffset(text_, d.first), second = locateOffset(text_, d.second);
       throw SceneError(name_, second.line, second.column,
-                       "duplicate key '" + d.key + "' (first at line " + std::to_string(first.line) + ", column " +
-                           std::to_string(first.column) + ")");
+                       "duplicate key '" + d.key + "' (first at line " +
+                           std::to_string(first.line) + ", column " + std::to_string(first.column) +
+                           ")");
     }
     SceneDesc scene;
     scene.name = name_;
     if (!root_.is_object()) fail("", "a scene is a JSON object");
-    allowKeys(root_, "", {"render", "camera", "materials", "environment", "background", "surfaces",
-                          "meshes", "lights", "description"});
+    allowKeys(root_, "",
+              {"render", "camera", "materials", "environment", "background", "surfaces", "meshes",
+               "lights", "description"});
     if (root_.contains("render")) readRender(root_["render"], "/render", scene.settings);
     if (root_.contains("camera")) readCamera(root_["camera"], "/camera", scene.camera);
     if (root_.contains("materials")) {
       const json& ms = root_["materials"];
       if (!ms.is_object()) fail("/materials", "materials is an object of named materials");
       for (auto it = ms.begin(); it != ms.end(); ++it)
-        named_[it.key()] = scene.addMaterial(readMaterial(it.value(), "/materials/" + jsonPointerToken(it.key())));
+        named_[it.key()] =
+            scene.addMaterial(readMaterial(it.value(), "/materials/" + jsonPointerToken(it.key())));
     }
     if (root_.contains("environment")) readEnvironment(root_["environment"], "/environment", scene);
     if (root_.contains("background")) {
@@ -108,24 +116,29 @@ class Loader {
     }
     if (root_.contains("surfaces")) {
       const json& list = array(root_["surfaces"], "/surfaces");
-      for (size_t i = 0; i < list.size(); ++i) readSurface(list[i], "/surfaces/" + std::to_string(i), scene);
+      for (size_t i = 0; i < list.size(); ++i)
+        readSurface(list[i], "/surfaces/" + std::to_string(i), scene);
     }
     if (root_.contains("meshes")) {
       const json& list = array(root_["meshes"], "/meshes");
-      for (size_t i = 0; i < list.size(); ++i) readMesh(list[i], "/meshes/" + std::to_string(i), scene);
+      for (size_t i = 0; i < list.size(); ++i)
+        readMesh(list[i], "/meshes/" + std::to_string(i), scene);
     }
     if (root_.contains("lights")) {
       const json& list = array(root_["lights"], "/lights");
-      for (size_t i = 0; i < list.size(); ++i) readLight(list[i], "/lights/" + std::to_string(i), scene);
+      for (size_t i = 0; i < list.size(); ++i)
+        readLight(list[i], "/lights/" + std::to_string(i), scene);
     }
     return scene;
   }
 
  private:
   // ---- Errors with positions ---------------------------------------------------------
-  [[noreturn]] void fail(const std::string& pointer, const std::string& message, int extraColumns = 0) const {
+  [[noreturn]] void fail(const std::string& pointer, const std::string& message,
+                         int extraColumns = 0) const {
     auto it = offsets_.find(pointer);
-    if (it == offsets_.end()) throw SceneError(name_, 0, 0, (pointer.empty() ? "" : pointer + ": ") + message);
+    if (it == offsets_.end())
+      throw SceneError(name_, 0, 0, (pointer.empty() ? "" : pointer + ": ") + message);
     TextLocation loc = locateOffset(text_, it->second);
     throw SceneError(name_, loc.line, loc.column + extraColumns, message);
   }
@@ -136,10 +149,12 @@ class Loader {
     TextLocation loc = locateOffset(text_, it->second);
     return name_ + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.column);
   }
-  void allowKeys(const json& j, const std::string& p, std::initializer_list<const char*> keys) const {
+  void allowKeys(const json& j, const std::string& p,
+                 std::initializer_list<const char*> keys) const {
     std::set<std::string> allowed(keys.begin(), keys.end());
     for (auto it = j.begin(); it != j.end(); ++it)
-      if (!allowed.count(it.key())) fail(p + "/" + jsonPointerToken(it.key()), "unknown key '" + it.key() + "'");
+      if (!allowed.count(it.key()))
+        fail(p + "/" + jsonPointerToken(it.key()), "unknown key '" + it.key() + "'");
   }
   // Keys the object type knows but this kind of it ignores: refused like unknown ones
   // ("size" on an OBJ mesh, "roughness" on a diffuse material, "fov" on an orthographic
@@ -147,7 +162,8 @@ class Loader {
   void notFor(const json& j, const std::string& p, std::initializer_list<const char*> keys,
               const std::string& what) const {
     for (const char* k : keys)
-      if (j.contains(k)) fail(p + "/" + jsonPointerToken(k), std::string("'") + k + "' does not apply to " + what);
+      if (j.contains(k))
+        fail(p + "/" + jsonPointerToken(k), std::string("'") + k + "' does not apply to " + what);
   }
   const json& object(const json& j, const std::string& p) const {
     if (!j.is_object()) fail(p, "expected an object");
@@ -167,8 +183,9 @@ class Loader {
     if (v == 0.0 && j.is_number_float()) {
       if (auto it = offsets_.find(p); it != offsets_.end()) {
         size_t end = it->second;
-        while (end < text_.size() && (std::isdigit(static_cast<unsigned char>(text_[end])) || text_[end] == '.' ||
-                                      text_[end] == 'e' || text_[end] == 'E' || text_[end] == '-' || text_[end] == '+'))
+        while (end < text_.size() &&
+               (std::isdigit(static_cast<unsigned char>(text_[end])) || text_[end] == '.' ||
+                text_[end] == 'e' || text_[end] == 'E' || text_[end] == '-' || text_[end] == '+'))
           ++end;
         const std::string literal(text_.substr(it->second, end - it->second));
         errno = 0;
@@ -186,7 +203,8 @@ class Loader {
   int integer(const json& j, const std::string& p, int lo, int hi) const {
     if (!j.is_number_integer()) fail(p, "expected an integer");
     auto v = j.get<long long>();
-    if (v < lo || v > hi) fail(p, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (v < lo || v > hi)
+      fail(p, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return static_cast<int>(v);
   }
   std::string string(const json& j, const std::string& p) const {
@@ -219,7 +237,8 @@ class Loader {
     return v;
   }
   static constexpr const char* tooFar =
-      "magnitude beyond 1e17, outside the range Embree's float rays can trace (1.8e18): scale the scene down";
+      "magnitude beyond 1e17, outside the range Embree's float rays can trace (1.8e18): scale the "
+      "scene down";
   // A direction: normalised here, where a zero or non-finite one can still be reported.
   glm::dvec3 direction(const json& j, const std::string& p) const {
     std::optional<glm::dvec3> d = safeNormalize(vec3(j, p));
@@ -236,13 +255,16 @@ class Loader {
   // ---- Sections ----------------------------------------------------------------------
   void readRender(const json& j, const std::string& p, RenderSettings& s) const {
     object(j, p);
-    allowKeys(j, p, {"width", "height", "spp", "max_depth", "integrator", "seed", "exposure", "tone_map", "threads", "clamp"});
+    allowKeys(j, p,
+              {"width", "height", "spp", "max_depth", "integrator", "seed", "exposure", "tone_map",
+               "threads", "clamp"});
     if (j.contains("width")) s.width = integer(j["width"], p + "/width", 1, 1 << 15);
     if (j.contains("height")) s.height = integer(j["height"], p + "/height", 1, 1 << 15);
     if (j.contains("spp")) s.spp = integer(j["spp"], p + "/spp", 1, 1 << 20);
     if (j.contains("max_depth")) s.maxDepth = integer(j["max_depth"], p + "/max_depth", 0, 1000);
     if (j.contains("threads")) s.threads = integer(j["threads"], p + "/threads", 0, 1024);
-    if (j.contains("seed")) s.seed = static_cast<std::uint64_t>(integer(j["seed"], p + "/seed", 0, 1 << 30));
+    if (j.contains("seed"))
+      s.seed = static_cast<std::uint64_t>(integer(j["seed"], p + "/seed", 0, 1 << 30));
     if (j.contains("exposure")) s.exposure = number(j["exposure"], p + "/exposure");
     if (j.contains("clamp")) {
       s.clampIndirect = number(j["clamp"], p + "/clamp");
@@ -250,29 +272,41 @@ class Loader {
     }
     if (j.contains("integrator")) {
       std::string v = string(j["integrator"], p + "/integrator");
-      if (v == "path") s.integrator = IntegratorType::Path;
-      else if (v == "direct") s.integrator = IntegratorType::Direct;
-      else fail(p + "/integrator", "integrator must be \"path\" or \"direct\"");
+      if (v == "path")
+        s.integrator = IntegratorType::Path;
+      else if (v == "direct")
+        s.integrator = IntegratorType::Direct;
+      else
+        fail(p + "/integrator", "integrator must be \"path\" or \"direct\"");
     }
     if (j.contains("tone_map")) {
       std::string v = string(j["tone_map"], p + "/tone_map");
-      if (v == "aces") s.toneMap = ToneMap::Aces;
-      else if (v == "clamp") s.toneMap = ToneMap::Clamp;
-      else fail(p + "/tone_map", "tone_map must be \"aces\" or \"clamp\"");
+      if (v == "aces")
+        s.toneMap = ToneMap::Aces;
+      else if (v == "clamp")
+        s.toneMap = ToneMap::Clamp;
+      else
+        fail(p + "/tone_map", "tone_map must be \"aces\" or \"clamp\"");
     }
   }
 
   void readCamera(const json& j, const std::string& p, CameraDesc& c) const {
     object(j, p);
-    allowKeys(j, p, {"type", "position", "look_at", "up", "fov", "height", "aperture", "focus_distance"});
+    allowKeys(j, p,
+              {"type", "position", "look_at", "up", "fov", "height", "aperture", "focus_distance"});
     if (j.contains("type")) {
       std::string v = string(j["type"], p + "/type");
-      if (v == "perspective") c.type = CameraDesc::Type::Perspective;
-      else if (v == "orthographic") c.type = CameraDesc::Type::Orthographic;
-      else fail(p + "/type", "camera type must be \"perspective\" or \"orthographic\"");
+      if (v == "perspective")
+        c.type = CameraDesc::Type::Perspective;
+      else if (v == "orthographic")
+        c.type = CameraDesc::Type::Orthographic;
+      else
+        fail(p + "/type", "camera type must be \"perspective\" or \"orthographic\"");
     }
-    if (c.type == CameraDesc::Type::Perspective) notFor(j, p, {"height"}, "a perspective camera (it has \"fov\")");
-    else notFor(j, p, {"fov", "aperture", "focus_distance"}, "an orthographic camera");
+    if (c.type == CameraDesc::Type::Perspective)
+      notFor(j, p, {"height"}, "a perspective camera (it has \"fov\")");
+    else
+      notFor(j, p, {"fov", "aperture", "focus_distance"}, "an orthographic camera");
     if (j.contains("position")) c.position = coordinate(j["position"], p + "/position");
     if (j.contains("look_at")) c.lookAt = coordinate(j["look_at"], p + "/look_at");
     if (j.contains("up")) c.up = direction(j["up"], p + "/up");
@@ -286,13 +320,15 @@ class Loader {
       if (c.aperture < 0) fail(p + "/aperture", "aperture must not be negative");
       if (!withinCoordinateRange(c.aperture)) fail(p + "/aperture", tooFar);
     }
-    if (j.contains("focus_distance")) c.focusDistance = length(j["focus_distance"], p + "/focus_distance");
+    if (j.contains("focus_distance"))
+      c.focusDistance = length(j["focus_distance"], p + "/focus_distance");
     if (c.position == c.lookAt) fail(p, "camera position and look_at coincide");
     // The camera's own test (camera.cpp), here so that the message has the file position.
     const std::optional<glm::dvec3> forward = safeNormalize(c.lookAt - c.position);
     if (!forward) fail(p, "camera position and look_at are too close to give a view direction");
     if (!(glm::length(glm::cross(*forward, c.up)) > 1e-9 * glm::length(c.up)))
-      fail(p + (j.contains("up") ? "/up" : ""), "up must not be parallel to the view direction (position to look_at)");
+      fail(p + (j.contains("up") ? "/up" : ""),
+           "up must not be parallel to the view direction (position to look_at)");
   }
 
   Material readMaterial(const json& j, const std::string& p) const {
@@ -300,17 +336,29 @@ class Loader {
     allowKeys(j, p, {"type", "color", "roughness", "ior", "emission", "texture"});
     Material m;
     std::string type = j.contains("type") ? string(j["type"], p + "/type") : "diffuse";
-    if (type == "diffuse") m.type = MaterialType::Diffuse;
-    else if (type == "conductor") m.type = MaterialType::Conductor;
-    else if (type == "dielectric") m.type = MaterialType::Dielectric, m.color = glm::dvec3(1.0);
-    else if (type == "emissive") m.type = MaterialType::Emissive;
-    else fail(p + "/type", "material type must be diffuse, conductor, dielectric or emissive");
+    if (type == "diffuse")
+      m.type = MaterialType::Diffuse;
+    else if (type == "conductor")
+      m.type = MaterialType::Conductor;
+    else if (type == "dielectric")
+      m.type = MaterialType::Dielectric, m.color = glm::dvec3(1.0);
+    else if (type == "emissive")
+      m.type = MaterialType::Emissive;
+    else
+      fail(p + "/type", "material type must be diffuse, conductor, dielectric or emissive");
     switch (m.type) {
-      case MaterialType::Diffuse: notFor(j, p, {"roughness", "ior", "emission"}, "a diffuse material"); break;
-      case MaterialType::Conductor: notFor(j, p, {"ior", "emission"}, "a conductor"); break;
-      case MaterialType::Dielectric: notFor(j, p, {"roughness", "emission"}, "a (smooth) dielectric"); break;
+      case MaterialType::Diffuse:
+        notFor(j, p, {"roughness", "ior", "emission"}, "a diffuse material");
+        break;
+      case MaterialType::Conductor:
+        notFor(j, p, {"ior", "emission"}, "a conductor");
+        break;
+      case MaterialType::Dielectric:
+        notFor(j, p, {"roughness", "emission"}, "a (smooth) dielectric");
+        break;
       case MaterialType::Emissive:
-        notFor(j, p, {"color", "roughness", "ior", "texture"}, "an emissive material (it has \"emission\")");
+        notFor(j, p, {"color", "roughness", "ior", "texture"},
+               "an emissive material (it has \"emission\")");
         break;
     }
     if (j.contains("color")) m.color = color(j["color"], p + "/color");
@@ -320,7 +368,8 @@ class Loader {
     }
     if (j.contains("ior")) m.ior = positive(j["ior"], p + "/ior");
     if (j.contains("emission")) m.emission = color(j["emission"], p + "/emission");
-    if (m.type == MaterialType::Emissive && !j.contains("emission")) fail(p, "an emissive material needs \"emission\"");
+    if (m.type == MaterialType::Emissive && !j.contains("emission"))
+      fail(p, "an emissive material needs \"emission\"");
     if (j.contains("texture")) {
       std::string file = path(j["texture"], p + "/texture");
       try {
@@ -345,7 +394,8 @@ class Loader {
   void readEnvironment(const json& j, const std::string& p, SceneDesc& scene) const {
     object(j, p);
     allowKeys(j, p, {"color", "image", "rotation"});
-    scene.environment.color = j.contains("color") ? color(j["color"], p + "/color") : glm::dvec3(1.0);
+    scene.environment.color =
+        j.contains("color") ? color(j["color"], p + "/color") : glm::dvec3(1.0);
     if (j.contains("image")) {
       scene.environment.image = path(j["image"], p + "/image");
       try {
@@ -364,12 +414,15 @@ class Loader {
     allowKeys(j, p, {"translate", "rotate", "scale", "matrix"});
     if (j.contains("matrix")) {
       const json& m = j["matrix"];
-      if (!m.is_array() || m.size() != 16) fail(p + "/matrix", "expected 16 numbers (row-major 4x4)");
+      if (!m.is_array() || m.size() != 16)
+        fail(p + "/matrix", "expected 16 numbers (row-major 4x4)");
       if (j.size() > 1) fail(p + "/matrix", "\"matrix\" excludes translate/rotate/scale");
       glm::dmat4 r(1.0);
       for (int row = 0; row < 4; ++row)
-        for (int col = 0; col < 4; ++col) r[col][row] = number(m[row * 4 + col], p + "/matrix/" + std::to_string(row * 4 + col));
-      if (r[0][3] != 0 || r[1][3] != 0 || r[2][3] != 0 || r[3][3] != 1) fail(p + "/matrix", "the matrix must be affine (last row 0 0 0 1)");
+        for (int col = 0; col < 4; ++col)
+          r[col][row] = number(m[row * 4 + col], p + "/matrix/" + std::to_string(row * 4 + col));
+      if (r[0][3] != 0 || r[1][3] != 0 || r[2][3] != 0 || r[3][3] != 1)
+        fail(p + "/matrix", "the matrix must be affine (last row 0 0 0 1)");
       if (glm::determinant(glm::dmat3(r)) == 0) fail(p + "/matrix", "the matrix is singular");
       return r;
     }
@@ -393,7 +446,8 @@ class Loader {
   ClipRegion readClip(const json& j, const std::string& p) const {
     object(j, p);
     allowKeys(j, p, {"sphere", "box"});
-    if (j.contains("sphere") && j.contains("box")) fail(p + "/box", "clip takes exactly one of sphere, box");
+    if (j.contains("sphere") && j.contains("box"))
+      fail(p + "/box", "clip takes exactly one of sphere, box");
     if (j.contains("sphere")) {
       const json& s = object(j["sphere"], p + "/sphere");
       allowKeys(s, p + "/sphere", {"center", "radius"});
@@ -406,9 +460,11 @@ class Loader {
     if (j.contains("box")) {
       const json& b = object(j["box"], p + "/box");
       allowKeys(b, p + "/box", {"min", "max"});
-      if (!b.contains("min") || !b.contains("max")) fail(p + "/box", "a clip box needs \"min\" and \"max\"");
+      if (!b.contains("min") || !b.contains("max"))
+        fail(p + "/box", "a clip box needs \"min\" and \"max\"");
       ClipBox c{vec3(b["min"], p + "/box/min"), vec3(b["max"], p + "/box/max")};
-      if (!(c.lo.x < c.hi.x && c.lo.y < c.hi.y && c.lo.z < c.hi.z)) fail(p + "/box", "clip box min must be below max");
+      if (!(c.lo.x < c.hi.x && c.lo.y < c.hi.y && c.lo.z < c.hi.z))
+        fail(p + "/box", "clip box min must be below max");
       return c;
     }
     fail(p, "clip needs \"sphere\" or \"box\"");
@@ -416,16 +472,20 @@ class Loader {
 
   void readSurface(const json& j, const std::string& p, SceneDesc& scene) const {
     object(j, p);
-    allowKeys(j, p, {"equation", "gallery", "parameters", "clip", "transform", "material", "back_material", "name"});
+    allowKeys(j, p,
+              {"equation", "gallery", "parameters", "clip", "transform", "material",
+               "back_material", "name"});
     SurfaceItem item;
     bool hasClip = false;
-    if (j.contains("gallery") == j.contains("equation")) fail(p, "a surface needs exactly one of \"equation\" and \"gallery\"");
+    if (j.contains("gallery") == j.contains("equation"))
+      fail(p, "a surface needs exactly one of \"equation\" and \"gallery\"");
     if (j.contains("gallery")) {
       std::string name = string(j["gallery"], p + "/gallery");
       const GallerySurface* g = findGallerySurface(name);
       if (!g) {
         std::string known;
-        for (const GallerySurface& s : gallery()) known += (known.empty() ? "" : ", ") + std::string(s.name);
+        for (const GallerySurface& s : gallery())
+          known += (known.empty() ? "" : ", ") + std::string(s.name);
         fail(p + "/gallery", "no gallery surface '" + name + "' (known: " + known + ")");
       }
       if (j.contains("parameters")) fail(p + "/parameters", "gallery surfaces take no parameters");
@@ -439,7 +499,8 @@ class Loader {
       if (j.contains("parameters")) {
         const json& params = object(j["parameters"], p + "/parameters");
         for (auto it = params.begin(); it != params.end(); ++it)
-          options.parameters[it.key()] = number(it.value(), p + "/parameters/" + jsonPointerToken(it.key()));
+          options.parameters[it.key()] =
+              number(it.value(), p + "/parameters/" + jsonPointerToken(it.key()));
       }
       std::string text = string(j["equation"], p + "/equation");
       try {
@@ -455,23 +516,31 @@ class Loader {
       item.label = where(p) + ": surface " + text;
     }
     // The label leads Scene's errors (the plugin refusing the surface) with this position.
-    if (j.contains("name")) item.label = where(p) + ": surface '" + string(j["name"], p + "/name") + "'";
+    if (j.contains("name"))
+      item.label = where(p) + ": surface '" + string(j["name"], p + "/name") + "'";
     if (j.contains("clip")) {
       item.clip = readClip(j["clip"], p + "/clip");
       hasClip = true;
     }
-    if (!hasClip) fail(p, "an equation surface needs a \"clip\" region (algebraic surfaces are often unbounded)");
+    if (!hasClip)
+      fail(p,
+           "an equation surface needs a \"clip\" region (algebraic surfaces are often unbounded)");
     if (j.contains("transform")) item.transform = readTransform(j["transform"], p + "/transform");
-    item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene) : defaultMaterial(scene);
-    if (j.contains("back_material")) item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
+    item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene)
+                                           : defaultMaterial(scene);
+    if (j.contains("back_material"))
+      item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
     scene.surfaces.push_back(std::move(item));
   }
 
   void readMesh(const json& j, const std::string& p, SceneDesc& scene) const {
     object(j, p);
-    allowKeys(j, p, {"obj", "shape", "size", "subdivisions", "transform", "material", "back_material", "name", "uv_scale"});
+    allowKeys(j, p,
+              {"obj", "shape", "size", "subdivisions", "transform", "material", "back_material",
+               "name", "uv_scale"});
     MeshItem item;
-    if (j.contains("obj") == j.contains("shape")) fail(p, "a mesh needs exactly one of \"obj\" and \"shape\"");
+    if (j.contains("obj") == j.contains("shape"))
+      fail(p, "a mesh needs exactly one of \"obj\" and \"shape\"");
     if (j.contains("obj")) {
       notFor(j, p, {"size", "subdivisions", "uv_scale"}, "an OBJ mesh (use \"transform\")");
       std::string file = path(j["obj"], p + "/obj");
@@ -493,7 +562,8 @@ class Loader {
         item.mesh = makeBox(glm::dvec3(size));
       } else if (shape == "icosphere") {
         notFor(j, p, {"uv_scale"}, "an icosphere");
-        int sub = j.contains("subdivisions") ? integer(j["subdivisions"], p + "/subdivisions", 0, 7) : 4;
+        int sub =
+            j.contains("subdivisions") ? integer(j["subdivisions"], p + "/subdivisions", 0, 7) : 4;
         item.mesh = makeIcosphere(sub);
         for (glm::dvec3& v : item.mesh.positions) v *= size;
       } else {
@@ -501,24 +571,30 @@ class Loader {
       }
       item.label = where(p) + ": mesh " + shape;
     }
-    if (j.contains("name")) item.label = where(p) + ": mesh '" + string(j["name"], p + "/name") + "'";
+    if (j.contains("name"))
+      item.label = where(p) + ": mesh '" + string(j["name"], p + "/name") + "'";
     if (j.contains("transform")) item.transform = readTransform(j["transform"], p + "/transform");
     // Embree drops a float triangle beyond +-1.8e18 without a word (a floor of size 1e19
     // vanished from the image, exit code 0): the mesh in scene space keeps to the range of
     // every other position.
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()),
+        hi(-std::numeric_limits<double>::infinity());
     for (const glm::dvec3& v : item.mesh.positions) {
       const glm::dvec3 w(item.transform * glm::dvec4(v, 1.0));
       if (!withinCoordinateRange(w)) fail(p, std::string("a vertex of the mesh: ") + tooFar);
       lo = glm::min(lo, w);
       hi = glm::max(hi, w);
     }
-    if (const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}); !(extent >= kMinMeshExtent))
+    if (const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+        !(extent >= kMinMeshExtent))
       fail(p, "the mesh is " + (std::ostringstream() << extent).str() +
-                  " across in scene space, below 1e-15, where Embree's float triangle test underflows: scale "
+                  " across in scene space, below 1e-15, where Embree's float triangle test "
+                  "underflows: scale "
                   "the scene up");
-    item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene) : defaultMaterial(scene);
-    if (j.contains("back_material")) item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
+    item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene)
+                                           : defaultMaterial(scene);
+    if (j.contains("back_material"))
+      item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
     scene.meshes.push_back(std::move(item));
   }
 
@@ -529,13 +605,17 @@ class Loader {
     if (type == "point") {
       allowKeys(j, p, {"type", "position", "intensity"});
       if (!j.contains("position")) fail(p, "a point light needs \"position\"");
-      scene.pointLights.push_back({coordinate(j["position"], p + "/position"),
-                                   j.contains("intensity") ? color(j["intensity"], p + "/intensity") : glm::dvec3(1.0)});
+      scene.pointLights.push_back(
+          {coordinate(j["position"], p + "/position"),
+           j.contains("intensity") ? color(j["intensity"], p + "/intensity") : glm::dvec3(1.0)});
     } else if (type == "directional") {
       allowKeys(j, p, {"type", "direction", "irradiance"});
-      if (!j.contains("direction")) fail(p, "a directional light needs \"direction\" (towards the light)");
+      if (!j.contains("direction"))
+        fail(p, "a directional light needs \"direction\" (towards the light)");
       glm::dvec3 d = direction(j["direction"], p + "/direction");
-      scene.directionalLights.push_back({d, j.contains("irradiance") ? color(j["irradiance"], p + "/irradiance") : glm::dvec3(1.0)});
+      scene.directionalLights.push_back({d, j.contains("irradiance")
+                                                ? color(j["irradiance"], p + "/irradiance")
+                                                : glm::dvec3(1.0)});
     } else if (type == "quad" || type == "sphere") {
       // Area lights are emissive meshes: found by light sampling and by BSDF rays.
       Material m;
@@ -546,17 +626,21 @@ class Loader {
         allowKeys(j, p, {"type", "corner", "edge1", "edge2", "radiance"});
         for (const char* k : {"corner", "edge1", "edge2"})
           if (!j.contains(k)) fail(p, std::string("a quad light needs \"") + k + "\"");
-        const glm::dvec3 e1 = coordinate(j["edge1"], p + "/edge1"), e2 = coordinate(j["edge2"], p + "/edge2");
+        const glm::dvec3 e1 = coordinate(j["edge1"], p + "/edge1"),
+                         e2 = coordinate(j["edge2"], p + "/edge2");
         // Parallel or zero edges: a light of no area, which emits nothing (accepted silently).
         if (!(glm::length(glm::cross(e1, e2)) > 1e-12 * glm::length(e1) * glm::length(e2)))
-          fail(p + "/edge2", "a quad light's edges must span an area (edge1 and edge2 are parallel or zero)");
+          fail(p + "/edge2",
+               "a quad light's edges must span an area (edge1 and edge2 are parallel or zero)");
         item.mesh = makeQuad(coordinate(j["corner"], p + "/corner"), e1, e2);
       } else {
         allowKeys(j, p, {"type", "center", "radius", "radiance"});
-        if (!j.contains("center") || !j.contains("radius")) fail(p, "a sphere light needs \"center\" and \"radius\"");
+        if (!j.contains("center") || !j.contains("radius"))
+          fail(p, "a sphere light needs \"center\" and \"radius\"");
         item.mesh = makeIcosphere(3);
-        item.transform = glm::scale(glm::translate(glm::dmat4(1.0), coordinate(j["center"], p + "/center")),
-                                    glm::dvec3(length(j["radius"], p + "/radius")));
+        item.transform =
+            glm::scale(glm::translate(glm::dmat4(1.0), coordinate(j["center"], p + "/center")),
+                       glm::dvec3(length(j["radius"], p + "/radius")));
       }
       m.emission = color(j["radiance"], p + "/radiance");
       item.material = scene.addMaterial(m);
@@ -591,7 +675,8 @@ SceneDesc loadSceneText(std::string_view text, const std::string& name,
 SceneDesc loadSceneFile(const std::filesystem::path& path) {
   std::error_code ec;
   // An ifstream opens a directory and reads nothing: it would be a JSON syntax error.
-  if (std::filesystem::is_directory(path, ec)) throw SceneError(path.string(), 0, 0, "is a directory, not a scene file");
+  if (std::filesystem::is_directory(path, ec))
+    throw SceneError(path.string(), 0, 0, "is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path.string(), 0, 0, "cannot open the scene file");
   std::stringstream buffer;

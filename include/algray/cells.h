@@ -54,9 +54,9 @@ struct CellOptions {
 };
 
 struct CellStats {
-  int depth = 0;            // level of the returned cells
-  glm::ivec3 grid{1};       // cells per axis of that level's grid (powers of two)
-  long boxesTested = 0;     // range enclosures evaluated
+  int depth = 0;         // level of the returned cells
+  glm::ivec3 grid{1};    // cells per axis of that level's grid (powers of two)
+  long boxesTested = 0;  // range enclosures evaluated
   // Per level 0..deepest level explored (which may be one level finer than depth when the
   // automatic rule declined it): cells kept and their volume / clip-box volume.
   std::vector<long> keptPerLevel;
@@ -89,8 +89,7 @@ struct RaySpan {
   double t0 = 0;
   double t1 = 0;
 };
-std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d,
-                                    const glm::dvec3& lo, const glm::dvec3& hi, double tMin,
-                                    double tMax);
+std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
+                                    const glm::dvec3& hi, double tMin, double tMax);
 
 }  // namespace algray

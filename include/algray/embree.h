@@ -67,17 +67,17 @@ using ClipRegion = std::variant<ClipSphere, ClipBox>;
 // Switches kept for measurement (tests/bench): the defaults are the fast, accurate path.
 struct SurfaceOptions {
   RootOptions roots;
-  bool useCells = true;       // split the clip region into cells the surface may cross
-  int cellDepth = -1;         // -1: chosen automatically per surface (cells.h), at most
-                              // 4096 cells (the adapter's cap); 0..30: that depth, within
-                              // cells.h's budget (anything else throws)
-  bool originCache = false;   // per-thread expansion about the last ray origin (a camera's
-                              // rays then evaluate its homogeneous parts only); off by
-                              // default since the direct restriction of taylor_box.cpp
-                              // got 2x faster: measured 0.95x-1.18x of no cache on the
-                              // gallery (README, Speed)
-  bool recentre = true;       // expand far rays about their closest point to the clip
-  bool quadricPath = true;    // degree 2: restriction and normal in closed form
+  bool useCells = true;          // split the clip region into cells the surface may cross
+  int cellDepth = -1;            // -1: chosen automatically per surface (cells.h), at most
+                                 // 4096 cells (the adapter's cap); 0..30: that depth, within
+                                 // cells.h's budget (anything else throws)
+  bool originCache = false;      // per-thread expansion about the last ray origin (a camera's
+                                 // rays then evaluate its homogeneous parts only); off by
+                                 // default since the direct restriction of taylor_box.cpp
+                                 // got 2x faster: measured 0.95x-1.18x of no cache on the
+                                 // gallery (README, Speed)
+  bool recentre = true;          // expand far rays about their closest point to the clip
+  bool quadricPath = true;       // degree 2: restriction and normal in closed form
   bool quadricCallbacks = true;  // degree 2 with one cell: dedicated Embree callbacks
                                  // (no per-ray record, cell walk or generic solver frame)
   bool quadricBounds = true;     // an ellipsoid with one cell: the cell and Embree bounds
@@ -93,9 +93,9 @@ struct SurfaceOptions {
 };
 
 struct SurfaceDesc {
-  Polynomial polynomial;          // object space
+  Polynomial polynomial;           // object space
   ClipRegion clip = ClipSphere{};  // object space; required (surfaces are often unbounded)
-  glm::dmat4 transform{1.0};      // object to world, affine
+  glm::dmat4 transform{1.0};       // object to world, affine
   SurfaceOptions options;
 };
 

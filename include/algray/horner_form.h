@@ -66,7 +66,7 @@ class HornerForm {
   double absCoeffSum() const { return absCoeffSum_; }
 
  private:
-  std::vector<Slot> slots_;             // z-rows in evaluation order: i, j, k descending
+  std::vector<Slot> slots_;              // z-rows in evaluation order: i, j, k descending
   std::vector<SignedTerm> signedTerms_;  // the same order
   std::vector<std::uint8_t> rowLength_;  // per z-row, >= 1 (kMaxDegree + 1 fits)
   std::vector<std::uint8_t> blockRows_;  // per x-block (i descending): its y-rows, >= 1

@@ -35,13 +35,15 @@ namespace algray {
 // The next double above / below v (v itself for +inf / -inf and NaN). Bit arithmetic
 // instead of std::nextafter: the cell builder calls these in its innermost loop.
 inline double nextUp(double v) {
-  if (!(v < std::numeric_limits<double>::infinity())) return v;  // +inf or NaN
+  if (!(v < std::numeric_limits<double>::infinity())) return v;    // +inf or NaN
   if (v == 0.0) return std::numeric_limits<double>::denorm_min();  // +0 and -0
   auto bits = std::bit_cast<std::uint64_t>(v);
   bits = v > 0 ? bits + 1 : bits - 1;  // sign-magnitude: away from 0 when positive
   return std::bit_cast<double>(bits);
 }
-inline double nextDown(double v) { return -nextUp(-v); }
+inline double nextDown(double v) {
+  return -nextUp(-v);
+}
 
 class Interval {
  public:

@@ -58,7 +58,7 @@ class ParameterError : public Error {
 
 struct ParseOptions {
   std::map<std::string, double, std::less<>> parameters;  // named constants: a, b, ...
-  int maxDegree = kMaxDegree;  // clamped to [0, kMaxDegree]
+  int maxDegree = kMaxDegree;                             // clamped to [0, kMaxDegree]
   // A parameter the equation does not use is a ParameterError ("is not used by the
   // equation") instead of being ignored: for a user's own parameters (a command line's
   // --param, a scene file's), where it is a mistake; not for a file format that always

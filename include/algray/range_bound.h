@@ -38,9 +38,9 @@ struct MonomialTables {
   explicit MonomialTables(int degree);
   int degree;
   int terms;
-  std::vector<int> columnIndex[3];  // concatenated columns, exponent 0 first
-  std::vector<int> columnStart[3];  // columnStart[a][c] .. columnStart[a][c + 1]
-  std::vector<int> exponent[3];     // exponent[a][index] of axis a in monomial index
+  std::vector<int> columnIndex[3];     // concatenated columns, exponent 0 first
+  std::vector<int> columnStart[3];     // columnStart[a][c] .. columnStart[a][c + 1]
+  std::vector<int> exponent[3];        // exponent[a][index] of axis a in monomial index
   std::vector<unsigned char> allEven;  // 1 if x^i y^j z^k >= 0 everywhere (i, j, k even)
   double halfPow[kMaxDegree + 1];      // 2^-e
   // Interval multiply-adds of one halving (BoxPolynomial::half): the unit of the build

@@ -67,10 +67,10 @@ struct RootOptions {
 // compiled function goes through memory with GCC 12: its flag is stored as a byte and
 // read back as 8, a store-forwarding stall of ~4 ns on every call, 5-8 % of a cell-sized
 // solve of degree 4-8; inline, the optional stays in registers.)
-bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi, double& root,
-                    const RootOptions& options = {});
-inline std::optional<double> firstRoot(std::span<const double> c, std::span<const double> err, double lo,
-                                       double hi, const RootOptions& options = {}) {
+bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
+                    double& root, const RootOptions& options = {});
+inline std::optional<double> firstRoot(std::span<const double> c, std::span<const double> err,
+                                       double lo, double hi, const RootOptions& options = {}) {
   double root;
   if (!solveFirstRoot(c, err, lo, hi, root, options)) return std::nullopt;
   return root;
@@ -85,10 +85,11 @@ int allRoots(std::span<const double> c, std::span<const double> err, double lo, 
 // The same as firstRoot for a quadratic (c[2] != 0) in the caller's frame, for hot
 // loops (the plugin's quadric path): bitwise the same answer, without the frame mapping;
 // coefficients, bounds or interval ends outside a safe range go to firstRoot.
-bool solveFirstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err, double lo, double hi,
-                             double& root);
-inline std::optional<double> firstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err,
-                                                double lo, double hi) {
+bool solveFirstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err,
+                             double lo, double hi, double& root);
+inline std::optional<double> firstRootQuadratic(std::span<const double, 3> c,
+                                                std::span<const double, 3> err, double lo,
+                                                double hi) {
   double root;
   if (!solveFirstRootQuadratic(c, err, lo, hi, root)) return std::nullopt;
   return root;
@@ -97,10 +98,10 @@ inline std::optional<double> firstRootQuadratic(std::span<const double, 3> c, st
 // Float variants, kept for the speed/error comparison (same algorithms in float; Sturm and
 // Bernstein fall back to Auto). Measured: float's rounding bound is so wide above degree
 // ~4 that the tangent rule reports many near misses as hits; see docs/roots-summary.md.
-bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi, float& root,
-                    const RootOptions& options = {});
-inline std::optional<float> firstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
-                                      const RootOptions& options = {}) {
+bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
+                    float& root, const RootOptions& options = {});
+inline std::optional<float> firstRoot(std::span<const float> c, std::span<const float> err,
+                                      float lo, float hi, const RootOptions& options = {}) {
   float root;
   if (!solveFirstRoot(c, err, lo, hi, root, options)) return std::nullopt;
   return root;

@@ -41,7 +41,9 @@ struct RayPolynomial {
 // |dd - 1| <= 2^-20, 2 - dd (one Newton step for 1 / dd from 1) is within a relative
 // (1 - dd)^2 <= 2^-40 of it and keeps a division off a camera ray's critical path (the
 // quadric path: 3.5 of 62 ns a ray, measured). Other directions divide.
-inline double inverseSquaredLength(double dd) { return std::abs(dd - 1.0) <= 0x1p-20 ? 2.0 - dd : 1.0 / dd; }
+inline double inverseSquaredLength(double dd) {
+  return std::abs(dd - 1.0) <= 0x1p-20 ? 2.0 - dd : 1.0 / dd;
+}
 
 // Parameter of the point of the line o + t d closest to c (within a relative 2^-40:
 // inverseSquaredLength): the natural expansion point when o is far from the clip region

@@ -208,8 +208,10 @@ class Builder {
     for (int a = 0; a < 3; ++a) {
       const double s = sphere_->center[a];
       double d = 0;
-      if (s < cell.lo[a]) d = nextDown(cell.lo[a] - s);
-      else if (s > cell.hi[a]) d = nextDown(s - cell.hi[a]);
+      if (s < cell.lo[a])
+        d = nextDown(cell.lo[a] - s);
+      else if (s > cell.hi[a])
+        d = nextDown(s - cell.hi[a]);
       d = std::max(d, 0.0);
       d2 = nextDown(d2 + nextDown(d * d));
     }
@@ -270,15 +272,15 @@ void validate(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
     for (int a = 0; a < 3; ++a)
       if (!std::isfinite(sphere->center[a]))
         throw Error(std::string("buildCells: non-finite clip sphere centre on axis ") + names[a]);
-    if (!std::isfinite(sphere->radius))
-      throw Error("buildCells: non-finite clip sphere radius");
+    if (!std::isfinite(sphere->radius)) throw Error("buildCells: non-finite clip sphere radius");
   }
   if (options.maxCells < 1)
     throw Error("buildCells: maxCells must be >= 1, got " + std::to_string(options.maxCells));
   // -1 asks for the automatic depth; another negative value is a mistake, not a request
   // for it (SurfaceOptions::cellDepth refuses it too).
   if (options.depth < -1)
-    throw Error("buildCells: depth must be -1 (automatic) or >= 0, got " + std::to_string(options.depth));
+    throw Error("buildCells: depth must be -1 (automatic) or >= 0, got " +
+                std::to_string(options.depth));
 }
 
 // ---- Skipping a build that cannot pay ----------------------------------------------------
@@ -330,7 +332,8 @@ double probedCoverage(const Polynomial& poly, const glm::dvec3& lo, const glm::d
         const double mid = 0.5 * (t0 + t1);
         const RayPolynomial g = restrictToRay(f, o, d, mid);
         if (g.degree < 1) continue;
-        const std::span<const double> c(g.coeff.data(), g.degree + 1), e(g.error.data(), g.degree + 1);
+        const std::span<const double> c(g.coeff.data(), g.degree + 1),
+            e(g.error.data(), g.degree + 1);
         crossing += hasRoot(c, e, t0 - mid, t1 - mid);
       }
     sum += inside > 0 ? static_cast<double>(crossing) / static_cast<double>(inside) : 0.0;
@@ -424,9 +427,8 @@ std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const gl
 }
 
 // ---- Ray / box ------------------------------------------------------------------------
-std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d,
-                                    const glm::dvec3& lo, const glm::dvec3& hi, double tMin,
-                                    double tMax) {
+std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
+                                    const glm::dvec3& hi, double tMin, double tMax) {
   if (!(tMin <= tMax)) return std::nullopt;  // also NaN
   double t0 = tMin, t1 = tMax;
   for (int a = 0; a < 3; ++a) {

@@ -9,11 +9,21 @@ namespace algray::detail {
 
 namespace {
 
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
-bool isNameStart(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
-bool isNameChar(char c) { return isNameStart(c) || isDigit(c); }
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
-bool isContinuation(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
+bool isDigit(char c) {
+  return c >= '0' && c <= '9';
+}
+bool isNameStart(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+}
+bool isNameChar(char c) {
+  return isNameStart(c) || isDigit(c);
+}
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+}
+bool isContinuation(char c) {
+  return (static_cast<unsigned char>(c) & 0xC0) == 0x80;
+}
 
 // Length in bytes of the (possibly multi-byte UTF-8) character at text[i].
 int charLength(std::string_view text, size_t i) {
@@ -82,7 +92,8 @@ Token readNumber(std::string_view text, size_t start) {
   const char* first = text.data() + start;
   const auto [ptr, ec] = std::from_chars(first, text.data() + i, t.number);
   if (ec == std::errc::result_out_of_range) {
-    const long magnitude = seenNonZero ? (firstNonZero < 0 ? firstNonZero : digitsBeforePoint) + exponent : 0;
+    const long magnitude =
+        seenNonZero ? (firstNonZero < 0 ? firstNonZero : digitsBeforePoint) + exponent : 0;
     if (magnitude < 0) {
       t.number = 0.0;  // below the smallest subnormal: the nearest double is 0
     } else {
@@ -136,8 +147,10 @@ std::vector<Token> tokenize(std::string_view text) {
     } else if (c == '-') {
       single(TokenKind::Minus);
     } else if (c == '*') {
-      if (i + 1 < text.size() && text[i + 1] == '*') single(TokenKind::Caret, 2);
-      else single(TokenKind::Star);
+      if (i + 1 < text.size() && text[i + 1] == '*')
+        single(TokenKind::Caret, 2);
+      else
+        single(TokenKind::Star);
     } else if (c == '/') {
       single(TokenKind::Slash);
     } else if (c == '^') {
@@ -153,13 +166,17 @@ std::vector<Token> tokenize(std::string_view text) {
       std::string shown(text.substr(i, n));
       if (n == 1 && (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)) {
         char buf[16];
-        std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(static_cast<unsigned char>(c)));
+        std::snprintf(buf, sizeof buf, "\\x%02X",
+                      static_cast<unsigned>(static_cast<unsigned char>(c)));
         shown = buf;
       }
       std::string hint;
-      if (c == '[' || c == '{') hint = " (use '(' for grouping)";
-      else if (c == ']' || c == '}') hint = " (use ')' for grouping)";
-      else if (c == ',') hint = " (functions take one argument; write decimals with '.')";
+      if (c == '[' || c == '{')
+        hint = " (use '(' for grouping)";
+      else if (c == ']' || c == '}')
+        hint = " (use ')' for grouping)";
+      else if (c == ',')
+        hint = " (functions take one argument; write decimals with '.')";
       throw ParseError(columnOf(text, at), "unexpected character '" + shown + "'" + hint);
     }
   }

@@ -26,16 +26,23 @@ const Polynomial& Z() {
   static const Polynomial p = Polynomial::variable(2);
   return p;
 }
-Polynomial c(double v) { return Polynomial(v); }
-Polynomial r2() { return X() * X() + Y() * Y() + Z() * Z(); }
+Polynomial c(double v) {
+  return Polynomial(v);
+}
+Polynomial r2() {
+  return X() * X() + Y() * Y() + Z() * Z();
+}
 
 constexpr double kPhi = std::numbers::phi;  // golden ratio (1 + sqrt 5) / 2
 
-Polynomial sphere() { return r2() - c(1.0); }
+Polynomial sphere() {
+  return r2() - c(1.0);
+}
 
 // Semi-axes 1, 0.75, 0.5: x^2/a^2 + y^2/b^2 + z^2/c^2 = 1.
 Polynomial ellipsoid() {
-  return X().pow(2) + Y().pow(2) * (1.0 / (0.75 * 0.75)) + Z().pow(2) * (1.0 / (0.5 * 0.5)) - c(1.0);
+  return X().pow(2) + Y().pow(2) * (1.0 / (0.75 * 0.75)) + Z().pow(2) * (1.0 / (0.5 * 0.5)) -
+         c(1.0);
 }
 
 // Torus about the z axis, tube centre radius R = 1, tube radius r = 0.4:
@@ -52,7 +59,8 @@ Polynomial clebschCubic() {
   const Polynomial &x = X(), &y = Y(), &z = Z();
   return 81.0 * (x.pow(3) + y.pow(3) + z.pow(3)) -
          189.0 * (x * x * y + x * x * z + y * y * x + y * y * z + z * z * x + z * z * y) +
-         54.0 * x * y * z + 126.0 * (x * y + y * z + z * x) - 9.0 * r2() - 9.0 * (x + y + z) + c(1.0);
+         54.0 * x * y * z + 126.0 * (x * y + y * z + z * x) - 9.0 * r2() - 9.0 * (x + y + z) +
+         c(1.0);
 }
 
 // Cayley's 4-nodal cubic: 4 (x0^3 + x1^3 + x2^3 + x3^3) = (x0 + x1 + x2 + x3)^3 with
@@ -107,7 +115,8 @@ Polynomial barthDecic() {
 // surfaces", IEEE CG&A 1994): (x^2 + 9/4 y^2 + z^2 - 1)^3 - x^2 z^3 - 9/80 y^2 z^3.
 Polynomial heart() {
   const Polynomial &x = X(), &y = Y(), &z = Z();
-  return (x * x + 2.25 * y * y + z * z - c(1.0)).pow(3) - x * x * z.pow(3) - (9.0 / 80.0) * y * y * z.pow(3);
+  return (x * x + 2.25 * y * y + z * z - c(1.0)).pow(3) - x * x * z.pow(3) -
+         (9.0 / 80.0) * y * y * z.pow(3);
 }
 
 // Chebyshev polynomial T_n(v) by the recurrence T_{k+1} = 2 v T_k - T_{k-1}.
@@ -158,7 +167,8 @@ std::vector<std::array<double, 4>> sixHundredCellHalf() {
     all.push_back(v);
   }
   for (int signs = 0; signs < 16; ++signs)
-    all.push_back({signs & 1 ? -0.5 : 0.5, signs & 2 ? -0.5 : 0.5, signs & 4 ? -0.5 : 0.5, signs & 8 ? -0.5 : 0.5});
+    all.push_back({signs & 1 ? -0.5 : 0.5, signs & 2 ? -0.5 : 0.5, signs & 4 ? -0.5 : 0.5,
+                   signs & 8 ? -0.5 : 0.5});
   const double base[4] = {kPhi / 2, 0.5, 1.0 / (2.0 * kPhi), 0.0};
   std::array<int, 4> perm{0, 1, 2, 3};
   do {
@@ -196,7 +206,8 @@ std::vector<std::array<double, 4>> sixHundredCellHalf() {
 Polynomial sartiDodecic() {
   const auto cells = sixHundredCellHalf();
   const double s3 = std::sqrt(3.0);
-  const std::array<double, 4> node{std::sqrt(5.0) / (2 * s3), 1.0 / (kPhi * 2 * s3), kPhi / (2 * s3), 2.0 / (2 * s3)};
+  const std::array<double, 4> node{std::sqrt(5.0) / (2 * s3), 1.0 / (kPhi * 2 * s3),
+                                   kPhi / (2 * s3), 2.0 / (2 * s3)};
   Polynomial s;
   double lambda = 0.0;
   for (const auto& v : cells) {
@@ -210,29 +221,34 @@ const std::array kGallery = {
     GallerySurface{"sphere", "unit sphere x^2 + y^2 + z^2 = 1", 1.2, &sphere},
     GallerySurface{"ellipsoid", "ellipsoid with semi-axes 1, 0.75, 0.5", 1.2, &ellipsoid},
     GallerySurface{"torus", "torus R = 1, r = 0.4 about the z axis", 1.6, &torus},
-    GallerySurface{"clebsch-cubic", "Clebsch diagonal cubic, 27 real lines (Hunt's affine form)", 2.0,
-                   &clebschCubic},
+    GallerySurface{"clebsch-cubic", "Clebsch diagonal cubic, 27 real lines (Hunt's affine form)",
+                   2.0, &clebschCubic},
     GallerySurface{"cayley-cubic", "Cayley's 4-nodal cubic 4(x^3+y^3+z^3+1) = (x+y+z+1)^3", 2.5,
                    &cayleyCubic},
     GallerySurface{"roman-surface", "Steiner's Roman surface x^2y^2 + y^2z^2 + z^2x^2 = xyz", 0.75,
                    &romanSurface},
-    GallerySurface{"kummer-quartic", "Kummer quartic with 16 real nodes, mu^2 = 1.69 (SURFER form)", 2.5,
-                   &kummerQuartic},
+    GallerySurface{"kummer-quartic", "Kummer quartic with 16 real nodes, mu^2 = 1.69 (SURFER form)",
+                   2.5, &kummerQuartic},
     GallerySurface{"barth-sextic", "Barth's sextic, 65 nodes (Barth 1996)", 2.0, &barthSextic},
     GallerySurface{"barth-decic", "Barth's decic, 345 nodes (Barth 1996)", 2.2, &barthDecic},
-    GallerySurface{"heart", "Taubin's heart (x^2+9/4y^2+z^2-1)^3 = x^2z^3 + 9/80y^2z^3", 1.5, &heart},
+    GallerySurface{"heart", "Taubin's heart (x^2+9/4y^2+z^2-1)^3 = x^2z^3 + 9/80y^2z^3", 1.5,
+                   &heart},
     GallerySurface{"chmutov-8", "Chmutov octic T8(x)+T8(y)+T8(z)+1 = 0", 1.75, &chmutov<8>},
     GallerySurface{"chmutov-12", "Chmutov dodecic T12(x)+T12(y)+T12(z)+1 = 0", 1.75, &chmutov<12>},
     GallerySurface{"chmutov-16", "Chmutov surface of degree 16, T16(x)+T16(y)+T16(z)+1 = 0", 1.75,
                    &chmutov<16>},
-    GallerySurface{"endrass-octic", "Endrass' octic X+, 168 real nodes (Endrass 1997)", 2.5, &endrassOctic},
-    GallerySurface{"sarti-dodecic", "Sarti's dodecic, 600 nodes, bipolyhedral symmetry (Sarti 2001)", 3.0,
+    GallerySurface{"endrass-octic", "Endrass' octic X+, 168 real nodes (Endrass 1997)", 2.5,
+                   &endrassOctic},
+    GallerySurface{"sarti-dodecic",
+                   "Sarti's dodecic, 600 nodes, bipolyhedral symmetry (Sarti 2001)", 3.0,
                    &sartiDodecic},
 };
 
 }  // namespace
 
-std::span<const GallerySurface> gallery() { return kGallery; }
+std::span<const GallerySurface> gallery() {
+  return kGallery;
+}
 
 const GallerySurface* findGallerySurface(std::string_view name) {
   for (const GallerySurface& s : kGallery)

@@ -17,8 +17,12 @@ namespace algray {
 
 namespace {
 
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\f'; }
-bool isContinuation(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
+bool isBlank(char c) {
+  return c == ' ' || c == '\t' || c == '\f';
+}
+bool isContinuation(char c) {
+  return (static_cast<unsigned char>(c) & 0xC0) == 0x80;
+}
 
 // One character of a logical line with where it came from.
 struct SourceChar {
@@ -44,8 +48,12 @@ void appendUtf8(std::string& out, unsigned code) {
   }
 }
 
-bool isHighSurrogate(unsigned code) { return code >= 0xD800 && code <= 0xDBFF; }
-bool isLowSurrogate(unsigned code) { return code >= 0xDC00 && code <= 0xDFFF; }
+bool isHighSurrogate(unsigned code) {
+  return code >= 0xD800 && code <= 0xDBFF;
+}
+bool isLowSurrogate(unsigned code) {
+  return code >= 0xDC00 && code <= 0xDFFF;
+}
 
 // Splits the text into logical lines (continuations joined, comments dropped).
 std::vector<std::vector<SourceChar>> logicalLines(std::string_view text) {
@@ -164,7 +172,9 @@ JsurfFile JsurfFile::read(const std::filesystem::path& path) {
   return parse(buffer.str(), path.string());
 }
 
-bool JsurfFile::has(std::string_view key) const { return entries_.find(key) != entries_.end(); }
+bool JsurfFile::has(std::string_view key) const {
+  return entries_.find(key) != entries_.end();
+}
 
 std::optional<std::string> JsurfFile::get(std::string_view key) const {
   const auto it = entries_.find(key);
@@ -181,9 +191,10 @@ std::string JsurfFile::where(const Entry& entry, int column) const {
   if (column <= 0 || entry.positions.empty()) return name_ + ":" + std::to_string(entry.line);
   // Column c of the value is its code point c - 1, or one past the last one.
   const size_t i = static_cast<size_t>(column - 1);
-  const auto [line, col] = i < entry.positions.size()
-                               ? entry.positions[i]
-                               : std::pair{entry.positions.back().first, entry.positions.back().second + 1};
+  const auto [line, col] =
+      i < entry.positions.size()
+          ? entry.positions[i]
+          : std::pair{entry.positions.back().first, entry.positions.back().second + 1};
   return name_ + ":" + std::to_string(line) + ":" + std::to_string(col);
 }
 
@@ -228,8 +239,8 @@ std::vector<double> JsurfFile::getNumbers(std::string_view key, int expected) co
     i = j;
   }
   if (expected >= 0 && static_cast<int>(numbers.size()) != expected)
-    throw Error(where(it->second) + ": " + std::string(key) + ": expected " + std::to_string(expected) +
-                " numbers, found " + std::to_string(numbers.size()));
+    throw Error(where(it->second) + ": " + std::string(key) + ": expected " +
+                std::to_string(expected) + " numbers, found " + std::to_string(numbers.size()));
   return numbers;
 }
 

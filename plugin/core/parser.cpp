@@ -25,7 +25,9 @@
 namespace algray {
 
 ParseError::ParseError(int column, const std::string& message)
-    : Error("column " + std::to_string(column) + ": " + message), column_(column), message_(message) {}
+    : Error("column " + std::to_string(column) + ": " + message),
+      column_(column),
+      message_(message) {}
 
 ParameterError::ParameterError(const std::string& name, const std::string& message)
     : Error("parameter '" + name + "': " + message), name_(name), message_(message) {}
@@ -64,7 +66,8 @@ class Parser {
     }
     const Token& t = peek();
     if (t.kind == TokenKind::RightParen)
-      fail(t, "unbalanced parenthesis: ')' at column " + std::to_string(column(t)) + " has no matching '('");
+      fail(t, "unbalanced parenthesis: ')' at column " + std::to_string(column(t)) +
+                  " has no matching '('");
     if (t.kind != TokenKind::End) missingOperator(t);
     return value.toPolynomial();
   }
@@ -87,7 +90,8 @@ class Parser {
     throw ParseError(column(t), message);
   }
   [[noreturn]] void missingOperator(const Token& t) const {
-    fail(t, "missing operator before " + detail::describe(text_, t) + " (write a product with '*')");
+    fail(t,
+         "missing operator before " + detail::describe(text_, t) + " (write a product with '*')");
   }
 
   void checkFinite(const TrackedValue& v, const Token& at) const {
@@ -99,16 +103,19 @@ class Parser {
 
   // A power of constants whose bound swallowed its non-zero value (tracked_value.h, fold
   // rule): reported rather than pruned to a silent 0.
-  void checkFold(detail::Fold fold, const TrackedValue& base, const TrackedValue& exponent, const Token& caret) const {
+  void checkFold(detail::Fold fold, const TrackedValue& base, const TrackedValue& exponent,
+                 const Token& caret) const {
     if (fold != detail::Fold::undetermined) return;
     fail(caret, "power too large for the base's accuracy: " + formatNumber(base.value) + "^" +
                     formatNumber(exponent.value) +
-                    " has no correct digit (the rounding error of its operands is amplified beyond its value)");
+                    " has no correct digit (the rounding error of its operands is amplified beyond "
+                    "its value)");
   }
 
   void checkDegree(long long degree, const Token& at) const {
     if (degree > maxDegree_)
-      fail(at, "degree " + std::to_string(degree) + " exceeds the limit " + std::to_string(maxDegree_));
+      fail(at,
+           "degree " + std::to_string(degree) + " exceeds the limit " + std::to_string(maxDegree_));
   }
 
   TrackedValue parseExpr() {
@@ -132,7 +139,8 @@ class Parser {
     TrackedValue value = parseUnary();
     for (;;) {
       const Token& t = peek();
-      if (t.kind == TokenKind::Number || t.kind == TokenKind::Name || t.kind == TokenKind::LeftParen)
+      if (t.kind == TokenKind::Number || t.kind == TokenKind::Name ||
+          t.kind == TokenKind::LeftParen)
         missingOperator(t);
       if (t.kind != TokenKind::Star && t.kind != TokenKind::Slash) return value;
       const Token op = next();
@@ -146,9 +154,10 @@ class Parser {
         if (rhs.hasVariables)
           fail(operandStart, "division by an expression in x, y, z is not a polynomial");
         if (rhs.value == 0.0)
-          fail(operandStart, rhs.magnitude == 0.0
-                                 ? "division by zero"
-                                 : "division by zero (the divisor cancels to zero within rounding)");
+          fail(operandStart,
+               rhs.magnitude == 0.0
+                   ? "division by zero"
+                   : "division by zero (the divisor cancels to zero within rounding)");
         value = detail::divide(value, rhs);
       }
       checkFinite(value, op);
@@ -163,8 +172,9 @@ class Parser {
       explicit DepthGuard(int& d) : depth(++d) {}
       ~DepthGuard() { --depth; }
     } guard(depth_);
-    if (depth_ > kMaxNesting) fail(peek(), "the expression is nested too deeply (more than " +
-                                               std::to_string(kMaxNesting) + " levels)");
+    if (depth_ > kMaxNesting)
+      fail(peek(), "the expression is nested too deeply (more than " + std::to_string(kMaxNesting) +
+                       " levels)");
     if (peek().kind == TokenKind::Minus) {
       next();
       return detail::negate(parseUnary());
@@ -190,7 +200,8 @@ class Parser {
       const detail::Fold fold = detail::constantPower(base, exponent, result);
       if (std::isnan(result.value) && std::isfinite(base.value) && std::isfinite(e))
         fail(caret, "power of a negative number to a non-integer exponent is not real");
-      if (std::isinf(result.value) && base.value == 0.0) fail(caret, "division by zero (zero to a negative power)");
+      if (std::isinf(result.value) && base.value == 0.0)
+        fail(caret, "division by zero (zero to a negative power)");
       checkFold(fold, base, exponent, caret);
     } else {
       if (!(e >= 0.0) || e != std::floor(e))
@@ -200,14 +211,16 @@ class Parser {
       if (degree <= 0) {
         // x - x + 2 and the like: a polynomial that reduced to a constant.
         const TrackedValue constantBase = base.asConstant();
-        checkFold(detail::constantPower(constantBase, exponent, result), constantBase, exponent, caret);
+        checkFold(detail::constantPower(constantBase, exponent, result), constantBase, exponent,
+                  caret);
         result = detail::promoted(result);
       } else {
         if (e * degree > maxDegree_)
-          fail(caret, e * degree < 1e6 ? "degree " + std::to_string(static_cast<long long>(e) * degree) +
-                                             " exceeds the limit " + std::to_string(maxDegree_)
-                                       : "exponent " + formatNumber(e) + " exceeds the degree limit " +
-                                             std::to_string(maxDegree_));
+          fail(caret, e * degree < 1e6
+                          ? "degree " + std::to_string(static_cast<long long>(e) * degree) +
+                                " exceeds the limit " + std::to_string(maxDegree_)
+                          : "exponent " + formatNumber(e) + " exceeds the degree limit " +
+                                std::to_string(maxDegree_));
         result = detail::integerPower(base, static_cast<int>(e));
       }
     }
@@ -230,10 +243,12 @@ class Parser {
       }
       case TokenKind::End: {
         const Token& previous = tokens_[pos_ - 2 >= 0 ? pos_ - 2 : 0];
-        fail(t, "the equation ends after " + detail::describe(text_, previous) + " where an operand is expected");
+        fail(t, "the equation ends after " + detail::describe(text_, previous) +
+                    " where an operand is expected");
       }
       case TokenKind::RightParen:
-        if (pos_ >= 2 && tokens_[pos_ - 2].kind == TokenKind::LeftParen) fail(t, "empty parentheses");
+        if (pos_ >= 2 && tokens_[pos_ - 2].kind == TokenKind::LeftParen)
+          fail(t, "empty parentheses");
         [[fallthrough]];
       default:
         fail(t, "expected a number, a name or '(' but found " + detail::describe(text_, t));
@@ -247,7 +262,8 @@ class Parser {
       return;
     }
     if (t.kind == TokenKind::End)
-      fail(open, "unbalanced parenthesis: '(' at column " + std::to_string(column(open)) + " is never closed");
+      fail(open, "unbalanced parenthesis: '(' at column " + std::to_string(column(open)) +
+                     " is never closed");
     if (t.kind == TokenKind::Number || t.kind == TokenKind::Name || t.kind == TokenKind::LeftParen)
       missingOperator(t);
     fail(t, "expected ')' to close '(' at column " + std::to_string(column(open)) + " but found " +
@@ -273,7 +289,8 @@ class Parser {
     }
     std::string message = "unknown name '" + std::string(name) + "'";
     if (peek().kind == TokenKind::LeftParen) {
-      message = "unknown function '" + std::string(name) + "' (known: sqrt, sin, cos, tan, exp, log, ln, abs)";
+      message = "unknown function '" + std::string(name) +
+                "' (known: sqrt, sin, cos, tan, exp, log, ln, abs)";
     } else if (name.find_first_not_of("xyz0123456789") == std::string_view::npos) {
       message += " (write products with '*' and powers with '^', e.g. x*y or x^2)";
     } else if (!options_.parameters.empty()) {
@@ -297,7 +314,8 @@ class Parser {
     const detail::Fold fold = detail::applyFunction(name, argument, result);
     if (!std::isfinite(result.value) || !std::isfinite(result.magnitude)) {
       const std::string value = formatNumber(argument.value);
-      if ((name == "sqrt" && argument.value < 0.0) || ((name == "log" || name == "ln") && argument.value <= 0.0))
+      if ((name == "sqrt" && argument.value < 0.0) ||
+          ((name == "log" || name == "ln") && argument.value <= 0.0))
         fail(t, std::string(name) + "(" + value + ") is not a finite real number");
       fail(t, "the value of " + std::string(name) + "(" + value + ") is not finite");
     }
@@ -307,7 +325,8 @@ class Parser {
       if (name == "tan")
         fail(t, call + " is at a pole within rounding: its value " + formatNumber(result.value) +
                     " has no correct digit");
-      fail(t, call + " has no correct digit: the argument's rounding error is too large for " + std::string(name));
+      fail(t, call + " has no correct digit: the argument's rounding error is too large for " +
+                  std::string(name));
     }
     return result;
   }
@@ -319,15 +338,16 @@ class Parser {
   int pos_ = 0;
   int depth_ = 0;
   std::set<std::string, std::less<>> used_;  // the parameters read so far
-  static constexpr int kMaxNesting = 256;  // far beyond real equations; small stack frames even under ASan
+  static constexpr int kMaxNesting =
+      256;  // far beyond real equations; small stack frames even under ASan
 };
 
 // Whether an equation can refer to `name`: exactly one Name token of the lexer.
 bool isReferenceable(std::string_view name) {
   try {
     const std::vector<Token> tokens = detail::tokenize(name);
-    return tokens.size() == 2 && tokens[0].kind == detail::TokenKind::Name && tokens[0].offset == 0 &&
-           tokens[0].length == static_cast<int>(name.size());
+    return tokens.size() == 2 && tokens[0].kind == detail::TokenKind::Name &&
+           tokens[0].offset == 0 && tokens[0].length == static_cast<int>(name.size());
   } catch (const ParseError&) {
     return false;
   }
@@ -340,10 +360,13 @@ bool isReferenceable(std::string_view name) {
 void checkParameters(const ParseOptions& options) {
   for (const auto& [name, value] : options.parameters) {
     if (!isReferenceable(name))
-      throw ParameterError(name, "is not a name an equation can use (a letter or _, then letters, digits or _)");
-    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" || detail::isFunctionName(name))
+      throw ParameterError(
+          name, "is not a name an equation can use (a letter or _, then letters, digits or _)");
+    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" ||
+        detail::isFunctionName(name))
       throw ParameterError(name, "clashes with the built-in name '" + name + "'");
-    if (!std::isfinite(value)) throw ParameterError(name, "is not finite (" + formatNumber(value) + ")");
+    if (!std::isfinite(value))
+      throw ParameterError(name, "is not finite (" + formatNumber(value) + ")");
   }
 }
 

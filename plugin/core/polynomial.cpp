@@ -42,7 +42,8 @@ Polynomial::Polynomial(double constant) {
 
 namespace {
 void checkAxis(int axis) {
-  if (axis < 0 || axis > 2) throw Error("axis " + std::to_string(axis) + " is not 0, 1 or 2 (x, y, z)");
+  if (axis < 0 || axis > 2)
+    throw Error("axis " + std::to_string(axis) + " is not 0, 1 or 2 (x, y, z)");
 }
 }  // namespace
 
@@ -61,8 +62,8 @@ double Polynomial::coeff(int i, int j, int k) const {
 void Polynomial::setCoeff(int i, int j, int k, double value) {
   // (coeff() reads negative exponents as 0; a write there would land outside the storage.)
   if (i < 0 || j < 0 || k < 0)
-    throw Error("negative exponent in setCoeff(" + std::to_string(i) + ", " + std::to_string(j) + ", " +
-                std::to_string(k) + ")");
+    throw Error("negative exponent in setCoeff(" + std::to_string(i) + ", " + std::to_string(j) +
+                ", " + std::to_string(k) + ")");
   const int n = i + j + k;
   checkDegree(n);
   if (n > degree_) {
@@ -181,7 +182,9 @@ Polynomial Polynomial::translate(const glm::dvec3& o) const {
   // Work in a cube array c[i][j][k] (i, j, k <= m) to make each shift a strided line.
   const int s = m + 1;
   std::vector<double> cube(static_cast<size_t>(s) * s * s, 0.0);
-  auto at = [&](int i, int j, int k) -> double& { return cube[(static_cast<size_t>(i) * s + j) * s + k]; };
+  auto at = [&](int i, int j, int k) -> double& {
+    return cube[(static_cast<size_t>(i) * s + j) * s + k];
+  };
   for (int n = 0; n <= m; ++n)
     forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) { at(i, j, k) = coeffs_[idx]; });
   for (int j = 0; j <= m; ++j)
@@ -224,7 +227,9 @@ Polynomial Polynomial::composeAffine(const glm::dmat3& a, const glm::dvec3& b) c
   return fx;
 }
 
-double Polynomial::evaluate(const glm::dvec3& p) const { return evaluateWithBound(p).value; }
+double Polynomial::evaluate(const glm::dvec3& p) const {
+  return evaluateWithBound(p).value;
+}
 
 glm::dvec3 Polynomial::gradient(const glm::dvec3& p) const {
   return evaluateWithBound(p).gradient;
@@ -286,8 +291,7 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
   if (ray_horner::hasSubnormal(p)) [[unlikely]] {
     double absSum = 0.0;
     for (const double c : coeffs_) absSum += std::abs(c);
-    const int a =
-        ray_horner::ceilExponent(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+    const int a = ray_horner::ceilExponent(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
     const int n = std::max(m, 1);
     e.valueError += 2.0 * n * absSum * ray_horner::pow2(a * (n - 1) - 1022);
   }
@@ -316,7 +320,8 @@ int Polynomial::pruneBelow(std::span<const double> threshold) {
 }
 
 int Polynomial::nonZeroCount() const {
-  return static_cast<int>(std::count_if(coeffs_.begin(), coeffs_.end(), [](double c) { return c != 0.0; }));
+  return static_cast<int>(
+      std::count_if(coeffs_.begin(), coeffs_.end(), [](double c) { return c != 0.0; }));
 }
 
 std::string Polynomial::toString() const {

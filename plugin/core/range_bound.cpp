@@ -293,8 +293,8 @@ Interval rangeOverInterval(std::span<const double> c, std::span<const double> er
   double rk = 1.0, loSum = b[0].lower(), hiSum = b[0].upper();
   for (int k = 1; k <= n; ++k) {
     rk = nextUp(rk * r);
-    const Interval term = k % 2 == 0 ? b[k] * Interval(0.0, rk)
-                                     : Interval(-b[k].magnitude(), b[k].magnitude()) * rk;
+    const Interval term =
+        k % 2 == 0 ? b[k] * Interval(0.0, rk) : Interval(-b[k].magnitude(), b[k].magnitude()) * rk;
     loSum = nextDown(loSum + term.lower());
     hiSum = nextUp(hiSum + term.upper());
   }

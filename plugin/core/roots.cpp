@@ -67,13 +67,14 @@ int exponentOf(T x) {
   return std::ilogb(x);
 }
 
-[[noreturn, gnu::cold, gnu::noinline]] void throwSizeError(size_t nc, size_t nerr, const char* where) {
+[[noreturn, gnu::cold, gnu::noinline]] void throwSizeError(size_t nc, size_t nerr,
+                                                           const char* where) {
   if (nc > static_cast<size_t>(kMaxDegree + 1))
     throw Error(std::string(where) + ": " + std::to_string(nc) +
                 " coefficients, more than degree kMaxDegree = " + std::to_string(kMaxDegree) +
                 " allows");
-  throw Error(std::string(where) + ": error bound has " + std::to_string(nerr) +
-              " entries for " + std::to_string(nc) + " coefficients");
+  throw Error(std::string(where) + ": error bound has " + std::to_string(nerr) + " entries for " +
+              std::to_string(nc) + " coefficients");
 }
 
 // The message building stays out of line: this runs on every ray.
@@ -109,7 +110,8 @@ bool noisyRootBound(const T* c, int n, std::span<const T> err, T& bound) {
     const double a = static_cast<double>(std::abs(c[j])) + static_cast<double>(noise(j));
     if (a == 0) continue;
     const double halved = j == 0 ? 1.0 : 0.0;
-    maxLog = std::max(maxLog, (std::log2(a) - halved - std::log2(static_cast<double>(lead))) / (n - j));
+    maxLog =
+        std::max(maxLog, (std::log2(a) - halved - std::log2(static_cast<double>(lead))) / (n - j));
   }
   const double b = std::exp2(maxLog + 1) * (1 + 0x1p-20);
   if (!(b > 0 && b <= static_cast<double>(std::numeric_limits<T>::max()))) return false;
@@ -171,8 +173,9 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
   const int s0 = -eMax, s1 = n * e - eMax;  // the shifts are monotone in j
   bool finiteNoise = true;
   bool anyBelow = true;  // whether a non-zero coefficient may have left the normal range
-  T leadErr = 0;  // the caller's error of C_n
-  if (std::min(s0, s1) >= Limits::min_exponent - 1 && std::max(s0, s1) <= Limits::max_exponent - 1) {
+  T leadErr = 0;         // the caller's error of C_n
+  if (std::min(s0, s1) >= Limits::min_exponent - 1 &&
+      std::max(s0, s1) <= Limits::max_exponent - 1) {
     // Every factor 2^shift is a normal number: one correctly rounded product each, the
     // same result as ldexp, without its range checks.
     // (Over the compile-time count, stopping at n: the loop unrolls.)
@@ -258,11 +261,12 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
 // cell-sized degree-6 solve was this function with run-time loops; perf, session 8;
 // unrolled, cells of degree 6-8 took 3-6 % less time, degree 12 the same).
 template <class T, int... Ss>
-bool toLocalSmall(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g, Frame<T>& fr,
-                  std::integer_sequence<int, Ss...>) {
+bool toLocalSmall(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
+                  Frame<T>& fr, std::integer_sequence<int, Ss...>) {
   bool ok = false;
   const bool matched =
-      ((c.size() == Ss + 2 ? (ok = toLocalSized(c.data(), std::integral_constant<int, Ss + 2>{}, err, lo, hi, g, fr),
+      ((c.size() == Ss + 2 ? (ok = toLocalSized(c.data(), std::integral_constant<int, Ss + 2>{},
+                                                err, lo, hi, g, fr),
                               true)
                            : false) ||
        ...);
@@ -271,7 +275,8 @@ bool toLocalSmall(std::span<const T> c, std::span<const T> err, T lo, T hi, Loca
 }
 
 template <class T>
-bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g, Frame<T>& fr) {
+bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
+             Frame<T>& fr) {
   return toLocalSmall(c, err, lo, hi, g, fr, std::make_integer_sequence<int, 20>{});
 }
 
@@ -323,7 +328,8 @@ int solveLocal(const LocalPoly<T>& g, Query q, const RootOptions& o, LocalRoot<T
 }
 
 template <class T>
-bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root, const RootOptions& o) {
+bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
+                const RootOptions& o) {
   checkSizes(c, err, "firstRoot");
   LocalPoly<T> g;
   Frame<T> fr;
@@ -348,8 +354,8 @@ bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const Ro
 
 }  // namespace
 
-bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi, double& root,
-                    const RootOptions& options) {
+bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
+                    double& root, const RootOptions& options) {
   return firstRootT(c, err, lo, hi, root, options);
 }
 
@@ -379,8 +385,8 @@ int allRoots(std::span<const double> c, std::span<const double> err, double lo, 
   return m;
 }
 
-bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi, float& root,
-                    const RootOptions& options) {
+bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
+                    float& root, const RootOptions& options) {
   return firstRootT(c, err, lo, hi, root, options);
 }
 

@@ -63,12 +63,11 @@ void toBernstein(const LocalPoly<double>& g, double* b) {
   const int n = g.n;
   const double lo = g.lo, hi = g.hi;
   const double* c = g.c.data();
-  b[0] = c[n];  // degree 0
+  b[0] = c[n];                   // degree 0
   for (int k = 0; k < n; ++k) {  // b holds degree k: times v, plus c[n - k - 1]
     const double inv = 1.0 / (k + 1), add = c[n - k - 1];
     b[k + 1] = hi * b[k] + add;
-    for (int i = k; i >= 1; --i)
-      b[i] = ((k + 1 - i) * lo * b[i] + i * hi * b[i - 1]) * inv + add;
+    for (int i = k; i >= 1; --i) b[i] = ((k + 1 - i) * lo * b[i] + i * hi * b[i - 1]) * inv + add;
     b[0] = lo * b[0] + add;
   }
 }
@@ -87,8 +86,7 @@ void split(const double* b, int n, double f, double* l, double* r) {
   }
 }
 
-int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
-              int maxOut) {
+int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out, int maxOut) {
   if (g.n < 1 || maxOut < 1) return 0;
   const int n = g.n;
   Node stack[kMaxDepth + 2];
@@ -168,8 +166,9 @@ int solveBernstein(const LocalPoly<double>& g, Query q, double tol, LocalRoot<do
                    int maxOut) {
   if (g.n < 1 || maxOut < 1) return 0;
   return withEndRules(g, q, out, maxOut,
-                      [&](const LocalPoly<double>& inner, Query qq, LocalRoot<double>* o,
-                          int m) { return solveOpen(inner, qq, tol, o, m); });
+                      [&](const LocalPoly<double>& inner, Query qq, LocalRoot<double>* o, int m) {
+                        return solveOpen(inner, qq, tol, o, m);
+                      });
 }
 
 }  // namespace algray::roots_detail

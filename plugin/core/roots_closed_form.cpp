@@ -59,7 +59,9 @@ inline constexpr T kRangeHi = pow2c<T>(std::numeric_limits<T>::max_exponent / 8)
 template <class T>
 inline constexpr T kRangeLo = pow2c<T>(std::numeric_limits<T>::min_exponent / 8);
 
-int ceilDiv(int x, int d) { return x >= 0 ? (x + d - 1) / d : -((-x) / d); }
+int ceilDiv(int x, int d) {
+  return x >= 0 ? (x + d - 1) / d : -((-x) / d);
+}
 
 // Rescales the monic x^n + m[n-1] x^(n-1) + ... + m[0] by x = 2^k y (exact) so that every
 // |m[j]| <= 1 afterwards, when its range calls for it; returns k (roots are x = 2^k y).
@@ -95,7 +97,7 @@ int monicCubicRoots(T a, T b, T c, T* r) {
   const int k = rescale(m, 3);
   c = m[0], b = m[1], a = m[2];
   const T a3 = a / 3;
-  const T Q = a3 * a3 - b / 3;                  // (a^2 - 3b) / 9
+  const T Q = a3 * a3 - b / 3;                 // (a^2 - 3b) / 9
   const T R = (a3 * a3 - b / 2) * a3 + c / 2;  // (2a^3 - 9ab + 27c) / 54
   if (Q > 0 && R * R < Q * Q * Q) {
     // Three real roots, -2 sqrt(Q) cos((theta + 2 pi j) / 3) - a/3 with theta =
@@ -160,7 +162,7 @@ T det3(const T (&m)[3][3]) {
 // a step is kept only while that relative residual falls.
 template <class T>
 void refineFactors(T a, T b, T c, T d, T (&f)[4]) {
-  auto residual = [&](const T (&g)[4], T (&e)[4]) {
+  auto residual = [&](const T(&g)[4], T(&e)[4]) {
     e[0] = g[0] + g[2] - a;
     e[1] = g[1] + g[0] * g[2] + g[3] - b;
     e[2] = g[0] * g[3] + g[1] * g[2] - c;
@@ -237,11 +239,11 @@ int monicQuarticRoots(T a, T b, T c, T d, T* r) {
     if (std::abs(alpha) >= std::abs(gamma)) {
       const T viaC = (std::abs(c) + std::abs(alpha * delta)) / std::abs(beta);
       gamma = (beta != 0 && viaC < std::abs(a) + std::abs(alpha)) ? (c - alpha * delta) / beta
-                                                                   : a - alpha;
+                                                                  : a - alpha;
     } else {
       const T viaC = (std::abs(c) + std::abs(beta * gamma)) / std::abs(delta);
       alpha = (delta != 0 && viaC < std::abs(a) + std::abs(gamma)) ? (c - beta * gamma) / delta
-                                                                    : a - gamma;
+                                                                   : a - gamma;
     }
     T f[4] = {alpha, beta, gamma, delta};
     refineFactors(a, b, c, d, f);
@@ -266,8 +268,8 @@ int monicQuarticRoots(T a, T b, T c, T d, T* r) {
 // The closed-form value inside the monotone piece (a, b) of p, polished by Newton on p; the
 // bracketed Newton from the secant point when there is none.
 template <class T, class D>
-T polishedRoot(const T* p, const T* noise, D deg, const T* cand, int nCand, T a, T b, T fa,
-               T fb, T tol) {
+T polishedRoot(const T* p, const T* noise, D deg, const T* cand, int nCand, T a, T b, T fa, T fb,
+               T tol) {
   for (int i = 0; i < nCand; ++i)
     if (cand[i] > a && cand[i] < b) return newtonFrom(p, noise, deg, a, b, fa, cand[i], tol);
   return newtonInBracket(p, noise, deg, a, b, fa, fb, tol);
@@ -406,9 +408,8 @@ int solveClosedForm(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, in
   return scanPieces(g, Deg<2>{}, crit, nCrit, q, piece, out, maxOut);
 }
 
-template int solveClosedForm<double>(const LocalPoly<double>&, Query, double,
-                                     LocalRoot<double>*, int);
-template int solveClosedForm<float>(const LocalPoly<float>&, Query, float, LocalRoot<float>*,
-                                    int);
+template int solveClosedForm<double>(const LocalPoly<double>&, Query, double, LocalRoot<double>*,
+                                     int);
+template int solveClosedForm<float>(const LocalPoly<float>&, Query, float, LocalRoot<float>*, int);
 
 }  // namespace algray::roots_detail

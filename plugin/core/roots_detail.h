@@ -87,7 +87,8 @@ inline T horner(const T* c, D deg, T x) {
 // the next, so on a superscalar core the extra ones hide in the latency of the value
 // recurrence.
 template <class T, class D>
-inline void hornerNewton(const T* c, const T* noise, D deg, T x, T& f, T& df, T& dd, T& d3, T& nb, T& nbSlope) {
+inline void hornerNewton(const T* c, const T* noise, D deg, T x, T& f, T& df, T& dd, T& d3, T& nb,
+                         T& nbSlope) {
   const int n = deg;
   const T ax = std::abs(x);
   f = c[n];
@@ -148,8 +149,12 @@ inline void derivative(const T* c, D deg, T* d) {
   for (int i = 0; i < n; ++i) d[i] = c[i + 1] * (T(i + 1) * inv);
 }
 
-inline bool signBit(double x) { return std::signbit(x); }
-inline bool signBit(float x) { return std::signbit(x); }
+inline bool signBit(double x) {
+  return std::signbit(x);
+}
+inline bool signBit(float x) {
+  return std::signbit(x);
+}
 
 // Binomial coefficients C(i, j), exact in double up to C(40, 20) ~ 1.4e11.
 struct Binomials {
@@ -346,7 +351,8 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
       // bisection point, ignored the s^5 term of s^5 + 1e-92 s^2 + ...). That holds at any
       // ordinary convergence; elsewhere one more step is taken.
       const T step = std::abs(xn - x), k = std::abs(dd / df);
-      const T predicted = halley ? (k * k + std::abs(d3 / df)) * step * step * step : k * step * step;
+      const T predicted =
+          halley ? (k * k + std::abs(d3 / df)) * step * step * step : k * step * step;
       if (step <= tol || step <= 4 * kUnit<T> * std::abs(xn) ||
           (2 * step <= std::abs(x) && predicted <= kUnit<T> * std::abs(xn)))
         return xn;
@@ -420,8 +426,7 @@ template <class T>
 int solveYuksel(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int maxOut);
 template <class T>
 int solveClosedForm(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int maxOut);
-int solveSturm(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
-               int maxOut);
+int solveSturm(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out, int maxOut);
 int solveBernstein(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
                    int maxOut);
 

@@ -20,12 +20,15 @@
 
 namespace algray {
 
-bool solveFirstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err, double lo, double hi,
-                             double& root) {
-  auto inRange = [](double x) { return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100); };
+bool solveFirstRootQuadratic(std::span<const double, 3> c, std::span<const double, 3> err,
+                             double lo, double hi, double& root) {
+  auto inRange = [](double x) {
+    return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100);
+  };
   const double scale = std::max(std::abs(lo), std::abs(hi));
   bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c[2] != 0.0;
-  for (int i = 0; i < 3 && safe; ++i) safe = inRange(c[i]) && inRange(err[i]) && std::isfinite(err[i]);
+  for (int i = 0; i < 3 && safe; ++i)
+    safe = inRange(c[i]) && inRange(err[i]) && std::isfinite(err[i]);
   // The drop rule of toLocal (roots.cpp) in the caller's frame: |c2| S^2 against
   // u max(|c0|, |c1| S) and against the caller's own bound on c2 (S = max(|lo|, |hi|)
   // here, the next power of two there: a quadratic near the rule's threshold goes to
@@ -35,7 +38,8 @@ bool solveFirstRootQuadratic(std::span<const double, 3> c, std::span<const doubl
     const double lower = std::max(std::abs(c[0]), std::abs(c[1]) * scale);
     safe = lead > 4.0 * roots_detail::kUnit<double> * lower && std::abs(c[2]) > 2.0 * err[2];
   }
-  if (!safe) return solveFirstRoot(std::span<const double>(c), std::span<const double>(err), lo, hi, root);
+  if (!safe)
+    return solveFirstRoot(std::span<const double>(c), std::span<const double>(err), lo, hi, root);
 
   roots_detail::LocalPoly<double> g;
   g.n = 2;

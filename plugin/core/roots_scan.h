@@ -86,7 +86,8 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
     T m, fm;
     if (z && !inCluster && clearCrossing(g, deg, xPrev, fPrev, x, m, fm)) {
       // Into a cluster: the piece's root lies clearly before it, in (xPrev, m).
-      if (!emit(q == Query::Any ? xPrev + (m - xPrev) / 2 : piece(xPrev, m, fPrev, fm), false)) return count;
+      if (!emit(q == Query::Any ? xPrev + (m - xPrev) / 2 : piece(xPrev, m, fPrev, fm), false))
+        return count;
     }
     if (z) {
       if (!inCluster) {
@@ -193,7 +194,7 @@ int withEndRules(const LocalPoly<T>& g, Query q, LocalRoot<T>* out, int maxOut, 
         clearCrossing(g, g.n, inner.hi, horner(g.c.data(), g.n, inner.hi), g.hi, m, fm))
       inner.hi = m;
   }
-  if (!(inner.lo < inner.hi)) {  // G within noise all the way: one cluster
+  if (!(inner.lo < inner.hi)) {        // G within noise all the way: one cluster
     if (zLo && !g.closedLo) return 0;  // ... containing lo
     out[0] = LocalRoot<T>{zLo ? g.lo : g.hi, true};
     return 1;

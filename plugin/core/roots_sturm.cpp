@@ -161,8 +161,7 @@ double rootInBracket(const LocalPoly<double>& g, double a, double b, double fa, 
   }
 }
 
-int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out,
-              int maxOut) {
+int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>* out, int maxOut) {
   if (g.n < 1 || maxOut < 1) return 0;
   SturmSequence s;
   build(g, s);
@@ -170,8 +169,13 @@ int solveOpen(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double>
   Interval stack[kMaxDepth + 2];
   int top = 0;
   const double* c = g.c.data();
-  stack[top++] = Interval{g.lo, g.hi, horner(c, g.n, g.lo), horner(c, g.n, g.hi),
-                          s.variations(g.lo), s.variations(g.hi), 0};
+  stack[top++] = Interval{g.lo,
+                          g.hi,
+                          horner(c, g.n, g.lo),
+                          horner(c, g.n, g.hi),
+                          s.variations(g.lo),
+                          s.variations(g.hi),
+                          0};
   int count = 0;
   while (top > 0) {
     Interval iv = stack[--top];
@@ -217,8 +221,9 @@ int solveSturm(const LocalPoly<double>& g, Query q, double tol, LocalRoot<double
                int maxOut) {
   if (g.n < 1 || maxOut < 1) return 0;
   return withEndRules(g, q, out, maxOut,
-                      [&](const LocalPoly<double>& inner, Query qq, LocalRoot<double>* o,
-                          int m) { return solveOpen(inner, qq, tol, o, m); });
+                      [&](const LocalPoly<double>& inner, Query qq, LocalRoot<double>* o, int m) {
+                        return solveOpen(inner, qq, tol, o, m);
+                      });
 }
 
 }  // namespace algray::roots_detail

@@ -92,7 +92,7 @@ struct SubdivideState {
   T err;            // the uniform bound E of plain-T nodes (0 with pairs)
   Query q;
   T tol;
-  bool closedLo;    // the root node's lo is closed (LocalPoly::closedLo); inner ends are not
+  bool closedLo;  // the root node's lo is closed (LocalPoly::closedLo); inner ends are not
   int nodes = 0;
   bool exhausted = false;  // the budget ran out at node end `resumeAt`; the rest is open
   T resumeAt = 0;
@@ -356,8 +356,8 @@ struct KnownNoise {
 // Roots of G on the node u in [u0, u1] with Bernstein coefficients b; `direct(g)` runs
 // Yuksel's recursion on [g.lo, g.hi].
 template <class T, class E, class D, class Direct>
-int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth,
-              Direct&& direct, LocalRoot<T>* out, int maxOut, KnownNoise<T> known = {}) {
+int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, Direct&& direct,
+              LocalRoot<T>* out, int maxOut, KnownNoise<T> known = {}) {
   LocalPoly<T>& g = st.g;
   const T va = st.lo + st.w * u0, vb = u1 == 1 ? g.hi : st.lo + st.w * u1;
   if (st.exhausted) return 0;
@@ -368,7 +368,7 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth,
   }
   const T xNoise = std::max(std::abs(va), std::abs(vb));
   constexpr bool kPairs = std::is_same_v<E, BPair<T>>;
-  const T noise = !kPairs               ? hornerAbs(g.noise.data(), deg, xNoise)
+  const T noise = !kPairs              ? hornerAbs(g.noise.data(), deg, xNoise)
                   : xNoise == known.x0 ? known.n0
                   : xNoise == known.x1 ? known.n1
                                        : hornerAbs(g.noise.data(), deg, xNoise);

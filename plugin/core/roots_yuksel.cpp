@@ -169,14 +169,13 @@ int derivRootsDyn(const T* p, int n, T lo, T hi, T tol, T* out, int mono) {
   }
   for (int j = L - 1; j >= 0; --j) {
     T* dst = j == 0 ? out : next;
-    const int kj = pieceRoots(chain[j], n - j, lo, hi, k > 0 ? crit : static_cast<const T*>(nullptr), k,
-                              tol, dst, ends[j]);
+    const int kj = pieceRoots(chain[j], n - j, lo, hi,
+                              k > 0 ? crit : static_cast<const T*>(nullptr), k, tol, dst, ends[j]);
     std::swap(crit, next);
     k = kj;
   }
   return k;
 }
-
 
 // Exclusion test (a cheap, sound shortcut before Yuksel's recursion). With the Taylor
 // coefficients t_j of G at the midpoint m of (lo, hi) and the radius r, the k-th
@@ -203,7 +202,8 @@ int rootFreeOrder(const LocalPoly<T>& g, D deg) {
       rest = (rest + std::abs(t[j])) * r;
       err = (err + ta[j]) * r;
     }
-    err = gShift * (err + ta[0]) + hornerAbs(g.noise.data(), deg, std::max(std::abs(g.lo), std::abs(g.hi)));
+    err = gShift * (err + ta[0]) +
+          hornerAbs(g.noise.data(), deg, std::max(std::abs(g.lo), std::abs(g.hi)));
     if (std::abs(t[0]) > rest + err) return 0;
   }
   int k = 1;
@@ -330,7 +330,8 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   if (4 * (g.hi - g.lo) <= std::max(std::abs(g.lo), std::abs(g.hi))) {
     const int order = rootFreeOrder(g, deg);
     if (order == 0) return 0;
-    if (order <= (high ? n - 1 : kShortOrder)) return solveDirect(g, deg, order, q, tol, out, maxOut);
+    if (order <= (high ? n - 1 : kShortOrder))
+      return solveDirect(g, deg, order, q, tol, out, maxOut);
   }
   // The subdivision's working copy (node ends move); only the n + 1 live coefficients.
   LocalPoly<T> work;
@@ -373,8 +374,7 @@ int solveYuksel(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int ma
   return solveTop(g, g.n, q, tol, out, maxOut);
 }
 
-template int solveYuksel<double>(const LocalPoly<double>&, Query, double, LocalRoot<double>*,
-                                 int);
+template int solveYuksel<double>(const LocalPoly<double>&, Query, double, LocalRoot<double>*, int);
 template int solveYuksel<float>(const LocalPoly<float>&, Query, float, LocalRoot<float>*, int);
 
 }  // namespace algray::roots_detail

@@ -48,7 +48,8 @@ void nestedHorner(const double* c, int mRuntime, const glm::dvec3& p, const glm:
       // H = sum_k c_ijk Z^k by Horner; leading zero coefficients are skipped, so sparse
       // columns cost nothing.
       int degH = -1;
-      for (int k = m - i - j; k >= 0; --k) hornerStep(fz, degH, c[Polynomial::index(i, j, k)], pz, dz);
+      for (int k = m - i - j; k >= 0; --k)
+        hornerStep(fz, degH, c[Polynomial::index(i, j, k)], pz, dz);
       for (int r = 0; r <= degH; ++r) fy[r] += fz[r];
       fyZero = fyZero && degH < 0;
     }
@@ -110,9 +111,8 @@ std::vector<double> flooredAbsShift(const Polynomial& f, const glm::dvec3& a, do
     return cube[(static_cast<std::size_t>(i) * s + j) * s + k];
   };
   for (int n = 0; n <= m; ++n)
-    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
-      at(i, j, k) = std::abs(f.coeffs()[idx]) + phi;
-    });
+    forEachMonomialOfDegree(
+        n, [&](int i, int j, int k, int idx) { at(i, j, k) = std::abs(f.coeffs()[idx]) + phi; });
   auto shift = [phi](double* c, int deg, std::ptrdiff_t stride, double x) {
     for (int k = 0; k < deg; ++k)
       for (int i = deg - 1; i >= k; --i)
@@ -188,13 +188,27 @@ RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm:
   double mag[kMaxDegree + 1];
   const double* c = f.coeffs().data();
   switch (f.degree()) {  // measured in tests/bench/taylor_bench (BM_RestrictToRay)
-    case 1: nestedHorner<1>(c, 1, p, d, g.coeff.data(), mag); break;
-    case 2: nestedHorner<2>(c, 2, p, d, g.coeff.data(), mag); break;
-    case 3: nestedHorner<3>(c, 3, p, d, g.coeff.data(), mag); break;
-    case 4: nestedHorner<4>(c, 4, p, d, g.coeff.data(), mag); break;
-    case 5: nestedHorner<5>(c, 5, p, d, g.coeff.data(), mag); break;
-    case 6: nestedHorner<6>(c, 6, p, d, g.coeff.data(), mag); break;
-    default: nestedHorner<kDynamic>(c, f.degree(), p, d, g.coeff.data(), mag); break;
+    case 1:
+      nestedHorner<1>(c, 1, p, d, g.coeff.data(), mag);
+      break;
+    case 2:
+      nestedHorner<2>(c, 2, p, d, g.coeff.data(), mag);
+      break;
+    case 3:
+      nestedHorner<3>(c, 3, p, d, g.coeff.data(), mag);
+      break;
+    case 4:
+      nestedHorner<4>(c, 4, p, d, g.coeff.data(), mag);
+      break;
+    case 5:
+      nestedHorner<5>(c, 5, p, d, g.coeff.data(), mag);
+      break;
+    case 6:
+      nestedHorner<6>(c, 6, p, d, g.coeff.data(), mag);
+      break;
+    default:
+      nestedHorner<kDynamic>(c, f.degree(), p, d, g.coeff.data(), mag);
+      break;
   }
   // Every coefficient of g is reached through at most m linear-factor steps, each one
   // multiply and at most two additions, plus the coefficient itself: gamma_{3m+3} times

@@ -49,7 +49,8 @@ using ray_horner::Pair;
 
 // A slot's (c, |c|), the term(c) of ray_horner.h, in one aligned load.
 inline Pair load(const HornerForm::SignedTerm& t) {
-  static_assert(sizeof(Pair) == sizeof(HornerForm::SignedTerm) && alignof(HornerForm::SignedTerm) == alignof(Pair));
+  static_assert(sizeof(Pair) == sizeof(HornerForm::SignedTerm) &&
+                alignof(HornerForm::SignedTerm) == alignof(Pair));
   Pair v;
   std::memcpy(&v, &t, sizeof v);
   return v;
@@ -113,8 +114,8 @@ inline void mulLinearAny(Pair* q, int deg, Pair p, Pair d) {
 // Not inlined: inlining 17 of them into boxHorner cost 5-15 % (register allocation of
 // the one big function), and the Pair arguments travel in registers.
 template <int L>
-__attribute__((noinline)) void rowStep(const HornerForm::SignedTerm* s, Pair pz, Pair dz, Pair py, Pair dy, Pair* fy,
-                                       int& degF) {
+__attribute__((noinline)) void rowStep(const HornerForm::SignedTerm* s, Pair pz, Pair dz, Pair py,
+                                       Pair dy, Pair* fy, int& degF) {
   Pair h[L];
   h[0] = load(s[0]);
 #pragma GCC unroll 64
@@ -150,10 +151,12 @@ __attribute__((noinline)) void rowStep(const HornerForm::SignedTerm* s, Pair pz,
 }
 
 // Any row: the run-time hornerStep loop.
-void rowStepAny(const HornerForm::SignedTerm* s, int len, Pair pz, Pair dz, Pair py, Pair dy, Pair* fy, int& degF) {
+void rowStepAny(const HornerForm::SignedTerm* s, int len, Pair pz, Pair dz, Pair py, Pair dy,
+                Pair* fy, int& degF) {
   Pair fz[kMaxDegree + 2];
   int degH = -1;
-  for (const HornerForm::SignedTerm* end = s + len; s != end; ++s) hornerStep(fz, degH, s->c, pz, dz);
+  for (const HornerForm::SignedTerm* end = s + len; s != end; ++s)
+    hornerStep(fz, degH, s->c, pz, dz);
   if (degH >= 0) {
     degF = mulAdd(fy, degF, fz, degH, py, dy);
   } else if (degF >= 0) {
@@ -190,7 +193,8 @@ __attribute__((noinline)) void mulAddConstN(Pair* acc, Pair c, Pair p, Pair d) {
 
 using MulAddConstFn = void (*)(Pair*, Pair, Pair, Pair);
 template <int... N>
-constexpr std::array<MulAddConstFn, sizeof...(N)> mulAddConstTable(std::integer_sequence<int, N...>) {
+constexpr std::array<MulAddConstFn, sizeof...(N)> mulAddConstTable(
+    std::integer_sequence<int, N...>) {
   return {&mulAddConstN<N>...};
 }
 constexpr auto kMulAddConst = mulAddConstTable(std::make_integer_sequence<int, kUnrolled>{});
@@ -221,24 +225,60 @@ int boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, Pai
         // A switch: 3-7 % faster than a table of function pointers (BM_GalleryDirect).
         static_assert(kUnrolled == 17);
         switch (n) {
-          case 1: rowStep<1>(s, pz, dz, py, dy, fy, degF); break;
-          case 2: rowStep<2>(s, pz, dz, py, dy, fy, degF); break;
-          case 3: rowStep<3>(s, pz, dz, py, dy, fy, degF); break;
-          case 4: rowStep<4>(s, pz, dz, py, dy, fy, degF); break;
-          case 5: rowStep<5>(s, pz, dz, py, dy, fy, degF); break;
-          case 6: rowStep<6>(s, pz, dz, py, dy, fy, degF); break;
-          case 7: rowStep<7>(s, pz, dz, py, dy, fy, degF); break;
-          case 8: rowStep<8>(s, pz, dz, py, dy, fy, degF); break;
-          case 9: rowStep<9>(s, pz, dz, py, dy, fy, degF); break;
-          case 10: rowStep<10>(s, pz, dz, py, dy, fy, degF); break;
-          case 11: rowStep<11>(s, pz, dz, py, dy, fy, degF); break;
-          case 12: rowStep<12>(s, pz, dz, py, dy, fy, degF); break;
-          case 13: rowStep<13>(s, pz, dz, py, dy, fy, degF); break;
-          case 14: rowStep<14>(s, pz, dz, py, dy, fy, degF); break;
-          case 15: rowStep<15>(s, pz, dz, py, dy, fy, degF); break;
-          case 16: rowStep<16>(s, pz, dz, py, dy, fy, degF); break;
-          case 17: rowStep<17>(s, pz, dz, py, dy, fy, degF); break;
-          default: rowStepAny(s, n, pz, dz, py, dy, fy, degF); break;
+          case 1:
+            rowStep<1>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 2:
+            rowStep<2>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 3:
+            rowStep<3>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 4:
+            rowStep<4>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 5:
+            rowStep<5>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 6:
+            rowStep<6>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 7:
+            rowStep<7>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 8:
+            rowStep<8>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 9:
+            rowStep<9>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 10:
+            rowStep<10>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 11:
+            rowStep<11>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 12:
+            rowStep<12>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 13:
+            rowStep<13>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 14:
+            rowStep<14>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 15:
+            rowStep<15>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 16:
+            rowStep<16>(s, pz, dz, py, dy, fy, degF);
+            break;
+          case 17:
+            rowStep<17>(s, pz, dz, py, dy, fy, degF);
+            break;
+          default:
+            rowStepAny(s, n, pz, dz, py, dy, fy, degF);
+            break;
         }
       }
     }
@@ -293,7 +333,8 @@ void restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d
   for (int i = std::max(degG + 1, 0); i <= m; ++i) g.coeff[i] = g.error[i] = 0.0;
 }
 
-RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift) {
+RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d,
+                            double tShift) {
   RayPolynomial g;
   restrictToRay(f, o, d, tShift, g);
   return g;

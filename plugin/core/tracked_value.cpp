@@ -28,7 +28,8 @@ double conditionOf(const TrackedValue& c) {
 // with unit slope and the slope at c is at most 2; `argumentError` is 2 gamma_k Mc.
 Fold pruneFold(TrackedValue& r, bool zeroLike, double argumentError) {
   const double g2 = 2.0 * gammaOf(r.roundings);
-  const bool swallowed = r.value != 0.0 && std::isfinite(r.magnitude) && std::abs(r.value) <= g2 * r.magnitude;
+  const bool swallowed =
+      r.value != 0.0 && std::isfinite(r.magnitude) && std::abs(r.value) <= g2 * r.magnitude;
   if (swallowed && !(zeroLike && argumentError <= 1.0)) return Fold::undetermined;
   prune(r);
   return Fold::ok;
@@ -108,8 +109,10 @@ TrackedValue TrackedValue::asConstant() const {
 }
 
 TrackedValue negate(TrackedValue a) {
-  if (a.hasVariables && !a.monomial) a.poly *= -1.0;
-  else a.value = -a.value;
+  if (a.hasVariables && !a.monomial)
+    a.poly *= -1.0;
+  else
+    a.value = -a.value;
   return a;
 }
 
@@ -132,11 +135,15 @@ void accumulate(TrackedValue& acc, const TrackedValue& b, bool subtract) {
   if (b.monomial) {
     // One coefficient changes: O(1) unless the storage grows.
     const int i = b.exponents[0], j = b.exponents[1], k = b.exponents[2];
-    if (b.value != 0.0) acc.poly.setCoeff(i, j, k, acc.poly.coeff(i, j, k) + (subtract ? -b.value : b.value));
-    if (b.value != 0.0) acc.polyMagnitude.setCoeff(i, j, k, acc.polyMagnitude.coeff(i, j, k) + b.magnitude);
+    if (b.value != 0.0)
+      acc.poly.setCoeff(i, j, k, acc.poly.coeff(i, j, k) + (subtract ? -b.value : b.value));
+    if (b.value != 0.0)
+      acc.polyMagnitude.setCoeff(i, j, k, acc.polyMagnitude.coeff(i, j, k) + b.magnitude);
   } else if (b.hasVariables) {
-    if (subtract) acc.poly -= b.poly;
-    else acc.poly += b.poly;
+    if (subtract)
+      acc.poly -= b.poly;
+    else
+      acc.poly += b.poly;
     acc.polyMagnitude += b.polyMagnitude;
   } else {
     acc.poly += Polynomial(subtract ? -b.value : b.value);
@@ -151,7 +158,8 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
     // Monomial times monomial or constant: one product, no cancellation, no pruning.
     r.hasVariables = r.monomial = true;
     for (int axis = 0; axis < 3; ++axis)
-      r.exponents[axis] = (a.monomial ? a.exponents[axis] : 0) + (b.monomial ? b.exponents[axis] : 0);
+      r.exponents[axis] =
+          (a.monomial ? a.exponents[axis] : 0) + (b.monomial ? b.exponents[axis] : 0);
     r.value = a.value * b.value;
     r.magnitude = a.magnitude * b.magnitude;
     r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
@@ -278,9 +286,12 @@ Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& r
   r.roundings = addCounts(std::max(c.roundings, e.roundings), 2);
   if (c.value == 0.0) {
     // 0^e: the exact base is at most gamma_kc Mc, its power at most (gamma_kc Mc)^e.
-    if (e.value == 0.0) r.magnitude = 1.0;
-    else if (e.value >= 1.0) r.magnitude = std::pow(c.magnitude, e.value);
-    else r.magnitude = std::pow(c.magnitude, e.value) * std::pow(gammaOf(c.roundings), e.value - 1.0);
+    if (e.value == 0.0)
+      r.magnitude = 1.0;
+    else if (e.value >= 1.0)
+      r.magnitude = std::pow(c.magnitude, e.value);
+    else
+      r.magnitude = std::pow(c.magnitude, e.value) * std::pow(gammaOf(c.roundings), e.value - 1.0);
     if (!std::isfinite(r.magnitude)) r.magnitude = std::abs(r.value);
     return Fold::ok;
   }

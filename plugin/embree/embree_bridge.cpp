@@ -22,7 +22,8 @@ namespace {
 
 constexpr float kFloatRoundoff = 0x1p-24f;
 constexpr unsigned kMaxN = 16;
-constexpr unsigned kHitFields = 7 + RTC_MAX_INSTANCE_LEVEL_COUNT;  // Ng(3) u v primID geomID instID[]
+constexpr unsigned kHitFields =
+    7 + RTC_MAX_INSTANCE_LEVEL_COUNT;  // Ng(3) u v primID geomID instID[]
 
 // ---- Double channel ----------------------------------------------------------------
 // The marker: initIntersectContext installs this as the context filter. For Embree's own
@@ -68,8 +69,9 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
   if (!data.identity) {
     // t is invariant under the affine map. The origin's uncertainty maps through A^-1
     // (Frobenius norm bounds the spectral one), plus the rounding of the map itself.
-    const double inv = std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
-                                 glm::dot(data.aInv[2], data.aInv[2]));
+    const double inv =
+        std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
+                  glm::dot(data.aInv[2], data.aInv[2]));
     const glm::dvec3 ob = o - data.b;
     r.org = data.aInv * ob;
     r.dir = data.aInv * d;
@@ -94,11 +96,14 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
   // gamma_3 (|o| + |t d|) in float units (pbrt-v4 Sec. 6.8.6) with |o| unknown here. The
   // adapter assumes that ray started within a few object sizes: 16 u_float (|o| + R), R
   // the clip radius. Hosts needing better pass double rays with RayD::orgError.
-  if (roundoff > kUnitRoundoff) r.orgError += 16.0 * roundoff * (glm::length(r.org - data.centre) + data.radius);
+  if (roundoff > kUnitRoundoff)
+    r.orgError += 16.0 * roundoff * (glm::length(r.org - data.centre) + data.radius);
   return r;
 }
 
-glm::dvec3 lanePoint(float x, float y, float z) { return {x, y, z}; }
+glm::dvec3 lanePoint(float x, float y, float z) {
+  return {x, y, z};
+}
 
 // ---- Far origins of double rays ----------------------------------------------------------
 // The kernels work in t, which resolves a position along the ray only to u |t d|: from
@@ -139,13 +144,14 @@ void addExact(double& hi, double& low, double t) {
 // moves do not end outside the clip ball (overflow). orgError becomes the rounding bound
 // of o': the self-root rule, the only user of the host's bound, cannot apply to an origin
 // this far outside.
-double rebaseFarOrigin(const SurfaceData& data, glm::dvec3& o, const glm::dvec3& d, double& orgError,
-                       double& tBaseLow) {
+double rebaseFarOrigin(const SurfaceData& data, glm::dvec3& o, const glm::dvec3& d,
+                       double& orgError, double& tBaseLow) {
   tBaseLow = 0.0;
   const double r = data.worldRadius, far = kFarOrigin * r;
   const glm::dvec3 oc = o - data.worldCentre;
   const double dist2 = glm::dot(oc, oc), dd = glm::dot(d, d);
-  if (!(dist2 > far * far) || !(orgError <= 0x1p-20 * std::sqrt(dist2)) || !(dd > 0.0) || !std::isfinite(dd))
+  if (!(dist2 > far * far) || !(orgError <= 0x1p-20 * std::sqrt(dist2)) || !(dd > 0.0) ||
+      !std::isfinite(dd))
     return 0.0;
   const double len = std::sqrt(dd);
   glm::dvec3 p = o;
@@ -192,7 +198,8 @@ void writeCandidate(RTCHitN* hit, unsigned n, unsigned lane, const glm::vec3& ng
   RTCHitN_v(hit, n, lane) = v;
   RTCHitN_primID(hit, n, lane) = primID;
   RTCHitN_geomID(hit, n, lane) = geomID;
-  for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) RTCHitN_instID(hit, n, lane, l) = context->instID[l];
+  for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
+    RTCHitN_instID(hit, n, lane, l) = context->instID[l];
 }
 
 void copyLane(RTCHitN* to, const RTCHitN* from, unsigned n, unsigned lane) {
@@ -339,7 +346,8 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
     if (L.dctx)
       ng = -L.dctx->ray->dir;
     else
-      ng = -lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
+      ng = -lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane),
+                      RTCRayN_dir_z(ray, n, lane));
     ngFloat = floatNormal(ng);
   }
   // u, v in double for the double channel, else to float accuracy (surfaceUVFloat);
@@ -365,15 +373,20 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
     }
   }
   HitBuffer candidate;
-  writeCandidate(candidate.hitN(), n, lane, ngFloat, uf, vf, args->primID, args->geomID, args->context);
+  writeCandidate(candidate.hitN(), n, lane, ngFloat, uf, vf, args->primID, args->geomID,
+                 args->context);
   // ---- Host filter (geometry filter, then context filter): the filter sees the
   // candidate t as the ray's tfar and may reject it by clearing valid[lane] -------------
   int valid[kMaxN] = {};
   valid[lane] = -1;
   const float oldTfar = RTCRayN_tfar(ray, n, lane);
   RTCRayN_tfar(ray, n, lane) = tf;
-  RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context,
-                                    reinterpret_cast<RTCRayN*>(args->rayhit), candidate.hitN(), n};
+  RTCFilterFunctionNArguments fargs{valid,
+                                    args->geometryUserPtr,
+                                    args->context,
+                                    reinterpret_cast<RTCRayN*>(args->rayhit),
+                                    candidate.hitN(),
+                                    n};
   try {
     runFilters(args, &fargs, markedContext(args->context),
                [](const RTCIntersectFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
@@ -416,7 +429,9 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   return true;
 }
 
-bool acceptIntersection(void* user, const KernelHit& h) { return acceptIntersectionOf<false>(user, h); }
+bool acceptIntersection(void* user, const KernelHit& h) {
+  return acceptIntersectionOf<false>(user, h);
+}
 
 bool acceptOcclusion(void* user, const KernelHit& h) {
   Lane& L = *static_cast<Lane*>(user);
@@ -434,7 +449,8 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   valid[lane] = -1;
   const float oldTfar = RTCRayN_tfar(ray, n, lane);
   RTCRayN_tfar(ray, n, lane) = tf;
-  RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context, ray, candidate.hitN(), n};
+  RTCFilterFunctionNArguments fargs{valid, args->geometryUserPtr, args->context,
+                                    ray,   candidate.hitN(),      n};
   try {
     runFilters(args, &fargs, markedContext(args->context),
                [](const RTCOccludedFunctionNArguments* a, const RTCFilterFunctionNArguments* f) {
@@ -481,19 +497,22 @@ template <class Args>
   L.tExp = 0;
   if (md > 0.0 && std::isfinite(md) && (md > 0x1p100 || md < 0x1p-100)) {
     L.tExp = std::ilogb(md);
-    dir = glm::dvec3(std::ldexp(dir.x, -L.tExp), std::ldexp(dir.y, -L.tExp), std::ldexp(dir.z, -L.tExp));
+    dir = glm::dvec3(std::ldexp(dir.x, -L.tExp), std::ldexp(dir.y, -L.tExp),
+                     std::ldexp(dir.z, -L.tExp));
     tnear = std::ldexp(tnear, L.tExp);
     tfar = std::ldexp(tfar, L.tExp);
   }
   glm::dvec3 org = r.org;
   double orgError = r.orgError;
   L.tBase = rebaseFarOrigin(data, org, dir, orgError, L.tBaseLow);
-  KernelRay kr = objectRay(data, org, dir, (tnear - L.tBase) - L.tBaseLow, (tfar - L.tBase) - L.tBaseLow,
-                           kUnitRoundoff, orgError);
+  KernelRay kr = objectRay(data, org, dir, (tnear - L.tBase) - L.tBaseLow,
+                           (tfar - L.tBase) - L.tBaseLow, kUnitRoundoff, orgError);
   kr.hasTraversalRay = true;
   kr.trace = L.dctx->trace;
-  kr.travOrg = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane), RTCRayN_org_z(ray, n, lane));
-  kr.travDir = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
+  kr.travOrg = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane),
+                         RTCRayN_org_z(ray, n, lane));
+  kr.travDir = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane),
+                         RTCRayN_dir_z(ray, n, lane));
   return kr;
 }
 
@@ -502,11 +521,12 @@ template <class Args>
 KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L) {
   if (L.dctx) return doubleLaneRay(args, ray, lane, L);
   const unsigned n = args->N;
-  const glm::dvec3 o =
-      lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane), RTCRayN_org_z(ray, n, lane));
-  const glm::dvec3 d =
-      lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane), RTCRayN_dir_z(ray, n, lane));
-  return objectRay(*L.data, o, d, RTCRayN_tnear(ray, n, lane), RTCRayN_tfar(ray, n, lane), kFloatRoundoff, 0.0);
+  const glm::dvec3 o = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane),
+                                 RTCRayN_org_z(ray, n, lane));
+  const glm::dvec3 d = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane),
+                                 RTCRayN_dir_z(ray, n, lane));
+  return objectRay(*L.data, o, d, RTCRayN_tnear(ray, n, lane), RTCRayN_tfar(ray, n, lane),
+                   kFloatRoundoff, 0.0);
 }
 
 template <class Args>
@@ -523,8 +543,8 @@ bool traceLane(const Args* args, RTCRayN* ray, unsigned lane, bool occlusion, Ac
 // s: the first root, quadricRoot(q, q.slo, s). (Inlined: a call here cost the lane
 // loop's single primary rays ~1 %, measured.)
 template <bool kOcclusion, class LaneT>
-[[gnu::always_inline]] inline void offerQuadricRoots(LaneT& L, const KernelRay& kr, const QuadricSpan& q,
-                                                     double s) {
+[[gnu::always_inline]] inline void offerQuadricRoots(LaneT& L, const KernelRay& kr,
+                                                     const QuadricSpan& q, double s) {
   // The span is open at its far end, as the generic walk's cell span: a root within
   // noise of it (reported there by the solver) is no hit.
   while (s < q.shi) {
@@ -558,7 +578,8 @@ void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
   if (!quadricSpan(*data, kr, q) || !quadricRoot(q, q.slo, s)) return;
   // A first root within the self-root window is the origin's own (selfRootWindow): the
   // roots from the window on.
-  if (q.g.selfRoot && withinSelfRootWindow(kr, s) && !quadricRoot(q, std::max(q.slo, selfRootWindow(kr)), s))
+  if (q.g.selfRoot && withinSelfRootWindow(kr, s) &&
+      !quadricRoot(q, std::max(q.slo, selfRootWindow(kr)), s))
     return;
   offerQuadricRoots<kOcclusion>(L, kr, q, s);
 }
@@ -698,7 +719,8 @@ void quadricIntersectCallback(const RTCIntersectFunctionNArguments* args) {
     try {
       quadricLane<false>(args, ray, lane);
     } catch (...) {
-      static_cast<const SurfaceData*>(args->geometryUserPtr)->errors.fetch_add(1, std::memory_order_relaxed);
+      static_cast<const SurfaceData*>(args->geometryUserPtr)
+          ->errors.fetch_add(1, std::memory_order_relaxed);
     }
   }
 }
@@ -713,7 +735,8 @@ void quadricOccludedCallback(const RTCOccludedFunctionNArguments* args) {
     try {
       quadricLane<true>(args, args->ray, lane);
     } catch (...) {
-      static_cast<const SurfaceData*>(args->geometryUserPtr)->errors.fetch_add(1, std::memory_order_relaxed);
+      static_cast<const SurfaceData*>(args->geometryUserPtr)
+          ->errors.fetch_add(1, std::memory_order_relaxed);
     }
   }
 }
@@ -724,8 +747,8 @@ RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
   if (!g) {
     const RTCError e = rtcGetDeviceError(device);
-    throw Error("algray::SurfaceGeometry: rtcNewGeometry failed (RTCError " + std::to_string(static_cast<int>(e)) +
-                ")");
+    throw Error("algray::SurfaceGeometry: rtcNewGeometry failed (RTCError " +
+                std::to_string(static_cast<int>(e)) + ")");
   }
   rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(data->cells.size()));
   // Embree 3 ignores the userPtr of rtcSetGeometryBoundsFunction: the bounds callback
@@ -784,8 +807,10 @@ MoveBox moveBox(const RTCBounds* bounds) {
   if (!bounds) return box;
   const glm::dvec3 lo(bounds->lower_x, bounds->lower_y, bounds->lower_z);
   const glm::dvec3 hi(bounds->upper_x, bounds->upper_y, bounds->upper_z);
-  if (!finite(lo) || !finite(hi) || !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return box;  // empty scene
-  const glm::dvec3 pad = glm::max(hi - lo, glm::dvec3(0x1p-20 * std::max(glm::length(lo), glm::length(hi))));
+  if (!finite(lo) || !finite(hi) || !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z))
+    return box;  // empty scene
+  const glm::dvec3 pad =
+      glm::max(hi - lo, glm::dvec3(0x1p-20 * std::max(glm::length(lo), glm::length(hi))));
   box.lo = glm::max(lo - pad, glm::dvec3(-kCube));
   box.hi = glm::min(hi + pad, glm::dvec3(kCube));
   return box;
@@ -797,7 +822,8 @@ MoveBox moveBox(const RTCBounds* bounds) {
 // only for far rays.)
 bool farFromScene(const glm::dvec3& o, const RTCBounds* b) {
   constexpr double kSceneFar = 0x1p12;
-  const double extent = std::max({b->upper_x - b->lower_x, b->upper_y - b->lower_y, b->upper_z - b->lower_z});
+  const double extent =
+      std::max({b->upper_x - b->lower_x, b->upper_y - b->lower_y, b->upper_z - b->lower_z});
   if (!(extent >= 0.0)) return false;  // empty scene (or NaN bounds)
   const double reach = kSceneFar * extent;
   return o.x < b->lower_x - reach || o.x > b->upper_x + reach || o.y < b->lower_y - reach ||
@@ -849,7 +875,8 @@ FloatMap floatMap(const RayD& r, const RTCBounds* bounds) {
   const double size = std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
   for (int move = 0; move < kMaxMoves; ++move) {
     // Parameters tN from p: the part of the line inside the box, from tnear on.
-    double a = std::ldexp((r.tnear - m.shift) - m.shiftLow, e), b = std::numeric_limits<double>::infinity();
+    double a = std::ldexp((r.tnear - m.shift) - m.shiftLow, e),
+           b = std::numeric_limits<double>::infinity();
     // An origin inside the box stays (unless tnear > 0, or < 0: behind).
     if (move == 0 && !behind) a = std::max(a, 0.0);
     for (int i = 0; i < 3; ++i) {
@@ -898,8 +925,8 @@ RTCBounds sceneBounds(RTCScene scene) {
 }
 }  // namespace
 
-KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
-                        double tfar, double roundoff, double orgError) {
+KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
+                        double tnear, double tfar, double roundoff, double orgError) {
   return objectRay(data, o, d, tnear, tfar, roundoff, orgError);
 }
 
@@ -956,10 +983,14 @@ double fromFloatParts(double shift, double shiftLow, double scale, double tFloat
   if (std::abs(t) >= std::numeric_limits<double>::min() || tFloat == 0.0) return t;
   return static_cast<double>(shift + (shiftLow + static_cast<long double>(scale) * tFloat));
 }
-double fromFloat(const FloatMap& m, double tFloat) { return fromFloatParts(m.shift, m.shiftLow, m.scale, tFloat); }
+double fromFloat(const FloatMap& m, double tFloat) {
+  return fromFloatParts(m.shift, m.shiftLow, m.scale, tFloat);
+}
 }  // namespace
 
-double fromFloatParameter(const RayD& ray, double tFloat) { return fromFloat(floatMap(ray, nullptr), tFloat); }
+double fromFloatParameter(const RayD& ray, double tFloat) {
+  return fromFloat(floatMap(ray, nullptr), tFloat);
+}
 double fromFloatParameter(const RayD& ray, double tFloat, RTCScene scene) {
   const RTCBounds b = sceneBounds(scene);
   return fromFloat(floatMap(ray, &b), tFloat);
@@ -969,7 +1000,9 @@ double fromFloatParameter(const IntersectContext& context, double tFloat) {
   return fromFloatParts(context.floatShift, context.floatShiftLow, context.floatScale, tFloat);
 }
 
-RTCRayHit makeRayHit(const RayD& r) { return floatRayHit(r, floatMap(r, nullptr)); }
+RTCRayHit makeRayHit(const RayD& r) {
+  return floatRayHit(r, floatMap(r, nullptr));
+}
 RTCRayHit makeRayHit(const RayD& r, RTCScene scene) {
   const RTCBounds b = sceneBounds(scene);
   return floatRayHit(r, floatMap(r, &b));
@@ -996,7 +1029,8 @@ RTCRayHit floatRayHit(const RayD& r, const FloatMap& m) {
   rh.ray.dir_x = static_cast<float>(d.x);
   rh.ray.dir_y = static_cast<float>(d.y);
   rh.ray.dir_z = static_cast<float>(d.z);
-  const double tnear = ((r.tnear - m.shift) - m.shiftLow) / m.scale, tfar = ((r.tfar - m.shift) - m.shiftLow) / m.scale;
+  const double tnear = ((r.tnear - m.shift) - m.shiftLow) / m.scale,
+               tfar = ((r.tfar - m.shift) - m.shiftLow) / m.scale;
   float tn = static_cast<float>(tnear);
   if (static_cast<double>(tn) > tnear) tn = std::nextafter(tn, -kInfF);
   rh.ray.tnear = std::max(tn, 0.0f);  // Embree requires tnear >= 0
@@ -1006,15 +1040,17 @@ RTCRayHit floatRayHit(const RayD& r, const FloatMap& m) {
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-  for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) rh.hit.instID[l] = RTC_INVALID_GEOMETRY_ID;
+  for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
+    rh.hit.instID[l] = RTC_INVALID_GEOMETRY_ID;
   // Embree 3 rejects (asserts on) non-finite or huge origins and directions and NaN spans:
   // such a ray (non-finite, or a far line that misses the cube of floatMap, where no
   // surface lies) becomes a valid one with an empty span, which hits nothing. Embree's
   // ray.valid() requires |org|, |dir| <= FLT_LARGE (1.8e18) per component.
   constexpr float kLarge = 1.8e18f;
   auto ok = [](float v) { return std::abs(v) <= kLarge; };
-  const bool finiteRay = ok(rh.ray.org_x) && ok(rh.ray.org_y) && ok(rh.ray.org_z) && ok(rh.ray.dir_x) &&
-                         ok(rh.ray.dir_y) && ok(rh.ray.dir_z) && !std::isnan(rh.ray.tnear) && !std::isnan(rh.ray.tfar);
+  const bool finiteRay = ok(rh.ray.org_x) && ok(rh.ray.org_y) && ok(rh.ray.org_z) &&
+                         ok(rh.ray.dir_x) && ok(rh.ray.dir_y) && ok(rh.ray.dir_z) &&
+                         !std::isnan(rh.ray.tnear) && !std::isnan(rh.ray.tfar);
   if (!finiteRay || m.empty) {
     rh.ray.org_x = rh.ray.org_y = rh.ray.org_z = 0.0f;
     rh.ray.dir_x = rh.ray.dir_y = 0.0f;

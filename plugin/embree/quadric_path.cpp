@@ -33,7 +33,9 @@ namespace {
 // below (the checks of firstRootQuadratic, roots_quadratic.cpp). Anything else, and
 // the rare piece whose closed-form root rounds outside it (bracketed Newton there), is
 // answered by the library itself: -1 means "ask firstRoot".
-bool inRange(double x) { return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100); }
+bool inRange(double x) {
+  return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100);
+}
 
 // The caller-frame result of a local root v (toCaller in roots.cpp, firstRootQuadratic):
 // a root within noise of hi is hi; one rounded onto lo moves just inside.
@@ -48,7 +50,8 @@ int quadraticFirst(const QuadricRay& g, double lo, double hi, double& s) {
   const double c0 = g.c[0], c1 = g.c[1], c2 = g.c[2];
   const double scale = std::max(std::abs(lo), std::abs(hi));
   bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c2 != 0.0;
-  for (int i = 0; i < 3 && safe; ++i) safe = inRange(g.c[i]) && inRange(g.err[i]) && std::isfinite(g.err[i]);
+  for (int i = 0; i < 3 && safe; ++i)
+    safe = inRange(g.c[i]) && inRange(g.err[i]) && std::isfinite(g.err[i]);
   if (safe) {
     const double lead = std::abs(c2) * scale * scale;
     const double lower = std::max(std::abs(c0), std::abs(c1) * scale);
@@ -138,8 +141,10 @@ int linearFirst(const QuadricRay& g, double lo, double hi, double& s) {
   const double c0 = g.c[0], c1 = g.c[1];
   const double scale = std::max(std::abs(lo), std::abs(hi));
   bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c1 != 0.0;
-  for (int i = 0; i < 2 && safe; ++i) safe = inRange(g.c[i]) && inRange(g.err[i]) && std::isfinite(g.err[i]);
-  if (!safe || !(std::abs(c1) > g.err[1]) || !(std::abs(c1) * scale > 2.0 * kUnitRoundoff * std::abs(c0)))
+  for (int i = 0; i < 2 && safe; ++i)
+    safe = inRange(g.c[i]) && inRange(g.err[i]) && std::isfinite(g.err[i]);
+  if (!safe || !(std::abs(c1) > g.err[1]) ||
+      !(std::abs(c1) * scale > 2.0 * kUnitRoundoff * std::abs(c0)))
     return -1;
   const double n0 = g.err[0] + gamma(3) * std::abs(c0), n1 = g.err[1] + gamma(3) * std::abs(c1);
   const double fLo = c1 * lo + c0;
@@ -171,8 +176,8 @@ int linearFirst(const QuadricRay& g, double lo, double hi, double& s) {
 // a camera's primary rays, -3-4 % on shadow rays, which never share an origin; not kept.)
 namespace {
 template <bool kDiagonal>
-void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double r0, double r1, QuadricRay& g,
-                          double closest) {
+void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                          QuadricRay& g, double closest) {
   const QuadricForm& q = *data.quadric;
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
@@ -193,7 +198,8 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
     // exactly as the length would.)
     const glm::dvec3 absG = absv(at.gradient);
     const double moveRound = ray.orgRoundoff * glm::dot(absG, absv(o));
-    const double moveUpper = moveRound + (1.0 + 0x1p-20) * (absG.x + absG.y + absG.z) * ray.orgError;
+    const double moveUpper =
+        moveRound + (1.0 + 0x1p-20) * (absG.x + absG.y + absG.z) * ray.orgError;
     // Within that bound, the exact rule takes |grad f| (safeLength: three divisions and
     // a root, most of a shadow ray's restriction). Its largest component m is no larger
     // (safeLength = m |g / m| with a component of g / m exactly 1), so |f| within the
@@ -215,7 +221,8 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   if (!onSurface && data.desc.options.recentre) {
     // A given closest is the clip chord's midpoint, inside [r0, r1] by construction: not
     // clamped, so that p does not wait for the chord's division and root (measured).
-    tShift = std::isnan(closest) ? std::clamp(closestParameter(o, d, data.centre), r0, r1) : closest;
+    tShift =
+        std::isnan(closest) ? std::clamp(closestParameter(o, d, data.centre), r0, r1) : closest;
     p = o + tShift * d;
     at = evalQuadric<kDiagonal>(q, p);
     // p is rounded, off the line by up to gamma(2) (|p| + |tShift d|) per coordinate:
@@ -256,8 +263,8 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
 }
 }  // namespace
 
-void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1, QuadricRay& g,
-                        double closest) {
+void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                        QuadricRay& g, double closest) {
   if (data.quadric->diagonal)
     restrictQuadricRayOf<true>(data, ray, r0, r1, g, closest);
   else
@@ -323,7 +330,8 @@ bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
   const glm::dmat3 ai = glm::inverse(a);
   auto normInf = [](const glm::dmat3& m) {
     double n = 0.0;
-    for (int r = 0; r < 3; ++r) n = std::max(n, std::abs(m[0][r]) + std::abs(m[1][r]) + std::abs(m[2][r]));
+    for (int r = 0; r < 3; ++r)
+      n = std::max(n, std::abs(m[0][r]) + std::abs(m[1][r]) + std::abs(m[2][r]));
     return n;
   };
   const double kappa = normInf(a) * normInf(ai);
@@ -355,8 +363,9 @@ bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
   auto frobenius = [](const glm::dmat3& t) {
     return std::sqrt(glm::dot(t[0], t[0]) + glm::dot(t[1], t[1]) + glm::dot(t[2], t[2]));
   };
-  const double orgError = frobenius(data.aInv) * 4.0 * uFloat * (frobenius(data.a) * lenM + 2.0 * glm::length(data.b)) +
-                          16.0 * uFloat * (lenM + glm::length(data.centre) + data.radius);
+  const double orgError =
+      frobenius(data.aInv) * 4.0 * uFloat * (frobenius(data.a) * lenM + 2.0 * glm::length(data.b)) +
+      16.0 * uFloat * (lenM + glm::length(data.centre) + data.radius);
   const double delta = 0x1p-30 * scale + 4.0 * grad * (orgError + uFloat * lenM);
   const glm::dvec3 e = halfExtent(delta);
 
@@ -372,7 +381,8 @@ bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
                          0x1p-20 * glm::length(x0)) *
                         (1.0 + 0x1p-20);
   box.ballCentre = x0;
-  box.ballRadius2 = std::isfinite(radius) ? radius * radius : std::numeric_limits<double>::infinity();
+  box.ballRadius2 =
+      std::isfinite(radius) ? radius * radius : std::numeric_limits<double>::infinity();
   // The rays the derivation covers (see QuadricBox): origin error up to orgError_max, and
   // a shift error gamma(2) |tShift d| G below 2^-31 S, i.e. |o - centre| + R below
   // 2^20 S / G (gamma(2) < 2^-51).
@@ -404,7 +414,8 @@ namespace {
 bool meetsQuadricBall(const QuadricBox& box, const glm::dvec3& o, const glm::dvec3& d) {
   const glm::dvec3 ob = o - box.ballCentre;
   const double ob2 = glm::dot(ob, ob);
-  if (ob2 <= box.ballRadius2 || !(ob2 <= 0x1p32 * box.ballRadius2)) return true;  // inside, or too far
+  if (ob2 <= box.ballRadius2 || !(ob2 <= 0x1p32 * box.ballRadius2))
+    return true;  // inside, or too far
   const double tb = -glm::dot(ob, d) * inverseSquaredLength(glm::dot(d, d));
   const glm::dvec3 qb = ob + tb * d;
   return glm::dot(qb, qb) <= box.ballRadius2;
@@ -416,7 +427,8 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
   const glm::dvec3& d = ray.dir;
   // Non-finite or degenerate rays have no hit (as in walkRoots; written out in both: a
   // shared inline helper measured 3-5 % slower on the sphere's shadow rays).
-  if (!finite(o) || !finite(d) || std::isnan(ray.tnear) || std::isnan(ray.tfar) || !(ray.orgError >= 0.0))
+  if (!finite(o) || !finite(d) || std::isnan(ray.tnear) || std::isnan(ray.tfar) ||
+      !(ray.orgError >= 0.0))
     return false;
   if (!(glm::dot(d, d) > 0.0) || !(ray.tnear < ray.tfar)) return false;
   // The clip region's span; the restriction keeps its frame (its re-centring point), as
@@ -425,7 +437,8 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
   // on its critical path.
   // (clipToSphere inline here: the call across files to clipRegionSpan cost the sphere
   // 6-7 % of its primary and shadow rays, measured.)
-  double r0 = -std::numeric_limits<double>::infinity(), r1 = std::numeric_limits<double>::infinity();
+  double r0 = -std::numeric_limits<double>::infinity(),
+         r1 = std::numeric_limits<double>::infinity();
   double closest = std::numeric_limits<double>::quiet_NaN();
   if (const auto* sphere = std::get_if<ClipSphere>(&data.desc.clip)) {
     double tc;
@@ -444,8 +457,10 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
   if (data.quadricCellClip) {
     const QuadricBox& box = data.quadricBox;
     const glm::dvec3 oc = o - data.centre;
-    const bool covered = ray.orgError <= box.orgError && glm::dot(oc, oc) <= box.distance * box.distance;
-    if (!covered && !clipToBox(data.cells.front().lo, data.cells.front().hi, o, d, c0, c1, true)) return false;
+    const bool covered =
+        ray.orgError <= box.orgError && glm::dot(oc, oc) <= box.distance * box.distance;
+    if (!covered && !clipToBox(data.cells.front().lo, data.cells.front().hi, o, d, c0, c1, true))
+      return false;
     // A covered ray that passes outside the ellipsoid's ball has no root to report: no
     // restriction or solve (a quarter of a camera's rays at the gallery sphere, measured).
     if (covered && !meetsQuadricBall(box, o, d)) return false;
@@ -468,10 +483,10 @@ bool quadricRoot(const QuadricSpan& q, double slo, double& s) {
                                                    : -1;
   if (found >= 0) return found == 1;
   return g.degree == 2 && g.c[2] != 0.0
-             ? solveFirstRootQuadratic(std::span<const double, 3>(g.c, 3), std::span<const double, 3>(g.err, 3), slo,
-                                       q.shi, s)
-             : solveFirstRoot(std::span<const double>(g.c, g.degree + 1), std::span<const double>(g.err, g.degree + 1),
-                              slo, q.shi, s);
+             ? solveFirstRootQuadratic(std::span<const double, 3>(g.c, 3),
+                                       std::span<const double, 3>(g.err, 3), slo, q.shi, s)
+             : solveFirstRoot(std::span<const double>(g.c, g.degree + 1),
+                              std::span<const double>(g.err, g.degree + 1), slo, q.shi, s);
 }
 
 }  // namespace algray

@@ -22,7 +22,9 @@ namespace algray {
 
 // |v| per component. (glm::abs is x >= 0 ? x : -x, a compare and a blend each; std::abs
 // clears the sign bit: 50 of the 1175 instructions of a primary ray at the sphere.)
-inline glm::dvec3 absv(const glm::dvec3& v) { return {std::abs(v.x), std::abs(v.y), std::abs(v.z)}; }
+inline glm::dvec3 absv(const glm::dvec3& v) {
+  return {std::abs(v.x), std::abs(v.y), std::abs(v.z)};
+}
 
 // One Embree primitive: an object-space box (a cell, or the box of the whole clip region)
 // and its padded world-space bounds.
@@ -68,7 +70,9 @@ struct QuadricForm {
     return absA * v;
   }
   // grad f(x) = 2 A x + b (the same values as evalQuadric's).
-  glm::dvec3 gradient(const glm::dvec3& x) const { return 2.0 * (diagonal ? mulA<true>(x) : mulA(x)) + b; }
+  glm::dvec3 gradient(const glm::dvec3& x) const {
+    return 2.0 * (diagonal ? mulA<true>(x) : mulA(x)) + b;
+  }
   static QuadricForm fromPolynomial(const Polynomial& f);
 };
 
@@ -83,7 +87,7 @@ struct SurfaceData {
   // The quadric path clips rays to cells.front(): the one cell is smaller than the clip
   // region (an ellipsoid's own box, boundedQuadricBox; or a cell the build shrank).
   bool quadricCellClip = false;
-  QuadricBox quadricBox;  // the tight cell, when the one cell is an ellipsoid's box
+  QuadricBox quadricBox;    // the tight cell, when the one cell is an ellipsoid's box
   bool packetSimd = false;  // usesQuadricPacket: packets take quadric_packet.cpp
   // f, grad f and the bound at a point (self-root rule, polish), precompiled from
   // desc.polynomial.
@@ -134,8 +138,8 @@ struct KernelRay {
 // objectRay, kept static there: measured, an external objectRay cost the quadric path's
 // single rays a quarter of their speed in copies of the returned ray). For tests; the
 // packet lanes of quadric_packet.cpp repeat it for float rays.
-KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
-                        double tfar, double roundoff, double orgError);
+KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
+                        double tnear, double tfar, double roundoff, double orgError);
 
 // A candidate root handed to the acceptance callback (the host filter).
 struct KernelHit {
@@ -161,15 +165,17 @@ void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, 
 // Embree's float u of a u in [0, 1): the cast rounds a u within 2^-25 of 1 (the seam's
 // far side, y -> 0-) up to 1.0f, which a host indexing a texture by u * width reads one
 // past the end of; the largest float below 1 instead.
-inline float floatU(double u) { return std::min(static_cast<float>(u), 0x1.fffffep-1f); }
+inline float floatU(double u) {
+  return std::min(static_cast<float>(u), 0x1.fffffep-1f);
+}
 // surfaceUVFloat's 1 / (2 pi) and 1 / pi, rounded.
 inline constexpr double kInvTwoPi = 0.15915494309189535, kInvPi = 0.31830988618379069;
 // Its atan on [0, 1]: atan(t) = t p(t^2), p of degree 9 with these coefficients (the fit
 // is described at atanUnit, surface_intersect.cpp; the packet lanes use it too).
-inline constexpr double kAtanPoly[10] = {0.99999998406654822,   -0.33333194338035299, 0.19996618767948782,
-                                         -0.14248359660926879,  0.10881981041904727,  -0.082220750117259683,
-                                         0.055134709912894257,  -0.028572750129062584, 0.0096020026957349888,
-                                         -0.0015154920071548067};
+inline constexpr double kAtanPoly[10] = {
+    0.99999998406654822,   -0.33333194338035299,  0.19996618767948782,  -0.14248359660926879,
+    0.10881981041904727,   -0.082220750117259683, 0.055134709912894257, -0.028572750129062584,
+    0.0096020026957349888, -0.0015154920071548067};
 
 // Every surface's float bounds lie within +-kEmbreeReach (checkEmbreeRange): Embree drops
 // boxes beyond FLT_LARGE (1.844e18), and the double channel moves far ray origins to the
@@ -210,7 +216,8 @@ inline bool withinSelfRootWindow(const KernelRay& ray, double s) {
 }
 
 // The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1);
+bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                    double& t1);
 
 // The axis-aligned box of a clip region (a sphere's bounding box, or the box itself).
 inline void clipRegionBox(const ClipRegion& clip, glm::dvec3& lo, glm::dvec3& hi) {
@@ -234,7 +241,8 @@ struct QuadricValue {
 template <bool kDiagonal = false>
 [[gnu::always_inline]] inline QuadricValue evalQuadric(const QuadricForm& q, const glm::dvec3& p) {
   const glm::dvec3 ap = q.mulA<kDiagonal>(p), absP = absv(p);
-  const double sumAbs = glm::dot(absP, q.mulAbsA<kDiagonal>(absP)) + glm::dot(q.absB, absP) + std::abs(q.c);
+  const double sumAbs =
+      glm::dot(absP, q.mulAbsA<kDiagonal>(absP)) + glm::dot(q.absB, absP) + std::abs(q.c);
   return {glm::dot(p, ap) + glm::dot(q.b, p) + q.c, gamma(8) * sumAbs, 2.0 * ap + q.b};
 }
 
@@ -254,8 +262,8 @@ static_assert(sizeof(QuadricRay) == 64);
 // About the origin when it lies on the surface (the self-root rule: the root at s = 0 is
 // divided out), else about the point of [r0, r1] closest to the clip centre. closest: that
 // point's parameter closestParameter(o, d, data.centre) when the caller has it (NaN: not).
-void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1, QuadricRay& g,
-                        double closest = std::numeric_limits<double>::quiet_NaN());
+void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                        QuadricRay& g, double closest = std::numeric_limits<double>::quiet_NaN());
 
 // The dedicated path of a quadric with one cell (the bridge registers its callbacks when
 // usesQuadricPath): the restriction over the ray's span, clip region and (tnear, tfar)
@@ -299,10 +307,12 @@ struct QuadricPacket {
   alignas(64) int status[kPacketLanes];
   alignas(64) double s[kPacketLanes];
   alignas(64) double kox[kPacketLanes], koy[kPacketLanes], koz[kPacketLanes];
-  alignas(64) double kdx[kPacketLanes], kdy[kPacketLanes], kdz[kPacketLanes], orgError[kPacketLanes];
+  alignas(64) double kdx[kPacketLanes], kdy[kPacketLanes], kdz[kPacketLanes],
+      orgError[kPacketLanes];
   alignas(64) int degree[kPacketLanes];
   alignas(64) double tShift[kPacketLanes], c0[kPacketLanes], c1[kPacketLanes], c2[kPacketLanes];
-  alignas(64) double e0[kPacketLanes], e1[kPacketLanes], e2[kPacketLanes], slo[kPacketLanes], shi[kPacketLanes];
+  alignas(64) double e0[kPacketLanes], e1[kPacketLanes], e2[kPacketLanes], slo[kPacketLanes],
+      shi[kPacketLanes];
   // For intersection queries (wantUV): surfaceUVFloat's u, v before the cast to float at
   // the first root's point t = tShift + s, in uvT; NaN where the lanes left it to it.
   bool wantUV = false;
@@ -320,7 +330,9 @@ bool usesQuadricPacket(const SurfaceData& data);
 void quadricPacket(const SurfaceData& data, QuadricPacket& p) noexcept;
 
 // ---- Small helpers shared by the kernels -------------------------------------------
-inline bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // |v| without overflow or underflow of the squares (a gradient of a surface with
 // coefficients like 1e200 is ~1e200; its square is not a double).
@@ -342,7 +354,7 @@ inline double safeLength(const glm::dvec3& v) {
 // x >= 0, one from x = 2e-310 along (-1e-310, 1, 0) never left it. (Under DAZ, as in
 // Embree's worker threads, such a d_i reads as 0: the zero branch, consistently.)
 inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& o,
-               const glm::dvec3& d, double& t0, double& t1, bool widen = false) {
+                      const glm::dvec3& d, double& t0, double& t1, bool widen = false) {
   for (int i = 0; i < 3; ++i) {
     if (d[i] == 0.0) {
       if (o[i] < lo[i] || o[i] > hi[i]) return false;
@@ -377,8 +389,8 @@ inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dve
 // off by delta <= 2^-40 |tc|: |q|^2 grows by delta^2 dd only, so the chord keeps its
 // length and moves by delta, a shift of the clip boundary far below a float origin's
 // own rounding.
-inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1,
-                         double& tc) {
+inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                         double& t1, double& tc) {
   const double dd = glm::dot(d, d);
   if (!(dd > 0.0)) return false;
   const double inv = inverseSquaredLength(dd);

@@ -35,7 +35,9 @@ std::string str(double v) {
   return s.str();
 }
 
-[[noreturn]] void fail(const std::string& what) { throw Error("algray::SurfaceGeometry: " + what); }
+[[noreturn]] void fail(const std::string& what) {
+  throw Error("algray::SurfaceGeometry: " + what);
+}
 
 // f and 2^k f have the same surface, and every computation of the kernels (restriction
 // and its noise bounds, roots, self-root test, cell enclosures) is scaled exactly by a
@@ -62,8 +64,8 @@ void validate(const SurfaceDesc& desc) {
   // -1 is the automatic choice; other negative depths were taken for it and depths beyond
   // kMaxCellDepth silently capped: a caller's typo then builds something else than asked.
   if (desc.options.cellDepth < -1 || desc.options.cellDepth > kMaxCellDepth)
-    fail("options.cellDepth must be -1 (automatic) or 0.." + std::to_string(kMaxCellDepth) + ", got " +
-         std::to_string(desc.options.cellDepth));
+    fail("options.cellDepth must be -1 (automatic) or 0.." + std::to_string(kMaxCellDepth) +
+         ", got " + std::to_string(desc.options.cellDepth));
   double size = 0.0;  // of the clip region in object space
   if (const auto* s = std::get_if<ClipSphere>(&desc.clip)) {
     if (!finite(s->center)) fail("clip sphere centre is not finite: " + str(s->center));
@@ -72,7 +74,8 @@ void validate(const SurfaceDesc& desc) {
     size = s->radius;
   } else {
     const auto& b = std::get<ClipBox>(desc.clip);
-    if (!finite(b.lo) || !finite(b.hi)) fail("clip box is not finite: " + str(b.lo) + " " + str(b.hi));
+    if (!finite(b.lo) || !finite(b.hi))
+      fail("clip box is not finite: " + str(b.lo) + " " + str(b.hi));
     if (!(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z))
       fail("clip box is empty (need lo < hi on every axis): " + str(b.lo) + " " + str(b.hi));
     size = std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
@@ -86,7 +89,8 @@ void validate(const SurfaceDesc& desc) {
   if (!(size >= 1e-100 && size <= 1e100)) {
     std::ostringstream os;
     os << "the clip region's size in object space is " << size
-       << ", outside 1e-100 .. 1e100: scale the polynomial's variables instead of undoing it by the transform";
+       << ", outside 1e-100 .. 1e100: scale the polynomial's variables instead of undoing it by "
+          "the transform";
     fail(os.str());
   }
   const glm::dmat4& m = desc.transform;
@@ -119,9 +123,11 @@ void validate(const SurfaceDesc& desc) {
   // exit code 0). Frobenius norms (cond_F >= cond_2), of A scaled by a power of two.
   glm::dmat3 w(m);
   double largest = 0;
-  for (int c = 0; c < 3; ++c) largest = std::max({largest, std::abs(w[c].x), std::abs(w[c].y), std::abs(w[c].z)});
+  for (int c = 0; c < 3; ++c)
+    largest = std::max({largest, std::abs(w[c].x), std::abs(w[c].y), std::abs(w[c].z)});
   const int e = std::ilogb(largest);
-  for (int c = 0; c < 3; ++c) w[c] = glm::dvec3(std::ldexp(w[c].x, -e), std::ldexp(w[c].y, -e), std::ldexp(w[c].z, -e));
+  for (int c = 0; c < 3; ++c)
+    w[c] = glm::dvec3(std::ldexp(w[c].x, -e), std::ldexp(w[c].y, -e), std::ldexp(w[c].z, -e));
   auto frobenius = [](const glm::dmat3& x) {
     return std::sqrt(glm::dot(x[0], x[0]) + glm::dot(x[1], x[1]) + glm::dot(x[2], x[2]));
   };
@@ -129,7 +135,8 @@ void validate(const SurfaceDesc& desc) {
   if (!(cond <= 0x1p40)) {
     std::ostringstream os;
     os << "the transform's condition number is " << cond
-       << " (beyond 2^40 = 1.1e12): it squashes one direction against the others by more than double "
+       << " (beyond 2^40 = 1.1e12): it squashes one direction against the others by more than "
+          "double "
           "precision resolves in world space; scale the equation's variables instead";
     fail(os.str());
   }
@@ -147,11 +154,13 @@ void validate(const SurfaceDesc& desc) {
 ClipRegion widenedClip(const ClipRegion& clip) {
   constexpr double kRelative = 0x1p-20, kFar = 0x1p-40;
   if (const auto* s = std::get_if<ClipSphere>(&clip)) {
-    const double far = std::max({std::abs(s->center.x), std::abs(s->center.y), std::abs(s->center.z)});
+    const double far =
+        std::max({std::abs(s->center.x), std::abs(s->center.y), std::abs(s->center.z)});
     return ClipSphere{s->center, s->radius * (1.0 + kRelative) + kFar * far};
   }
   const auto& b = std::get<ClipBox>(clip);
-  const glm::dvec3 pad = kRelative * (b.hi - b.lo) + kFar * glm::max(glm::abs(b.lo), glm::abs(b.hi));
+  const glm::dvec3 pad =
+      kRelative * (b.hi - b.lo) + kFar * glm::max(glm::abs(b.lo), glm::abs(b.hi));
   return ClipBox{b.lo - pad, b.hi + pad};
 }
 
@@ -171,7 +180,8 @@ void checkEmbreeRange(const SurfaceData& data) {
     }
   if (!(largest <= kEmbreeReach))
     fail("the surface's bounds reach " + str(largest) +
-         ", beyond 1e18, the range of Embree's float boxes and rays (it drops boxes beyond 1.8e18): scale the "
+         ", beyond 1e18, the range of Embree's float boxes and rays (it drops boxes beyond "
+         "1.8e18): scale the "
          "scene down");
   if (smallestNonZero < std::numeric_limits<float>::min())
     fail("the surface's bounds need coordinates as small as " + str(smallestNonZero) +
@@ -186,9 +196,11 @@ void checkEmbreeRange(const SurfaceData& data) {
 // must never cull a ray that the double kernel would hit (and the cell ownership rule
 // counts on a ray inside a face reaching the cells on both sides).
 RTCBounds worldBounds(const SurfaceData& data, const glm::dvec3& lo, const glm::dvec3& hi) {
-  glm::dvec3 wlo(std::numeric_limits<double>::infinity()), whi(-std::numeric_limits<double>::infinity());
+  glm::dvec3 wlo(std::numeric_limits<double>::infinity()),
+      whi(-std::numeric_limits<double>::infinity());
   for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec3 p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z};
+    const glm::dvec3 p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y,
+                       corner & 4 ? hi.z : lo.z};
     const glm::dvec3 w = data.a * p + data.b;
     wlo = glm::min(wlo, w);
     whi = glm::max(whi, w);
@@ -233,7 +245,8 @@ void indexGrid(SurfaceData& data, const glm::dvec3& boxLo, const glm::dvec3& box
   data.gridLo = boxLo;
   data.gridSize = boxHi - boxLo;
   const SurfaceCell& first = data.cells.front();
-  for (int a = 0; a < 3; ++a) data.gridN[a] = std::round(data.gridSize[a] / (first.hi[a] - first.lo[a]));
+  for (int a = 0; a < 3; ++a)
+    data.gridN[a] = std::round(data.gridSize[a] / (first.hi[a] - first.lo[a]));
   for (int a = 0; a < 3; ++a)
     if (!(data.gridN[a] >= 1 && data.gridN[a] <= 65535)) return;
   for (unsigned i = 0; i < data.cells.size(); ++i) {
@@ -241,7 +254,8 @@ void indexGrid(SurfaceData& data, const glm::dvec3& boxLo, const glm::dvec3& box
     std::uint64_t key = 0;
     for (int a = 0; a < 3; ++a) {
       const double size = (c.hi[a] - c.lo[a]) * data.gridN[a] / data.gridSize[a];
-      const double pos = (0.5 * (c.lo[a] + c.hi[a]) - data.gridLo[a]) * data.gridN[a] / data.gridSize[a] - 0.5;
+      const double pos =
+          (0.5 * (c.lo[a] + c.hi[a]) - data.gridLo[a]) * data.gridN[a] / data.gridSize[a] - 0.5;
       const double k = std::round(pos);
       if (std::abs(size - 1.0) > 1e-6 || std::abs(pos - k) > 1e-6 || k < 0 || k >= data.gridN[a]) {
         data.cellOfKey.clear();
@@ -323,8 +337,9 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   data->selfRootRadius2 = (data->radius * (1.0 + 0x1p-9)) * (data->radius * (1.0 + 0x1p-9));
   // The Frobenius norm bounds A's spectral norm; 2^-20 covers the rounding of both.
   data->worldCentre = data->a * data->centre + data->b;
-  const double normA = std::sqrt(glm::dot(data->a[0], data->a[0]) + glm::dot(data->a[1], data->a[1]) +
-                                 glm::dot(data->a[2], data->a[2]));
+  const double normA =
+      std::sqrt(glm::dot(data->a[0], data->a[0]) + glm::dot(data->a[1], data->a[1]) +
+                glm::dot(data->a[2], data->a[2]));
   data->worldRadius = normA * data->radius * (1.0 + 0x1p-20);
   const SurfaceOptions& opt = data->desc.options;
   if (opt.useCells) {
@@ -369,7 +384,8 @@ SurfaceGeometry::~SurfaceGeometry() {
 SurfaceGeometry::SurfaceGeometry(RTCDevice device, std::string_view equation, ClipRegion clip,
                                  const ParseOptions& parse, const glm::dmat4& transform,
                                  const SurfaceOptions& options)
-    : SurfaceGeometry(device, SurfaceDesc{parsePolynomial(equation, parse), clip, transform, options}) {}
+    : SurfaceGeometry(device,
+                      SurfaceDesc{parsePolynomial(equation, parse), clip, transform, options}) {}
 
 SurfaceGeometry::SurfaceGeometry(SurfaceGeometry&&) noexcept = default;
 SurfaceGeometry& SurfaceGeometry::operator=(SurfaceGeometry&& other) noexcept {
@@ -380,7 +396,9 @@ SurfaceGeometry& SurfaceGeometry::operator=(SurfaceGeometry&& other) noexcept {
   return *this;
 }
 
-RTCGeometry SurfaceGeometry::geometry() const { return data_ ? data_->geometry : nullptr; }
+RTCGeometry SurfaceGeometry::geometry() const {
+  return data_ ? data_->geometry : nullptr;
+}
 unsigned SurfaceGeometry::primitiveCount() const {
   return data_ ? static_cast<unsigned>(data_->cells.size()) : 0u;
 }
@@ -389,6 +407,8 @@ const SurfaceDesc& SurfaceGeometry::desc() const {
   static const SurfaceDesc kEmpty;
   return data_ ? data_->given : kEmpty;
 }
-unsigned long long SurfaceGeometry::callbackErrors() const { return data_ ? data_->errors.load() : 0ull; }
+unsigned long long SurfaceGeometry::callbackErrors() const {
+  return data_ ? data_->errors.load() : 0ull;
+}
 
 }  // namespace algray

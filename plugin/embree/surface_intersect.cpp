@@ -70,7 +70,9 @@ struct OriginCache {
 // render loop of a torus took 0.29 s instead of 0.11 s). A POSIX thread key frees the
 // cache at thread exit instead, without that lock; the thread_local is only a pointer
 // (trivially destructible: nothing registered).
-void freeOriginCache(void* p) { delete static_cast<OriginCache*>(p); }
+void freeOriginCache(void* p) {
+  delete static_cast<OriginCache*>(p);
+}
 
 OriginCache& threadOriginCache() {
   thread_local OriginCache* cache = nullptr;
@@ -185,7 +187,8 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
 // Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
 // no expansion, no cache and no polish (the stable quadratic formula is accurate to the
 // conditioning of g, and the normal is 2 A x + b at the hit).
-bool restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g) {
+bool restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                     RayPolynomial& g) {
   QuadricRay q;
   restrictQuadricRay(data, ray, r0, r1, q);
   g.degree = q.degree;
@@ -210,11 +213,11 @@ struct RayRoots {
   glm::dvec3 org{0.0}, dir{0.0};
   double orgRoundoff = 0, orgError = 0;
   RayPolynomial g;
-  double r0 = 0, r1 = 0;                  // the region span in t
-  double slo = 0, shi = 0;                // the same in s
-  double tnear = 0;                       // the ray's (searchSpan, with selfWindow)
-  double selfWindow = 0;                  // > 0: the self-root rule applied (selfRootWindow)
-  bool closedLo = true;                   // slo is the region's start (regionRoots), not the window
+  double r0 = 0, r1 = 0;    // the region span in t
+  double slo = 0, shi = 0;  // the same in s
+  double tnear = 0;         // the ray's (searchSpan, with selfWindow)
+  double selfWindow = 0;    // > 0: the self-root rule applied (selfRootWindow)
+  bool closedLo = true;     // slo is the region's start (regionRoots), not the window
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
   bool complete = false;
@@ -232,17 +235,18 @@ thread_local RayRoots tlsRayRoots;
 // expansion point's distance from it; about an off-centre box's centre (-2.05, 0.24, -0.41)
 // Chmutov-16's hits were 2e-3 box radii off. For a clip region centred on the origin (the
 // gallery, every --clip-sphere) the two points are the same.
-void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0, double r1,
-                       RayPolynomial& g) {
-  const double tShift =
-      data.desc.options.recentre ? std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1) : 0.0;
+void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0,
+                       double r1, RayPolynomial& g) {
+  const double tShift = data.desc.options.recentre
+                            ? std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1)
+                            : 0.0;
   restrictToRay(data.horner, o, d, tShift, g);
 }
 
 // Returns the cache entry when g came from it; selfWindow > 0 when the self-root rule
 // divided out the origin's root (selfRootWindow), else 0.
-CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1, RayPolynomial& g,
-                     double& selfWindow) {
+CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                     RayPolynomial& g, double& selfWindow) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   selfWindow = 0.0;
@@ -284,8 +288,8 @@ RootOptions regionRoots(RootOptions options, bool closedLo) {
 
 // (The flag-and-out-parameter form of roots.h: an optional returned through this
 // function cost every ray a store-forwarding stall.)
-bool firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions& options, bool singlePrecision,
-                 double& root) {
+bool firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions& options,
+                 bool singlePrecision, double& root) {
   const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
   if (!singlePrecision) return solveFirstRoot(c, err, lo, hi, root, options);
   // The float solver, kept for comparison (SurfaceOptions::singlePrecision).
@@ -295,8 +299,9 @@ bool firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions
     ef[i] = static_cast<float>(g.error[i]);
   }
   float r;
-  if (!solveFirstRoot(std::span<const float>(cf.data(), g.degree + 1), std::span<const float>(ef.data(), g.degree + 1),
-                      static_cast<float>(lo), static_cast<float>(hi), r, options))
+  if (!solveFirstRoot(std::span<const float>(cf.data(), g.degree + 1),
+                      std::span<const float>(ef.data(), g.degree + 1), static_cast<float>(lo),
+                      static_cast<float>(hi), r, options))
     return false;
   root = r;
   return true;
@@ -365,13 +370,16 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
   // the surface (a ruling), which has no first point to report.
   if (rr.g.degree < 1) return;
   const SurfaceOptions& opt = data.desc.options;
-  const bool quadratic = data.quadric && rr.g.degree == 2 && rr.g.coeff[2] != 0.0 && !opt.singlePrecision &&
-                         opt.roots.method == RootMethod::Auto && opt.roots.relTolerance == 0.0;
+  const bool quadratic = data.quadric && rr.g.degree == 2 && rr.g.coeff[2] != 0.0 &&
+                         !opt.singlePrecision && opt.roots.method == RootMethod::Auto &&
+                         opt.roots.relTolerance == 0.0;
   double s;
-  const bool found =
-      quadratic ? solveFirstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
-                                          std::span<const double, 3>(rr.g.error.data(), 3), rr.slo, rr.shi, s)
-                : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots, rr.closedLo), opt.singlePrecision, s);
+  const bool found = quadratic
+                         ? solveFirstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
+                                                   std::span<const double, 3>(rr.g.error.data(), 3),
+                                                   rr.slo, rr.shi, s)
+                         : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots, rr.closedLo),
+                                       opt.singlePrecision, s);
   if (found) {
     rr.roots[0] = s;
     rr.count = 1;
@@ -381,8 +389,8 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
 
 RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1) {
   RayRoots& rr = tlsRayRoots;
-  if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir && rr.orgRoundoff == ray.orgRoundoff &&
-      rr.orgError == ray.orgError && rr.tnear == ray.tnear)
+  if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir &&
+      rr.orgRoundoff == ray.orgRoundoff && rr.orgError == ray.orgError && rr.tnear == ray.tnear)
     return rr;
   rr.id = 0;  // invalid until complete (restriction may throw)
   rr.r0 = r0;
@@ -479,7 +487,8 @@ void completeRoots(const SurfaceData& data, RayRoots& rr) {
   const RayPolynomial& g = rr.g;
   const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
   std::array<double, kMaxDegree> all{};
-  const int n = allRoots(c, err, rr.slo, rr.shi, all, regionRoots(data.desc.options.roots, rr.closedLo));
+  const int n =
+      allRoots(c, err, rr.slo, rr.shi, all, regionRoots(data.desc.options.roots, rr.closedLo));
   const double first = rr.roots[0];
   int closest = -1;
   for (int i = 0; i < n; ++i)
@@ -506,7 +515,8 @@ void completeRoots(const SurfaceData& data, RayRoots& rr) {
 bool surelyReached(const RTCBounds& b, const glm::dvec3& o, const glm::dvec3& d) {
   const glm::dvec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
   // Embree's own float slab test is off by about u_float (|o| + |box|): beyond the margin.
-  const double slack = 16.0 * 0x1p-24 * (glm::length(o) + glm::length(glm::max(glm::abs(lo), glm::abs(hi))));
+  const double slack =
+      16.0 * 0x1p-24 * (glm::length(o) + glm::length(glm::max(glm::abs(lo), glm::abs(hi))));
   const glm::dvec3 margin(slack);
   double t0 = 0.0, t1 = kInf;
   return clipToBox(lo + margin, hi - margin, o, d, t0, t1) && t0 < t1;
@@ -542,8 +552,10 @@ Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, co
     const SurfaceCell& c = data.cells[it->second];
     bool moved = false;
     for (int a = 0; a < 3; ++a) {
-      if (p[a] < c.lo[a] && k[a] > 0) --k[a], moved = true;
-      else if (p[a] > c.hi[a] && k[a] + 1 < static_cast<long>(data.gridN[a])) ++k[a], moved = true;
+      if (p[a] < c.lo[a] && k[a] > 0)
+        --k[a], moved = true;
+      else if (p[a] > c.hi[a] && k[a] + 1 < static_cast<long>(data.gridN[a]))
+        ++k[a], moved = true;
     }
     if (moved) it = data.cellOfKey.find(keyOf());
   }
@@ -556,11 +568,13 @@ Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, co
 
 }  // namespace
 
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1) {
+bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                    double& t1) {
   t0 = -kInf;
   t1 = kInf;
   double tc;
-  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip)) return clipToSphere(*s, o, d, t0, t1, tc);
+  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip))
+    return clipToSphere(*s, o, d, t0, t1, tc);
   const auto& b = std::get<ClipBox>(data.desc.clip);
   return clipToBox(b.lo, b.hi, o, d, t0, t1);
 }
@@ -589,8 +603,8 @@ namespace {
 double atanUnit(double t, double t2) {
   const auto& c = kAtanPoly;
   const double t4 = t2 * t2, t8 = t4 * t4;
-  const double p01 = c[0] + c[1] * t2, p23 = c[2] + c[3] * t2, p45 = c[4] + c[5] * t2, p67 = c[6] + c[7] * t2,
-               p89 = c[8] + c[9] * t2;
+  const double p01 = c[0] + c[1] * t2, p23 = c[2] + c[3] * t2, p45 = c[4] + c[5] * t2,
+               p67 = c[6] + c[7] * t2, p89 = c[8] + c[9] * t2;
   return ((p01 + p23 * t4) + ((p45 + p67 * t4) + p89 * t8) * t8) * t;
 }
 }  // namespace
@@ -699,7 +713,8 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   // ---- Input: non-finite or degenerate rays have no hit (and must not hang) ----------
-  if (!finite(o) || !finite(d) || std::isnan(ray.tnear) || std::isnan(ray.tfar) || !(ray.orgError >= 0.0))
+  if (!finite(o) || !finite(d) || std::isnan(ray.tnear) || std::isnan(ray.tfar) ||
+      !(ray.orgError >= 0.0))
     return false;
   if (!(glm::dot(d, d) > 0.0) || !(ray.tnear < ray.tfar)) return false;
 

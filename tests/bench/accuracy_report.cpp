@@ -105,7 +105,8 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
     // expansion path, which primary rays of a renderer take).
     if (farDistance < 0) o = 1.5 * s.radius * glm::normalize(glm::dvec3(1.0, 0.7, 0.5));
     const glm::dvec3 target = 0.8 * s.radius * std::cbrt(unit(rng)) * randomUnit(rng);
-    rays[i] = RayD{o, (target - o) * (0.5 + unit(rng)), 0.0, std::numeric_limits<double>::infinity(), 0.0};
+    rays[i] = RayD{o, (target - o) * (0.5 + unit(rng)), 0.0,
+                   std::numeric_limits<double>::infinity(), 0.0};
     for (auto& d : leaveDirs[i]) d = randomUnit(rng);
   }
 
@@ -116,8 +117,8 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
   tbb::parallel_for(0, count, [&](int i) {
     const RayD& ray = rays[i];
     Outcome& o = out[i];
-    o.ref = test::referenceFirstHit(s.f, ray.org, ray.dir, ray.tnear, ray.tfar, glm::dvec3(0.0), s.radius,
-                                    refOptions);
+    o.ref = test::referenceFirstHit(s.f, ray.org, ray.dir, ray.tnear, ray.tfar, glm::dvec3(0.0),
+                                    s.radius, refOptions);
     IntersectContext context;
     initIntersectContext(&context, &ray, &o.hit, scene);
     RTCRayHit rh = makeRayHit(context);
@@ -146,7 +147,8 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
       RTCRayHit lr = makeRayHit(lc);
       rtcIntersect1(scene, &lc.base, &lr);
       ++o.leaving;
-      if (lh.hit && lr.hit.geomID == id && lh.t * glm::length(d) < kSelfDistance * s.radius) ++o.self;
+      if (lh.hit && lr.hit.geomID == id && lh.t * glm::length(d) < kSelfDistance * s.radius)
+        ++o.self;
     }
   });
   rtcReleaseScene(scene);
@@ -169,10 +171,12 @@ Row measure(RTCDevice device, const Surface& s, double farDistance, int count, s
     ++row.wcHits;
     const double len = glm::length(rays[i].dir);
     row.maxErr = std::max(row.maxErr, std::abs(o.hit.t - o.ref.t) * len / s.radius);
-    if (o.floatT >= 0) row.floatMaxErr = std::max(row.floatMaxErr, std::abs(o.floatT - o.ref.t) * len / s.radius);
+    if (o.floatT >= 0)
+      row.floatMaxErr = std::max(row.floatMaxErr, std::abs(o.floatT - o.ref.t) * len / s.radius);
   }
   if (geometry.callbackErrors() > 0)
-    std::fprintf(stderr, "warning: %s: %llu callback errors\n", s.name.c_str(), geometry.callbackErrors());
+    std::fprintf(stderr, "warning: %s: %llu callback errors\n", s.name.c_str(),
+                 geometry.callbackErrors());
   return row;
 }
 
@@ -201,9 +205,11 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(outDir);
 
   std::vector<Surface> surfaces;
-  for (const GallerySurface& g : gallery()) surfaces.push_back({std::string(g.name), g.build(), g.clipRadius});
+  for (const GallerySurface& g : gallery())
+    surfaces.push_back({std::string(g.name), g.build(), g.clipRadius});
   {
-    const Polynomial t20 = chebyshev(20, Polynomial::variable(0)) + chebyshev(20, Polynomial::variable(1)) +
+    const Polynomial t20 = chebyshev(20, Polynomial::variable(0)) +
+                           chebyshev(20, Polynomial::variable(1)) +
                            chebyshev(20, Polynomial::variable(2)) + Polynomial(1.0);
     surfaces.push_back({"chmutov-20 (report)", t20, 1.75});
   }
@@ -218,20 +224,24 @@ int main(int argc, char** argv) {
 
   // ---- Output ----------------------------------------------------------------------------
   std::ofstream csv(std::filesystem::path(outDir) / "accuracy.csv");
-  csv << "surface,degree,origins,rays,well_conditioned,agree,wc_hits,max_err_over_R,leaving,self_hits,"
+  csv << "surface,degree,origins,rays,well_conditioned,agree,wc_hits,max_err_over_R,leaving,self_"
+         "hits,"
          "float_max_err_over_R\n";
   std::ofstream md(std::filesystem::path(outDir) / "accuracy.md");
-  md << "| surface | deg | origins | rays | well-cond. | agree | max err / R | leaving rays | self-hits | "
+  md << "| surface | deg | origins | rays | well-cond. | agree | max err / R | leaving rays | "
+        "self-hits | "
         "float err / R |\n|---|---|---|---|---|---|---|---|---|---|\n";
   int totalWc = 0, totalAgree = 0, totalSelf = 0;
   double worst = 0, worstBeyond = 0;  // origins up to 1000 R (the figure), and 1e6 R
   char buf[512];
   for (const Row& r : rows) {
-    std::snprintf(buf, sizeof buf, "%s,%d,%s,%d,%d,%d,%d,%.3g,%d,%d,%.3g\n", r.surface.c_str(), r.degree,
-                  r.origins.c_str(), r.rays, r.wc, r.agree, r.wcHits, r.maxErr, r.leaving, r.self, r.floatMaxErr);
+    std::snprintf(buf, sizeof buf, "%s,%d,%s,%d,%d,%d,%d,%.3g,%d,%d,%.3g\n", r.surface.c_str(),
+                  r.degree, r.origins.c_str(), r.rays, r.wc, r.agree, r.wcHits, r.maxErr, r.leaving,
+                  r.self, r.floatMaxErr);
     csv << buf;
-    std::snprintf(buf, sizeof buf, "| %s | %d | %s | %d | %d | %d | %.2g | %d | %d | %.2g |\n", r.surface.c_str(),
-                  r.degree, r.origins.c_str(), r.rays, r.wc, r.agree, r.maxErr, r.leaving, r.self, r.floatMaxErr);
+    std::snprintf(buf, sizeof buf, "| %s | %d | %s | %d | %d | %d | %.2g | %d | %d | %.2g |\n",
+                  r.surface.c_str(), r.degree, r.origins.c_str(), r.rays, r.wc, r.agree, r.maxErr,
+                  r.leaving, r.self, r.floatMaxErr);
     md << buf;
     std::fputs(buf, stdout);
     totalWc += r.wc;
@@ -240,9 +250,11 @@ int main(int argc, char** argv) {
     double& w = r.origins == "1e6 R" ? worstBeyond : worst;
     w = std::max(w, r.maxErr);
   }
-  std::printf("\nwell-conditioned rays: %d, hit/miss agreement: %d (%.4f%%), worst position error %.3g R "
-              "for origins up to 1000 R (target 1e-9) and %.3g R from 1e6 R (beyond the figure), "
-              "self-hits %d (target 0)\n",
-              totalWc, totalAgree, totalWc ? 100.0 * totalAgree / totalWc : 100.0, worst, worstBeyond, totalSelf);
+  std::printf(
+      "\nwell-conditioned rays: %d, hit/miss agreement: %d (%.4f%%), worst position error %.3g R "
+      "for origins up to 1000 R (target 1e-9) and %.3g R from 1e6 R (beyond the figure), "
+      "self-hits %d (target 0)\n",
+      totalWc, totalAgree, totalWc ? 100.0 * totalAgree / totalWc : 100.0, worst, worstBeyond,
+      totalSelf);
   return 0;
 }

@@ -43,7 +43,8 @@ namespace algray {
 namespace {
 
 // ---- Build -------------------------------------------------------------------------------
-void buildCellsBench(benchmark::State& state, const GallerySurface* s, int depth, RangeBound bound) {
+void buildCellsBench(benchmark::State& state, const GallerySurface* s, int depth,
+                     RangeBound bound) {
   const Polynomial f = s->build();
   const double r = s->clipRadius;
   CellStats stats;
@@ -105,7 +106,8 @@ Rays makeRays(double r) {
   return out;
 }
 
-void traceCellsBench(benchmark::State& state, const GallerySurface* s, int depth, double clipScale) {
+void traceCellsBench(benchmark::State& state, const GallerySurface* s, int depth,
+                     double clipScale) {
   RTCDevice device = rtcNewDevice("threads=1");
   RTCScene scene = rtcNewScene(device);
   SurfaceDesc desc;
@@ -115,7 +117,8 @@ void traceCellsBench(benchmark::State& state, const GallerySurface* s, int depth
   desc.options.cellDepth = depth < 0 ? -1 : depth;
   const auto t0 = std::chrono::steady_clock::now();
   SurfaceGeometry geometry(device, desc);
-  const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double buildSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   rtcAttachGeometry(scene, geometry.geometry());
   rtcCommitScene(scene);
   const Rays rays = makeRays(clipScale * s->clipRadius);
@@ -140,7 +143,7 @@ void traceCellsBench(benchmark::State& state, const GallerySurface* s, int depth
 // ---- Kernel without Embree ---------------------------------------------------------------
 struct KernelRay {
   RayPolynomial g;
-  double r0 = 0, r1 = 0;                       // clip-ball span
+  double r0 = 0, r1 = 0;                         // clip-ball span
   std::vector<std::pair<double, double>> spans;  // crossed cells, by entry
 };
 
@@ -152,7 +155,8 @@ void kernelCellsBench(benchmark::State& state, const GallerySurface* s, int dept
                                             CellSphere{glm::dvec3(0.0), R}, {.depth = depth});
   std::vector<KernelRay> rays;
   for (const RTCRayHit& rh : makeRays(R).rays) {
-    const glm::dvec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+    const glm::dvec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z),
+        d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
     // Ball span: |o + t d|^2 = R^2.
     const double b = glm::dot(o, d) / glm::dot(d, d), c = (glm::dot(o, o) - R * R) / glm::dot(d, d);
     const double disc = b * b - c;
@@ -163,7 +167,8 @@ void kernelCellsBench(benchmark::State& state, const GallerySurface* s, int dept
     if (!(k.r0 < k.r1)) continue;
     k.g = restrictToRay(f, o, d, std::clamp(closestParameter(o, d, glm::dvec3(0.0)), k.r0, k.r1));
     for (const Cell& cell : cells)
-      if (auto sp = clipRayToBox(o, d, cell.lo, cell.hi, k.r0, k.r1)) k.spans.emplace_back(sp->t0, sp->t1);
+      if (auto sp = clipRayToBox(o, d, cell.lo, cell.hi, k.r0, k.r1))
+        k.spans.emplace_back(sp->t0, sp->t1);
     std::sort(k.spans.begin(), k.spans.end());
     rays.push_back(std::move(k));
   }
@@ -171,7 +176,8 @@ void kernelCellsBench(benchmark::State& state, const GallerySurface* s, int dept
   for (auto _ : state) {
     solves = excluded = hits = 0;
     for (const KernelRay& k : rays) {
-      const std::span<const double> c(k.g.coeff.data(), k.g.degree + 1), e(k.g.error.data(), k.g.degree + 1);
+      const std::span<const double> c(k.g.coeff.data(), k.g.degree + 1),
+          e(k.g.error.data(), k.g.degree + 1);
       if (mode == 0) {
         ++solves;
         hits += firstRoot(c, e, k.r0 - k.g.tShift, k.r1 - k.g.tShift).has_value();
@@ -179,7 +185,8 @@ void kernelCellsBench(benchmark::State& state, const GallerySurface* s, int dept
       }
       for (const auto& [t0, t1] : k.spans) {
         const double s0 = t0 - k.g.tShift, s1 = t1 - k.g.tShift;
-        if ((mode == 2 && provablyNoRoot(c, e, s0, s1)) || (mode == 3 && quickNoRoot(c, e, s0, s1))) {
+        if ((mode == 2 && provablyNoRoot(c, e, s0, s1)) ||
+            (mode == 3 && quickNoRoot(c, e, s0, s1))) {
           ++excluded;
           continue;
         }
@@ -204,8 +211,9 @@ int registerAll() {
     const int degree = s.build().degree();
     const int maxDepth = degree <= 6 ? 6 : degree <= 8 ? 5 : 4;
     for (int depth = 0; depth <= maxDepth; ++depth)
-      benchmark::RegisterBenchmark(("BM_BuildCells/" + std::string(s.name) + "/" + std::to_string(depth)).c_str(),
-                                   buildCellsBench, &s, depth, RangeBound::Centred)
+      benchmark::RegisterBenchmark(
+          ("BM_BuildCells/" + std::string(s.name) + "/" + std::to_string(depth)).c_str(),
+          buildCellsBench, &s, depth, RangeBound::Centred)
           ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("BM_BuildCells/" + std::string(s.name) + "/auto").c_str(),
                                  buildCellsBench, &s, -1, RangeBound::Centred)
@@ -244,9 +252,13 @@ int registerAll() {
     const int maxDepth = s.build().degree() <= 8 ? 5 : 4;
     for (int depth = 2; depth <= maxDepth; ++depth)
       for (int mode = 1; mode <= 3; ++mode)
-        benchmark::RegisterBenchmark(("BM_KernelCells/" + std::string(s.name) + "/" + std::to_string(depth) +
-                                      (mode == 1 ? "/solve" : mode == 2 ? "/centred" : "/quick")).c_str(),
-                                     kernelCellsBench, &s, depth, mode)
+        benchmark::RegisterBenchmark(
+            ("BM_KernelCells/" + std::string(s.name) + "/" + std::to_string(depth) +
+             (mode == 1   ? "/solve"
+              : mode == 2 ? "/centred"
+                          : "/quick"))
+                .c_str(),
+            kernelCellsBench, &s, depth, mode)
             ->Unit(benchmark::kMillisecond);
   }
   return 0;

@@ -18,16 +18,22 @@
 namespace algray::bench {
 
 enum class RayClass { Primary, Shadow, Grazing, Singular, Far1e3, Far1e6 };
-inline constexpr RayClass kRayClasses[] = {RayClass::Primary, RayClass::Shadow,  RayClass::Grazing,
+inline constexpr RayClass kRayClasses[] = {RayClass::Primary,  RayClass::Shadow, RayClass::Grazing,
                                            RayClass::Singular, RayClass::Far1e3, RayClass::Far1e6};
 inline const char* className(RayClass c) {
   switch (c) {
-    case RayClass::Primary: return "primary";
-    case RayClass::Shadow: return "shadow";
-    case RayClass::Grazing: return "grazing";
-    case RayClass::Singular: return "singular";
-    case RayClass::Far1e3: return "far1e3";
-    case RayClass::Far1e6: return "far1e6";
+    case RayClass::Primary:
+      return "primary";
+    case RayClass::Shadow:
+      return "shadow";
+    case RayClass::Grazing:
+      return "grazing";
+    case RayClass::Singular:
+      return "singular";
+    case RayClass::Far1e3:
+      return "far1e3";
+    case RayClass::Far1e6:
+      return "far1e6";
   }
   return "?";
 }
@@ -85,7 +91,8 @@ inline std::vector<glm::dvec3> singularPoints(const Polynomial& f, double radius
       p[ax] = a;
       cand.push_back(p);
     }
-  for (int s = 0; s < 8; ++s) cand.push_back({s & 1 ? -1.0 : 1.0, s & 2 ? -1.0 : 1.0, s & 4 ? -1.0 : 1.0});
+  for (int s = 0; s < 8; ++s)
+    cand.push_back({s & 1 ? -1.0 : 1.0, s & 2 ? -1.0 : 1.0, s & 4 ? -1.0 : 1.0});
   // Barth's sextic.
   const double phi = std::numbers::phi, p2 = phi * phi;
   for (int ax = 0; ax < 3; ++ax)
@@ -97,7 +104,8 @@ inline std::vector<glm::dvec3> singularPoints(const Polynomial& f, double radius
   const glm::dvec3 base[3] = {{1.0, phi, p2}, {p2, 1.0, phi}, {1.0, phi, 1.0 / phi}};
   for (glm::dvec3 b : base) {
     b /= glm::length(b);
-    for (int s = 0; s < 8; ++s) cand.push_back({s & 1 ? -b.x : b.x, s & 2 ? -b.y : b.y, s & 4 ? -b.z : b.z});
+    for (int s = 0; s < 8; ++s)
+      cand.push_back({s & 1 ? -b.x : b.x, s & 2 ? -b.y : b.y, s & 4 ? -b.z : b.z});
   }
   // Kummer's quartic (SURFER's mu^2 = 1.69).
   if (f.degree() == 4) {
@@ -108,7 +116,8 @@ inline std::vector<glm::dvec3> singularPoints(const Polynomial& f, double radius
       for (int j = i + 1; j < 4; ++j) {
         const glm::dvec3 e = glm::normalize(glm::cross(n[i], n[j]));
         // A point of the line: least-norm solution of the two plane equations.
-        const double g11 = glm::dot(n[i], n[i]), g12 = glm::dot(n[i], n[j]), g22 = glm::dot(n[j], n[j]);
+        const double g11 = glm::dot(n[i], n[i]), g12 = glm::dot(n[i], n[j]),
+                     g22 = glm::dot(n[j], n[j]);
         const double det = g11 * g22 - g12 * g12;
         const double a = (c[i] * g22 - c[j] * g12) / det, b = (c[j] * g11 - c[i] * g12) / det;
         const glm::dvec3 x0 = a * n[i] + b * n[j];
@@ -122,7 +131,8 @@ inline std::vector<glm::dvec3> singularPoints(const Polynomial& f, double radius
   const int m = f.degree();
   if (m >= 2) {
     std::vector<double> minus, plus;
-    for (int k = 1; k < m; ++k) (k % 2 ? minus : plus).push_back(std::cos(k * std::numbers::pi / m));
+    for (int k = 1; k < m; ++k)
+      (k % 2 ? minus : plus).push_back(std::cos(k * std::numbers::pi / m));
     for (size_t i = 0; i < std::min<size_t>(minus.size(), 3); ++i)
       for (size_t j = 0; j < std::min<size_t>(plus.size(), 3); ++j) {
         cand.push_back({minus[i], minus[minus.size() - 1 - i], plus[j]});
@@ -145,8 +155,12 @@ struct RaySetSizes {
 
 // Direction of a primary ray: a pinhole camera 3.2 radii away looking at the centre,
 // framing the clip sphere.
-inline glm::dvec3 cameraEye(double radius) { return 3.2 * radius * glm::normalize(glm::dvec3(1.0, 0.75, 0.55)); }
-inline glm::dvec3 lightPosition(double radius) { return 4.0 * radius * glm::normalize(glm::dvec3(-0.5, 0.9, 1.0)); }
+inline glm::dvec3 cameraEye(double radius) {
+  return 3.2 * radius * glm::normalize(glm::dvec3(1.0, 0.75, 0.55));
+}
+inline glm::dvec3 lightPosition(double radius) {
+  return 4.0 * radius * glm::normalize(glm::dvec3(-0.5, 0.9, 1.0));
+}
 
 template <class Rng>
 glm::dvec3 randomUnit(Rng& rng) {
@@ -166,16 +180,18 @@ inline RayD makeRay(const glm::dvec3& o, const glm::dvec3& d, double tnear = 0.0
 // Computes the primary rays' references first (shadow and grazing rays start from their
 // hits), then every other reference; `parallel` runs a loop body over an index range.
 template <class Parallel>
-RaySets buildRaySets(const Polynomial& f, double radius, const RaySetSizes& n, unsigned seed, Parallel parallel) {
+RaySets buildRaySets(const Polynomial& f, double radius, const RaySetSizes& n, unsigned seed,
+                     Parallel parallel) {
   RaySets sets;
   const glm::dvec3 centre(0.0);
   auto solve = [&](std::vector<BenchRay>& rays) {
     parallel(rays.size(), [&](size_t i) {
       BenchRay& b = rays[i];
-      b.ref = test::referenceFirstHit(f, b.ray.org, b.ray.dir, b.refTnear, b.ray.tfar, centre, radius);
+      b.ref =
+          test::referenceFirstHit(f, b.ray.org, b.ray.dir, b.refTnear, b.ray.tfar, centre, radius);
       if (b.refTnear > b.ray.tnear) {
-        const test::RayRef self =
-            test::referenceFirstHit(f, b.ray.org, b.ray.dir, -b.refTnear, b.refTnear, centre, radius);
+        const test::RayRef self = test::referenceFirstHit(f, b.ray.org, b.ray.dir, -b.refTnear,
+                                                          b.refTnear, centre, radius);
         b.selfClean = self.hit && self.roots == 1 && self.wellConditioned;
         if (!b.selfClean) b.ref.wellConditioned = false;
       }
@@ -212,7 +228,8 @@ RaySets buildRaySets(const Polynomial& f, double radius, const RaySetSizes& n, u
   // ---- Grazing: along a tangent plane at a reference hit, offset along the normal by
   // 0 or +-1e-12 ... +-1e-3 radii (a touching ray, a near miss, a close root pair) --------
   const double offsets[] = {0.0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3, -1e-3};
-  for (size_t k = 0; k < hits.size() && static_cast<int>(sets[RayClass::Grazing].size()) < n.grazing; ++k) {
+  for (size_t k = 0;
+       k < hits.size() && static_cast<int>(sets[RayClass::Grazing].size()) < n.grazing; ++k) {
     const glm::dvec3 p = hits[(k * 7919) % hits.size()];
     const glm::dvec3 g = f.gradient(p);
     if (!(glm::length(g) > 0.0)) continue;
@@ -247,12 +264,14 @@ RaySets buildRaySets(const Polynomial& f, double radius, const RaySetSizes& n, u
       sets[c].push_back(b);
     }
   }
-  for (RayClass c : {RayClass::Shadow, RayClass::Grazing, RayClass::Singular, RayClass::Far1e3, RayClass::Far1e6})
+  for (RayClass c : {RayClass::Shadow, RayClass::Grazing, RayClass::Singular, RayClass::Far1e3,
+                     RayClass::Far1e6})
     solve(sets[c]);
   auto& singular = sets[RayClass::Singular];
   parallel(singular.size(), [&](size_t i) {
     BenchRay& b = singular[i];
-    const test::RayRef before = test::referenceFirstHit(f, b.ray.org, b.ray.dir, 0.0, 1.0 - 1e-4, centre, radius);
+    const test::RayRef before =
+        test::referenceFirstHit(f, b.ray.org, b.ray.dir, 0.0, 1.0 - 1e-4, centre, radius);
     b.nodeFirst = !before.hit && before.wellConditioned;
   });
   return sets;

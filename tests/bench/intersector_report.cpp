@@ -106,8 +106,8 @@ TraceResult traceOne(RTCScene scene, const RayD& ray, bool floatRays) {
     rtcIntersect1(scene, &context.base, &rh);
     r.hit = hit.hit;
     r.t = hit.t;
-    r.finite = !hit.hit || (std::isfinite(hit.t) && std::isfinite(hit.Ng.x) && std::isfinite(hit.Ng.y) &&
-                            std::isfinite(hit.Ng.z));
+    r.finite = !hit.hit || (std::isfinite(hit.t) && std::isfinite(hit.Ng.x) &&
+                            std::isfinite(hit.Ng.y) && std::isfinite(hit.Ng.z));
   }
   r.tf = fromFloatParameter(context, rh.ray.tfar);
   if (r.hit && !std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) r.finite = false;
@@ -125,7 +125,8 @@ struct Stats {
   // clip radius for a hit/miss disagreement (the error axis of the Pareto plots).
   std::vector<double> err, ferr, errAll, werr;
   void add(const Stats& o) {
-    rays += o.rays, wc += o.wc, disagree += o.disagree, speckles += o.speckles, nonfinite += o.nonfinite;
+    rays += o.rays, wc += o.wc, disagree += o.disagree, speckles += o.speckles,
+        nonfinite += o.nonfinite;
     refHits += o.refHits, hits += o.hits, seconds += o.seconds, disagreeAll += o.disagreeAll;
     errAll.insert(errAll.end(), o.errAll.begin(), o.errAll.end());
     werr.insert(werr.end(), o.werr.begin(), o.werr.end());
@@ -140,7 +141,8 @@ struct Stats {
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return std::nan("");
   std::sort(v.begin(), v.end());
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0 ? 1 : 0));
+  const size_t i =
+      std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0 ? 1 : 0));
   return v[i];
 }
 
@@ -197,19 +199,24 @@ struct Row {
 
 void writeCsv(const std::filesystem::path& file, const std::vector<Row>& rows) {
   std::ofstream out(file);
-  out << "surface,degree,class,config,rays,well_conditioned,ref_hits,hits,disagree,err_median,err_p99,err_max,"
-         "ferr_median,ferr_p99,ferr_max,disagree_all,errall_median,errall_p99,errall_max,werr_p99,node_rays,node_miss,node_err_median,node_err_max,node_werr_p99,speckles,nonfinite,ns_per_ray\n";
+  out << "surface,degree,class,config,rays,well_conditioned,ref_hits,hits,disagree,err_median,err_"
+         "p99,err_max,"
+         "ferr_median,ferr_p99,ferr_max,disagree_all,errall_median,errall_p99,errall_max,werr_p99,"
+         "node_rays,node_miss,node_err_median,node_err_max,node_werr_p99,speckles,nonfinite,ns_per_"
+         "ray\n";
   for (const Row& r : rows) {
     const Stats& s = r.stats;
     char line[768];
-    std::snprintf(line, sizeof line, "%s,%d,%s,%s,%ld,%ld,%ld,%ld,%ld,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%ld,%.3e,%.3e,%.3e,%.3e,%ld,%ld,%.3e,%.3e,%.3e,%ld,%ld,%.1f\n",
-                  r.surface.c_str(), r.degree, className(r.cls), r.config.c_str(), s.rays, s.wc, s.refHits, s.hits,
-                  s.disagree, quantile(s.err, 0.5), quantile(s.err, 0.99), quantile(s.err, 1.0),
-                  quantile(s.ferr, 0.5), quantile(s.ferr, 0.99), quantile(s.ferr, 1.0), s.disagreeAll,
-                  quantile(s.errAll, 0.5), quantile(s.errAll, 0.99), quantile(s.errAll, 1.0), quantile(s.werr, 0.99),
+    std::snprintf(line, sizeof line,
+                  "%s,%d,%s,%s,%ld,%ld,%ld,%ld,%ld,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%ld,%.3e,%.3e,%."
+                  "3e,%.3e,%ld,%ld,%.3e,%.3e,%.3e,%ld,%ld,%.1f\n",
+                  r.surface.c_str(), r.degree, className(r.cls), r.config.c_str(), s.rays, s.wc,
+                  s.refHits, s.hits, s.disagree, quantile(s.err, 0.5), quantile(s.err, 0.99),
+                  quantile(s.err, 1.0), quantile(s.ferr, 0.5), quantile(s.ferr, 0.99),
+                  quantile(s.ferr, 1.0), s.disagreeAll, quantile(s.errAll, 0.5),
+                  quantile(s.errAll, 0.99), quantile(s.errAll, 1.0), quantile(s.werr, 0.99),
                   s.nodeRays, s.nodeMiss, quantile(s.nodeErr, 0.5), quantile(s.nodeErr, 1.0),
-                  quantile(s.nodeW, 0.99), s.speckles, s.nonfinite,
-                  r.nsPerRay);
+                  quantile(s.nodeW, 0.99), s.speckles, s.nonfinite, r.nsPerRay);
     out << line;
   }
 }
@@ -218,16 +225,20 @@ void writeMarkdown(std::ostream& out, const std::vector<Row>& pooled, const std:
   out << note << "\n\n";
   for (RayClass c : kRayClasses) {
     out << "\n**" << className(c) << " rays**\n\n";
-    out << "| configuration | ns/ray | well-cond. rays | disagree | err median | err p99 | err max | float tfar p99 "
-           "| all rays: disagree | all rays: err p99 | speckles |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    out << "| configuration | ns/ray | well-cond. rays | disagree | err median | err p99 | err max "
+           "| float tfar p99 "
+           "| all rays: disagree | all rays: err p99 | speckles "
+           "|\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const Row& r : pooled) {
       if (r.cls != c) continue;
       const Stats& s = r.stats;
       char line[512];
-      std::snprintf(line, sizeof line, "| %s | %.0f | %ld | %ld | %.1e | %.1e | %.1e | %.1e | %ld / %ld | %.1e | %ld |\n",
-                    r.config.c_str(), r.nsPerRay, s.wc, s.disagree, quantile(s.err, 0.5), quantile(s.err, 0.99),
-                    quantile(s.err, 1.0), quantile(s.ferr, 0.99), s.disagreeAll, s.rays, quantile(s.errAll, 0.99),
-                    s.speckles);
+      std::snprintf(
+          line, sizeof line,
+          "| %s | %.0f | %ld | %ld | %.1e | %.1e | %.1e | %.1e | %ld / %ld | %.1e | %ld |\n",
+          r.config.c_str(), r.nsPerRay, s.wc, s.disagree, quantile(s.err, 0.5),
+          quantile(s.err, 0.99), quantile(s.err, 1.0), quantile(s.ferr, 0.99), s.disagreeAll,
+          s.rays, quantile(s.errAll, 0.99), s.speckles);
       out << line;
     }
   }
@@ -271,8 +282,10 @@ int run(const Args& args) {
     const double radius = g->clipRadius;
     const auto t0 = std::chrono::steady_clock::now();
     const RaySets sets = buildRaySets(f, radius, sizes, 12345u, parallel);
-    const double refSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::fprintf(stderr, "%-16s degree %2d: references %.1f s (", name.c_str(), f.degree(), refSeconds);
+    const double refSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "%-16s degree %2d: references %.1f s (", name.c_str(), f.degree(),
+                 refSeconds);
     for (RayClass c : kRayClasses) std::fprintf(stderr, " %s %zu", className(c), sets[c].size());
     std::fprintf(stderr, " rays)\n");
 
@@ -295,13 +308,16 @@ int run(const Args& args) {
       const std::vector<BenchRay>& rays = sets[cls];
       if (rays.empty()) continue;
       std::vector<double> best(configs.size(), 1e300);
-      std::vector<std::vector<TraceResult>> results(configs.size(), std::vector<TraceResult>(rays.size()));
+      std::vector<std::vector<TraceResult>> results(configs.size(),
+                                                    std::vector<TraceResult>(rays.size()));
       // Pass -1 warms caches (and the origin cache) and is not timed.
       for (int rep = -1; rep < reps; ++rep)
         for (size_t k = 0; k < configs.size(); ++k) {
           const auto a = std::chrono::steady_clock::now();
-          for (size_t i = 0; i < rays.size(); ++i) results[k][i] = traceOne(scenes[k], rays[i].ray, configs[k].floatRays);
-          const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+          for (size_t i = 0; i < rays.size(); ++i)
+            results[k][i] = traceOne(scenes[k], rays[i].ray, configs[k].floatRays);
+          const double s =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
           if (rep >= 0) best[k] = std::min(best[k], s);
         }
       for (size_t k = 0; k < configs.size(); ++k) {
@@ -334,7 +350,8 @@ int run(const Args& args) {
   all.insert(all.end(), pooledRows.begin(), pooledRows.end());
   std::filesystem::create_directories(args.out);
   writeCsv(args.out / "intersector.csv", all);
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   std::string cpu = "unknown CPU";
   {
     std::ifstream info("/proc/cpuinfo");
@@ -345,17 +362,19 @@ int run(const Args& args) {
       }
   }
   char note[512];
-  std::snprintf(note, sizeof note,
-                "Machine: %s, %u hardware threads. Pooled over %zu surfaces; ns/ray = geometric mean over "
-                "surfaces of the best of %d passes, single thread; errors relative to the clip radius. "
-                "Run time %.0f s.",
-                cpu.c_str(), std::thread::hardware_concurrency(), names.size(), reps, wall);
+  std::snprintf(
+      note, sizeof note,
+      "Machine: %s, %u hardware threads. Pooled over %zu surfaces; ns/ray = geometric mean over "
+      "surfaces of the best of %d passes, single thread; errors relative to the clip radius. "
+      "Run time %.0f s.",
+      cpu.c_str(), std::thread::hardware_concurrency(), names.size(), reps, wall);
   writeMarkdown(std::cout, pooledRows, note);
   std::cout << "\ncallback errors: " << callbackErrors << "\n";
   long nonfinite = 0;
   for (const Row& r : pooledRows) nonfinite += r.stats.nonfinite;
   if (nonfinite > 0 || callbackErrors > 0) {
-    std::cerr << "FAILED: " << nonfinite << " non-finite hits, " << callbackErrors << " callback errors\n";
+    std::cerr << "FAILED: " << nonfinite << " non-finite hits, " << callbackErrors
+              << " callback errors\n";
     return 1;
   }
   return 0;

@@ -70,8 +70,9 @@ inline McTable marchingCubesTable() {
     for (int s = 0; s < 2; ++s) {
       const int b = (a + 1) % 3, c = (a + 2) % 3;
       auto corner = [&](int ub, int uc) { return s << a | ub << b | uc << c; };
-      faces[2 * a + s] = s ? std::array<int, 4>{corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)}
-                           : std::array<int, 4>{corner(0, 0), corner(0, 1), corner(1, 1), corner(1, 0)};
+      faces[2 * a + s] =
+          s ? std::array<int, 4>{corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)}
+            : std::array<int, 4>{corner(0, 0), corner(0, 1), corner(1, 1), corner(1, 0)};
     }
   for (int mask = 0; mask < 256; ++mask) {
     auto inside = [&](int corner) { return (mask >> corner & 1) != 0; };
@@ -114,9 +115,8 @@ inline std::vector<double> restrictToZ(const Polynomial& f, double z) {
   std::vector<double> zp(n + 1, 1.0), b((n + 1) * (n + 1), 0.0);
   for (int k = 1; k <= n; ++k) zp[k] = zp[k - 1] * z;
   for (int m = 0; m <= f.degree(); ++m)
-    forEachMonomialOfDegree(m, [&](int i, int j, int k, int idx) {
-      b[i * (n + 1) + j] += f.coeffs()[idx] * zp[k];
-    });
+    forEachMonomialOfDegree(
+        m, [&](int i, int j, int k, int idx) { b[i * (n + 1) + j] += f.coeffs()[idx] * zp[k]; });
   return b;
 }
 
@@ -170,8 +170,10 @@ inline TriangleMesh marchingCubes(const Polynomial& f, const glm::dvec3& c, doub
     }
   };
   // Vertex ids of grid edges: x and y edges on the two slices, z edges of the slab.
-  std::vector<std::int32_t> xEdge[2] = {std::vector<std::int32_t>(np * np, -1), std::vector<std::int32_t>(np * np, -1)};
-  std::vector<std::int32_t> yEdge[2] = {std::vector<std::int32_t>(np * np, -1), std::vector<std::int32_t>(np * np, -1)};
+  std::vector<std::int32_t> xEdge[2] = {std::vector<std::int32_t>(np * np, -1),
+                                        std::vector<std::int32_t>(np * np, -1)};
+  std::vector<std::int32_t> yEdge[2] = {std::vector<std::int32_t>(np * np, -1),
+                                        std::vector<std::int32_t>(np * np, -1)};
   std::vector<std::int32_t> zEdge(np * np, -1);
   evaluateSlice(0, slice[0]);
   for (int k = 0; k < n; ++k) {
@@ -199,9 +201,15 @@ inline TriangleMesh marchingCubes(const Polynomial& f, const glm::dvec3& c, doub
           const int ii = i + (q0 & 1), jj = j + (q0 >> 1 & 1), kk = q0 >> 2 & 1;
           std::int32_t* id = nullptr;
           switch (table.edgeAxis[e]) {
-            case 0: id = &xEdge[kk][jj * np + ii]; break;
-            case 1: id = &yEdge[kk][jj * np + ii]; break;
-            default: id = &zEdge[jj * np + ii]; break;
+            case 0:
+              id = &xEdge[kk][jj * np + ii];
+              break;
+            case 1:
+              id = &yEdge[kk][jj * np + ii];
+              break;
+            default:
+              id = &zEdge[jj * np + ii];
+              break;
           }
           if (*id < 0) {
             const double s = v[q0] / (v[q0] - v[q1]);
@@ -226,7 +234,8 @@ inline TriangleMesh marchingCubes(const Polynomial& f, const glm::dvec3& c, doub
 
 // Cubes per axis for about `target` triangles: the count grows like the surface area in
 // cube faces, cells^2, so one coarse run fixes the constant.
-inline int marchingCubesResolution(const Polynomial& f, const glm::dvec3& c, double r, double target) {
+inline int marchingCubesResolution(const Polynomial& f, const glm::dvec3& c, double r,
+                                   double target) {
   const int coarse = 40;
   const double count = static_cast<double>(marchingCubes(f, c, r, coarse).triangles.size());
   if (!(count > 0.0)) return coarse;

@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "algray/gallery.h"
+#include "algray/horner_form.h"
 #include "algray/jsurf.h"
 #include "algray/parser.h"
-#include "algray/horner_form.h"
 
 namespace {
 
@@ -35,11 +35,13 @@ Polynomial densePolynomial(int degree, unsigned seed) {
   std::uniform_real_distribution<double> c(-1.0, 1.0);
   Polynomial f;
   for (int n = 0; n <= degree; ++n)
-    algray::forEachMonomialOfDegree(n, [&](int i, int j, int k, int) { f.setCoeff(i, j, k, c(rng)); });
+    algray::forEachMonomialOfDegree(n,
+                                    [&](int i, int j, int k, int) { f.setCoeff(i, j, k, c(rng)); });
   return f;
 }
 
-void parseBenchmark(benchmark::State& state, const std::string& text, const algray::ParseOptions& options) {
+void parseBenchmark(benchmark::State& state, const std::string& text,
+                    const algray::ParseOptions& options) {
   Polynomial f;
   for (auto _ : state) {
     f = algray::parsePolynomial(text, options);
@@ -58,13 +60,15 @@ struct Factored {
 const Factored kFactored[] = {
     {"torus", "(x^2+y^2+z^2+1-0.16)^2 - 4*(x^2+y^2)"},
     {"kummer-quartic",
-     "(x^2+y^2+z^2-1.69)^2 - (3*1.69-1)/(3-1.69)*(1-z-sqrt(2)*x)*(1-z+sqrt(2)*x)*(1+z+sqrt(2)*y)*(1+z-sqrt(2)*y)"},
+     "(x^2+y^2+z^2-1.69)^2 - "
+     "(3*1.69-1)/(3-1.69)*(1-z-sqrt(2)*x)*(1-z+sqrt(2)*x)*(1+z+sqrt(2)*y)*(1+z-sqrt(2)*y)"},
     {"barth-sextic",
      "4*(((1+sqrt(5))/2)^2*x^2-y^2)*(((1+sqrt(5))/2)^2*y^2-z^2)*(((1+sqrt(5))/2)^2*z^2-x^2)"
      " - (1+2*(1+sqrt(5))/2)*(x^2+y^2+z^2-1)^2"},
     {"heart", "(x^2+9/4*y^2+z^2-1)^3 - x^2*z^3 - 9/80*y^2*z^3"},
     {"endrass-octic",
-     "64*(x^2-1)*(y^2-1)*((x+y)^2-2)*((x-y)^2-2) - (-4*(1+sqrt(2))*(x^2+y^2)^2 + (8*(2+sqrt(2))*z^2 + "
+     "64*(x^2-1)*(y^2-1)*((x+y)^2-2)*((x-y)^2-2) - (-4*(1+sqrt(2))*(x^2+y^2)^2 + "
+     "(8*(2+sqrt(2))*z^2 + "
      "2*(2+7*sqrt(2)))*(x^2+y^2) - 16*z^4 + 8*(1-2*sqrt(2))*z^2 - (1+12*sqrt(2)))^2"},
 };
 
@@ -172,22 +176,24 @@ void registerDynamic() {
       const auto file = algray::JsurfFile::read(path);
       algray::ParseOptions options;
       options.parameters = file.parameters();
-      benchmark::RegisterBenchmark(("BM_ParseJsurf/" + path.stem().string()).c_str(), parseBenchmark,
-                                   file.get("surface_equation").value_or("0"), options)
+      benchmark::RegisterBenchmark(("BM_ParseJsurf/" + path.stem().string()).c_str(),
+                                   parseBenchmark, file.get("surface_equation").value_or("0"),
+                                   options)
           ->Unit(benchmark::kMicrosecond);
     }
   }
   for (const Factored& f : kFactored) {
-    benchmark::RegisterBenchmark((std::string("BM_ParseFactored/") + f.gallery).c_str(), parseBenchmark,
-                                 std::string(f.text), algray::ParseOptions{})
+    benchmark::RegisterBenchmark((std::string("BM_ParseFactored/") + f.gallery).c_str(),
+                                 parseBenchmark, std::string(f.text), algray::ParseOptions{})
         ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((std::string("BM_BuildGallery/") + f.gallery).c_str(), BM_BuildGallery,
-                                 algray::findGallerySurface(f.gallery))
+    benchmark::RegisterBenchmark((std::string("BM_BuildGallery/") + f.gallery).c_str(),
+                                 BM_BuildGallery, algray::findGallerySurface(f.gallery))
         ->Unit(benchmark::kMicrosecond);
   }
   for (const char* name : {"barth-sextic", "endrass-octic", "chmutov-12", "chmutov-16"})
     benchmark::RegisterBenchmark((std::string("BM_ParseExpanded/") + name).c_str(), parseBenchmark,
-                                 algray::findGallerySurface(name)->build().toString(), algray::ParseOptions{})
+                                 algray::findGallerySurface(name)->build().toString(),
+                                 algray::ParseOptions{})
         ->Unit(benchmark::kMicrosecond);
 }
 

@@ -116,7 +116,8 @@ std::vector<RayProblem> galleryRays(const algray::GallerySurface& surface) {
   constexpr int kSide = 64;
   for (int y = 0; y < kSide; ++y)
     for (int x = 0; x < kSide; ++x) {
-      const double px = (2.0 * (x + 0.5) / kSide - 1.0) * 0.37, py = (1.0 - 2.0 * (y + 0.5) / kSide) * 0.37;
+      const double px = (2.0 * (x + 0.5) / kSide - 1.0) * 0.37,
+                   py = (1.0 - 2.0 * (y + 0.5) / kSide) * 0.37;
       const glm::dvec3 d = glm::normalize(forward + px * right + py * up);
       const double tc = -glm::dot(eye, d), h2 = r * r - glm::dot(eye + tc * d, eye + tc * d);
       if (!(h2 > 0.0)) continue;
@@ -173,9 +174,7 @@ BENCHMARK(BM_FirstRoot<RootMethod::ClosedForm, false>)
     ->ArgNames({"degree", "cell"});
 BENCHMARK(BM_FirstRoot<RootMethod::Yuksel, false>)->Apply(degrees)->ArgNames({"degree", "cell"});
 BENCHMARK(BM_FirstRoot<RootMethod::Sturm, false>)->Apply(degrees)->ArgNames({"degree", "cell"});
-BENCHMARK(BM_FirstRoot<RootMethod::Bernstein, false>)
-    ->Apply(degrees)
-    ->ArgNames({"degree", "cell"});
+BENCHMARK(BM_FirstRoot<RootMethod::Bernstein, false>)->Apply(degrees)->ArgNames({"degree", "cell"});
 BENCHMARK(BM_FirstRoot<RootMethod::Auto, true>)->Apply(degrees)->ArgNames({"degree", "cell"});
 BENCHMARK(BM_GalleryRays<RootMethod::Auto>)->Apply(gallerySurfaces)->ArgName("surface");
 BENCHMARK(BM_GalleryRays<RootMethod::Sturm>)->Apply(gallerySurfaces)->ArgName("surface");

@@ -15,8 +15,8 @@
 namespace algray::bench {
 
 struct ProblemShape {
-  std::vector<double> roots;                        // real roots
-  std::vector<std::pair<double, double>> pairs;     // a +- b i
+  std::vector<double> roots;                     // real roots
+  std::vector<std::pair<double, double>> pairs;  // a +- b i
   double lead = 1;
   double lo = 0, hi = 1;
 };

@@ -48,10 +48,10 @@ struct Problem {
   std::vector<double> c;
   std::vector<float> cf;
   double lo, hi;
-  bool hasRoot;    // reference, double coefficients
-  double root;     // first reference root (double polynomial)
-  double cond;     // its conditioning
-  bool hasRootF;   // the same for the float-rounded polynomial
+  bool hasRoot;   // reference, double coefficients
+  double root;    // first reference root (double polynomial)
+  double cond;    // its conditioning
+  bool hasRootF;  // the same for the float-rounded polynomial
   double rootF, condF;
 };
 
@@ -238,29 +238,29 @@ int main(int argc, char** argv) {
   std::mt19937_64 rng(42);
   std::vector<Row> rows;
   for (const char* family : {"ray", "cell"})
-  for (int degree : degrees) {
-    const auto ps = makeProblems(degree, problems, std::strcmp(family, "cell") == 0, rng);
-    std::vector<std::vector<double>> times(std::size(kMethods));
-    std::vector<std::vector<double>> answers(std::size(kMethods),
-                                             std::vector<double>(ps.size()));
-    // Interleave the methods in each repetition: machine noise hits all of them alike.
-    for (int r = 0; r < reps; ++r)
-      for (size_t k = 0; k < std::size(kMethods); ++k)
-        if (applies(kMethods[k], degree)) times[k].push_back(runPass(kMethods[k], ps, answers[k]));
-    for (size_t k = 0; k < std::size(kMethods); ++k) {
-      if (!applies(kMethods[k], degree)) continue;
-      Row row;
-      row.m = &kMethods[k];
-      row.family = family;
-      row.degree = degree;
-      row.problems = static_cast<int>(ps.size());
-      std::sort(times[k].begin(), times[k].end());
-      row.ns = times[k][times[k].size() / 2];
-      score(row, ps, answers[k]);
-      rows.push_back(row);
+    for (int degree : degrees) {
+      const auto ps = makeProblems(degree, problems, std::strcmp(family, "cell") == 0, rng);
+      std::vector<std::vector<double>> times(std::size(kMethods));
+      std::vector<std::vector<double>> answers(std::size(kMethods), std::vector<double>(ps.size()));
+      // Interleave the methods in each repetition: machine noise hits all of them alike.
+      for (int r = 0; r < reps; ++r)
+        for (size_t k = 0; k < std::size(kMethods); ++k)
+          if (applies(kMethods[k], degree))
+            times[k].push_back(runPass(kMethods[k], ps, answers[k]));
+      for (size_t k = 0; k < std::size(kMethods); ++k) {
+        if (!applies(kMethods[k], degree)) continue;
+        Row row;
+        row.m = &kMethods[k];
+        row.family = family;
+        row.degree = degree;
+        row.problems = static_cast<int>(ps.size());
+        std::sort(times[k].begin(), times[k].end());
+        row.ns = times[k][times[k].size() / 2];
+        score(row, ps, answers[k]);
+        rows.push_back(row);
+      }
+      std::fprintf(stderr, "%s degree %d: %zu problems\n", family, degree, ps.size());
     }
-    std::fprintf(stderr, "%s degree %d: %zu problems\n", family, degree, ps.size());
-  }
 
   std::filesystem::create_directories(outDir);
   const std::string csvPath = outDir + "/roots.csv";
@@ -269,14 +269,14 @@ int main(int argc, char** argv) {
          "err_p99_ucond,err_max_ucond,missed,noise_hits,false_hits\n";
   for (const Row& r : rows)
     csv << r.family << ',' << r.m->name << ',' << r.m->precision << ',' << r.m->query << ','
-        << r.degree << ',' << r.problems << ',' << r.ns << ',' << r.errMedian << ','
-        << r.errP99 << ',' << r.errMax << ',' << r.missed << ',' << r.noiseHits << ','
-        << r.falseHits << '\n';
+        << r.degree << ',' << r.problems << ',' << r.ns << ',' << r.errMedian << ',' << r.errP99
+        << ',' << r.errMax << ',' << r.missed << ',' << r.noiseHits << ',' << r.falseHits << '\n';
 
   std::printf("machine: %s\n\n", cpuModel().c_str());
-  std::printf("| family | degree | method | precision | query | ns/solve | err median | "
-              "err p99 | err max | missed | noise hits | false hits | Sturm/this |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| family | degree | method | precision | query | ns/solve | err median | "
+      "err p99 | err max | missed | noise hits | false hits | Sturm/this |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     double sturm = 0;
     for (const Row& s : rows)

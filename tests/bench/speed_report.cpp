@@ -88,11 +88,13 @@ void releaseEntry(Entry& e) {
   e.geometry.reset();
 }
 
-double msSince(std::chrono::steady_clock::time_point start) { return 1e3 * secondsSince(start); }
+double msSince(std::chrono::steady_clock::time_point start) {
+  return 1e3 * secondsSince(start);
+}
 
 // ---- Builders ------------------------------------------------------------------------------
-Entry algrayEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f, std::string config,
-                  const SurfaceOptions& options) {
+Entry algrayEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f,
+                  std::string config, const SurfaceOptions& options) {
   Entry e;
   e.surface = std::string(s.name);
   e.degree = f.degree();
@@ -126,7 +128,8 @@ void floatSphereBounds(const RTCBoundsFunctionArguments* a) {
 float floatSphereRoot(RTCRayN* ray, unsigned n, unsigned i) {
   const glm::vec3 o(RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i));
   const glm::vec3 d(RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i));
-  const float a = glm::dot(d, d), b = 2.0f * glm::dot(o, d), c = glm::dot(o, o) - 1.0f, disc = b * b - 4.0f * a * c;
+  const float a = glm::dot(d, d), b = 2.0f * glm::dot(o, d), c = glm::dot(o, o) - 1.0f,
+              disc = b * b - 4.0f * a * c;
   if (!(disc >= 0.0f)) return -1.0f;
   const float root = std::sqrt(disc), t0 = (-b - root) / (2.0f * a), t1 = (-b + root) / (2.0f * a);
   const float tnear = RTCRayN_tnear(ray, n, i), tfar = RTCRayN_tfar(ray, n, i);
@@ -140,9 +143,12 @@ void floatSphereIntersect(const RTCIntersectFunctionNArguments* args) {
     const float t = floatSphereRoot(ray, args->N, i);
     if (t < 0.0f) continue;
     RTCRayN_tfar(ray, args->N, i) = t;
-    RTCHitN_Ng_x(hit, args->N, i) = RTCRayN_org_x(ray, args->N, i) + t * RTCRayN_dir_x(ray, args->N, i);
-    RTCHitN_Ng_y(hit, args->N, i) = RTCRayN_org_y(ray, args->N, i) + t * RTCRayN_dir_y(ray, args->N, i);
-    RTCHitN_Ng_z(hit, args->N, i) = RTCRayN_org_z(ray, args->N, i) + t * RTCRayN_dir_z(ray, args->N, i);
+    RTCHitN_Ng_x(hit, args->N, i) =
+        RTCRayN_org_x(ray, args->N, i) + t * RTCRayN_dir_x(ray, args->N, i);
+    RTCHitN_Ng_y(hit, args->N, i) =
+        RTCRayN_org_y(ray, args->N, i) + t * RTCRayN_dir_y(ray, args->N, i);
+    RTCHitN_Ng_z(hit, args->N, i) =
+        RTCRayN_org_z(ray, args->N, i) + t * RTCRayN_dir_z(ray, args->N, i);
     RTCHitN_u(hit, args->N, i) = RTCHitN_v(hit, args->N, i) = 0.0f;
     RTCHitN_primID(hit, args->N, i) = args->primID;
     RTCHitN_geomID(hit, args->N, i) = args->geomID;
@@ -192,8 +198,8 @@ Entry floatUserSphereEntry(RTCDevice device) {
 Entry nativeSphereEntry(RTCDevice device) {
   return sphereEntry(device, "embree-sphere", "native", [device] {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* v = static_cast<float*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
     v[0] = v[1] = v[2] = 0.0f;
     v[3] = 1.0f;
     return g;
@@ -214,11 +220,12 @@ Entry meshEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f, 
   start = std::chrono::steady_clock::now();
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   if (!mesh.triangles.empty()) {
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), mesh.vertices.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
     std::memcpy(v, mesh.vertices.data(), mesh.vertices.size() * sizeof(glm::vec3));
-    auto* t = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), mesh.triangles.size()));
+    auto* t = static_cast<std::uint32_t*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(std::uint32_t), mesh.triangles.size()));
     std::memcpy(t, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(std::uint32_t));
   }
   rtcCommitGeometry(g);
@@ -295,28 +302,29 @@ void measurePass(Entry& e, const View& v, const std::vector<float>* reference) {
   for (std::uint8_t o : occ) occluded += o;
   e.occludedFraction = occ.empty() ? NAN : static_cast<double>(occluded) / occ.size();
   if (e.allMetrics) keepBest(e, kSAll, traceShadowAll(e.scene, *e.shadowSet, e.shadowTnear, occ));
-  if (e.allMetrics || e.packetMetrics) keepBest(e, kS8, traceShadow8(e.scene, *e.shadowSet, e.shadowTnear, occ));
+  if (e.allMetrics || e.packetMetrics)
+    keepBest(e, kS8, traceShadow8(e.scene, *e.shadowSet, e.shadowTnear, occ));
 }
 
 int run(const Args& args) {
   const std::string machine = machineName();
   const unsigned threads = std::thread::hardware_concurrency();
-  std::printf("speed_report: %s, %u hardware threads, %dx%d primary rays, best of %d\n", machine.c_str(), threads,
-              args.width, args.height, args.reps);
+  std::printf("speed_report: %s, %u hardware threads, %dx%d primary rays, best of %d\n",
+              machine.c_str(), threads, args.width, args.height, args.reps);
 
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) {
     std::fprintf(stderr, "speed_report: rtcNewDevice failed\n");
     return 1;
   }
-  const std::vector<std::string> configs = {"default",     "no-cells",        "cells-depth4",
-                                            "origin-cache", "no-recentre", "no-closed-forms",
+  const std::vector<std::string> configs = {"default",         "no-cells",       "cells-depth4",
+                                            "origin-cache",    "no-recentre",    "no-closed-forms",
                                             "no-quadric-path", "no-packet-simd", "uv-on"};
   std::vector<Entry> done;
   unsigned long long callbackErrors = 0;
   for (const GallerySurface& s : gallery()) {
-    if (!args.surfaces.empty() &&
-        std::find(args.surfaces.begin(), args.surfaces.end(), std::string(s.name)) == args.surfaces.end())
+    if (!args.surfaces.empty() && std::find(args.surfaces.begin(), args.surfaces.end(),
+                                            std::string(s.name)) == args.surfaces.end())
       continue;
     const Polynomial f = s.build();
     const View full = makeView(glm::dvec3(0.0), s.clipRadius, args.width, args.height);
@@ -327,7 +335,8 @@ int run(const Args& args) {
     for (const auto& c : configs) {
       SurfaceOptions o;
       if (c == "no-cells") o.useCells = false;
-      if (c == "cells-depth4") o.cellDepth = 4;  // an octree of depth 4, whatever the automatic rule says
+      if (c == "cells-depth4")
+        o.cellDepth = 4;  // an octree of depth 4, whatever the automatic rule says
       if (c == "origin-cache") o.originCache = true;
       if (c == "no-recentre") o.recentre = false;
       if (c == "no-quadric-path") {
@@ -359,13 +368,16 @@ int run(const Args& args) {
       std::vector<float> t;
       tracePrimary1(entries[0].scene, probe, t);  // warm-up (caches, first-touch pages)
       const double estimate = tracePrimary1(entries[0].scene, probe, t).cpu *
-                              static_cast<double>(full.dirs.size()) / static_cast<double>(probe.dirs.size());
-      stride = std::clamp(static_cast<int>(std::ceil(estimate / args.budget)), 1, std::max(1, full.height / 16));
+                              static_cast<double>(full.dirs.size()) /
+                              static_cast<double>(probe.dirs.size());
+      stride = std::clamp(static_cast<int>(std::ceil(estimate / args.budget)), 1,
+                          std::max(1, full.height / 16));
     }
     const View view = subsampleRows(full, stride);
 
     // ---- Shadow rays: algray's from its exact hits, the others' from their own ------------
-    const auto exact = std::make_shared<const std::vector<ShadowRay>>(algrayShadows(entries[0].scene, view));
+    const auto exact =
+        std::make_shared<const std::vector<ShadowRay>>(algrayShadows(entries[0].scene, view));
     for (Entry& e : entries) {
       if (e.method == "algray") {
         e.shadowSet = exact;
@@ -394,18 +406,24 @@ int run(const Args& args) {
 
   // ---- Report ---------------------------------------------------------------------------------
   std::ostringstream md;
-  md << "Machine: " << machine << ", " << threads << " hardware threads. Primary rays: " << args.width << "x"
-     << args.height << " pinhole camera framing the clip sphere; shadow rays from every primary hit to a point "
-     << "light. Mrays/s, best of " << args.reps << " interleaved passes (wall clock). \"differ %\": pixels "
-     << "whose hit/miss differs from the finest marching-cubes mesh's. (CPU): the one-thread figure per CPU second of "
+  md << "Machine: " << machine << ", " << threads
+     << " hardware threads. Primary rays: " << args.width << "x" << args.height
+     << " pinhole camera framing the clip sphere; shadow rays from every primary hit to a point "
+     << "light. Mrays/s, best of " << args.reps
+     << " interleaved passes (wall clock). \"differ %\": pixels "
+     << "whose hit/miss differs from the finest marching-cubes mesh's. (CPU): the one-thread "
+        "figure per CPU second of "
      << "the tracing thread (excludes waiting for a core on a loaded machine).\n\n"
      << summaryTable(done) << "\nAll methods:\n\n"
-     << mainTable(done) << "\nOptimisations switched off one at a time (algray, one thread, Mrays/s per CPU "
-     << "second of the tracing thread, and the ratio to the default; < 1 means the optimisation helps; "
+     << mainTable(done)
+     << "\nOptimisations switched off one at a time (algray, one thread, Mrays/s per CPU "
+     << "second of the tracing thread, and the ratio to the default; < 1 means the optimisation "
+        "helps; "
      << "\"differ %\" as above, for each configuration):\n\n"
      << switchTable(done, configs) << "\nTargets:\n\n"
      << targets(done);
-  if (callbackErrors) md << "\nWARNING: " << callbackErrors << " exceptions caught in Embree callbacks.\n";
+  if (callbackErrors)
+    md << "\nWARNING: " << callbackErrors << " exceptions caught in Embree callbacks.\n";
   std::cout << md.str();
 
   std::error_code ec;
@@ -456,7 +474,8 @@ int main(int argc, char** argv) {
     }
     if (!ok) {
       std::cerr << "usage: " << argv[0]
-                << " [--tiny] [--out DIR] [--width W --height H] [--reps N] [--surface NAME]... [--no-1m] [--budget S] [--images]\n"
+                << " [--tiny] [--out DIR] [--width W --height H] [--reps N] [--surface NAME]... "
+                   "[--no-1m] [--budget S] [--images]\n"
                 << "bad argument: " << a << "\n";
       return 2;
     }

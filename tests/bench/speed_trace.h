@@ -6,16 +6,16 @@
 // Every loop returns wall seconds of tracing only; the rays are generated before the
 // clock starts, so the figure is Embree + geometry, not ray set-up.
 #include <embree3/rtcore.h>
-#include <glm/geometric.hpp>
-#include <glm/vec3.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdint>
+#include <ctime>
 #include <limits>
 #include <vector>
 
@@ -50,7 +50,8 @@ inline View makeView(const glm::dvec3& c, double r, int width, int height) {
     for (int x = 0; x < width; ++x) {
       const double px = (2.0 * (x + 0.5) / width - 1.0) * tanHalf * aspect;
       const double py = (1.0 - 2.0 * (y + 0.5) / height) * tanHalf;
-      v.dirs[static_cast<size_t>(y) * width + x] = glm::vec3(glm::normalize(forward + px * right + py * up));
+      v.dirs[static_cast<size_t>(y) * width + x] =
+          glm::vec3(glm::normalize(forward + px * right + py * up));
     }
   return v;
 }
@@ -134,13 +135,14 @@ inline void primaryRows(RTCScene scene, const View& v, int y0, int y1, float* t)
       rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect1(scene, &context, &rh);
-      t[i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity() : rh.ray.tfar;
+      t[i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity()
+                                                      : rh.ray.tfar;
     }
 }
 
 // Shadow rays [i0, i1); occluded flags into `occ`.
-inline void shadowRange(RTCScene scene, const std::vector<ShadowRay>& rays, float tnear, size_t i0, size_t i1,
-                        std::uint8_t* occ) {
+inline void shadowRange(RTCScene scene, const std::vector<ShadowRay>& rays, float tnear, size_t i0,
+                        size_t i1, std::uint8_t* occ) {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   for (size_t i = i0; i < i1; ++i) {
@@ -161,13 +163,14 @@ inline Seconds tracePrimary1(RTCScene scene, const View& v, std::vector<float>& 
 inline Seconds tracePrimaryAll(RTCScene scene, const View& v, std::vector<float>& t) {
   t.assign(v.dirs.size(), 0.0f);
   const Stopwatch clock;
-  tbb::parallel_for(tbb::blocked_range<int>(0, v.height, 2),
-                    [&](const tbb::blocked_range<int>& r) { primaryRows(scene, v, r.begin(), r.end(), t.data()); });
+  tbb::parallel_for(tbb::blocked_range<int>(0, v.height, 2), [&](const tbb::blocked_range<int>& r) {
+    primaryRows(scene, v, r.begin(), r.end(), t.data());
+  });
   return clock.elapsed();
 }
 
 inline Seconds traceShadow1(RTCScene scene, const std::vector<ShadowRay>& rays, float tnear,
-                           std::vector<std::uint8_t>& occ) {
+                            std::vector<std::uint8_t>& occ) {
   occ.assign(rays.size(), 0);
   const Stopwatch clock;
   shadowRange(scene, rays, tnear, 0, rays.size(), occ.data());
@@ -175,12 +178,13 @@ inline Seconds traceShadow1(RTCScene scene, const std::vector<ShadowRay>& rays, 
 }
 
 inline Seconds traceShadowAll(RTCScene scene, const std::vector<ShadowRay>& rays, float tnear,
-                             std::vector<std::uint8_t>& occ) {
+                              std::vector<std::uint8_t>& occ) {
   occ.assign(rays.size(), 0);
   const Stopwatch clock;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    shadowRange(scene, rays, tnear, r.begin(), r.end(), occ.data());
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      shadowRange(scene, rays, tnear, r.begin(), r.end(), occ.data());
+                    });
   return clock.elapsed();
 }
 
@@ -221,15 +225,16 @@ inline Seconds tracePrimary8(RTCScene scene, const View& v, std::vector<float>& 
       rtcIntersect8(valid, scene, &context, &rh);
       for (int l = 0; l < 8; ++l)
         if (valid[l])
-          t[index[l]] = rh.hit.geomID[l] == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity()
-                                                                     : rh.ray.tfar[l];
+          t[index[l]] = rh.hit.geomID[l] == RTC_INVALID_GEOMETRY_ID
+                            ? std::numeric_limits<float>::infinity()
+                            : rh.ray.tfar[l];
     }
   return clock.elapsed();
 }
 
 // Shadow rays in groups of 8 consecutive primary hits (neighbouring pixels of a row).
 inline Seconds traceShadow8(RTCScene scene, const std::vector<ShadowRay>& rays, float tnear,
-                           std::vector<std::uint8_t>& occ) {
+                            std::vector<std::uint8_t>& occ) {
   occ.assign(rays.size(), 0);
   const Stopwatch clock;
   RTCIntersectContext context;

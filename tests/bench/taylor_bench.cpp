@@ -67,8 +67,12 @@ void restrictToRayLoop(benchmark::State& state) {
   }
   state.counters["terms"] = Polynomial::termCount(f.degree());
 }
-void BM_RestrictToRay(benchmark::State& state) { restrictToRayLoop<Polynomial>(state); }
-void BM_RestrictToRayBox(benchmark::State& state) { restrictToRayLoop<algray::HornerForm>(state); }
+void BM_RestrictToRay(benchmark::State& state) {
+  restrictToRayLoop<Polynomial>(state);
+}
+void BM_RestrictToRayBox(benchmark::State& state) {
+  restrictToRayLoop<algray::HornerForm>(state);
+}
 
 void BM_ExpandOrigin(benchmark::State& state) {
   const auto f = densePolynomial(static_cast<int>(state.range(0)));
@@ -135,7 +139,8 @@ void BM_GalleryDirect(benchmark::State& state, const algray::GallerySurface* sur
   for (auto _ : state) {
     const glm::dvec3 d = dirs[r++ & 1023];
     const double tShift = algray::closestParameter(o, d, glm::dvec3(0.0));
-    auto g = box ? algray::restrictToRay(horner, o, d, tShift) : algray::restrictToRay(f, o, d, tShift);
+    auto g =
+        box ? algray::restrictToRay(horner, o, d, tShift) : algray::restrictToRay(f, o, d, tShift);
     benchmark::DoNotOptimize(g);
   }
   state.counters["terms_f"] = f.nonZeroCount();

@@ -95,11 +95,12 @@ TEST_F(QueryTool, SphereMatchesClosedFormInAnyColumnOrder) {
   char buf[512];
   for (int i = 0; i < 7; ++i) {
     const double* r = rays[i];
-    std::snprintf(buf, sizeof buf, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i, r[7], r[5], r[4],
-                  r[3], r[2], r[1], r[0], r[6]);
+    std::snprintf(buf, sizeof buf, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i, r[7],
+                  r[5], r[4], r[3], r[2], r[1], r[0], r[6]);
     csv += buf;
   }
-  const RunResult r = run("--surface \"x^2 + y^2 + z^2 - 1\" --clip-sphere 1.5 " + common(write("rays.csv", csv)));
+  const RunResult r =
+      run("--surface \"x^2 + y^2 + z^2 - 1\" --clip-sphere 1.5 " + common(write("rays.csv", csv)));
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(r.header, "hit,t,nx,ny,nz");
   EXPECT_NE(r.err.find("rays/s"), std::string::npos) << r.err;
@@ -126,18 +127,20 @@ TEST_F(QueryTool, HitPointsAsOriginsDoNotHitThemselves) {
   // First pass: hits on a torus from outside. Second pass: rays from those hit points
   // (o + t d, as a user computes them from OUT.csv) with tnear = 0, towards the centre
   // and away from it.
-  const std::string surface = "--surface \"(x^2+y^2+z^2+R^2-r^2)^2 - 4*R^2*(x^2+y^2)\" --param R=1 --param r=0.4 "
-                              "--clip-sphere 1.6 ";
+  const std::string surface =
+      "--surface \"(x^2+y^2+z^2+R^2-r^2)^2 - 4*R^2*(x^2+y^2)\" --param R=1 --param r=0.4 "
+      "--clip-sphere 1.6 ";
   std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
   std::vector<std::array<double, 6>> rays;
   for (int i = 0; i < 40; ++i) {
     const double a = 0.37 * i, z = 0.05 * (i % 7) - 0.15;
-    std::array<double, 6> ray = {4 * std::cos(a), 4 * std::sin(a), 1.0, -std::cos(a) + 0.1 * std::sin(a),
-                                 -std::sin(a), z - 0.25};
+    std::array<double, 6> ray = {
+        4 * std::cos(a), 4 * std::sin(a), 1.0, -std::cos(a) + 0.1 * std::sin(a),
+        -std::sin(a),    z - 0.25};
     rays.push_back(ray);
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", ray[0], ray[1], ray[2], ray[3],
-                  ray[4], ray[5]);
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", ray[0], ray[1],
+                  ray[2], ray[3], ray[4], ray[5]);
     csv += buf;
   }
   const RunResult first = run(surface + common(write("rays.csv", csv)));
@@ -148,11 +151,13 @@ TEST_F(QueryTool, HitPointsAsOriginsDoNotHitThemselves) {
     if (first.rows[i][0] != 1.0) continue;
     ++hits;
     const double t = first.rows[i][1];
-    const double p[3] = {rays[i][0] + t * rays[i][3], rays[i][1] + t * rays[i][4], rays[i][2] + t * rays[i][5]};
+    const double p[3] = {rays[i][0] + t * rays[i][3], rays[i][1] + t * rays[i][4],
+                         rays[i][2] + t * rays[i][5]};
     for (double sign : {-1.0, 1.0}) {  // into the tube and back out along the normal
       char buf[256];
-      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", p[0], p[1], p[2],
-                    sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]);
+      std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", p[0], p[1],
+                    p[2], sign * first.rows[i][2], sign * first.rows[i][3],
+                    sign * first.rows[i][4]);
       second += buf;
     }
   }
@@ -287,8 +292,8 @@ TEST_F(QueryTool, FarOriginsThroughTheCentreHit) {
   std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
   char buf[512];
   for (const Ray& r : rays) {
-    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", r.o[0], r.o[1], r.o[2], r.d[0],
-                  r.d[1], r.d[2]);
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", r.o[0], r.o[1],
+                  r.o[2], r.d[0], r.d[1], r.d[2]);
     csv += buf;
   }
   const fs::path file = write("far.csv", csv);
@@ -304,7 +309,8 @@ TEST_F(QueryTool, FarOriginsThroughTheCentreHit) {
       const double m = std::max({std::abs(ray.d[0]), std::abs(ray.d[1]), std::abs(ray.d[2])});
       const double u[3] = {ray.d[0] / m, ray.d[1] / m, ray.d[2] / m};
       const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-      for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, 1e-6) << "ray " << i << mode;
+      for (int a = 0; a < 3; ++a)
+        EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, 1e-6) << "ray " << i << mode;
     }
   }
 }
@@ -314,16 +320,18 @@ TEST_F(QueryTool, FarOriginsThroughTheCentreHit) {
 // noise bound exceeds |g| near the far end of the clip span, and the solver reported the
 // span's far end (t = 4.5 in the clip sphere of radius 1.5, where f = 0.5^N - 1) instead.
 TEST_F(QueryTool, HighDegreeRootBeforeANoiseLevelSpanEnd) {
-  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n3,0,0,-1,0,0,0,inf\n"
-                                          "3,0.3,-0.2,-1,0,0,0,inf\n3,0,0,-2,0,0,0,inf\n");
+  const fs::path rays = write("rays.csv",
+                              "ox,oy,oz,dx,dy,dz,tnear,tfar\n3,0,0,-1,0,0,0,inf\n"
+                              "3,0.3,-0.2,-1,0,0,0,inf\n3,0,0,-2,0,0,0,inf\n");
   for (const int n : {33, 35, 40})
     for (const char* radius : {"1.5", "2"}) {
-      const RunResult r = run("--surface \"(x+1)^" + std::to_string(n) + " - 1\" --clip-sphere " + radius + " " +
-                              common(rays));
+      const RunResult r = run("--surface \"(x+1)^" + std::to_string(n) + " - 1\" --clip-sphere " +
+                              radius + " " + common(rays));
       ASSERT_EQ(r.exitCode, 0) << r.err;
       ASSERT_EQ(r.rows.size(), 3u);
       for (size_t i = 0; i < 3; ++i) {
-        const std::string what = "N = " + std::to_string(n) + ", R = " + radius + ", ray " + std::to_string(i);
+        const std::string what =
+            "N = " + std::to_string(n) + ", R = " + radius + ", ray " + std::to_string(i);
         ASSERT_EQ(r.rows[i][0], 1.0) << what;
         EXPECT_NEAR(r.rows[i][1], i == 2 ? 1.5 : 3.0, 1e-12) << what;
         EXPECT_NEAR(r.rows[i][2], 1.0, 1e-12) << what;  // grad = N (x + 1)^(N-1) e_x
@@ -342,7 +350,8 @@ TEST_F(QueryTool, HighDegreeRootBeforeANoiseLevelSpanEnd) {
 TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
   const double lo[3] = {-3.35498, -1.40295, -1.52329}, hi[3] = {-0.739214, 1.88969, 0.696178};
   const char* clip = "-3.35498,-1.40295,-1.52329,-0.739214,1.88969,0.696178";
-  const double coeff[9] = {1, -128, 2688, -21504, 84480, -180224, 212992, -131072, 32768};  // T16, x^0..x^16
+  const double coeff[9] = {1,       -128,   2688,    -21504, 84480,
+                           -180224, 212992, -131072, 32768};  // T16, x^0..x^16
   std::string equation = "1";
   for (const char* v : {"x", "y", "z"})
     for (int k = 0; k <= 8; ++k) {
@@ -358,9 +367,15 @@ TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
     double o[3], d[3], tfar;
   };
   std::vector<Ray> rays = {
-      {{-18048288286.445034, -6138698963.579716, -10563861332.92758}, {3.0639524684143566, 1.0421310623559232, 1.793365027028933}, INFINITY},
-      {{21.49556168133346, -3.024148533112233, 2.236600898192007}, {-99197915.22836436, 9192474.250292402, -8675945.568291007}, INFINITY},
-      {{2.0957740088781334, 0.960279507817646, 1.895940248754072}, {-0.9120652048647508, -0.00770854294913458, -0.40997273133785544}, 4.550325688126394},
+      {{-18048288286.445034, -6138698963.579716, -10563861332.92758},
+       {3.0639524684143566, 1.0421310623559232, 1.793365027028933},
+       INFINITY},
+      {{21.49556168133346, -3.024148533112233, 2.236600898192007},
+       {-99197915.22836436, 9192474.250292402, -8675945.568291007},
+       INFINITY},
+      {{2.0957740088781334, 0.960279507817646, 1.895940248754072},
+       {-0.9120652048647508, -0.00770854294913458, -0.40997273133785544},
+       4.550325688126394},
       {{-6.802067887332539, 0.6572435832399665, 0.26129159927737333}, {1e-08, 0.0, 0.0}, INFINITY}};
   std::mt19937_64 rng(176);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -368,7 +383,8 @@ TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
   while (rays.size() < 300) {
     Ray r{};
     double n = 0, target[3];
-    for (int a = 0; a < 3; ++a) target[a] = lo[a] + unit(rng) * (hi[a] - lo[a]), r.d[a] = normal(rng), n += r.d[a] * r.d[a];
+    for (int a = 0; a < 3; ++a)
+      target[a] = lo[a] + unit(rng) * (hi[a] - lo[a]), r.d[a] = normal(rng), n += r.d[a] * r.d[a];
     for (int a = 0; a < 3; ++a) r.o[a] = target[a] - 6.0 * r.d[a] / std::sqrt(n);
     for (int a = 0; a < 3; ++a) r.d[a] = target[a] - r.o[a];
     r.tfar = INFINITY;
@@ -377,11 +393,12 @@ TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
   std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
   for (const Ray& r : rays) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,%.17g\n", r.o[0], r.o[1], r.o[2], r.d[0],
-                  r.d[1], r.d[2], r.tfar);
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,%.17g\n", r.o[0], r.o[1],
+                  r.o[2], r.d[0], r.d[1], r.d[2], r.tfar);
     csv += buf;
   }
-  const RunResult out = run("--surface \"" + equation + "\" --clip-box " + clip + " " + common(write("rays.csv", csv)));
+  const RunResult out = run("--surface \"" + equation + "\" --clip-box " + clip + " " +
+                            common(write("rays.csv", csv)));
   ASSERT_EQ(out.exitCode, 0) << out.err;
   ASSERT_EQ(out.rows.size(), rays.size());
   double boxRadius = 0;
@@ -393,7 +410,8 @@ TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
     long double t0 = 0, t1 = r.tfar;  // the slab span
     for (int a = 0; a < 3; ++a) {
       if (r.d[a] == 0) continue;
-      long double ta = ((long double)lo[a] - r.o[a]) / r.d[a], tb = ((long double)hi[a] - r.o[a]) / r.d[a];
+      long double ta = ((long double)lo[a] - r.o[a]) / r.d[a],
+                  tb = ((long double)hi[a] - r.o[a]) / r.d[a];
       if (ta > tb) std::swap(ta, tb);
       t0 = std::max(t0, ta), t1 = std::min(t1, tb);
     }
@@ -428,7 +446,8 @@ TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
     ++checked;
     ASSERT_EQ(out.rows[i][0], tRef >= 0 ? 1.0 : 0.0) << "ray " << i;
     if (tRef < 0) continue;
-    EXPECT_NEAR(out.rows[i][1], (double)tRef, 1e-9 * boxRadius / dLen + 1e-15 * (double)tRef) << "ray " << i;
+    EXPECT_NEAR(out.rows[i][1], (double)tRef, 1e-9 * boxRadius / dLen + 1e-15 * (double)tRef)
+        << "ray " << i;
   }
   EXPECT_GT(checked, 200);
 }
@@ -441,13 +460,15 @@ TEST_F(QueryTool, OffCentreClipBoxChmutov16AgainstClosedForm) {
 // by a power of two instead of arc lengths from o, which overflowed
 // (EmbreeHits.DirectionsAndOriginsNear1e308HitTheEntry).
 TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInBothChannels) {
-  const double d[][3] = {{1.7e308, 1.7e308, 1.7e308}, {1.7e308, -1.7e308, 0}, {1e308, 1.5e308, -1.2e308},
+  const double d[][3] = {{1.7e308, 1.7e308, 1.7e308},
+                         {1.7e308, -1.7e308, 0},
+                         {1e308, 1.5e308, -1.2e308},
                          {-1.79e308, 1.79e308, 1e300}};
   std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
   for (const auto& v : d) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", -v[0], -v[1], -v[2], v[0], v[1],
-                  v[2]);
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", -v[0], -v[1],
+                  -v[2], v[0], v[1], v[2]);
     csv += buf;
   }
   const fs::path rays = write("rays.csv", csv);
@@ -463,7 +484,8 @@ TEST_F(QueryTool, DirectionsWhoseLengthOverflowsHitInBothChannels) {
       const double u[3] = {d[i][0] / m, d[i][1] / m, d[i][2] / m};
       const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
       const double tol = mode.empty() ? 1e-12 : 1e-6;  // the float channel's Ng is float
-      for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, tol) << "ray " << i << mode;
+      for (int a = 0; a < 3; ++a)
+        EXPECT_NEAR(r.rows[i][2 + a], -u[a] / len, tol) << "ray " << i << mode;
     }
   }
 }
@@ -478,25 +500,29 @@ using Ray6 = std::array<double, 6>;  // ox, oy, oz, dx, dy, dz
 
 // `count` rays from distances in [near, far) towards random points within 0.4 of the
 // centre (appended to `rays`).
-void aimedRays(std::mt19937_64& rng, size_t count, double near, double far, std::vector<Ray6>& rays) {
+void aimedRays(std::mt19937_64& rng, size_t count, double near, double far,
+               std::vector<Ray6>& rays) {
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> unit(-1.0, 1.0), dist(near, far);
   while (rays.size() < count) {
     double u[3], n = 0, target[3];
     for (int a = 0; a < 3; ++a) u[a] = normal(rng), n += u[a] * u[a], target[a] = 0.4 * unit(rng);
     const double r = dist(rng) / std::sqrt(n);
-    rays.push_back({target[0] + r * u[0], target[1] + r * u[1], target[2] + r * u[2], -u[0], -u[1], -u[2]});
+    rays.push_back(
+        {target[0] + r * u[0], target[1] + r * u[1], target[2] + r * u[2], -u[0], -u[1], -u[2]});
   }
 }
 
 // IN.csv of rays on [0, inf), with an org_error column when `orgErrors` is given.
 std::string raysCsv(const std::vector<Ray6>& rays, const std::vector<double>* orgErrors = nullptr) {
-  std::string csv = orgErrors ? "org_error,ox,oy,oz,dx,dy,dz,tnear,tfar\n" : "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  std::string csv =
+      orgErrors ? "org_error,ox,oy,oz,dx,dy,dz,tnear,tfar\n" : "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
   char buf[512];
   for (size_t i = 0; i < rays.size(); ++i) {
     const Ray6& r = rays[i];
     if (orgErrors) csv += (std::snprintf(buf, sizeof buf, "%.17g,", (*orgErrors)[i]), buf);
-    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", r[0], r[1], r[2], r[3], r[4], r[5]);
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,inf\n", r[0], r[1], r[2],
+                  r[3], r[4], r[5]);
     csv += buf;
   }
   return csv;
@@ -505,7 +531,8 @@ std::string raysCsv(const std::vector<Ray6>& rays, const std::vector<double>* or
 // From each hit of `first` (the rays `rays`), two rays from the hit point o + t d along
 // the normal: into the solid (even index) and away from it (odd). orgErrors: each hit
 // point's bound gamma(3) (|o| + |t d|) (pbrt-v4 Sec. 6.8.6).
-std::vector<Ray6> leavingRays(const std::vector<Ray6>& rays, const RunResult& first, std::vector<double>& orgErrors) {
+std::vector<Ray6> leavingRays(const std::vector<Ray6>& rays, const RunResult& first,
+                              std::vector<double>& orgErrors) {
   std::vector<Ray6> leaving;
   for (size_t i = 0; i < rays.size(); ++i) {
     if (first.rows[i][0] != 1.0) continue;
@@ -515,7 +542,8 @@ std::vector<Ray6> leavingRays(const std::vector<Ray6>& rays, const RunResult& fi
     const double err = 3 * 0x1p-53 / (1 - 3 * 0x1p-53) *
                        (std::hypot(r[0], r[1], r[2]) + std::abs(t) * std::hypot(r[3], r[4], r[5]));
     for (double sign : {-1.0, 1.0}) {
-      leaving.push_back({p[0], p[1], p[2], sign * first.rows[i][2], sign * first.rows[i][3], sign * first.rows[i][4]});
+      leaving.push_back({p[0], p[1], p[2], sign * first.rows[i][2], sign * first.rows[i][3],
+                         sign * first.rows[i][4]});
       orgErrors.push_back(err);
     }
   }
@@ -525,7 +553,9 @@ std::vector<Ray6> leavingRays(const std::vector<Ray6>& rays, const RunResult& fi
 // Far root along a ray into the solid of sum_{j < axes} x_j^2 = c (long double).
 double farRoot(const Ray6& l, int axes, double c) {
   long double a = 0, b = 0, k = -(long double)c;
-  for (int j = 0; j < axes; ++j) a += (long double)l[3 + j] * l[3 + j], b += 2.0L * l[j] * l[3 + j], k += (long double)l[j] * l[j];
+  for (int j = 0; j < axes; ++j)
+    a += (long double)l[3 + j] * l[3 + j], b += 2.0L * l[j] * l[3 + j],
+        k += (long double)l[j] * l[j];
   return (double)((-b + std::sqrt(b * b - 4 * a * k)) / (2 * a));
 }
 
@@ -537,10 +567,11 @@ TEST_F(QueryTool, HitPointsOfRaysFromFarAwayDoNotHitThemselves) {
     bool sphere;  // x^2 + y^2 + z^2 = c, else x^2 + y^2 = c
     double c;
   };
-  for (const Case& k : {Case{"(x^2+y^2-0.14) - 1e-6", false, 0.14 + 1e-6}, Case{"x^2+y^2+z^2 - 0.3", true, 0.3}}) {
+  for (const Case& k :
+       {Case{"(x^2+y^2-0.14) - 1e-6", false, 0.14 + 1e-6}, Case{"x^2+y^2+z^2 - 0.3", true, 0.3}}) {
     std::mt19937_64 rng(84);
-    std::vector<Ray6> rays = {{-19.843460565145342, -1.250984248354485, 1.1583122124118925, 0.996245764170719,
-                               0.07760926223297725, -0.038355961564706484}};
+    std::vector<Ray6> rays = {{-19.843460565145342, -1.250984248354485, 1.1583122124118925,
+                               0.996245764170719, 0.07760926223297725, -0.038355961564706484}};
     aimedRays(rng, 300, 10.0, 40.0, rays);
     const std::string surface = std::string("--surface \"") + k.surface + "\" --clip-sphere 2 ";
     const RunResult first = run(surface + common(write("rays.csv", raysCsv(rays))));
@@ -557,7 +588,8 @@ TEST_F(QueryTool, HitPointsOfRaysFromFarAwayDoNotHitThemselves) {
       }
       if (i % 2 != 0) continue;
       ASSERT_EQ(r.rows[i][0], 1.0) << k.surface << ": ray " << i;
-      EXPECT_NEAR(r.rows[i][1], farRoot(leaving[i], k.sphere ? 3 : 2, k.c), 1e-12) << k.surface << ": ray " << i;
+      EXPECT_NEAR(r.rows[i][1], farRoot(leaving[i], k.sphere ? 3 : 2, k.c), 1e-12)
+          << k.surface << ": ray " << i;
     }
   }
 }
@@ -602,20 +634,31 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
     std::string args, expect;
   };
   const std::vector<Case> cases = {
-      {sphere + common(write("a.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,x5,0,0,1,0,inf\n")),
+      {sphere +
+           common(write("a.csv",
+                        "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,x5,0,0,1,0,inf\n")),
        "a.csv:3: column 'oz'"},
-      {sphere + common(write("b.csv", "ox,oy,oz,dx,dy,tnear,tfar\n0,0,-5,0,0,0,inf\n")), "b.csv:1: the header has no column 'dz'"},
-      {sphere + common(write("c.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0\n")), "c.csv:2: expected 8 fields"},
-      {sphere + common(write("d.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,nan,0,0,1,0,inf\n")), "d.csv:2: column 'oz'"},
-      {sphere + common(write("e.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,inf,0,1,0,inf\n")), "e.csv:2: column 'dx'"},
+      {sphere + common(write("b.csv", "ox,oy,oz,dx,dy,tnear,tfar\n0,0,-5,0,0,0,inf\n")),
+       "b.csv:1: the header has no column 'dz'"},
+      {sphere + common(write("c.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0\n")),
+       "c.csv:2: expected 8 fields"},
+      {sphere + common(write("d.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,nan,0,0,1,0,inf\n")),
+       "d.csv:2: column 'oz'"},
+      {sphere + common(write("e.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,inf,0,1,0,inf\n")),
+       "e.csv:2: column 'dx'"},
       {sphere + common(write("f.csv", "")), "f.csv:1: empty file"},
-      {sphere + common(write("oe.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar,org_error\n0,0,-5,0,0,1,0,inf,-1\n")),
+      {sphere + common(write("oe.csv",
+                             "ox,oy,oz,dx,dy,dz,tnear,tfar,org_error\n0,0,-5,0,0,1,0,inf,-1\n")),
        "oe.csv:2: column 'org_error' (field 9): must be >= 0"},
-      {sphere + common(write("of.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar,org_error\n0,0,-5,0,0,1,0,inf,inf\n")),
+      {sphere + common(write("of.csv",
+                             "ox,oy,oz,dx,dy,dz,tnear,tfar,org_error\n0,0,-5,0,0,1,0,inf,inf\n")),
        "of.csv:2: column 'org_error' (field 9): must be finite"},
       // Degenerate rays: zero direction (also by underflow), reversed or negative interval.
-      {sphere + common(write("g.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,-5,0,0,0,0,inf\n")),
-       "g.csv:3: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the direction is zero"},
+      {sphere +
+           common(write("g.csv",
+                        "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n0,0,-5,0,0,0,0,inf\n")),
+       "g.csv:3: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the "
+       "direction is zero"},
       {sphere + common(write("h.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1e-400,0,inf\n")),
        "h.csv:2: column 'dz' (field 6): '1e-400' underflows to 0"},
       {sphere + common(write("i.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,-1\n")),
@@ -630,12 +673,14 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2-a\" --param a=zz --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2+y^2+z^2-1\" --param x=1 --clip-sphere 2 " + common(good),
        "algray-query: --param x: clashes with the built-in name 'x'\n"},
-      {"--surface \"x^2+y^2+z^2-1\" --param sin=1 --clip-sphere 2 " + common(good), "--param sin: clashes"},
+      {"--surface \"x^2+y^2+z^2-1\" --param sin=1 --clip-sphere 2 " + common(good),
+       "--param sin: clashes"},
       {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param b=2 --clip-sphere 2 " + common(good),
        "algray-query: --param b: is not used by the equation"},
       {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param a=4 --clip-sphere 2 " + common(good),
        "--param a: given more than once"},
-      {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param b=2 --param a=1 --clip-sphere 2 " + common(good),
+      {"--surface \"x^2+y^2+z^2-a\" --param a=1 --param b=2 --param a=1 --clip-sphere 2 " +
+           common(good),
        "--param a: given more than once"},
       {"--surface \"x^2+y^2+z^2-1\" " + common(good), "--clip-sphere"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere -1 " + common(good), "--clip-sphere"},
@@ -643,7 +688,8 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2+y^2+z^2-1\" --clip-box 1,1,1,0,2,2 " + common(good), "--clip-box"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-box -2,-2,-2,2,2,2, " + common(good),
        "algray-query: --clip-box: a value is missing after the last ','\n"},
-      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1 --clip-box -1,-1,-1,1,1,1 " + common(good), "clip"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1 --clip-box -1,-1,-1,1,1,1 " + common(good),
+       "clip"},
       {sphere + common(good) + " --threads 0", "--threads"},
       {sphere + common(good) + " --bogus", "bogus"},
       {sphere + "--rays /nonexistent/rays.csv --out " + (dir / "out.csv").string(), "cannot open"},
@@ -659,13 +705,20 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
        "algray-query: --param a: '1e-400' underflows to 0 in double\n"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere inf " + common(good),
        "algray-query: --clip-sphere: the radius must be finite and > 0\n"},
-      {"--surface \"x-x\" --clip-box -1,-1,-1,1,1,1 " + common(good), "algray-query: --surface, --clip-box: "},
-      {"--surface \"7\" --clip-sphere 2 " + common(good), "algray-query: --surface, --clip-sphere: "},
+      {"--surface \"x-x\" --clip-box -1,-1,-1,1,1,1 " + common(good),
+       "algray-query: --surface, --clip-box: "},
+      {"--surface \"7\" --clip-sphere 2 " + common(good),
+       "algray-query: --surface, --clip-sphere: "},
       // Session 12's sweep: a direction whose t at the clip region overflows double (the
       // hit was reported as a miss), and a read error (reported as an empty file).
-      {sphere + common(write("sd.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n-3,0,0,1e-300,0,0,0,inf\n-3,0,0,1e-310,0,0,0,inf\n")),
-       "algray-query: --rays: ray 2: the direction is so short that t at the clip region would overflow double"},
-      {sphere + "--rays /proc/self/mem --out " + (dir / "out.csv").string(), "algray-query: /proc/self/mem:1: read error"},
+      {sphere +
+           common(write(
+               "sd.csv",
+               "ox,oy,oz,dx,dy,dz,tnear,tfar\n-3,0,0,1e-300,0,0,0,inf\n-3,0,0,1e-310,0,0,0,inf\n")),
+       "algray-query: --rays: ray 2: the direction is so short that t at the clip region would "
+       "overflow double"},
+      {sphere + "--rays /proc/self/mem --out " + (dir / "out.csv").string(),
+       "algray-query: /proc/self/mem:1: read error"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);
@@ -674,7 +727,9 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   }
   // And the good file works, also behind a UTF-8 byte order mark (Excel's CSV UTF-8).
   EXPECT_EQ(run(sphere + common(good)).exitCode, 0);
-  const RunResult bom = run(sphere + common(write("bom.csv", "\xef\xbb\xbfox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n")));
+  const RunResult bom =
+      run(sphere + common(write("bom.csv",
+                                "\xef\xbb\xbfox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n")));
   EXPECT_EQ(bom.exitCode, 0) << bom.err;
   ASSERT_EQ(bom.rows.size(), 1u);
   EXPECT_EQ(bom.rows[0][1], 4.0);  // the unit sphere from z = -5 along +z
@@ -693,7 +748,9 @@ TEST(RayCsv, ReaderParsesAndRejects) {
   EXPECT_THROW(algray::query::readRays(neg, "neg.csv"), algray::query::CsvError);
 }
 
-bool startsWith(const std::string& s, const std::string& prefix) { return s.starts_with(prefix); }
+bool startsWith(const std::string& s, const std::string& prefix) {
+  return s.starts_with(prefix);
+}
 
 std::string csvError(const std::string& text) {
   std::istringstream in(text);
@@ -708,15 +765,23 @@ std::string csvError(const std::string& text) {
 TEST(RayCsv, RejectsDegenerateRaysAndOutOfRangeLiterals) {
   const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
   EXPECT_EQ(csvError(header + "0,0,-5,0,0,0,0,inf\n"),
-            "t.csv:2: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the direction is zero");
+            "t.csv:2: column 'dx' (field 4), column 'dy' (field 5), column 'dz' (field 6): the "
+            "direction is zero");
   EXPECT_PRED2(startsWith, csvError(header + "0,0,-5,0,-0,0,0,inf\n"), "t.csv:2:");
-  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1e-400,0,inf\n"), "t.csv:2: column 'dz' (field 6): '1e-400' underflows to 0 in double");
-  EXPECT_PRED2(startsWith, csvError(header + "0,0,-5,0,0,1,-1e-400,inf\n"), "t.csv:2: column 'tnear' (field 7): '-1e-400' un");
-  EXPECT_EQ(csvError(header + "1e999,0,-5,0,0,1,0,inf\n"), "t.csv:2: column 'ox' (field 1): '1e999' overflows double");
-  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,1e400\n"), "t.csv:2: column 'tfar' (field 8): '1e400' overflows double");
-  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,-1\n"), "t.csv:2: column 'tfar' (field 8): must be >= tnear");
-  EXPECT_EQ(csvError(header + "\n0,0,-5,0,0,1,2,1\n"), "t.csv:3: column 'tfar' (field 8): must be >= tnear");
-  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,-1,1\n"), "t.csv:2: column 'tnear' (field 7): must be >= 0");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1e-400,0,inf\n"),
+            "t.csv:2: column 'dz' (field 6): '1e-400' underflows to 0 in double");
+  EXPECT_PRED2(startsWith, csvError(header + "0,0,-5,0,0,1,-1e-400,inf\n"),
+               "t.csv:2: column 'tnear' (field 7): '-1e-400' un");
+  EXPECT_EQ(csvError(header + "1e999,0,-5,0,0,1,0,inf\n"),
+            "t.csv:2: column 'ox' (field 1): '1e999' overflows double");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,1e400\n"),
+            "t.csv:2: column 'tfar' (field 8): '1e400' overflows double");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,-1\n"),
+            "t.csv:2: column 'tfar' (field 8): must be >= tnear");
+  EXPECT_EQ(csvError(header + "\n0,0,-5,0,0,1,2,1\n"),
+            "t.csv:3: column 'tfar' (field 8): must be >= tnear");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,-1,1\n"),
+            "t.csv:2: column 'tnear' (field 7): must be >= 0");
   // Still accepted: a subnormal direction (strtod's ERANGE for a non-zero result), an
   // empty interval tnear = tfar, tfar = inf.
   std::istringstream ok(header + "0,0,-5,0,0,4.9e-324,0,inf\n0,0,-5,1,0,0,2,2\n");
@@ -734,8 +799,10 @@ TEST(RayCsv, ByteOrderMarkAndEmptyFile) {
   ASSERT_EQ(rays.size(), 1u);
   EXPECT_EQ(rays[0].org, glm::dvec3(0, 0, -5));
   // Only at the start of the file: elsewhere it is part of a field.
-  EXPECT_PRED2(startsWith, csvError("ox,oy,oz,dx,dy,dz,tnear,tfar\n\xef\xbb\xbf" "0,0,-5,0,0,1,0,inf\n"),
-            "t.csv:2: column 'ox' (field 1): not a");
+  EXPECT_PRED2(startsWith,
+               csvError("ox,oy,oz,dx,dy,dz,tnear,tfar\n\xef\xbb\xbf"
+                        "0,0,-5,0,0,1,0,inf\n"),
+               "t.csv:2: column 'ox' (field 1): not a");
   EXPECT_EQ(csvError(""), "t.csv:1: empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
   EXPECT_PRED2(startsWith, csvError("\xef\xbb\xbf"), "t.csv:1: empty file:");
   EXPECT_PRED2(startsWith, csvError("\n\n"), "t.csv:2: empty file:");

@@ -33,7 +33,9 @@ nlohmann::json statistics(const Image& image) {
   std::sort(lum.begin(), lum.end());
   auto pct = [&](double p) { return lum[static_cast<size_t>(p * (lum.size() - 1))]; };
   return {{"mean", {mean.r, mean.g, mean.b}},
-          {"p10", pct(0.1)}, {"p50", pct(0.5)}, {"p90", pct(0.9)},
+          {"p10", pct(0.1)},
+          {"p50", pct(0.5)},
+          {"p90", pct(0.9)},
           {"hit_fraction", hits / double(image.color.size())}};
 }
 
@@ -57,9 +59,12 @@ TEST(DefaultScene, SmallRenderMatchesReferenceStatistics) {
   ASSERT_TRUE(in) << kReference;
   nlohmann::json ref = nlohmann::json::parse(in);
   for (int k = 0; k < 3; ++k)
-    EXPECT_NEAR(now["mean"][k].get<double>(), ref["mean"][k].get<double>(), 0.03 * ref["mean"][k].get<double>());
+    EXPECT_NEAR(now["mean"][k].get<double>(), ref["mean"][k].get<double>(),
+                0.03 * ref["mean"][k].get<double>());
   for (const char* key : {"p10", "p50", "p90"})
-    EXPECT_NEAR(now[key].get<double>(), ref[key].get<double>(), 0.05 * ref[key].get<double>() + 1e-3) << key;
+    EXPECT_NEAR(now[key].get<double>(), ref[key].get<double>(),
+                0.05 * ref[key].get<double>() + 1e-3)
+        << key;
   EXPECT_NEAR(now["hit_fraction"].get<double>(), ref["hit_fraction"].get<double>(), 0.01);
 }
 

@@ -58,7 +58,8 @@ void addSurface(SceneDesc& s, const char* name) {
   item.label = name;
   item.polynomial = g->build();
   item.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
-  item.transform = glm::scale(glm::rotate(glm::dmat4(1.0), 0.6, glm::dvec3(1, 0, 0)), glm::dvec3(1.0 / g->clipRadius));
+  item.transform = glm::scale(glm::rotate(glm::dmat4(1.0), 0.6, glm::dvec3(1, 0, 0)),
+                              glm::dvec3(1.0 / g->clipRadius));
   s.surfaces.push_back(item);
 }
 
@@ -105,7 +106,8 @@ TEST(SurfaceTexture, UvComeFromTheSurfaceOnlyWhenTextured) {
   for (const bool textured : {true, false}) {
     SceneDesc s;
     Material m;
-    if (textured) m.texture = std::make_shared<const Texture>(1, 1, std::vector<glm::vec3>{glm::vec3(0.5f)});
+    if (textured)
+      m.texture = std::make_shared<const Texture>(1, 1, std::vector<glm::vec3>{glm::vec3(0.5f)});
     s.addMaterial(m);
     SurfaceItem item;
     item.label = "sphere";
@@ -115,9 +117,11 @@ TEST(SurfaceTexture, UvComeFromTheSurfaceOnlyWhenTextured) {
     Scene scene(s);
     RayCounter counter;
     // Rays from outside towards points of the unit sphere at azimuth phi, polar angle theta.
-    for (const auto& [phi, theta] : {std::pair{0.5 * M_PI, 0.5 * M_PI}, std::pair{1.25 * M_PI, 0.3 * M_PI},
-                                    std::pair{0.2, 0.8 * M_PI}}) {
-      const glm::dvec3 p(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    for (const auto& [phi, theta] :
+         {std::pair{0.5 * M_PI, 0.5 * M_PI}, std::pair{1.25 * M_PI, 0.3 * M_PI},
+          std::pair{0.2, 0.8 * M_PI}}) {
+      const glm::dvec3 p(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                         std::cos(theta));
       const auto hit = scene.intersect(3.0 * p, -p, 0.0, counter);
       ASSERT_TRUE(hit);
       EXPECT_NEAR(hit->t, 2.0, 1e-6);
@@ -134,7 +138,8 @@ TEST(SurfaceTexture, UvComeFromTheSurfaceOnlyWhenTextured) {
 TEST(Determinism, SameImageForOneAndTwoThreads) {
   SceneDesc s = furnace(0.8);
   addSurface(s, "torus");
-  s.meshes.push_back({"floor", makePlane(5.0), glm::translate(glm::dmat4(1.0), {0, 0, -0.6}), 0, -1});
+  s.meshes.push_back(
+      {"floor", makePlane(5.0), glm::translate(glm::dmat4(1.0), {0, 0, -0.6}), 0, -1});
   s.pointLights.push_back({{1, -2, 3}, glm::dvec3(10.0)});
   s.settings.spp = 4;
   s.settings.maxDepth = 5;
@@ -146,7 +151,8 @@ TEST(Determinism, SameImageForOneAndTwoThreads) {
   }
   ASSERT_EQ(images[0].color.size(), images[1].color.size());
   int differing = 0;
-  for (size_t i = 0; i < images[0].color.size(); ++i) differing += images[0].color[i] != images[1].color[i];
+  for (size_t i = 0; i < images[0].color.size(); ++i)
+    differing += images[0].color[i] != images[1].color[i];
   EXPECT_EQ(differing, 0);
   // And the picture is not trivially constant (the test could fail).
   EXPECT_NE(images[0].color.front(), images[0].color[images[0].color.size() / 2]);

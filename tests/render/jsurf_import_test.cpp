@@ -5,17 +5,18 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <string>
-#include <sys/wait.h>
 
 namespace algray::render {
 namespace {
 
-const std::filesystem::path kJsurfDir = std::filesystem::path(ALGRAY_SHARED_DIR) / "gallery" / "jsurf";
+const std::filesystem::path kJsurfDir =
+    std::filesystem::path(ALGRAY_SHARED_DIR) / "gallery" / "jsurf";
 
 Image renderSmall(SceneDesc desc, int size, int spp = 1) {
   desc.settings.width = size;
@@ -142,22 +143,26 @@ TEST(JsurfImport, BadValuesAreErrorsAtTheirLine) {
   };
   for (const auto& [extra, expected] : cases) {
     const std::string what = jsurfError(extra);
-    EXPECT_NE(what.find("algray_bad_values.jsurf" + expected), std::string::npos) << extra << ": " << what;
+    EXPECT_NE(what.find("algray_bad_values.jsurf" + expected), std::string::npos)
+        << extra << ": " << what;
   }
 }
 
 // Light positions glm::normalize cannot normalise (NaN rays aborted Embree) and the ends
 // of the scale_factor range load and render.
 TEST(JsurfImport, ExtremeButValidValuesRender) {
-  for (const char* extra : {"light_position_0=1e-200 0 1e-200", "light_position_0=1e308 1e308 1e308",
-                            "scale_factor=100", "scale_factor=-100"}) {
+  for (const char* extra :
+       {"light_position_0=1e-200 0 1e-200", "light_position_0=1e308 1e308 1e308",
+        "scale_factor=100", "scale_factor=-100"}) {
     SCOPED_TRACE(extra);
     const std::filesystem::path file = writeJsurf("algray_extreme_values.jsurf", extra);
     SceneDesc desc = jsurfScene(file);
     std::filesystem::remove(file);
-    for (const DirectionalLight& l : desc.directionalLights) EXPECT_NEAR(glm::length(l.direction), 1.0, 1e-12);
+    for (const DirectionalLight& l : desc.directionalLights)
+      EXPECT_NEAR(glm::length(l.direction), 1.0, 1e-12);
     Image image = renderSmall(desc, 8);
-    for (const glm::vec3& c : image.color) EXPECT_TRUE(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b));
+    for (const glm::vec3& c : image.color)
+      EXPECT_TRUE(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b));
   }
 }
 
@@ -165,7 +170,8 @@ TEST(JsurfImport, ExtremeButValidValuesRender) {
 // light positions with 134), an upper-case .JSURF is a jsurf file, a directory says so.
 TEST(JsurfImport, ProgramExitsWithCode2AndLine) {
   auto run = [](const std::string& args) {
-    const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + args + " --width 8 --height 8 -q 2>&1";
+    const std::string cmd =
+        std::string(ALGRAY_RENDER_EXE) + " " + args + " --width 8 --height 8 -q 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     std::string out;
     if (!pipe) return std::pair{-2, out};
@@ -174,8 +180,10 @@ TEST(JsurfImport, ProgramExitsWithCode2AndLine) {
     const int status = pclose(pipe);
     return std::pair{WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
   };
-  const std::filesystem::path image = std::filesystem::temp_directory_path() / "algray_jsurf_program.png";
-  for (const char* extra : {"camera_height=0", "camera_type=PERSPECTIVE_CAMERA\ncamera_fov_y=180", "camera_height=1e30"}) {
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_jsurf_program.png";
+  for (const char* extra : {"camera_height=0", "camera_type=PERSPECTIVE_CAMERA\ncamera_fov_y=180",
+                            "camera_height=1e30"}) {
     const std::filesystem::path file = writeJsurf("algray_program.jsurf", extra);
     auto [code, out] = run(file.string() + " -o " + image.string());
     EXPECT_EQ(code, 2) << extra << ": " << out;
@@ -183,7 +191,8 @@ TEST(JsurfImport, ProgramExitsWithCode2AndLine) {
     std::filesystem::remove(file);
   }
   {
-    const std::filesystem::path file = writeJsurf("algray_program.jsurf", "light_position_0=1e-200 0 1e-200");
+    const std::filesystem::path file =
+        writeJsurf("algray_program.jsurf", "light_position_0=1e-200 0 1e-200");
     auto [code, out] = run(file.string() + " -o " + image.string());
     EXPECT_EQ(code, 0) << out;
     std::filesystem::remove(file);
@@ -198,7 +207,8 @@ TEST(JsurfImport, ProgramExitsWithCode2AndLine) {
   }
   {
     // The surface's own errors (raised when Scene builds it) name the equation's line.
-    const std::filesystem::path file = std::filesystem::temp_directory_path() / "algray_constant.jsurf";
+    const std::filesystem::path file =
+        std::filesystem::temp_directory_path() / "algray_constant.jsurf";
     std::FILE* f = std::fopen(file.c_str(), "w");
     ASSERT_NE(f, nullptr);
     std::fputs("# constant\nsurface_equation=1\n", f);

@@ -29,7 +29,8 @@ TEST(Bsdf, SampleWeightIsFCosOverPdf) {
       glm::dvec3 f = evalBsdf(m, albedo, wo, s->wi);
       double pdf = pdfBsdf(m, wo, s->wi);
       EXPECT_NEAR(s->pdf, pdf, 1e-9 * pdf);
-      for (int k = 0; k < 3; ++k) EXPECT_NEAR(s->weight[k], f[k] * s->wi.z / pdf, 1e-9 * (1 + s->weight[k]));
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(s->weight[k], f[k] * s->wi.z / pdf, 1e-9 * (1 + s->weight[k]));
     }
   }
 }

@@ -1,9 +1,9 @@
 // Scenes built without a file: quick mode framing and the POV-Ray export used by
 // tests/bench/povray_compare.py.
+#include "scene_builders.h"
 #include "camera.h"
 #include "mesh.h"
 #include "pov_export.h"
-#include "scene_builders.h"
 
 #include <algray/gallery.h>
 #include <algray/parser.h>
@@ -48,7 +48,8 @@ TEST(QuickScene, BadEquationThrowsParseError) {
 // --param values the surface never reads are refused by name: a parameter the equation
 // does not use, any parameter of a gallery surface (whose parameters are built in).
 TEST(QuickScene, RefusesParametersTheSurfaceDoesNotUse) {
-  auto expectRefused = [](const QuickOptions& q, const std::string& name, const std::string& message) {
+  auto expectRefused = [](const QuickOptions& q, const std::string& name,
+                          const std::string& message) {
     try {
       quickScene(q);
       ADD_FAILURE() << "parameter " << name << " accepted for " << q.surface;
@@ -80,7 +81,8 @@ TEST(PovExport, PolynomialTermsMatchTheSurface) {
   // Every xyz(i, j, k): c term reads back to the coefficient; every non-zero one is there.
   std::regex term(R"(xyz\((\d+), (\d+), (\d+)\): ([-+0-9.eE]+))");
   int terms = 0;
-  for (auto it = std::sregex_iterator(pov.begin(), pov.end(), term); it != std::sregex_iterator(); ++it, ++terms) {
+  for (auto it = std::sregex_iterator(pov.begin(), pov.end(), term); it != std::sregex_iterator();
+       ++it, ++terms) {
     int i = std::stoi((*it)[1]), j = std::stoi((*it)[2]), k = std::stoi((*it)[3]);
     EXPECT_EQ(std::stod((*it)[4]), p.coeff(i, j, k)) << i << " " << j << " " << k;
   }
@@ -96,7 +98,8 @@ TEST(PovExport, MeshesAreTheirTrianglesAndHighDegreesAreRefused) {
   SceneDesc s = quickScene(q);
   MeshItem wall;
   wall.mesh = makePlane(2.0, 1.0);
-  wall.transform = glm::dmat4(1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 5, 0, 0, 1);  // x = 5 + x', z = y'
+  wall.transform =
+      glm::dmat4(1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 5, 0, 0, 1);  // x = 5 + x', z = y'
   wall.material = s.meshes.front().material;
   s.meshes = {wall};
   const std::string pov = povrayScene(s, false);
@@ -108,7 +111,8 @@ TEST(PovExport, MeshesAreTheirTrianglesAndHighDegreesAreRefused) {
   ASSERT_NE(to, std::string::npos) << pov;
   const std::string vertices = pov.substr(from, to - from);
   int count = 0;
-  for (auto it = std::sregex_iterator(vertices.begin(), vertices.end(), vertex); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(vertices.begin(), vertices.end(), vertex);
+       it != std::sregex_iterator(); ++it) {
     const glm::dvec3 v(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]));
     const glm::dvec3 expected(wall.transform * glm::dvec4(wall.mesh.positions[count++], 1.0));
     EXPECT_EQ(v, expected);
@@ -134,8 +138,9 @@ TEST(DefaultScene, SurfacesOfDifferentDegreesBesideMeshes) {
   for (size_t i = 1; i < s.surfaces.size(); ++i)
     EXPECT_NE(s.surfaces[i].polynomial.degree(), s.surfaces[i - 1].polynomial.degree());
   int emissive = 0;
-  for (const MeshItem& m : s.meshes) emissive += s.materials[m.material].type == MaterialType::Emissive;
-  EXPECT_EQ(emissive, 1);                  // the area light
+  for (const MeshItem& m : s.meshes)
+    emissive += s.materials[m.material].type == MaterialType::Emissive;
+  EXPECT_EQ(emissive, 1);                     // the area light
   EXPECT_GE(s.meshes.size() - emissive, 2u);  // floor and icosphere
 }
 

@@ -6,14 +6,14 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace algray::render {
 namespace {
@@ -79,7 +79,8 @@ TEST(SceneJson, SyntaxErrorHasLineAndColumn) {
 
 TEST(SceneJson, SemanticErrorsPointAtTheValue) {
   // Unknown material: the string value on line 3.
-  SceneError a = errorOf("{\n \"surfaces\": [\n  {\"gallery\": \"sphere\", \"material\": \"gold\"}]}");
+  SceneError a =
+      errorOf("{\n \"surfaces\": [\n  {\"gallery\": \"sphere\", \"material\": \"gold\"}]}");
   EXPECT_EQ(a.line(), 3);
   EXPECT_EQ(a.column(), 37);
   EXPECT_NE(a.message().find("gold"), std::string::npos);
@@ -97,19 +98,22 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
   EXPECT_NE(d.message().find("clip"), std::string::npos);
   // A camera whose up is the view direction: the up value (the camera found it only when
   // the render started, without a position, exit code 1).
-  SceneError u = errorOf("{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]}}");
+  SceneError u =
+      errorOf("{\"camera\": {\"position\": [0, 0, 4], \"look_at\": [0, 0, 0], \"up\": [0, 0, 1]}}");
   EXPECT_EQ(u.column(), 64);
   EXPECT_NE(u.message().find("parallel"), std::string::npos);
   // A parameter named after a variable: its value on line 2, not the equation.
   SceneError v = errorOf(
-      "{\"surfaces\": [{\"equation\": \"x^2 + y^2 + z^2 - 1\", \"clip\": {\"sphere\": {\"radius\": 2}},\n"
+      "{\"surfaces\": [{\"equation\": \"x^2 + y^2 + z^2 - 1\", \"clip\": {\"sphere\": {\"radius\": "
+      "2}},\n"
       "  \"parameters\": {\"x\": 1}}]}");
   EXPECT_EQ(v.line(), 2);
   EXPECT_EQ(v.column(), 23);
   EXPECT_NE(v.message().find("x"), std::string::npos);
   // A parameter the equation never reads: its value, on line 2.
   SceneError w = errorOf(
-      "{\"surfaces\": [{\"equation\": \"x^2 + y^2 + z^2 - r^2\", \"clip\": {\"sphere\": {\"radius\": 2}},\n"
+      "{\"surfaces\": [{\"equation\": \"x^2 + y^2 + z^2 - r^2\", \"clip\": {\"sphere\": "
+      "{\"radius\": 2}},\n"
       "  \"parameters\": {\"r\": 1, \"rr\": 2}}]}");
   EXPECT_EQ(w.line(), 2);
   EXPECT_EQ(w.column(), 32);
@@ -118,7 +122,8 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
 
 TEST(SceneJson, EquationErrorPointsIntoTheString) {
   // The '@' is the 7th character of the equation; the string starts at column 28.
-  std::string text = "{\"surfaces\": [{\"equation\": \"x^2 + @\", \"clip\": {\"sphere\": {\"radius\": 1}}}]}";
+  std::string text =
+      "{\"surfaces\": [{\"equation\": \"x^2 + @\", \"clip\": {\"sphere\": {\"radius\": 1}}}]}";
   SceneError e = errorOf(text);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(static_cast<size_t>(e.column()), text.find('@') + 1);
@@ -172,17 +177,20 @@ TEST(SceneJson, OutOfRangeCameraAndLightValuesAreErrors) {
     EXPECT_EQ(e.line(), 1) << text << ": " << e.what();
     EXPECT_EQ(e.column(), columnOf(text, value)) << text << ": " << e.what();
   }
-  EXPECT_NE(errorOf(R"({"camera": {"position": [0, -1e19, 0]}})").message().find("1e17"), std::string::npos);
+  EXPECT_NE(errorOf(R"({"camera": {"position": [0, -1e19, 0]}})").message().find("1e17"),
+            std::string::npos);
   // Tiny and huge directions are fine: normalised without underflow or overflow.
-  SceneDesc d = loadSceneText(R"({"lights": [{"type": "directional", "direction": [1e-160, -1e-160, 1e-160]},
+  SceneDesc d =
+      loadSceneText(R"({"lights": [{"type": "directional", "direction": [1e-160, -1e-160, 1e-160]},
                                              {"type": "directional", "direction": [1e300, 0, 0]}]})",
-                              "t.json", ".");
+                    "t.json", ".");
   ASSERT_EQ(d.directionalLights.size(), 2u);
   EXPECT_NEAR(d.directionalLights[0].direction.x, 1 / std::sqrt(3.0), 1e-15);
   EXPECT_EQ(d.directionalLights[1].direction, glm::dvec3(1, 0, 0));
   // Position and look_at 1e-200 apart: their difference normalises (was NaN, reported as
   // "up must not be parallel").
-  EXPECT_NO_THROW(loadSceneText(R"({"camera": {"position": [0, -1e-200, 0], "look_at": [0, 0, 0]}})", "t.json", "."));
+  EXPECT_NO_THROW(loadSceneText(
+      R"({"camera": {"position": [0, -1e-200, 0], "look_at": [0, 0, 0]}})", "t.json", "."));
 }
 
 // A mesh beyond Embree's float range in scene space was dropped by Embree without a word
@@ -203,13 +211,15 @@ TEST(SceneJson, MeshesBeyondTheCoordinateRangeAreErrors) {
       loadSceneText(R"({"meshes": [{"shape": "plane", "size": 1e17}]})", "t.json", "."));
   // And below Embree's float triangle test (a plane of size 1e-20 covered no pixel, one of
   // 1e-19 the wrong ones, exit code 0); a flat mesh is fine, its extent is its largest side.
-  for (const std::string& text : {std::string(R"({"meshes": [{"shape": "plane", "size": 1e-20}]})"),
-                                  std::string(R"({"meshes": [{"shape": "box", "transform": {"scale": 1e-16}}]})")}) {
+  for (const std::string& text :
+       {std::string(R"({"meshes": [{"shape": "plane", "size": 1e-20}]})"),
+        std::string(R"({"meshes": [{"shape": "box", "transform": {"scale": 1e-16}}]})")}) {
     SceneError e = errorOf(text);
     EXPECT_EQ(e.column(), columnOf(text, "{\"shape\"")) << text << ": " << e.what();
     EXPECT_NE(e.message().find("below 1e-15"), std::string::npos) << text << ": " << e.what();
   }
-  EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"shape": "plane", "size": 1e-15}]})", "t.json", "."));
+  EXPECT_NO_THROW(
+      loadSceneText(R"({"meshes": [{"shape": "plane", "size": 1e-15}]})", "t.json", "."));
 }
 
 // nlohmann's number overflow ("number overflow parsing '1e400'") had no position.
@@ -231,7 +241,8 @@ TEST(SceneJson, KeysWithSlashTildeOrEscapesHaveLocations) {
   EXPECT_EQ(errorOf(a).column(), columnOf(a, "\"bogus\"")) << errorOf(a).what();
   const std::string b = R"({"materials": {"a~1\u0041\n\/": {"type": "bogus"}}})";
   EXPECT_EQ(errorOf(b).column(), columnOf(b, "\"bogus\"")) << errorOf(b).what();
-  const std::string c = R"({"surfaces": [{"equation": "x^2 + y^2 + z^2 - r", "parameters": {"r/\u00e9": "one"}}]})";
+  const std::string c =
+      R"({"surfaces": [{"equation": "x^2 + y^2 + z^2 - r", "parameters": {"r/\u00e9": "one"}}]})";
   EXPECT_EQ(errorOf(c).column(), columnOf(c, "\"one\"")) << errorOf(c).what();
   const std::string d = R"({"camera": {"fo\u0076": 30, "bad~key": 1}})";
   EXPECT_EQ(errorOf(d).column(), columnOf(d, "1}")) << errorOf(d).what();
@@ -244,14 +255,18 @@ TEST(SceneJson, ColoursBeyondFloatAreErrors) {
       {R"({"background": [0, 1e39, 0]})", "1e39"},
       {R"({"lights": [{"type": "point", "position": [0, 0, 3], "intensity": 1e308}]})", "1e308"},
       {R"({"materials": {"m": {"type": "emissive", "emission": 1e308}}})", "1e308"},
-      {R"({"lights": [{"type": "directional", "direction": [0, 0, 1], "irradiance": [1, 1, 1e300]}]})", "1e300"},
+      {R"({"lights": [{"type": "directional", "direction": [0, 0, 1], "irradiance": [1, 1, 1e300]}]})",
+       "1e300"},
       {R"({"environment": {"color": -1}})", "-1"},
   };
   for (const auto& [text, value] : cases) {
     SceneError e = errorOf(text);
     EXPECT_EQ(e.line(), 1) << text << ": " << e.what();
     // A one-number colour points at the number, an array at its component or the array.
-    EXPECT_GE(e.column(), columnOf(text, value) - (value == "1e39" ? 4 : value == "1e300" ? 7 : 0)) << text;
+    EXPECT_GE(e.column(), columnOf(text, value) - (value == "1e39"    ? 4
+                                                   : value == "1e300" ? 7
+                                                                      : 0))
+        << text;
     EXPECT_LE(e.column(), columnOf(text, value)) << text;
     EXPECT_NE(e.message().find("colour"), std::string::npos) << e.what();
   }
@@ -280,12 +295,15 @@ TEST(SceneJson, KeysThatDoNotApplyAreErrors) {
   };
   for (const auto& [text, key] : cases) {
     SceneError e = errorOf(text);
-    EXPECT_EQ(e.column(), columnOf(text, "\"" + key + "\"") + static_cast<int>(key.size()) + 4) << text << ": " << e.what();
-    EXPECT_NE(e.message().find("'" + key + "' does not apply to"), std::string::npos) << text << ": " << e.what();
+    EXPECT_EQ(e.column(), columnOf(text, "\"" + key + "\"") + static_cast<int>(key.size()) + 4)
+        << text << ": " << e.what();
+    EXPECT_NE(e.message().find("'" + key + "' does not apply to"), std::string::npos)
+        << text << ": " << e.what();
   }
   // Where they apply they are read.
-  EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"shape": "icosphere", "subdivisions": 2}], "camera": {"fov": 30}})",
-                                "t.json", "."));
+  EXPECT_NO_THROW(loadSceneText(
+      R"({"meshes": [{"shape": "icosphere", "subdivisions": 2}], "camera": {"fov": 30}})", "t.json",
+      "."));
 }
 
 // nlohmann stops at a NUL byte as at the end of the text, and rounds a literal below
@@ -302,7 +320,8 @@ TEST(SceneJson, NulBytesAndUnderflowingNumbersAreErrors) {
   EXPECT_EQ(f.column(), columnOf(under, "1e-400")) << f.what();
   EXPECT_NE(f.message().find("'1e-400' underflows to 0"), std::string::npos) << f.what();
   // An exact zero and a subnormal are values.
-  EXPECT_NO_THROW(loadSceneText(R"({"camera": {"aperture": 0.0e5}, "environment": {"color": 1e-310}})", "t.json", "."));
+  EXPECT_NO_THROW(loadSceneText(
+      R"({"camera": {"aperture": 0.0e5}, "environment": {"color": 1e-310}})", "t.json", "."));
 }
 
 // OBJ lines tinyobjloader read as 0 or as another vertex, with exit code 0: refused with
@@ -330,20 +349,24 @@ TEST(SceneJson, MalformedObjNumbersAreErrors) {
     const std::string text = R"({"meshes": [{"obj": ")" + file.string() + R"("}]})";
     SceneError e = errorOf(text);
     EXPECT_EQ(e.column(), columnOf(text, "\"/")) << obj << ": " << e.what();
-    EXPECT_NE(e.message().find("algray_bad_numbers.obj:" + expected), std::string::npos) << obj << ": " << e.what();
+    EXPECT_NE(e.message().find("algray_bad_numbers.obj:" + expected), std::string::npos)
+        << obj << ": " << e.what();
     std::filesystem::remove(file);
   }
   // The forms OBJ allows load: w, vertex colours, uv and normal indices, negative indices.
   const std::filesystem::path file = dir / "algray_good_numbers.obj";
-  std::ofstream(file) << "v 0 0 0 1\nv 1E+0 0 0 0.5 0.5 0.5 # red\nv 0 +1. -.0e-3\r\nvt 0.5\nvn 0 0 1\n\tf 1/1/1 2//1 -1/1\n";
-  EXPECT_NO_THROW(loadSceneText(R"({"meshes": [{"obj": ")" + file.string() + R"("}]})", "t.json", "."));
+  std::ofstream(file) << "v 0 0 0 1\nv 1E+0 0 0 0.5 0.5 0.5 # red\nv 0 +1. -.0e-3\r\nvt 0.5\nvn 0 "
+                         "0 1\n\tf 1/1/1 2//1 -1/1\n";
+  EXPECT_NO_THROW(
+      loadSceneText(R"({"meshes": [{"obj": ")" + file.string() + R"("}]})", "t.json", "."));
   std::filesystem::remove(file);
 }
 
 // An image with inf, NaN or negative values made the whole render black (an environment)
 // or negative, with exit code 0.
 TEST(SceneJson, ImagesWithNonFiniteOrNegativeValuesAreErrors) {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "algray_bad_texels.exr";
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "algray_bad_texels.exr";
   for (const float bad : {INFINITY, NAN, -0.5f}) {
     std::vector<float> pixels(2 * 2 * 3, 0.5f);
     pixels[3 * 3 + 1] = bad;  // texel (1, 1), green
@@ -352,11 +375,13 @@ TEST(SceneJson, ImagesWithNonFiniteOrNegativeValuesAreErrors) {
     ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT)));
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
     ASSERT_TRUE(out->close());
-    for (const std::string& text : {R"({"environment": {"image": ")" + file.string() + R"("}})",
-                                    R"({"materials": {"m": {"texture": ")" + file.string() + R"("}}})"}) {
+    for (const std::string& text :
+         {R"({"environment": {"image": ")" + file.string() + R"("}})",
+          R"({"materials": {"m": {"texture": ")" + file.string() + R"("}}})"}) {
       SceneError e = errorOf(text);
       EXPECT_EQ(e.column(), columnOf(text, "\"/")) << bad << ": " << e.what();
-      EXPECT_NE(e.message().find("texel (1, 1) is not a finite non-negative colour"), std::string::npos)
+      EXPECT_NE(e.message().find("texel (1, 1) is not a finite non-negative colour"),
+                std::string::npos)
           << bad << ": " << e.what();
     }
   }
@@ -370,7 +395,8 @@ TEST(SceneJson, DuplicateKeysAreErrors) {
   EXPECT_EQ(e.column(), 3);
   EXPECT_NE(e.message().find("duplicate key 'fov'"), std::string::npos) << e.what();
   // The same key in different objects, and escapes spelling the same key.
-  EXPECT_NO_THROW(loadSceneText(R"({"render": {"width": 8}, "camera": {"fov": 30}, "description": "width"})", "t.json", "."));
+  EXPECT_NO_THROW(loadSceneText(
+      R"({"render": {"width": 8}, "camera": {"fov": 30}, "description": "width"})", "t.json", "."));
   EXPECT_EQ(errorOf(R"({"render": {"width": 8, "w\u0069dth": 9}})").column(), 25);
 }
 
@@ -388,8 +414,9 @@ TEST(SceneJson, DeepNestingIsAnErrorNotACrash) {
     EXPECT_NE(e.message().find("nesting deeper than 64"), std::string::npos) << e.what();
   }
   const std::string brackets(1000, '[');
-  EXPECT_NO_THROW(loadSceneText("{\"description\": \"" + brackets + "\", \"surfaces\": [{\"gallery\": \"torus\"}]}",
-                                "t.json", "."));
+  EXPECT_NO_THROW(loadSceneText(
+      "{\"description\": \"" + brackets + "\", \"surfaces\": [{\"gallery\": \"torus\"}]}", "t.json",
+      "."));
 }
 
 TEST(SceneJson, DirectoryIsNotASceneFile) {
@@ -417,7 +444,8 @@ std::pair<int, std::string> runRender(const std::string& args) {
 // A scene file of one sphere plus `extra` members, written to a temporary file.
 std::filesystem::path sphereScene(const std::string& name, const std::string& extra) {
   std::filesystem::path file = std::filesystem::temp_directory_path() / name;
-  std::ofstream(file) << "{\"surfaces\": [{\"equation\": \"x^2+y^2+z^2-1\", \"clip\": {\"sphere\": {\"radius\": 2}}}]"
+  std::ofstream(file) << "{\"surfaces\": [{\"equation\": \"x^2+y^2+z^2-1\", \"clip\": {\"sphere\": "
+                         "{\"radius\": 2}}}]"
                       << (extra.empty() ? "" : ",\n") << extra << "}\n";
   return file;
 }
@@ -442,9 +470,12 @@ TEST(RenderProgram, OutOfRangeSceneValuesExitWithCode2AndLocation) {
   }
   // A tiny directional light direction renders (was an Embree abort from a NaN ray).
   const std::filesystem::path file =
-      sphereScene("algray_range_scene.json", R"("lights": [{"type": "directional", "direction": [1e-160, -1e-160, 1e-160]}])");
-  const std::filesystem::path image = std::filesystem::temp_directory_path() / "algray_range_scene.png";
-  auto [code, out] = runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o " + image.string());
+      sphereScene("algray_range_scene.json",
+                  R"("lights": [{"type": "directional", "direction": [1e-160, -1e-160, 1e-160]}])");
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_range_scene.png";
+  auto [code, out] =
+      runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o " + image.string());
   EXPECT_EQ(code, 0) << out;
   std::filesystem::remove(file);
   std::filesystem::remove(image);
@@ -458,11 +489,13 @@ TEST(RenderProgram, SurfaceBuildErrorsHaveTheSurfacesLocation) {
       R"({"equation": "x^2+y^2+z^2-1", "clip": {"sphere": {"radius": 2}}, "transform": {"scale": 1e200}})",
   };
   for (const char* surface : surfaces) {
-    std::filesystem::path file = std::filesystem::temp_directory_path() / "algray_surface_error.json";
+    std::filesystem::path file =
+        std::filesystem::temp_directory_path() / "algray_surface_error.json";
     std::ofstream(file) << "{\n  \"surfaces\": [\n    " << surface << "]}\n";
     auto [code, out] = runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o /dev/null");
     EXPECT_EQ(code, 2) << surface << ": " << out;
-    EXPECT_NE(out.find(file.string() + ":3:5: surface"), std::string::npos) << surface << ": " << out;
+    EXPECT_NE(out.find(file.string() + ":3:5: surface"), std::string::npos)
+        << surface << ": " << out;
     std::filesystem::remove(file);
   }
 }
@@ -520,14 +553,16 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--surface sphere --export-pov /nonexistent/dir/a.pov", "cannot write there"},
       {"--surface sphere --seed -1", "--seed"},
       {"--surface sphere --seed 1073741825", "--seed"},
-      {"--surface sphere --aov depth -o algray_aov.png", "--aov: -o algray_aov.png cannot hold extra channels"},
+      {"--surface sphere --aov depth -o algray_aov.png",
+       "--aov: -o algray_aov.png cannot hold extra channels"},
       // The quick scene's floor beyond Embree's range (lost) or below its float triangles'
       // (the floor covered the surface), with exit code 0.
       {"--surface sphere --clip-sphere 1e-20", "--clip-sphere: below a radius of 2.5e-17"},
       {"--surface x^2+y^2+z^2-1 --clip-sphere 1e16", "--clip-sphere: beyond a radius of 5e15"},
   };
   for (const auto& [args, expected] : cases) {
-    const std::string output = std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
+    const std::string output =
+        std::string(args).find(" -o ") == std::string::npos ? " -o /dev/null" : "";
     const auto [code, out] = runRender(std::string(args) + " --width 8 --height 8 -q" + output);
     EXPECT_EQ(code, 2) << args << ": " << out;
     EXPECT_NE(out.find(expected), std::string::npos) << args << ": " << out;
@@ -539,16 +574,19 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
 // for the tile, minutes at a high spp) and writes the partial image. Both renders below
 // take minutes if not stopped; `timeout` turns that into a failure.
 TEST(RenderProgram, BadFormatAndCtrlCStopTheRender) {
-  const std::string slow = "--surface sarti-dodecic --width 16 --height 16 --spp 1048576 --threads 1 -q";
+  const std::string slow =
+      "--surface sarti-dodecic --width 16 --height 16 --spp 1048576 --threads 1 -q";
   const std::filesystem::path dir = std::filesystem::temp_directory_path();
   {
-    const auto [code, out] = runRender(slow + " -o " + (dir / "algray_format.pgn").string() + " --seed 1");
+    const auto [code, out] =
+        runRender(slow + " -o " + (dir / "algray_format.pgn").string() + " --seed 1");
     EXPECT_EQ(code, 2) << out;
     EXPECT_NE(out.find("unsupported image format"), std::string::npos) << out;
   }
   const std::filesystem::path image = dir / "algray_interrupted.png";
-  const std::string cmd = "timeout -s KILL 60 timeout --foreground --preserve-status -s INT 3 " + std::string(ALGRAY_RENDER_EXE) +
-                          " " + slow + " -o " + image.string() + " 2>&1";
+  const std::string cmd = "timeout -s KILL 60 timeout --foreground --preserve-status -s INT 3 " +
+                          std::string(ALGRAY_RENDER_EXE) + " " + slow + " -o " + image.string() +
+                          " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   ASSERT_TRUE(pipe);
   std::string out;
@@ -564,9 +602,11 @@ TEST(RenderProgram, BadFormatAndCtrlCStopTheRender) {
 // An image larger than the machine's memory is refused by name before any allocation
 // (32768 x 32768 ended in std::bad_alloc or the OOM killer).
 TEST(RenderProgram, ImageBeyondMemoryIsAnError) {
-  const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  const double memory =
+      static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
   if (memory > 80.0 * (1 << 30)) GTEST_SKIP() << "this machine could hold the image";
-  const auto [code, out] = runRender("--surface sphere --width 32768 --height 32768 -q -o /dev/null");
+  const auto [code, out] =
+      runRender("--surface sphere --width 32768 --height 32768 -q -o /dev/null");
   EXPECT_EQ(code, 2) << out;
   EXPECT_NE(out.find("lower --width/--height"), std::string::npos) << out;
 }
@@ -576,9 +616,9 @@ TEST(RenderProgram, ImageBeyondMemoryIsAnError) {
 TEST(RenderProgram, SubnormalParameterIsAValue) {
   const std::filesystem::path image =
       std::filesystem::temp_directory_path() / "algray_subnormal_param.png";
-  const auto [code, out] = runRender(
-      "--surface x^2+y^2+z^2-1+a --param a=1e-320 --width 8 --height 8 --spp 1 -q -o " +
-      image.string());
+  const auto [code, out] =
+      runRender("--surface x^2+y^2+z^2-1+a --param a=1e-320 --width 8 --height 8 --spp 1 -q -o " +
+                image.string());
   EXPECT_EQ(code, 0) << out;
   std::filesystem::remove(image);
 }

@@ -1,8 +1,8 @@
 // Scene's guards for values that reach it without a loader's checks (SceneDesc built in
 // code): rays Embree would reject and directions glm::normalize cannot normalise.
+#include "scene.h"
 #include "mesh.h"
 #include "render.h"
-#include "scene.h"
 #include "value_checks.h"
 
 #include <gtest/gtest.h>

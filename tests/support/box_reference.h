@@ -36,7 +36,8 @@ inline void hornerStep(Pair* h, int& degH, double c, Pair p, Pair d) {
   ++degH;
 }
 
-inline void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, double* g, double* mag) {
+inline void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3& d, double* g,
+                      double* mag) {
   const Pair px = {p.x, std::abs(p.x)}, py = {p.y, std::abs(p.y)}, pz = {p.z, std::abs(p.z)};
   const Pair dx = {d.x, std::abs(d.x)}, dy = {d.y, std::abs(d.y)}, dz = {d.z, std::abs(d.z)};
   Pair gx[kMaxDegree + 2], fy[kMaxDegree + 2], fz[kMaxDegree + 2];
@@ -54,7 +55,8 @@ inline void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3
     for (int r = 0; r < rows; ++r) {
       if (degF >= 0) mulLinear(fy, degF++, py, dy);
       int degH = -1;
-      for (const HornerForm::Slot* end = s + *len++; s != end; ++s) hornerStep(fz, degH, s->c, pz, dz);
+      for (const HornerForm::Slot* end = s + *len++; s != end; ++s)
+        hornerStep(fz, degH, s->c, pz, dz);
       if (degH >= 0) degF = accumulate(fy, degF, fz, degH);
     }
     if (degF >= 0) degG = accumulate(gx, degG, fy, degF);
@@ -68,8 +70,8 @@ inline void boxHorner(const HornerForm& f, const glm::dvec3& p, const glm::dvec3
 
 }  // namespace box_reference
 
-inline RayPolynomial restrictToRayReference(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d,
-                                            double tShift) {
+inline RayPolynomial restrictToRayReference(const HornerForm& f, const glm::dvec3& o,
+                                            const glm::dvec3& d, double tShift) {
   RayPolynomial g;
   g.tShift = tShift;
   const int m = f.degree();

@@ -41,9 +41,12 @@ class DirectEvaluator {
   long double expr() {
     long double v = term();
     for (;;) {
-      if (eat('+')) v += term();
-      else if (eat('-')) v -= term();
-      else return v;
+      if (eat('+'))
+        v += term();
+      else if (eat('-'))
+        v -= term();
+      else
+        return v;
     }
   }
   long double term() {
@@ -51,9 +54,12 @@ class DirectEvaluator {
     for (;;) {
       skip();
       if (i_ + 1 < s_.size() && s_[i_] == '*' && s_[i_ + 1] == '*') return v;
-      if (eat('*')) v *= unary();
-      else if (eat('/')) v /= unary();
-      else return v;
+      if (eat('*'))
+        v *= unary();
+      else if (eat('/'))
+        v /= unary();
+      else
+        return v;
     }
   }
   long double unary() {
@@ -92,7 +98,8 @@ class DirectEvaluator {
       return v;
     }
     std::string name;
-    while (i_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_')) name += s_[i_++];
+    while (i_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_'))
+      name += s_[i_++];
     if (name == "x") return x_;
     if (name == "y") return y_;
     if (name == "z") return z_;

@@ -15,8 +15,8 @@
 
 namespace algray::test {
 
-inline std::vector<glm::dvec3> findNodes(const Polynomial& f, const glm::dvec3& centre, double radius,
-                                         int grid = 16) {
+inline std::vector<glm::dvec3> findNodes(const Polynomial& f, const glm::dvec3& centre,
+                                         double radius, int grid = 16) {
   Polynomial g[3], h[3][3];
   for (int i = 0; i < 3; ++i) g[i] = f.derivative(i);
   for (int i = 0; i < 3; ++i)

@@ -174,7 +174,8 @@ inline std::vector<MpNum> rootsBetween(const MpPoly& h, const std::vector<MpNum>
   std::vector<MpNum> out;
   for (size_t i = 0; i + 1 < pts.size(); ++i) {
     if (i > 0 && sg[i] == 0) out.push_back(pts[i]);  // an exact multiple root
-    if (sg[i] != 0 && sg[i + 1] != 0 && sg[i] != sg[i + 1]) out.push_back(bisectMp(h, pts[i], pts[i + 1], sg[i]));
+    if (sg[i] != 0 && sg[i + 1] != 0 && sg[i] != sg[i + 1])
+      out.push_back(bisectMp(h, pts[i], pts[i + 1], sg[i]));
   }
   return out;
 }
@@ -208,20 +209,20 @@ inline UnitRoots isolateUnit(MpPoly h) {
 
 // ---- The reference of one ray ----------------------------------------------------------
 struct RefOptions {
-  double condLimit = 1e-6;   // relative to the clip radius
-  double margin = 1e-6;      // no second root this close (clip radii)
-  double endMargin = 1e-7;   // no root this close to a span end (clip radii)
-  double tangent = 1e-8;     // |h| at an extremum or span end within tangent * S: near-tangent
+  double condLimit = 1e-6;       // relative to the clip radius
+  double margin = 1e-6;          // no second root this close (clip radii)
+  double endMargin = 1e-7;       // no root this close to a span end (clip radii)
+  double tangent = 1e-8;         // |h| at an extremum or span end within tangent * S: near-tangent
   double positionNoise = 1e-12;  // relative displacement of points (1e4 u) in that test
 };
 
 struct RayRef {
   bool hit = false;
-  double t = 0;               // ray parameter of the first root
-  glm::dvec3 point{0.0};      // o + t d rounded to double
+  double t = 0;           // ray parameter of the first root
+  glm::dvec3 point{0.0};  // o + t d rounded to double
   bool wellConditioned = false;
   double cond = std::numeric_limits<double>::infinity();  // of the first root
-  int roots = 0;              // number of roots in the span
+  int roots = 0;                                          // number of roots in the span
   bool spanEmpty = true;
 };
 
@@ -244,8 +245,9 @@ inline double absTermSum(const Polynomial& f, const glm::dvec3& x) {
 
 // First root of f(o + t d) with tnear < t < tfar inside the clip sphere (centre c,
 // radius R), classified as above.
-inline RayRef referenceFirstHit(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d, double tnear,
-                                double tfar, const glm::dvec3& c, double R, const RefOptions& opt = {}) {
+inline RayRef referenceFirstHit(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d,
+                                double tnear, double tfar, const glm::dvec3& c, double R,
+                                const RefOptions& opt = {}) {
   RayRef ref;
   // ---- 1. Clip span in MPFR: t = tc -+ sqrt((R^2 - |q|^2) / |d|^2) ---------------------
   MpNum oc[3], dm[3], dd, od, t, tc, h2, lo, hi;
@@ -328,7 +330,8 @@ inline RayRef referenceFirstHit(const Polynomial& f, const glm::dvec3& o, const 
   const bool endsClear = !nearZero(v0, zero) && !nearZero(v1, one);
   if (u.roots.empty()) {
     bool clear = endsClear;
-    for (size_t i = 0; i < u.extrema.size(); ++i) clear = clear && !nearZero(u.extValue[i], u.extrema[i]);
+    for (size_t i = 0; i < u.extrema.size(); ++i)
+      clear = clear && !nearZero(u.extValue[i], u.extrema[i]);
     ref.wellConditioned = clear;
     return ref;
   }
@@ -352,7 +355,8 @@ inline RayRef referenceFirstHit(const Polynomial& f, const glm::dvec3& o, const 
   for (size_t i = 0; i < u.extrema.size(); ++i) {
     const double e = u.extrema[i].toDouble();
     if (e > s1d + opt.margin / toRadii) break;
-    if (std::abs(e - s1d) * toRadii <= opt.margin || nearZero(u.extValue[i], u.extrema[i])) ok = false;
+    if (std::abs(e - s1d) * toRadii <= opt.margin || nearZero(u.extValue[i], u.extrema[i]))
+      ok = false;
   }
   ref.wellConditioned = ok && !nearZero(v0, zero);
   return ref;

@@ -19,8 +19,8 @@ double signedPow10(Rng& rng, double lo, double hi) {
 
 // The span [t0, t1] of o + t d inside [lo, hi] from t0 = tMin to t1 = tMax, in long double
 // (Kay and Kajiya's slabs; a zero d_a leaves its slab alone: callers put o inside it).
-inline void slabSpan(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi,
-                     long double& t0, long double& t1) {
+inline void slabSpan(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
+                     const glm::dvec3& hi, long double& t0, long double& t1) {
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) continue;
     long double ta = ((long double)lo[a] - o[a]) / d[a], tb = ((long double)hi[a] - o[a]) / d[a];

@@ -22,7 +22,9 @@ inline RayD rayD(glm::dvec3 o, glm::dvec3 d, double tnear = 0.0, double tfar = k
   return RayD{o, d, tnear, tfar};
 }
 
-inline bool finiteVec(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool finiteVec(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 class OneSurface {
  public:
@@ -31,7 +33,9 @@ class OneSurface {
     scene_.attach(geometry_->geometry());
     scene_.commit();
   }
-  ~OneSurface() { EXPECT_EQ(geometry_->callbackErrors(), 0u) << "exceptions inside Embree callbacks"; }
+  ~OneSurface() {
+    EXPECT_EQ(geometry_->callbackErrors(), 0u) << "exceptions inside Embree callbacks";
+  }
   OneSurface(const OneSurface&) = delete;
   OneSurface& operator=(const OneSurface&) = delete;
 
@@ -40,11 +44,14 @@ class OneSurface {
     RTCRayHit rh;
     const HitD hit = intersectD(scene_, ray, &rh);
     if (!hit.hit) {
-      EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << what << ": float record without double hit";
+      EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID)
+          << what << ": float record without double hit";
       return std::nullopt;
     }
-    EXPECT_TRUE(std::isfinite(hit.t) && finiteVec(hit.Ng)) << what << ": non-finite hit t=" << hit.t;
-    EXPECT_TRUE(hit.t > ray.tnear && hit.t < ray.tfar) << what << ": hit outside the ray interval, t=" << hit.t;
+    EXPECT_TRUE(std::isfinite(hit.t) && finiteVec(hit.Ng))
+        << what << ": non-finite hit t=" << hit.t;
+    EXPECT_TRUE(hit.t > ray.tnear && hit.t < ray.tfar)
+        << what << ": hit outside the ray interval, t=" << hit.t;
     EXPECT_TRUE(std::isfinite(rh.ray.tfar)) << what;
     return hit;
   }
@@ -53,7 +60,9 @@ class OneSurface {
     RTCRayHit rh = makeRayHit(ray, scene_);
     rh = intersect1(scene_, rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-    EXPECT_TRUE(std::isfinite(rh.ray.tfar) && std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) << what;
+    EXPECT_TRUE(std::isfinite(rh.ray.tfar) &&
+                std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z))
+        << what;
     return fromFloatParameter(ray, rh.ray.tfar, scene_);
   }
   // Occlusion through the double channel.
@@ -64,7 +73,8 @@ class OneSurface {
     RTCRayHit rh = makeRayHit(context);
     const float before = rh.ray.tfar;  // -inf already means "occluded" to Embree
     rtcOccluded1(scene_, &context.base, &rh.ray);
-    return before != -std::numeric_limits<float>::infinity() && rh.ray.tfar == -std::numeric_limits<float>::infinity();
+    return before != -std::numeric_limits<float>::infinity() &&
+           rh.ray.tfar == -std::numeric_limits<float>::infinity();
   }
   const SurfaceGeometry& geometry() const { return *geometry_; }
 
