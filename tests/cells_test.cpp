@@ -150,15 +150,9 @@ int checkCovered(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi
 }
 
 // ---- Surfaces built from Polynomial operations (independent of the parser) -------------
-Polynomial X() {
-  return Polynomial::variable(0);
-}
-Polynomial Y() {
-  return Polynomial::variable(1);
-}
-Polynomial Z() {
-  return Polynomial::variable(2);
-}
+Polynomial X() { return Polynomial::variable(0); }
+Polynomial Y() { return Polynomial::variable(1); }
+Polynomial Z() { return Polynomial::variable(2); }
 Polynomial sphere(glm::dvec3 c, double r) {
   return (X() - Polynomial(c.x)).pow(2) + (Y() - Polynomial(c.y)).pow(2) +
          (Z() - Polynomial(c.z)).pow(2) - Polynomial(r * r);

@@ -1201,12 +1201,8 @@ TEST_F(EmbreeHits, HugeAndTinyCoefficientsKeepTheNormal) {
 struct FlushToZero {
 #if defined(__SSE__)
   unsigned saved = _mm_getcsr();
-  FlushToZero() {
-    _mm_setcsr(saved | 0x8040u);
-  }  // FTZ (bit 15) | DAZ (bit 6)
-  ~FlushToZero() {
-    _mm_setcsr(saved);
-  }
+  FlushToZero() { _mm_setcsr(saved | 0x8040u); }  // FTZ (bit 15) | DAZ (bit 6)
+  ~FlushToZero() { _mm_setcsr(saved); }
 #endif
 };
 

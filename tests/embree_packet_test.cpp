@@ -28,9 +28,7 @@ void rejectEveryOther(const RTCFilterFunctionNArguments* args) {
     if (args->valid[i] != 0 && (filterCalls++ % 2) == 0) args->valid[i] = 0;
 }
 
-std::uint32_t bits(float f) {
-  return std::bit_cast<std::uint32_t>(f);
-}
+std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
 
 // Embree's SoA packets of width N, as a plain float array (the layout of RTCRayHitN).
 template <unsigned N>
@@ -321,9 +319,7 @@ TEST_F(EmbreePacket, QuadricPacketsMatchSingleRays) {
   EXPECT_GT(hits, 2000);
 }
 
-std::uint64_t bits(double f) {
-  return std::bit_cast<std::uint64_t>(f);
-}
+std::uint64_t bits(double f) { return std::bit_cast<std::uint64_t>(f); }
 
 // The packet lanes' doubles against the scalar kernel's, bit for bit: the object-space
 // ray (hostObjectRay), the span and restriction (quadricSpan), the first root (quadricRoot)

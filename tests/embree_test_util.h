@@ -12,15 +12,9 @@
 
 namespace algray::test {
 
-inline Polynomial X() {
-  return Polynomial::variable(0);
-}
-inline Polynomial Y() {
-  return Polynomial::variable(1);
-}
-inline Polynomial Z() {
-  return Polynomial::variable(2);
-}
+inline Polynomial X() { return Polynomial::variable(0); }
+inline Polynomial Y() { return Polynomial::variable(1); }
+inline Polynomial Z() { return Polynomial::variable(2); }
 
 // x^2 + y^2 + z^2 - r^2
 inline Polynomial spherePolynomial(double r) {

@@ -60,9 +60,7 @@ long double evalLong(const std::vector<double>& p, long double x, long double& b
   return v;
 }
 
-double accuracyBound(const RefRoot& r) {
-  return kAccuracyUlps * kU * r.conditioning;
-}
+double accuracyBound(const RefRoot& r) { return kAccuracyUlps * kU * r.conditioning; }
 
 // Separation of reference root i from its neighbours and the interval ends.
 double separation(const std::vector<RefRoot>& ref, size_t i, double lo, double hi) {

@@ -143,9 +143,7 @@ void traceAllNodes(const Polynomial& f, const std::vector<glm::dvec3>& construct
   expectNodeHits(s, all, radius, name);
 }
 
-Polynomial X3(int axis, int power) {
-  return Polynomial::variable(axis).pow(power);
-}
+Polynomial X3(int axis, int power) { return Polynomial::variable(axis).pow(power); }
 
 // Cayley's cubic 4(x^3 + y^3 + z^3 + 1) = (x + y + z + 1)^3: the gradient 12 x_i^2 =
 // 3 S^2 (S = x + y + z + 1) vanishes where every x_i = +-S/2, on the surface exactly at the
@@ -388,12 +386,8 @@ void expectFarRays(const Polynomial& f, double radius, const char* name) {
   EXPECT_GT(compared, 24) << name << ": too few well-conditioned rays to mean anything";
 }
 
-TEST(StressFar, SphereFrom1e3To1e6Radii) {
-  expectFarRays(spherePolynomial(1.0), 1.5, "sphere");
-}
-TEST(StressFar, TorusFrom1e3To1e6Radii) {
-  expectFarRays(torusPolynomial(1.0, 0.4), 1.6, "torus");
-}
+TEST(StressFar, SphereFrom1e3To1e6Radii) { expectFarRays(spherePolynomial(1.0), 1.5, "sphere"); }
+TEST(StressFar, TorusFrom1e3To1e6Radii) { expectFarRays(torusPolynomial(1.0, 0.4), 1.6, "torus"); }
 
 // From 1e9 to 1e150 clip radii, where t = |o| / |d| resolves the clip region coarsely or
 // (beyond ~1e15) not at all: the double channel re-bases such rays near the surface

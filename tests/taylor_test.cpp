@@ -286,12 +286,8 @@ TEST(Taylor, HomogeneousPartsAreTheDirectionalDerivatives) {
 struct FlushToZero {
 #if defined(__SSE__)
   unsigned saved = _mm_getcsr();
-  FlushToZero() {
-    _mm_setcsr(saved | 0x8040u);
-  }
-  ~FlushToZero() {
-    _mm_setcsr(saved);
-  }
+  FlushToZero() { _mm_setcsr(saved | 0x8040u); }
+  ~FlushToZero() { _mm_setcsr(saved); }
 #endif
 };
 

@@ -96,8 +96,6 @@ void startLoadingImageBackend(std::function<void(const ImageBackend*)> whenLoade
   loader().start(std::move(whenLoaded));
 }
 
-const ImageBackend& imageBackend() {
-  return loader().get();
-}
+const ImageBackend& imageBackend() { return loader().get(); }
 
 }  // namespace algray::render

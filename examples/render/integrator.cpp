@@ -67,9 +67,7 @@ glm::dvec3 estimateDirect(const Scene& scene, const Hit& hit, const Shading& sh,
   return f * ls.radiance * (w / ls.pdf);
 }
 
-double maxComponent(const glm::dvec3& v) {
-  return std::max(v.x, std::max(v.y, v.z));
-}
+double maxComponent(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 
 // Firefly clamp for contributions of paths with at least one bounce.
 glm::dvec3 clampPath(const glm::dvec3& c, int depth, double limit) {

@@ -75,9 +75,7 @@ glm::dvec3 Texture::average() const {
 
 namespace {
 
-double ggxAlpha(const Material& m) {
-  return std::max(m.roughness * m.roughness, 1e-4);
-}
+double ggxAlpha(const Material& m) { return std::max(m.roughness * m.roughness, 1e-4); }
 
 // Trowbridge-Reitz normal distribution D(h), Walter et al. Eq. 33.
 double ggxD(double cosH, double alpha) {

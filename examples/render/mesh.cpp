@@ -168,9 +168,7 @@ bool isDecimalLiteral(std::string_view t) {
 }
 
 // (Not std::isspace: a library call per character, 5 % of loading a 74 MB OBJ.)
-bool isBlank(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
+bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
 // t comes from a word split at blanks, so strtoll's skipping of leading blanks never applies.
 bool isFaceIndex(std::string_view t) {

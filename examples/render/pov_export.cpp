@@ -22,9 +22,7 @@ std::string vec(const glm::dvec3& v) {
   return buf;
 }
 
-std::string rgb(const glm::dvec3& c) {
-  return "rgb " + vec(c);
-}
+std::string rgb(const glm::dvec3& c) { return "rgb " + vec(c); }
 
 std::string finish(double ambient) {
   std::ostringstream s;

@@ -182,9 +182,7 @@ void Scene::build() {
   }
 }
 
-Scene::~Scene() {
-  release();
-}
+Scene::~Scene() { release(); }
 
 void Scene::release() noexcept {
   if (scene_) rtcReleaseScene(scene_);
@@ -313,13 +311,9 @@ glm::dvec3 Scene::background(const glm::dvec3& dir) const {
   return desc_.hasBackground ? desc_.background : environment(dir);
 }
 
-int Scene::lightCount() const {
-  return static_cast<int>(lights_.size());
-}
+int Scene::lightCount() const { return static_cast<int>(lights_.size()); }
 
-double Scene::environmentPdf() const {
-  return envLight_ < 0 ? 0.0 : kUniformSpherePdf;
-}
+double Scene::environmentPdf() const { return envLight_ < 0 ? 0.0 : kUniformSpherePdf; }
 
 std::optional<LightSample> Scene::sampleLight(int index, const glm::dvec3& p, glm::dvec2 u) const {
   if (index < 0 || index >= lightCount()) return std::nullopt;

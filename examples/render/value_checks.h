@@ -25,9 +25,7 @@ inline constexpr double kMaxCoordinate = 1e17;
 // 1e-15 keeps a margin of 1000.
 inline constexpr double kMinMeshExtent = 1e-15;
 
-inline bool withinCoordinateRange(double v) {
-  return std::abs(v) <= kMaxCoordinate;
-}
+inline bool withinCoordinateRange(double v) { return std::abs(v) <= kMaxCoordinate; }
 inline bool withinCoordinateRange(const glm::dvec3& v) {
   return withinCoordinateRange(v.x) && withinCoordinateRange(v.y) && withinCoordinateRange(v.z);
 }

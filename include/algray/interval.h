@@ -41,9 +41,7 @@ inline double nextUp(double v) {
   bits = v > 0 ? bits + 1 : bits - 1;  // sign-magnitude: away from 0 when positive
   return std::bit_cast<double>(bits);
 }
-inline double nextDown(double v) {
-  return -nextUp(-v);
-}
+inline double nextDown(double v) { return -nextUp(-v); }
 
 class Interval {
  public:

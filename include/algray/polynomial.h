@@ -30,9 +30,7 @@ inline constexpr int kMaxDegree = 40;
 // Unit roundoff of double and the classic gamma_n = n u / (1 - n u) of Higham,
 // "Accuracy and Stability of Numerical Algorithms", 2nd ed., Eq. (3.8).
 inline constexpr double kUnitRoundoff = 0x1p-53;
-constexpr double gamma(int n) {
-  return n * kUnitRoundoff / (1.0 - n * kUnitRoundoff);
-}
+constexpr double gamma(int n) { return n * kUnitRoundoff / (1.0 - n * kUnitRoundoff); }
 
 // Base of every error algray throws; callers (and the Embree boundary) catch this type.
 class Error : public std::runtime_error {

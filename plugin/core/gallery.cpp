@@ -26,18 +26,12 @@ const Polynomial& Z() {
   static const Polynomial p = Polynomial::variable(2);
   return p;
 }
-Polynomial c(double v) {
-  return Polynomial(v);
-}
-Polynomial r2() {
-  return X() * X() + Y() * Y() + Z() * Z();
-}
+Polynomial c(double v) { return Polynomial(v); }
+Polynomial r2() { return X() * X() + Y() * Y() + Z() * Z(); }
 
 constexpr double kPhi = std::numbers::phi;  // golden ratio (1 + sqrt 5) / 2
 
-Polynomial sphere() {
-  return r2() - c(1.0);
-}
+Polynomial sphere() { return r2() - c(1.0); }
 
 // Semi-axes 1, 0.75, 0.5: x^2/a^2 + y^2/b^2 + z^2/c^2 = 1.
 Polynomial ellipsoid() {
@@ -246,9 +240,7 @@ const std::array kGallery = {
 
 }  // namespace
 
-std::span<const GallerySurface> gallery() {
-  return kGallery;
-}
+std::span<const GallerySurface> gallery() { return kGallery; }
 
 const GallerySurface* findGallerySurface(std::string_view name) {
   for (const GallerySurface& s : kGallery)

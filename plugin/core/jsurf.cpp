@@ -17,12 +17,8 @@ namespace algray {
 
 namespace {
 
-bool isBlank(char c) {
-  return c == ' ' || c == '\t' || c == '\f';
-}
-bool isContinuation(char c) {
-  return (static_cast<unsigned char>(c) & 0xC0) == 0x80;
-}
+bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\f'; }
+bool isContinuation(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
 
 // One character of a logical line with where it came from.
 struct SourceChar {
@@ -48,12 +44,8 @@ void appendUtf8(std::string& out, unsigned code) {
   }
 }
 
-bool isHighSurrogate(unsigned code) {
-  return code >= 0xD800 && code <= 0xDBFF;
-}
-bool isLowSurrogate(unsigned code) {
-  return code >= 0xDC00 && code <= 0xDFFF;
-}
+bool isHighSurrogate(unsigned code) { return code >= 0xD800 && code <= 0xDBFF; }
+bool isLowSurrogate(unsigned code) { return code >= 0xDC00 && code <= 0xDFFF; }
 
 // Splits the text into logical lines (continuations joined, comments dropped).
 std::vector<std::vector<SourceChar>> logicalLines(std::string_view text) {
@@ -172,9 +164,7 @@ JsurfFile JsurfFile::read(const std::filesystem::path& path) {
   return parse(buffer.str(), path.string());
 }
 
-bool JsurfFile::has(std::string_view key) const {
-  return entries_.find(key) != entries_.end();
-}
+bool JsurfFile::has(std::string_view key) const { return entries_.find(key) != entries_.end(); }
 
 std::optional<std::string> JsurfFile::get(std::string_view key) const {
   const auto it = entries_.find(key);

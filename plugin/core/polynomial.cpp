@@ -227,13 +227,9 @@ Polynomial Polynomial::composeAffine(const glm::dmat3& a, const glm::dvec3& b) c
   return fx;
 }
 
-double Polynomial::evaluate(const glm::dvec3& p) const {
-  return evaluateWithBound(p).value;
-}
+double Polynomial::evaluate(const glm::dvec3& p) const { return evaluateWithBound(p).value; }
 
-glm::dvec3 Polynomial::gradient(const glm::dvec3& p) const {
-  return evaluateWithBound(p).gradient;
-}
+glm::dvec3 Polynomial::gradient(const glm::dvec3& p) const { return evaluateWithBound(p).gradient; }
 
 Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const {
   Evaluation e;

@@ -26,9 +26,7 @@ namespace algray::ray_horner {
 typedef double Pair __attribute__((vector_size(16)));
 
 // A coefficient on both chains.
-inline Pair term(double c) {
-  return Pair{c, std::abs(c)};
-}
+inline Pair term(double c) { return Pair{c, std::abs(c)}; }
 
 // q <- q * (p + d s) on both chains; q has degree deg >= 0 before the call.
 inline void mulLinear(Pair* q, int deg, Pair p, Pair d) {
@@ -113,9 +111,7 @@ inline constexpr auto kFloorAbsSumLimit = [] {
 // A bound as computed, or +inf where it is NaN: magnitudes are never negative, so NaN
 // comes from inf * 0 (an overflowed magnitude times a zero factor), which bounds nothing.
 // (One minsd: NaN < inf is false.)
-inline double boundOrInfinity(double e) {
-  return e < HUGE_VAL ? e : HUGE_VAL;
-}
+inline double boundOrInfinity(double e) { return e < HUGE_VAL ? e : HUGE_VAL; }
 
 // The floor of the direct restriction of a degree-m f (absSum = sum |c| over its
 // coefficients) about p along d: what taylor.cpp's "Underflow" adds to the relative bound

@@ -59,9 +59,7 @@ inline constexpr T kRangeHi = pow2c<T>(std::numeric_limits<T>::max_exponent / 8)
 template <class T>
 inline constexpr T kRangeLo = pow2c<T>(std::numeric_limits<T>::min_exponent / 8);
 
-int ceilDiv(int x, int d) {
-  return x >= 0 ? (x + d - 1) / d : -((-x) / d);
-}
+int ceilDiv(int x, int d) { return x >= 0 ? (x + d - 1) / d : -((-x) / d); }
 
 // Rescales the monic x^n + m[n-1] x^(n-1) + ... + m[0] by x = 2^k y (exact) so that every
 // |m[j]| <= 1 afterwards, when its range calls for it; returns k (roots are x = 2^k y).

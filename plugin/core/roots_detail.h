@@ -149,12 +149,8 @@ inline void derivative(const T* c, D deg, T* d) {
   for (int i = 0; i < n; ++i) d[i] = c[i + 1] * (T(i + 1) * inv);
 }
 
-inline bool signBit(double x) {
-  return std::signbit(x);
-}
-inline bool signBit(float x) {
-  return std::signbit(x);
-}
+inline bool signBit(double x) { return std::signbit(x); }
+inline bool signBit(float x) { return std::signbit(x); }
 
 // Binomial coefficients C(i, j), exact in double up to C(40, 20) ~ 1.4e11.
 struct Binomials {

@@ -101,9 +101,7 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
   return r;
 }
 
-glm::dvec3 lanePoint(float x, float y, float z) {
-  return {x, y, z};
-}
+glm::dvec3 lanePoint(float x, float y, float z) { return {x, y, z}; }
 
 // ---- Far origins of double rays ----------------------------------------------------------
 // The kernels work in t, which resolves a position along the ray only to u |t d|: from
@@ -1000,9 +998,7 @@ double fromFloatParameter(const IntersectContext& context, double tFloat) {
   return fromFloatParts(context.floatShift, context.floatShiftLow, context.floatScale, tFloat);
 }
 
-RTCRayHit makeRayHit(const RayD& r) {
-  return floatRayHit(r, floatMap(r, nullptr));
-}
+RTCRayHit makeRayHit(const RayD& r) { return floatRayHit(r, floatMap(r, nullptr)); }
 RTCRayHit makeRayHit(const RayD& r, RTCScene scene) {
   const RTCBounds b = sceneBounds(scene);
   return floatRayHit(r, floatMap(r, &b));

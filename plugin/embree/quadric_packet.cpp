@@ -44,33 +44,15 @@ namespace sse2 {
 constexpr unsigned kW = 2;
 typedef double VD __attribute__((vector_size(16)));
 typedef std::int64_t VI __attribute__((vector_size(16)));
-inline VD splat(double x) {
-  return _mm_set1_pd(x);
-}
-inline VD load(const double* p) {
-  return _mm_loadu_pd(p);
-}
-inline void store(double* p, VD v) {
-  _mm_storeu_pd(p, v);
-}
-inline VI lt(VD a, VD b) {
-  return (VI)_mm_cmplt_pd(a, b);
-}
-inline VI le(VD a, VD b) {
-  return (VI)_mm_cmple_pd(a, b);
-}
-inline VI eq(VD a, VD b) {
-  return (VI)_mm_cmpeq_pd(a, b);
-}
-inline VI ne(VD a, VD b) {
-  return (VI)_mm_cmpneq_pd(a, b);
-}
-inline VD vsqrt(VD a) {
-  return _mm_sqrt_pd(a);
-}  // correctly rounded, as std::sqrt
-inline unsigned laneBits(VI m) {
-  return static_cast<unsigned>(_mm_movemask_pd((VD)m));
-}
+inline VD splat(double x) { return _mm_set1_pd(x); }
+inline VD load(const double* p) { return _mm_loadu_pd(p); }
+inline void store(double* p, VD v) { _mm_storeu_pd(p, v); }
+inline VI lt(VD a, VD b) { return (VI)_mm_cmplt_pd(a, b); }
+inline VI le(VD a, VD b) { return (VI)_mm_cmple_pd(a, b); }
+inline VI eq(VD a, VD b) { return (VI)_mm_cmpeq_pd(a, b); }
+inline VI ne(VD a, VD b) { return (VI)_mm_cmpneq_pd(a, b); }
+inline VD vsqrt(VD a) { return _mm_sqrt_pd(a); }  // correctly rounded, as std::sqrt
+inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm_movemask_pd((VD)m)); }
 // The sign bit spread over its lane (psrad on the high half, then pshufd).
 inline VI signMask(VD a) {
   return (VI)_mm_shuffle_epi32(_mm_srai_epi32((__m128i)a, 31), _MM_SHUFFLE(3, 3, 1, 1));
@@ -85,33 +67,15 @@ namespace avx2 {
 constexpr unsigned kW = 4;
 typedef double VD __attribute__((vector_size(32)));
 typedef std::int64_t VI __attribute__((vector_size(32)));
-inline VD splat(double x) {
-  return _mm256_set1_pd(x);
-}
-inline VD load(const double* p) {
-  return _mm256_loadu_pd(p);
-}
-inline void store(double* p, VD v) {
-  _mm256_storeu_pd(p, v);
-}
-inline VI lt(VD a, VD b) {
-  return (VI)_mm256_cmp_pd(a, b, _CMP_LT_OQ);
-}
-inline VI le(VD a, VD b) {
-  return (VI)_mm256_cmp_pd(a, b, _CMP_LE_OQ);
-}
-inline VI eq(VD a, VD b) {
-  return (VI)_mm256_cmp_pd(a, b, _CMP_EQ_OQ);
-}
-inline VI ne(VD a, VD b) {
-  return (VI)_mm256_cmp_pd(a, b, _CMP_NEQ_UQ);
-}
-inline VD vsqrt(VD a) {
-  return _mm256_sqrt_pd(a);
-}
-inline unsigned laneBits(VI m) {
-  return static_cast<unsigned>(_mm256_movemask_pd((VD)m));
-}
+inline VD splat(double x) { return _mm256_set1_pd(x); }
+inline VD load(const double* p) { return _mm256_loadu_pd(p); }
+inline void store(double* p, VD v) { _mm256_storeu_pd(p, v); }
+inline VI lt(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+inline VI le(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_LE_OQ); }
+inline VI eq(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
+inline VI ne(VD a, VD b) { return (VI)_mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
+inline VD vsqrt(VD a) { return _mm256_sqrt_pd(a); }
+inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm256_movemask_pd((VD)m)); }
 inline VI signMask(VD a) {
   return (VI)_mm256_shuffle_epi32(_mm256_srai_epi32((__m256i)a, 31), _MM_SHUFFLE(3, 3, 1, 1));
 }
@@ -129,41 +93,19 @@ namespace avx512 {
 constexpr unsigned kW = 8;
 typedef double VD __attribute__((vector_size(64)));
 typedef std::int64_t VI __attribute__((vector_size(64)));
-inline VD splat(double x) {
-  return _mm512_set1_pd(x);
-}
-inline VD load(const double* p) {
-  return _mm512_loadu_pd(p);
-}
-inline void store(double* p, VD v) {
-  _mm512_storeu_pd(p, v);
-}
-inline VI mask(__mmask8 m) {
-  return (VI)_mm512_movm_epi64(m);
-}
-inline VI lt(VD a, VD b) {
-  return mask(_mm512_cmp_pd_mask(a, b, _CMP_LT_OQ));
-}
-inline VI le(VD a, VD b) {
-  return mask(_mm512_cmp_pd_mask(a, b, _CMP_LE_OQ));
-}
-inline VI eq(VD a, VD b) {
-  return mask(_mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ));
-}
-inline VI ne(VD a, VD b) {
-  return mask(_mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ));
-}
+inline VD splat(double x) { return _mm512_set1_pd(x); }
+inline VD load(const double* p) { return _mm512_loadu_pd(p); }
+inline void store(double* p, VD v) { _mm512_storeu_pd(p, v); }
+inline VI mask(__mmask8 m) { return (VI)_mm512_movm_epi64(m); }
+inline VI lt(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_LT_OQ)); }
+inline VI le(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_LE_OQ)); }
+inline VI eq(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ)); }
+inline VI ne(VD a, VD b) { return mask(_mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ)); }
 // (The masked forms with every lane set: GCC 12's unmasked ones read an undefined source
 // register that -Wuninitialized flags.)
-inline VD vsqrt(VD a) {
-  return _mm512_mask_sqrt_pd(a, 0xff, a);
-}
-inline unsigned laneBits(VI m) {
-  return static_cast<unsigned>(_mm512_movepi64_mask((__m512i)m));
-}
-inline VI signMask(VD a) {
-  return (VI)_mm512_mask_srai_epi64((__m512i)a, 0xff, (__m512i)a, 63);
-}
+inline VD vsqrt(VD a) { return _mm512_mask_sqrt_pd(a, 0xff, a); }
+inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm512_movepi64_mask((__m512i)m)); }
+inline VI signMask(VD a) { return (VI)_mm512_mask_srai_epi64((__m512i)a, 0xff, (__m512i)a, 63); }
 #include "quadric_packet_group.inc"
 }  // namespace avx512
 #pragma GCC pop_options

@@ -33,9 +33,7 @@ namespace {
 // below (the checks of firstRootQuadratic, roots_quadratic.cpp). Anything else, and
 // the rare piece whose closed-form root rounds outside it (bracketed Newton there), is
 // answered by the library itself: -1 means "ask firstRoot".
-bool inRange(double x) {
-  return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100);
-}
+bool inRange(double x) { return x == 0.0 || (std::abs(x) >= 1e-100 && std::abs(x) <= 1e100); }
 
 // The caller-frame result of a local root v (toCaller in roots.cpp, firstRootQuadratic):
 // a root within noise of hi is hi; one rounded onto lo moves just inside.

@@ -165,9 +165,7 @@ void surfaceUVFloat(const SurfaceData& data, const glm::dvec3& point, float& u, 
 // Embree's float u of a u in [0, 1): the cast rounds a u within 2^-25 of 1 (the seam's
 // far side, y -> 0-) up to 1.0f, which a host indexing a texture by u * width reads one
 // past the end of; the largest float below 1 instead.
-inline float floatU(double u) {
-  return std::min(static_cast<float>(u), 0x1.fffffep-1f);
-}
+inline float floatU(double u) { return std::min(static_cast<float>(u), 0x1.fffffep-1f); }
 // surfaceUVFloat's 1 / (2 pi) and 1 / pi, rounded.
 inline constexpr double kInvTwoPi = 0.15915494309189535, kInvPi = 0.31830988618379069;
 // Its atan on [0, 1]: atan(t) = t p(t^2), p of degree 9 with these coefficients (the fit

@@ -35,9 +35,7 @@ std::string str(double v) {
   return s.str();
 }
 
-[[noreturn]] void fail(const std::string& what) {
-  throw Error("algray::SurfaceGeometry: " + what);
-}
+[[noreturn]] void fail(const std::string& what) { throw Error("algray::SurfaceGeometry: " + what); }
 
 // f and 2^k f have the same surface, and every computation of the kernels (restriction
 // and its noise bounds, roots, self-root test, cell enclosures) is scaled exactly by a
@@ -396,9 +394,7 @@ SurfaceGeometry& SurfaceGeometry::operator=(SurfaceGeometry&& other) noexcept {
   return *this;
 }
 
-RTCGeometry SurfaceGeometry::geometry() const {
-  return data_ ? data_->geometry : nullptr;
-}
+RTCGeometry SurfaceGeometry::geometry() const { return data_ ? data_->geometry : nullptr; }
 unsigned SurfaceGeometry::primitiveCount() const {
   return data_ ? static_cast<unsigned>(data_->cells.size()) : 0u;
 }

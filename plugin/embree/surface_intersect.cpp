@@ -70,9 +70,7 @@ struct OriginCache {
 // render loop of a torus took 0.29 s instead of 0.11 s). A POSIX thread key frees the
 // cache at thread exit instead, without that lock; the thread_local is only a pointer
 // (trivially destructible: nothing registered).
-void freeOriginCache(void* p) {
-  delete static_cast<OriginCache*>(p);
-}
+void freeOriginCache(void* p) { delete static_cast<OriginCache*>(p); }
 
 OriginCache& threadOriginCache() {
   thread_local OriginCache* cache = nullptr;

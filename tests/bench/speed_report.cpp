@@ -88,9 +88,7 @@ void releaseEntry(Entry& e) {
   e.geometry.reset();
 }
 
-double msSince(std::chrono::steady_clock::time_point start) {
-  return 1e3 * secondsSince(start);
-}
+double msSince(std::chrono::steady_clock::time_point start) { return 1e3 * secondsSince(start); }
 
 // ---- Builders ------------------------------------------------------------------------------
 Entry algrayEntry(RTCDevice device, const GallerySurface& s, const Polynomial& f,

@@ -67,12 +67,8 @@ void restrictToRayLoop(benchmark::State& state) {
   }
   state.counters["terms"] = Polynomial::termCount(f.degree());
 }
-void BM_RestrictToRay(benchmark::State& state) {
-  restrictToRayLoop<Polynomial>(state);
-}
-void BM_RestrictToRayBox(benchmark::State& state) {
-  restrictToRayLoop<algray::HornerForm>(state);
-}
+void BM_RestrictToRay(benchmark::State& state) { restrictToRayLoop<Polynomial>(state); }
+void BM_RestrictToRayBox(benchmark::State& state) { restrictToRayLoop<algray::HornerForm>(state); }
 
 void BM_ExpandOrigin(benchmark::State& state) {
   const auto f = densePolynomial(static_cast<int>(state.range(0)));

@@ -748,9 +748,7 @@ TEST(RayCsv, ReaderParsesAndRejects) {
   EXPECT_THROW(algray::query::readRays(neg, "neg.csv"), algray::query::CsvError);
 }
 
-bool startsWith(const std::string& s, const std::string& prefix) {
-  return s.starts_with(prefix);
-}
+bool startsWith(const std::string& s, const std::string& prefix) { return s.starts_with(prefix); }
 
 std::string csvError(const std::string& text) {
   std::istringstream in(text);
