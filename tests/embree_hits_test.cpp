@@ -909,6 +909,7 @@ TEST_F(EmbreeHits, QuadricCallbacksMatchGenericWalk) {
       alignas(32) RTCRayHit8 packet{};
       alignas(32) int valid[8];
       RTCRayHit singles[8];
+      const bool honoursMask = embreeHonoursValidMask(device, 8);
       for (int l = 0; l < 8; ++l) {
         valid[l] = l == 5 ? 0 : -1;
         const glm::vec3 dir = glm::vec3(u(rng), u(rng), u(rng)) - eye;
@@ -920,7 +921,9 @@ TEST_F(EmbreeHits, QuadricCallbacksMatchGenericWalk) {
         packet.ray.dir_y[l] = dir.y;
         packet.ray.dir_z[l] = dir.z;
         packet.ray.tnear[l] = 0.0f;
-        packet.ray.tfar[l] = std::numeric_limits<float>::infinity();
+        // Empty too where Embree ignores the mask (embreeHonoursValidMask).
+        packet.ray.tfar[l] =
+            valid[l] || honoursMask ? std::numeric_limits<float>::infinity() : -1.0f;
         packet.ray.mask[l] = ~0u;
         packet.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
       }
