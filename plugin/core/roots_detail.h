@@ -283,6 +283,33 @@ template <class T>
   return halley ? x - ratio / (1 - h) : x - ratio;
 }
 
+// Whether the error predicted after a step of size `step` (see newtonFrom) is below the
+// rounding of xn. With a compile-time degree (Yuksel's solver up to degree 20) the test is
+// multiplied through by f'^2 (or |f'|): two divisions fewer per iteration, on the path to
+// the loop's exit branch (session 14, interleaved timings: whole rays of degree 8-12
+// 0.97-0.99x the time, the same roots bit for bit on 14000 random problems). The run-time
+// degrees (Sturm's and the Bernstein comparison solver's polish, Yuksel above degree 20)
+// keep the quotients, and so does any step, slope or iterate below 2^-300 (2^-30 in
+// float), where the products would underflow (the root 1 of s^2 - 1 on (-1e150, 20] is
+// 2^-498 in the local frame: step^3 underflowed to 0 and the polish stopped 1 % off;
+// RootsContract.HugeIntervalsKeepTheRootsNearTheOrigin).
+template <class T>
+inline constexpr T kPredictMin = std::is_same_v<T, double> ? T(0x1p-300) : T(0x1p-30);
+template <class T, class D>
+inline bool predictedBelow(T df, T dd, T d3, bool halley, T step, T xn, D) {
+  const T adf = std::abs(df), axn = std::abs(xn);
+  if (std::is_same_v<D, int> || !(std::min(std::min(adf, axn), step) >= kPredictMin<T>)) {
+    const T k = std::abs(dd / df);
+    const T predicted = halley ? (k * k + std::abs(d3 / df)) * step * step * step : k * step * step;
+    return predicted <= kUnit<T> * axn;
+  }
+  // |f'|, |xn|, step in [2^-300, 2^2]: neither side underflows to 0 where the quotient
+  // test's sides do not (dd and d3 are bounded by the frame: |C_j| < 2, |v| <= 1).
+  const T bound = kUnit<T> * axn * adf;
+  return halley ? (dd * dd + std::abs(d3) * adf) * (step * step * step) <= bound * adf
+                : std::abs(dd) * (step * step) <= bound;
+}
+
 // The iteration from a given start x in (a, b) (newtonFrom: a closed form's value,
 // polished on the original polynomial; newtonInBracket: the secant point).
 template <class T, class D>
@@ -346,11 +373,9 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
       // a root near 2e-33 left an error the size of the root; a step from x = 0, a
       // bisection point, ignored the s^5 term of s^5 + 1e-92 s^2 + ...). That holds at any
       // ordinary convergence; elsewhere one more step is taken.
-      const T step = std::abs(xn - x), k = std::abs(dd / df);
-      const T predicted =
-          halley ? (k * k + std::abs(d3 / df)) * step * step * step : k * step * step;
+      const T step = std::abs(xn - x);
       if (step <= tol || step <= 4 * kUnit<T> * std::abs(xn) ||
-          (2 * step <= std::abs(x) && predicted <= kUnit<T> * std::abs(xn)))
+          (2 * step <= std::abs(x) && predictedBelow(df, dd, d3, halley, step, xn, deg)))
         return xn;
     }
     stepOld = std::abs(xn - x);

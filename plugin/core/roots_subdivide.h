@@ -63,9 +63,11 @@
 
 namespace algray::roots_detail {
 
-// Split ratios are dyadic with 4 bits (1/2, 7/16, 9/16, 3/8, 5/8), so the node ends u0, u1
-// are exact for up to 53/4 (double) or 24/4 (float) levels and coincide with the de
-// Casteljau parameters.
+// Split ratios are dyadic with 4 bits (k/16: 1/2, 7/16, 9/16, 3/8, 5/8, and for plain nodes
+// 1/4-3/4 between the control polygon's crossings), so the node ends u0, u1 are exact for
+// up to 53/4 (double) or 24/4 (float) levels and coincide with the de Casteljau
+// parameters. (With splits up to 3/4 a node at the depth cap is up to (3/4)^5 = 0.24 of
+// the span.)
 // Depth cap: a node still undecided after 5 splits (1/32 of the span) goes to Yuksel's
 // recursion, whose exclusion test usually settles so short a piece at a low derivative.
 // Measured (roots_bench BM_GalleryRays and BM_FirstRoot, same session, ns per solve for
@@ -405,12 +407,28 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, D
     st.resumeAt = va;
     return 0;
   }
-  const T xNoise = std::max(std::abs(va), std::abs(vb));
+  T xNoise = std::max(std::abs(va), std::abs(vb));
   constexpr bool kPairs = std::is_same_v<E, BPair<T>>;
-  const T noise = !kPairs              ? hornerAbs(g.noise.data(), deg, xNoise)
-                  : xNoise == known.x0 ? known.n0
-                  : xNoise == known.x1 ? known.n1
-                                       : hornerAbs(g.noise.data(), deg, xNoise);
+  T noise;
+  if constexpr (!kPairs) {
+    // Plain nodes take the bound their parent used, which holds for every |v| <= its x
+    // (a Horner pass of non-negative terms grows with |v|), hence for the whole node:
+    // the root node's is the only Horner pass. The margin grows by at most twice G's
+    // noise bound at the interval's far end, less than the uniform bound E it is added to
+    // (gamma(4n + 19) |C|(|lo| + w) against gamma(2n + 1) |C|(max |v|) without caller
+    // errors), so nodes decide as before. Measured (session 14, callgrind, 2000 whole rays
+    // a degree): instructions per solve 0.99-1.0x at degrees 6-8, 0.98x at 10-12.
+    if (xNoise <= known.x0) {
+      xNoise = known.x0;
+      noise = known.n0;
+    } else {
+      noise = hornerAbs(g.noise.data(), deg, xNoise);
+    }
+  } else {
+    noise = xNoise == known.x0   ? known.n0
+            : xNoise == known.x1 ? known.n1
+                                 : hornerAbs(g.noise.data(), deg, xNoise);
+  }
   const T margin = st.err + 2 * noise * (1 + 4 * kUnit<T>);
   if (oneSign(b, deg, margin)) return 0;
   // A node within noise from end to end (above kNoiseNodeDegree): G(va) and G(vb) within
@@ -494,7 +512,38 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, D
     // Bernstein bounds there are far above its noise bound). Plain nodes evaluate them
     // only where that test fails, as before.
     constexpr bool kEarly = kPairs;
-    T t = T(0.5), mid = u0 + (u1 - u0) / 2;
+    // Plain nodes (degree <= 12) with two or more sign changes in the control polygon
+    // split between its first two crossings instead of at the middle, so that the first
+    // root more often lands alone in the left child (one variation: straight to the
+    // polish); the crossings are estimated from the indices only (no division on the
+    // path to the split) and the ratio is kept in [1/4, 3/4] (clamped to [1/16, 15/16], a
+    // near miss's dip at a node's end left nodes that hardly shrank, and more went to the
+    // recursion at the depth cap). Measured (session 14, 1000 whole-ray problems a degree
+    // and outcome): with a root, nodes per solve 3.13 -> 2.72 (degree 6) and 3.80 -> 3.22
+    // (12), splits 1.68 -> 1.31 and 2.03 -> 1.56, polish evaluations 3.23 -> 3.10 and
+    // 3.25 -> 3.06; near misses 10.7 -> 8.8 nodes (6), recursion calls 0.46 -> 0.09;
+    // callgrind instructions per solve (all outcomes) 0.95x (6), 0.97x (7), 0.94x (8),
+    // 0.98x (9), 0.95x (10), 0.97x (11), 1.01x (12); interleaved timings 0.95-0.99x at
+    // degrees 6-10, 1.00x at 11-12, cells 0.98-1.02x (noise).
+    // With the crossings interpolated (two divisions before the split could start) whole
+    // rays of degree 6-7 were 7-10 % slower despite 4-5 % fewer instructions.
+    T t = T(0.5);
+    int t16 = 8;  // t in sixteenths (dyadic: the node ends stay exact, see above)
+    if constexpr (!kPairs) {
+      const int n = deg;
+      int c1 = 0, c2 = 0, changes = 0;  // the first two sign changes, without branches
+      for (int i = 0; i < n; ++i) {
+        const bool change = signBit(b[i]) != signBit(b[i + 1]);
+        c1 = change && changes == 0 ? i : c1;
+        c2 = change && changes == 1 ? i : c2;
+        changes += change;
+      }
+      if (changes >= 2) {
+        t16 = std::clamp((8 * (c1 + c2 + 1) + n / 2) / n, 4, 12);
+        t = T(t16) / 16;
+      }
+    }
+    T mid = u0 + (u1 - u0) * t;
     const T vMid = st.lo + st.w * mid;
     T fMid = 0, noiseMid = 0;
     if (kEarly) hornerNoise(g.c.data(), g.noise.data(), deg, vMid, fMid, noiseMid);
@@ -533,7 +582,8 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, D
       childKnown.n1 = noiseMid;
     }
     if (!rDecides && !(std::abs(fMid) > noiseMid)) {
-      for (const T f : {T(0.4375), T(0.5625), T(0.375), T(0.625)}) {
+      for (const int d16 : {-1, 1, -2, 2}) {  // 7/16, 9/16, 3/8, 5/8 around the middle
+        const T f = T(t16 + d16) / 16;
         const T um = u0 + (u1 - u0) * f, vm = st.lo + st.w * um;
         T fm, noiseM;
         hornerNoise(g.c.data(), g.noise.data(), deg, vm, fm, noiseM);
@@ -545,7 +595,7 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, D
           break;
         }
       }
-      if (t != T(0.5)) splitBernstein(b, deg, t, l, r);
+      if (t != T(t16) / 16) splitBernstein(b, deg, t, l, r);
     }
     g.lo = saveLo;
     g.hi = saveHi;
