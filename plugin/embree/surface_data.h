@@ -188,6 +188,10 @@ inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, 
   const glm::dvec3 oc = o - data.centre;
   return glm::dot(oc, oc) > data.selfRootRadius2 && orgError <= 0x1p-11 * data.radius;
 }
+// The same with oc2 = dot(o - data.centre, o - data.centre) given.
+inline bool originOutsideClipBall(const SurfaceData& data, double oc2, double orgError) {
+  return oc2 > data.selfRootRadius2 && orgError <= 0x1p-11 * data.radius;
+}
 
 // After the self-root rule divided out the root at an origin judged on the surface, the
 // ray parameter below which a root is still that origin's own: within the origin's
@@ -260,8 +264,11 @@ static_assert(sizeof(QuadricRay) == 64);
 // About the origin when it lies on the surface (the self-root rule: the root at s = 0 is
 // divided out), else about the point of [r0, r1] closest to the clip centre. closest: that
 // point's parameter closestParameter(o, d, data.centre) when the caller has it (NaN: not).
+// oc2: |o - data.centre|^2 as originOutsideClipBall computes it, when the caller has it
+// (NaN: not).
 void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
-                        QuadricRay& g, double closest = std::numeric_limits<double>::quiet_NaN());
+                        QuadricRay& g, double closest = std::numeric_limits<double>::quiet_NaN(),
+                        double oc2 = std::numeric_limits<double>::quiet_NaN());
 
 // The dedicated path of a quadric with one cell (the bridge registers its callbacks when
 // usesQuadricPath): the restriction over the ray's span, clip region and (tnear, tfar)
@@ -387,13 +394,20 @@ inline bool clipToBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dve
 // off by delta <= 2^-40 |tc|: |q|^2 grows by delta^2 dd only, so the chord keeps its
 // length and moves by delta, a shift of the clip boundary far below a float origin's
 // own rounding.
+// terms, if given, receives |o - c|^2 and, when the chord takes the closest-point form,
+// |q|^2 (else q2 is left as it was): the quadric path's cell and ball tests repeat that
+// arithmetic (quadricSpan, meetsQuadricBall).
+struct ChordTerms {
+  double oc2, q2;
+};
 inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                         double& t1, double& tc) {
+                         double& t1, double& tc, ChordTerms* terms = nullptr) {
   const double dd = glm::dot(d, d);
   if (!(dd > 0.0)) return false;
   const double inv = inverseSquaredLength(dd);
   const glm::dvec3 oc = o - s.center;
   const double b = glm::dot(oc, d), r2 = s.radius * s.radius, oc2 = glm::dot(oc, oc);
+  if (terms) terms->oc2 = oc2;
   tc = -b * inv;
   // From an origin within 2 R of the centre (a ray leaving a surface inside), Lagrange's
   // h^2 = R^2 - |oc|^2 + b^2 / dd has no cancellation beyond its terms' 4 R^2 and a
@@ -404,7 +418,9 @@ inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dv
     h2 = (r2 - oc2) + b * b * inv;
   } else {
     const glm::dvec3 q = oc + tc * d;
-    h2 = r2 - glm::dot(q, q);
+    const double qq = glm::dot(q, q);
+    if (terms) terms->q2 = qq;
+    h2 = r2 - qq;
   }
   if (!(h2 >= 0.0)) return false;
   const double dt = std::sqrt(h2 * inv);
