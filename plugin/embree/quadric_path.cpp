@@ -192,7 +192,7 @@ int linearFirst(const QuadricRay& g, double lo, double hi, double& s) {
 // (A per-thread cache of the origin's terms for rays sharing it was measured: +1-2 % on
 // a camera's primary rays, -3-4 % on shadow rays, which never share an origin; not kept.)
 namespace {
-template <bool kDiagonal>
+template <bool kDiagonal, bool kNonNegDiagonal, bool kNonNegCentred>
 void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
                           QuadricRay& g, double closest, double oc2) {
   const QuadricForm& q = *data.quadric;
@@ -209,7 +209,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   QuadricValue at{};
   bool onSurface = false;
   if (!farOrigin) {
-    at = evalQuadric<kDiagonal>(q, o);
+    at = evalQuadric<kDiagonal, kNonNegDiagonal, kNonNegCentred>(q, o);
     // The self-root rule of originOnSurface (surface_intersect.cpp), on the closed-form
     // value. Most origins are far off the surface: the 1-norm of the gradient (>= its
     // length; widened by 2^-20 for the rounding of both) decides them without
@@ -243,7 +243,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
     tShift =
         std::isnan(closest) ? std::clamp(closestParameter(o, d, data.centre), r0, r1) : closest;
     p = o + tShift * d;
-    at = evalQuadric<kDiagonal>(q, p);
+    at = evalQuadric<kDiagonal, kNonNegDiagonal, kNonNegCentred>(q, p);
     // p is rounded, off the line by up to gamma(2) (|p| + |tShift d|) per coordinate:
     // its effect on f(p) and on the slope (first order; the second is below u^2).
     const glm::dvec3 off = gamma(2) * (absv(p) + std::abs(tShift) * absD);
@@ -253,8 +253,9 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   const glm::dvec3 absP = absv(p);
   double c0 = at.value, c1 = glm::dot(at.gradient, d), c2 = glm::dot(d, q.mulA<kDiagonal>(d));
   double e0 = at.error + shiftError0;
-  double e1 = gamma(7) * glm::dot(2.0 * q.mulAbsA<kDiagonal>(absP) + q.absB, absD) + shiftError1;
-  double e2 = gamma(5) * glm::dot(absD, q.mulAbsA<kDiagonal>(absD));
+  const glm::dvec3 absAP2 = 2.0 * q.mulAbsA<kDiagonal>(absP);
+  double e1 = gamma(7) * glm::dot(kNonNegCentred ? absAP2 : absAP2 + q.absB, absD) + shiftError1;
+  double e2 = gamma(5) * (kNonNegDiagonal ? c2 : glm::dot(absD, q.mulAbsA<kDiagonal>(absD)));
   int degree = 2;
   // The self-root rule's division by s (deflateAtZero: once, and again while the new
   // constant term is within its bound), on values still in registers: written to g first
@@ -284,10 +285,14 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
 
 void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
                         QuadricRay& g, double closest, double oc2) {
-  if (data.quadric->diagonal)
-    restrictQuadricRayOf<true>(data, ray, r0, r1, g, closest, oc2);
+  if (data.quadric->nonNegCentred)
+    restrictQuadricRayOf<true, true, true>(data, ray, r0, r1, g, closest, oc2);
+  else if (data.quadric->nonNegDiagonal)
+    restrictQuadricRayOf<true, true, false>(data, ray, r0, r1, g, closest, oc2);
+  else if (data.quadric->diagonal)
+    restrictQuadricRayOf<true, false, false>(data, ray, r0, r1, g, closest, oc2);
   else
-    restrictQuadricRayOf<false>(data, ray, r0, r1, g, closest, oc2);
+    restrictQuadricRayOf<false, false, false>(data, ray, r0, r1, g, closest, oc2);
 }
 
 // ---- The box of a bounded quadric ----------------------------------------------------------

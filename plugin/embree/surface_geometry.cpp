@@ -290,6 +290,10 @@ QuadricForm QuadricForm::fromPolynomial(const Polynomial& f) {
   q.diagonal = q.a[0][1] == 0.0 && q.a[0][2] == 0.0 && q.a[1][2] == 0.0;
   q.diagA = {q.a[0][0], q.a[1][1], q.a[2][2]};
   q.absDiagA = glm::abs(q.diagA);
+  q.nonNegDiagonal = q.diagonal;
+  for (int i = 0; i < 3; ++i)
+    q.nonNegDiagonal = q.nonNegDiagonal && q.diagA[i] >= 0.0 && !std::signbit(q.diagA[i]);
+  q.nonNegCentred = q.nonNegDiagonal && q.b == glm::dvec3(0.0);
   return q;
 }
 
