@@ -253,7 +253,10 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   const glm::dvec3 absP = absv(p);
   double c0 = at.value, c1 = glm::dot(at.gradient, d), c2 = glm::dot(d, q.mulA<kDiagonal>(d));
   double e0 = at.error + shiftError0;
-  const glm::dvec3 absAP2 = 2.0 * q.mulAbsA<kDiagonal>(absP);
+  // 2 |A| |p|: for a diagonal A >= +0 and b = 0, |grad f(p)| = |2 A p + b| (each 2 a_i p_i
+  // is 2 |a_i| |p_i| up to its sign, and adding b_i = +-0 keeps its magnitude). at is f at p
+  // on every path here (re-centred, or p = o).
+  const glm::dvec3 absAP2 = kNonNegCentred ? absv(at.gradient) : 2.0 * q.mulAbsA<kDiagonal>(absP);
   double e1 = gamma(7) * glm::dot(kNonNegCentred ? absAP2 : absAP2 + q.absB, absD) + shiftError1;
   double e2 = gamma(5) * (kNonNegDiagonal ? c2 : glm::dot(absD, q.mulAbsA<kDiagonal>(absD)));
   int degree = 2;
