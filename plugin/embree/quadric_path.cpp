@@ -192,10 +192,13 @@ int linearFirst(const QuadricRay& g, double lo, double hi, double& s) {
 // (A per-thread cache of the origin's terms for rays sharing it was measured: +1-2 % on
 // a camera's primary rays, -3-4 % on shadow rays, which never share an origin; not kept.)
 namespace {
-template <bool kDiagonal, bool kNonNegDiagonal, bool kNonNegCentred>
+template <bool kDiagonal, bool kNonNegDiagonal, bool kNonNegCentred, bool kUnitA>
 void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
                           QuadricRay& g, double closest, double oc2) {
   const QuadricForm& q = *data.quadric;
+  // A v and |A| v (v, |v| when A = I and v >= 0: the same values).
+  auto mulA = [&](const glm::dvec3& v) { return kUnitA ? v : q.mulA<kDiagonal>(v); };
+  auto mulAbsA = [&](const glm::dvec3& v) { return kUnitA ? v : q.mulAbsA<kDiagonal>(v); };
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   const glm::dvec3 absD = absv(d);
@@ -209,7 +212,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   QuadricValue at{};
   bool onSurface = false;
   if (!farOrigin) {
-    at = evalQuadric<kDiagonal, kNonNegDiagonal, kNonNegCentred>(q, o);
+    at = evalQuadric<kDiagonal, kNonNegDiagonal, kNonNegCentred, kUnitA>(q, o);
     // The self-root rule of originOnSurface (surface_intersect.cpp), on the closed-form
     // value. Most origins are far off the surface: the 1-norm of the gradient (>= its
     // length; widened by 2^-20 for the rounding of both) decides them without
@@ -243,15 +246,15 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
     tShift =
         std::isnan(closest) ? std::clamp(closestParameter(o, d, data.centre), r0, r1) : closest;
     p = o + tShift * d;
-    at = evalQuadric<kDiagonal, kNonNegDiagonal, kNonNegCentred>(q, p);
+    at = evalQuadric<kDiagonal, kNonNegDiagonal, kNonNegCentred, kUnitA>(q, p);
     // p is rounded, off the line by up to gamma(2) (|p| + |tShift d|) per coordinate:
     // its effect on f(p) and on the slope (first order; the second is below u^2).
     const glm::dvec3 off = gamma(2) * (absv(p) + std::abs(tShift) * absD);
     shiftError0 = glm::dot(absv(at.gradient), off);
-    shiftError1 = 2.0 * glm::dot(q.mulAbsA<kDiagonal>(off), absD);
+    shiftError1 = 2.0 * glm::dot(mulAbsA(off), absD);
   }
   const glm::dvec3 absP = absv(p);
-  double c0 = at.value, c1 = glm::dot(at.gradient, d), c2 = glm::dot(d, q.mulA<kDiagonal>(d));
+  double c0 = at.value, c1 = glm::dot(at.gradient, d), c2 = glm::dot(d, mulA(d));
   double e0 = at.error + shiftError0;
   // 2 |A| |p|: for a diagonal A >= +0 and b = 0, |grad f(p)| = |2 A p + b| (each 2 a_i p_i
   // is 2 |a_i| |p_i| up to its sign, and adding b_i = +-0 keeps its magnitude). at is f at p
@@ -288,14 +291,17 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
 
 void restrictQuadricRay(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
                         QuadricRay& g, double closest, double oc2) {
-  if (data.quadric->nonNegCentred)
-    restrictQuadricRayOf<true, true, true>(data, ray, r0, r1, g, closest, oc2);
-  else if (data.quadric->nonNegDiagonal)
-    restrictQuadricRayOf<true, true, false>(data, ray, r0, r1, g, closest, oc2);
-  else if (data.quadric->diagonal)
-    restrictQuadricRayOf<true, false, false>(data, ray, r0, r1, g, closest, oc2);
+  const QuadricForm& q = *data.quadric;
+  if (q.nonNegCentred && q.unitA)
+    restrictQuadricRayOf<true, true, true, true>(data, ray, r0, r1, g, closest, oc2);
+  else if (q.nonNegCentred)
+    restrictQuadricRayOf<true, true, true, false>(data, ray, r0, r1, g, closest, oc2);
+  else if (q.nonNegDiagonal)
+    restrictQuadricRayOf<true, true, false, false>(data, ray, r0, r1, g, closest, oc2);
+  else if (q.diagonal)
+    restrictQuadricRayOf<true, false, false, false>(data, ray, r0, r1, g, closest, oc2);
   else
-    restrictQuadricRayOf<false, false, false>(data, ray, r0, r1, g, closest, oc2);
+    restrictQuadricRayOf<false, false, false, false>(data, ray, r0, r1, g, closest, oc2);
 }
 
 // ---- The box of a bounded quadric ----------------------------------------------------------

@@ -68,6 +68,8 @@ struct QuadricForm {
   // the value, to v^T A v >= +0: +0 + -0 = +0), which change nothing (the gradient keeps
   // its + b, which turns a -0 component into +0).
   bool nonNegCentred = false;
+  // A = I (a sphere about the origin, up to its constant): A v is v (1 v_i = v_i exactly).
+  bool unitA = false;
   // A v and |A| v; kDiagonal (only when diagonal) takes the three products.
   template <bool kDiagonal = false>
   glm::dvec3 mulA(const glm::dvec3& v) const {
@@ -81,7 +83,7 @@ struct QuadricForm {
   }
   // grad f(x) = 2 A x + b (the same values as evalQuadric's).
   glm::dvec3 gradient(const glm::dvec3& x) const {
-    return 2.0 * (diagonal ? mulA<true>(x) : mulA(x)) + b;
+    return 2.0 * (unitA ? x : diagonal ? mulA<true>(x) : mulA(x)) + b;
   }
   static QuadricForm fromPolynomial(const Polynomial& f);
 };
@@ -250,11 +252,12 @@ struct QuadricValue {
   glm::dvec3 gradient;
 };
 // (Always inlined: GCC kept it out of line, and the call cost shadow rays 3 %, measured.)
-// (kNonNegDiagonal, kNonNegCentred: only when q.nonNegDiagonal, q.nonNegCentred; the same
-// values.)
-template <bool kDiagonal = false, bool kNonNegDiagonal = false, bool kNonNegCentred = false>
+// (kNonNegDiagonal, kNonNegCentred, kUnitA: only when q.nonNegDiagonal, q.nonNegCentred,
+// q.unitA; the same values.)
+template <bool kDiagonal = false, bool kNonNegDiagonal = false, bool kNonNegCentred = false,
+          bool kUnitA = false>
 [[gnu::always_inline]] inline QuadricValue evalQuadric(const QuadricForm& q, const glm::dvec3& p) {
-  const glm::dvec3 ap = q.mulA<kDiagonal>(p), absP = absv(p);
+  const glm::dvec3 ap = kUnitA ? p : q.mulA<kDiagonal>(p), absP = absv(p);
   const double pap = glm::dot(p, ap);
   if constexpr (kNonNegCentred)
     return {pap + q.c, gamma(8) * (pap + std::abs(q.c)), 2.0 * ap + q.b};

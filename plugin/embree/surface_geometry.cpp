@@ -294,6 +294,7 @@ QuadricForm QuadricForm::fromPolynomial(const Polynomial& f) {
   for (int i = 0; i < 3; ++i)
     q.nonNegDiagonal = q.nonNegDiagonal && q.diagA[i] >= 0.0 && !std::signbit(q.diagA[i]);
   q.nonNegCentred = q.nonNegDiagonal && q.b == glm::dvec3(0.0);
+  q.unitA = q.diagonal && q.diagA == glm::dvec3(1.0);
   return q;
 }
 
