@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <string>
@@ -198,6 +200,81 @@ TEST(HornerForm, StoresOnlyTheBoxThePolynomialOccupies) {
   EXPECT_EQ(HornerForm(randomDense(rng, 12)).coefficientCount(), Polynomial::termCount(12));
   // z^7 alone: one block, one row of 8.
   EXPECT_EQ(HornerForm(Polynomial::variable(2).pow(7)).coefficientCount(), 8);
+}
+
+// The nested scheme one z-row at a time over the public layout (the loop evaluate() ran
+// before its rows went four to a group of vector lanes): value, gradient and magnitude.
+Polynomial::Evaluation rowByRow(const HornerForm& h, const glm::dvec3& p) {
+  const double x = p.x, y = p.y, z = p.z, ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
+  const HornerForm::Slot* s = h.slots().data();
+  const std::uint8_t* len = h.rowLengths().data();
+  double f = 0.0, fx = 0.0, fy = 0.0, fz = 0.0, fa = 0.0;
+  for (const std::uint8_t rows : h.blockRows()) {
+    double b = 0.0, by = 0.0, bz = 0.0, ba = 0.0;
+    for (int r = 0; r < rows; ++r) {
+      double q = 0.0, qz = 0.0, qa = 0.0;
+      for (const HornerForm::Slot* end = s + *len++; s != end; ++s) {
+        qz = qz * z + q;
+        q = q * z + s->c;
+        qa = qa * az + s->absC;
+      }
+      by = by * y + b;
+      b = b * y + q;
+      bz = bz * y + qz;
+      ba = ba * ay + qa;
+    }
+    fx = fx * x + f;
+    f = f * x + b;
+    fy = fy * x + by;
+    fz = fz * x + bz;
+    fa = fa * ax + ba;
+  }
+  Polynomial::Evaluation e;
+  e.value = f;
+  e.gradient = {fx, fy, fz};
+  e.magnitude = fa;
+  return e;
+}
+
+bool sameBits(double a, double b) {
+  return std::isnan(a) ? std::isnan(b)
+                       : std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+TEST(HornerForm, RowGroupsAreTheOneRowLoopBitForBit) {
+  // The gallery (sparse and even boxes, zero rows), dense random polynomials of every
+  // degree up to 20 (row counts not a multiple of four) and special points (zeros of
+  // either sign, which the padding must keep, and non-finite coordinates).
+  std::vector<Polynomial> polys = {Polynomial(), Polynomial(-0.0), Polynomial::variable(1)};
+  for (const GallerySurface& s : gallery()) polys.push_back(s.build());
+  std::mt19937_64 rng(21);
+  for (int m = 1; m <= 20; ++m) polys.push_back(randomDense(rng, m));
+  polys.push_back(randomDense(rng, kMaxDegree));
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int m : {5, 9, 12, 17}) {  // sparse: zero rows and rows of every length
+    Polynomial f = randomDense(rng, m);
+    for (int n = 0; n <= m; ++n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+        if (u(rng) < 0.7) f.setCoeff(i, j, k, u(rng) < 0.5 ? 0.0 : -0.0);
+      });
+    f.setCoeff(0, 0, m, 1.0);
+    polys.push_back(f);
+  }
+  std::vector<glm::dvec3> points = {glm::dvec3(0.0), glm::dvec3(-0.0, 0.0, -0.0),
+                                    glm::dvec3(-0.0, -1.5, 2.0), glm::dvec3(1.0, -0.0, -0.0)};
+  for (int i = 0; i < 40; ++i) points.push_back(pointAt(rng, 2.0));
+  points.push_back({std::numeric_limits<double>::infinity(), 0.5, -0.25});
+  points.push_back({0.5, 0.25, -std::numeric_limits<double>::infinity()});
+  for (const Polynomial& f : polys) {
+    const HornerForm h(f);
+    for (const glm::dvec3& p : points) {
+      const auto got = h.evaluate(p), want = rowByRow(h, p);
+      EXPECT_TRUE(sameBits(got.value, want.value)) << "degree " << f.degree();
+      EXPECT_TRUE(sameBits(got.magnitude, want.magnitude)) << "degree " << f.degree();
+      for (int a = 0; a < 3; ++a)
+        EXPECT_TRUE(sameBits(got.gradient[a], want.gradient[a])) << "degree " << f.degree();
+    }
+  }
 }
 
 TEST(HornerForm, NonFiniteInputGivesNonFiniteOutput) {

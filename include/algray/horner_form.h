@@ -70,6 +70,16 @@ class HornerForm {
   std::vector<SignedTerm> signedTerms_;  // the same order
   std::vector<std::uint8_t> rowLength_;  // per z-row, >= 1 (kMaxDegree + 1 fits)
   std::vector<std::uint8_t> blockRows_;  // per x-block (i descending): its y-rows, >= 1
+  // The z-rows four at a time for evaluate() (see there): groups of rows of similar
+  // length, longest first, each row padded at its start with slots (0, 0) to the group's
+  // length; per position (c, absC) of the four rows, per group its length and its rows.
+  struct alignas(16) GroupSlot {
+    double c[4];
+    double absC[4];
+  };
+  std::vector<GroupSlot> groupSlots_;
+  std::vector<std::uint8_t> groupLength_;
+  std::vector<std::uint16_t> groupRows_;  // 4 per group (padding lanes: rows, a copy)
   int degree_ = -1;
   double absCoeffSum_ = 0;
   double errorFactor_ = 0;  // valueError = errorFactor_ * magnitude

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 
 #include "ray_horner.h"
 
@@ -73,31 +75,102 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
       }
     }
   }
+  // The rows in groups of four of similar length (evaluate): row starts in slots_, the
+  // rows by decreasing length (ties in order), then each group's padded positions. A
+  // group short of four rows repeats its last row in the spare lanes (computed twice,
+  // stored once more: the same value).
+  const std::size_t rows = rowLength_.size();
+  std::vector<std::size_t> start(rows + 1, 0);
+  for (std::size_t r = 0; r < rows; ++r) start[r + 1] = start[r] + rowLength_[r];
+  std::vector<std::uint16_t> order(rows);
+  for (std::size_t r = 0; r < rows; ++r) order[r] = static_cast<std::uint16_t>(r);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint16_t a, std::uint16_t b) { return rowLength_[a] > rowLength_[b]; });
+  for (std::size_t g0 = 0; g0 < rows; g0 += 4) {
+    std::uint16_t lane[4];
+    for (std::size_t l = 0; l < 4; ++l) lane[l] = order[std::min(g0 + l, rows - 1)];
+    const int len = rowLength_[lane[0]];
+    groupLength_.push_back(static_cast<std::uint8_t>(len));
+    for (const std::uint16_t r : lane) groupRows_.push_back(r);
+    for (int k = 0; k < len; ++k) {
+      GroupSlot p{{0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
+      for (int l = 0; l < 4; ++l) {
+        const int lenL = rowLength_[lane[l]];
+        if (k < len - lenL) continue;
+        const Slot& slot = slots_[start[lane[l]] + static_cast<std::size_t>(k - (len - lenL))];
+        p.c[l] = slot.c;
+        p.absC[l] = slot.absC;
+      }
+      groupSlots_.push_back(p);
+    }
+  }
 }
 
 Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
   Polynomial::Evaluation e;
   const double x = p.x, y = p.y, z = p.z;
   const double ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
-  const Slot* s = slots_.data();
-  const std::uint8_t* len = rowLength_.data();
   // Horner with derivatives: (v, dv) <- (v t + c, dv t + v) is v(t) and v'(t) of the level
   // polynomial (Higham, Alg. 5.2 with k = 1); the y- and z-derivatives of the inner levels
   // are carried as coefficients of the outer ones. The *a variables run the bound's scheme.
-  double f = 0.0, fx = 0.0, fy = 0.0, fz = 0.0, fa = 0.0;
-  for (const std::uint8_t rows : blockRows_) {
-    double b = 0.0, by = 0.0, bz = 0.0, ba = 0.0;
-    for (int r = 0; r < rows; ++r) {
-      double q = 0.0, qz = 0.0, qa = 0.0;
-      for (const Slot* end = s + *len++; s != end; ++s) {
-        qz = qz * z + q;
-        q = q * z + s->c;
-        qa = qa * az + s->absC;
+  //
+  // The z-rows run four at a time, in the lanes of two 2-double vectors (the rows are
+  // independent; only the y-level below joins them, in their order). Each lane does what
+  // the one-row loop did, bit for bit: a padding slot (0, 0) before a row's first one
+  // leaves q = q' = q_a = +0 (0 z + 0 = +-0, and -0 + 0 = +0; an inf or NaN z gives NaN
+  // there as the row's own first step 0 z does), and the first real slot then sets q = c
+  // exactly as 0 z + c did. (The padding carries no underflow floor: q_a stays 0.)
+  // Why: a row is a serial chain of multiply-adds, latency-bound, and the polish
+  // evaluates f at every hit. Measured (AMD EPYC Zen 3, 16384 points, ns per evaluation):
+  // Sarti's dodecic (167 slots) 216 -> 173, the Barth sextic (33) 49.7 -> 43.2; primary
+  // rays (128x128, one thread) 1.2 % and 1.0 % faster. Not kept: adjacent rows two to a
+  // vector (no gain: an even polynomial's long rows alternate with zero rows of one slot,
+  // so each pair was as long as its long row), eight rows a group (179-183 and 50 ns), and
+  // compile-time row lengths (unrolled per length, no gain or slower: the loop's exits
+  // were predicted).
+  typedef double V2 __attribute__((vector_size(16)));
+  const V2 zz = {z, z}, azz = {az, az};
+  constexpr std::size_t kMaxRows = (kMaxDegree + 1) * (kMaxDegree + 2) / 2;
+  double rq[kMaxRows], rqz[kMaxRows], rqa[kMaxRows];
+  {
+    const GroupSlot* s = groupSlots_.data();
+    const std::uint16_t* lane = groupRows_.data();
+    for (const std::uint8_t len : groupLength_) {
+      V2 q0 = {0.0, 0.0}, qz0 = {0.0, 0.0}, qa0 = {0.0, 0.0};
+      V2 q1 = {0.0, 0.0}, qz1 = {0.0, 0.0}, qa1 = {0.0, 0.0};
+      for (const GroupSlot* end = s + len; s != end; ++s) {
+        V2 c0, c1, a0, a1;
+        std::memcpy(&c0, s->c, sizeof c0);
+        std::memcpy(&c1, s->c + 2, sizeof c1);
+        std::memcpy(&a0, s->absC, sizeof a0);
+        std::memcpy(&a1, s->absC + 2, sizeof a1);
+        qz0 = qz0 * zz + q0;
+        qz1 = qz1 * zz + q1;
+        q0 = q0 * zz + c0;
+        q1 = q1 * zz + c1;
+        qa0 = qa0 * azz + a0;
+        qa1 = qa1 * azz + a1;
       }
+      // The spare lanes of a short last group repeat its last row: stored in lane order,
+      // the real row's own value lands last either way (the same value).
+      const V2 q[2] = {q0, q1}, qz[2] = {qz0, qz1}, qa[2] = {qa0, qa1};
+      for (int l = 0; l < 4; ++l) {
+        rq[lane[l]] = q[l / 2][l % 2];
+        rqz[lane[l]] = qz[l / 2][l % 2];
+        rqa[lane[l]] = qa[l / 2][l % 2];
+      }
+      lane += 4;
+    }
+  }
+  double f = 0.0, fx = 0.0, fy = 0.0, fz = 0.0, fa = 0.0;
+  std::size_t r = 0;
+  for (const std::uint8_t blockRows : blockRows_) {
+    double b = 0.0, by = 0.0, bz = 0.0, ba = 0.0;
+    for (const std::size_t end = r + blockRows; r != end; ++r) {
       by = by * y + b;
-      b = b * y + q;
-      bz = bz * y + qz;
-      ba = ba * ay + qa;
+      b = b * y + rq[r];
+      bz = bz * y + rqz[r];
+      ba = ba * ay + rqa[r];
     }
     fx = fx * x + f;
     f = f * x + b;
