@@ -196,13 +196,13 @@ inline constexpr double kEmbreeReach = 1e18;
 // known to 2^-11 of it: a root at the origin then lies outside every span the ray has
 // (which starts beyond that margin), so the self-root rule has nothing to remove. Shared
 // by the generic walk and the quadric path (the packet lanes repeat it in vector form).
-inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, double orgError) {
-  const glm::dvec3 oc = o - data.centre;
-  return glm::dot(oc, oc) > data.selfRootRadius2 && orgError <= 0x1p-11 * data.radius;
-}
-// The same with oc2 = dot(o - data.centre, o - data.centre) given.
+// (oc2 = dot(o - data.centre, o - data.centre), for callers that have it.)
 inline bool originOutsideClipBall(const SurfaceData& data, double oc2, double orgError) {
   return oc2 > data.selfRootRadius2 && orgError <= 0x1p-11 * data.radius;
+}
+inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, double orgError) {
+  const glm::dvec3 oc = o - data.centre;
+  return originOutsideClipBall(data, glm::dot(oc, oc), orgError);
 }
 
 // After the self-root rule divided out the root at an origin judged on the surface, the
