@@ -73,7 +73,8 @@ class HornerForm {
   // The z-rows four at a time for evaluate() (see there): groups of rows of similar
   // length, longest first, each row padded at its start with slots (0, 0) to the group's
   // length; per position (c, absC) of the four rows, per group its length and its rows.
-  struct alignas(16) GroupSlot {
+  // (32-byte aligned: the AVX2 kernel loads c and absC whole, never across a cache line.)
+  struct alignas(32) GroupSlot {
     double c[4];
     double absC[4];
   };
