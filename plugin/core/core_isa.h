@@ -15,8 +15,9 @@ namespace algray::core_isa {
 
 enum class Isa : signed char { kSse2 = 0, kAvx2 = 1 };
 
-// Whether the AVX2 kernels exist in this build (x86-64 with GCC or Clang).
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// Whether the AVX2 kernels exist in this build: x86-64 with GCC (they are compiled under
+// #pragma GCC target, which Clang does not take).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define ALGRAY_CORE_AVX2 1
 #else
 #define ALGRAY_CORE_AVX2 0

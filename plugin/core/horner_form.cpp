@@ -235,7 +235,10 @@ Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
   // With AVX2 (core_isa.h) the four lanes are one register and two groups run
   // interleaved (zRowsAvx2): polynomial_bench BM_EvalNew, medians of interleaved runs,
   // ns: Sarti 173 -> 149, Barth sextic 43.4 -> 40.6, dense degree 20 1110 -> 785. (One
-  // group at a time: 155, 40.0 and 913.)
+  // group at a time: 155, 40.0 and 913.) Not kept: the y-levels of four x-blocks in the
+  // lanes too (blocks grouped and padded at their start like the rows, each lane's row
+  // results gathered per position): Sarti 146 -> 162, Barth sextic 40.5 -> 55.4 (same
+  // session).
   constexpr std::size_t kMaxRows = (kMaxDegree + 1) * (kMaxDegree + 2) / 2;
   double rq[kMaxRows], rqz[kMaxRows], rqa[kMaxRows];
 #if ALGRAY_CORE_AVX2
