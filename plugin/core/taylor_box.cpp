@@ -34,11 +34,16 @@
 // The kernels live in taylor_box_kernels.inc, compiled here for baseline x86-64 and in
 // taylor_box_avx.cpp for AVX2, chosen per call by core_isa::active() (core_isa.h). The
 // AVX2 copy runs the same 2-lane vectors, VEX-encoded: three-operand instructions drop
-// the register copies the unrolled kernels needed. Measured (taylor_bench
-// BM_GalleryDirect, AMD EPYC Zen 3, medians of 3 interleaved runs, ns per ray): Sarti's
-// dodecic 500 -> 464, Barth's decic 321 -> 296, Chmutov-8 159 -> 155, the Barth sextic
-// 133 -> 130, the sphere 70.3 -> 70.7 (the whole restriction in the AVX2 file: with only
-// boxHorner there, the extra call cost the sphere 9 ns).
+// the register copies the unrolled kernels needed. The kernels start on 64-byte
+// boundaries: without, the AVX2 copy's gain came and went with the code layout (Sarti's
+// dodecic 460-500 ns in builds that did not touch this code). Measured (taylor_bench
+// BM_GalleryDirect, AMD EPYC Zen 3, ns per ray, the two paths of one binary, 3
+// interleaved runs, two layouts): Sarti's dodecic 502-514 -> 450-470, Barth's decic
+// 317-323 -> 289-300, the sphere 71 -> 68.5, the Barth sextic 134 -> 133-142 (noise of
+// the layout); primary rays of speed_report (one thread, Mrays/s, medians of 3):
+// Barth sextic 2.86 -> 2.99, Sarti's dodecic 0.93 -> 1.00 (with evaluate's AVX2 kernel).
+// The whole restriction is in the AVX2 file (with only boxHorner there, the extra call
+// cost the sphere 9 ns), compiled without the loop vectoriser (plugin/CMakeLists.txt).
 // Did not pay with AVX2: two z-rows of a block at once, H of one row in each half of a
 // 4-double vector (the rows after the zero rows between them; F <- F * Y + H still per row,
 // in order). Aligned at their ends (blends for the shorter row's first slot and top
