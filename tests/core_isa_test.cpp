@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <random>
 #include <string>
@@ -76,6 +77,17 @@ std::vector<glm::dvec3> points(std::mt19937_64& rng) {
                                  glm::dvec3(0.5, std::nan(""), 1.0)};
   for (int i = 0; i < 40; ++i) out.push_back({wild(rng), wild(rng), wild(rng)});
   return out;
+}
+
+// The other suites test the kernels the process picks: AVX2 wherever the CPU has it.
+TEST(CoreIsaDefault, Avx2WhereTheCpuHasIt) {
+  if (std::getenv("ALGRAY_CORE_ISA") != nullptr) GTEST_SKIP() << "ALGRAY_CORE_ISA is set";
+#if ALGRAY_CORE_AVX2
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx2")) {
+    EXPECT_EQ(core_isa::active(), Isa::kAvx2);
+  }
+#endif
 }
 
 class CoreIsa : public ::testing::Test {
