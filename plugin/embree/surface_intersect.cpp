@@ -566,17 +566,6 @@ Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, co
 
 }  // namespace
 
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                    double& t1) {
-  t0 = -kInf;
-  t1 = kInf;
-  double tc;
-  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip))
-    return clipToSphere(*s, o, d, t0, t1, tc);
-  const auto& b = std::get<ClipBox>(data.desc.clip);
-  return clipToBox(b.lo, b.hi, o, d, t0, t1);
-}
-
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v) {
   constexpr double kPi = 3.14159265358979323846;
   const glm::dvec3 r = point - data.centre;
