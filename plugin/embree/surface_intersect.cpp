@@ -233,18 +233,24 @@ thread_local RayRoots tlsRayRoots;
 // expansion point's distance from it; about an off-centre box's centre (-2.05, 0.24, -0.41)
 // Chmutov-16's hits were 2e-3 box radii off. For a clip region centred on the origin (the
 // gallery, every --clip-sphere) the two points are the same.
+// closest: that parameter, closestParameter(o, d, 0), when the walk has it from its clip
+// sphere (regionSpan), which holds it in [r0, r1] already (NaN: not). Taken from there,
+// the restriction no longer waits for the chord's square root, on which r0 and r1 and so
+// the clamp depend (measured below, at walkRootsOf).
 void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0,
-                       double r1, RayPolynomial& g) {
-  const double tShift = data.desc.options.recentre
-                            ? std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1)
-                            : 0.0;
+                       double r1, RayPolynomial& g,
+                       double closest = std::numeric_limits<double>::quiet_NaN()) {
+  double tShift = 0.0;
+  if (data.desc.options.recentre)
+    tShift =
+        closest == closest ? closest : std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1);
   restrictToRay(data.horner, o, d, tShift, g);
 }
 
 // Returns the cache entry when g came from it; selfWindow > 0 when the self-root rule
 // divided out the origin's root (selfRootWindow), else 0.
 CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
-                     RayPolynomial& g, double& selfWindow) {
+                     double closest, RayPolynomial& g, double& selfWindow) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   selfWindow = 0.0;
@@ -267,7 +273,7 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
     entry->expansion.restrict(d, g);
     return entry;
   }
-  restrictRecentred(data, o, d, r0, r1, g);
+  restrictRecentred(data, o, d, r0, r1, g, closest);
   return nullptr;
 }
 
@@ -385,7 +391,8 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
   }
 }
 
-RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1) {
+RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                   double closest) {
   RayRoots& rr = tlsRayRoots;
   if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir &&
       rr.orgRoundoff == ray.orgRoundoff && rr.orgError == ray.orgError && rr.tnear == ray.tnear)
@@ -394,7 +401,7 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   rr.r0 = r0;
   rr.r1 = r1;
   rr.tnear = ray.tnear;
-  CacheEntry* entry = restrict(data, ray, r0, r1, rr.g, rr.selfWindow);
+  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
     ++entry->failures;
@@ -695,6 +702,26 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 
 namespace {
 
+// clipRegionSpan, and closest: closestParameter(o, d, 0) for restrictRecentred when the
+// clip region is a sphere centred on the object-space origin (the gallery's), else NaN.
+// clipToSphere's tc is that value bit for bit: with the centre 0, o - 0 = o, and
+// dot(0 - o, d) is -dot(o, d) exactly but for the sign of a zero sum (0 - o_i is +0 where
+// -o_i is -0), so a zero tc is left to closestParameter. It lies in [t0, t1] =
+// [tc - dt, tc + dt] (dt >= 0 or NaN, and t0, t1 start unbounded), where the clamp of
+// restrictRecentred keeps it.
+inline bool regionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
+                       double& t0, double& t1, double& closest) {
+  closest = std::numeric_limits<double>::quiet_NaN();
+  const auto* s = std::get_if<ClipSphere>(&data.desc.clip);
+  if (!s) return clipRegionSpan(data, o, d, t0, t1);
+  t0 = -kInf;
+  t1 = kInf;
+  double tc;
+  if (!clipToSphere(*s, o, d, t0, t1, tc)) return false;
+  if (tc != 0.0 && s->center == glm::dvec3(0.0)) closest = tc;
+  return true;
+}
+
 bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
                  AcceptFn accept, void* user) {
   const glm::dvec3& o = ray.org;
@@ -706,8 +733,8 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
   if (!(glm::dot(d, d) > 0.0) || !(ray.tnear < ray.tfar)) return false;
 
   // ---- 1. Span: clip region, then the cell (closed, widened for rounding) -------------
-  double r0, r1;
-  if (!clipRegionSpan(data, o, d, r0, r1)) return false;
+  double r0, r1, closest;
+  if (!regionSpan(data, o, d, r0, r1, closest)) return false;
   const SurfaceCell& box = data.cells[cell];
   double c0 = r0, c1 = r1;
   if (!clipToBox(box.lo, box.hi, o, d, c0, c1, true)) return false;
@@ -717,7 +744,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
   // ---- 2. Restriction and roots (shared by all cells the ray visits) -------------------
   // The per-thread record, re-derived if the host filter called below traced rays of its
   // own on this thread and so replaced it (the same computation gives the same roots).
-  auto current = [&]() -> RayRoots& { return rayRoots(data, ray, r0, r1); };
+  auto current = [&]() -> RayRoots& { return rayRoots(data, ray, r0, r1, closest); };
 
   // ---- 3. The cell's roots in order, offered to the host filter -------------------------
   // A root belongs to the cell whose grid box holds its point (claimsRoot), which the
