@@ -112,7 +112,8 @@ struct SurfaceData {
   // re-centring and the scale every relative tolerance of the adapter refers to.
   glm::dvec3 centre{0.0};
   double radius = 1.0;
-  double selfRootRadius2 = 1.0;  // (radius (1 + 2^-9))^2: see restrictQuadricRay
+  double selfRootRadius2 = 1.0;   // (radius (1 + 2^-9))^2: see restrictQuadricRay
+  double floatOriginNear2 = 0.0;  // (256 radius)^2 (0: unused): see surelyOutsideClipBall
   std::vector<SurfaceCell> cells;
   // The cells' grid (they are one level of a regular subdivision of the box around the
   // clip region): box corner, size and cells per axis, and the cell of each grid key.
@@ -141,6 +142,10 @@ struct KernelRay {
   // The float ray Embree traverses with (geometry space), when it differs from this one
   // (the double channel): a root is owned by a cell that Embree can reach.
   bool hasTraversalRay = false;
+  // orgError lacks the float origin's term floatOriginError (the bridge's float rays into
+  // the generic walk, which adds it only where the self-root rule needs it; its square
+  // root cost every primary ray, see surface_intersect.cpp's restrict).
+  bool orgErrorDeferred = false;
   std::uint64_t trace = 0;  // the double channel's IntersectContext::trace (0: none)
   glm::dvec3 travOrg{0.0}, travDir{0.0};
 };
@@ -152,6 +157,13 @@ struct KernelRay {
 // packet lanes of quadric_packet.cpp repeat it for float rays.
 KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
                         double tnear, double tfar, double roundoff, double orgError);
+
+// The term a float ray's orgError gets for its origin's own rounding (objectRay,
+// embree_bridge.cpp): 16 u_float (|o - c| + R) for its object-space origin o, roundoff its
+// unit roundoff. One expression for the bridge and the walk's deferred form (bit for bit).
+inline double floatOriginError(const SurfaceData& data, const glm::dvec3& o, double roundoff) {
+  return 16.0 * roundoff * (glm::length(o - data.centre) + data.radius);
+}
 
 // A candidate root handed to the acceptance callback (the host filter).
 struct KernelHit {
@@ -214,13 +226,16 @@ inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, 
 // can tell from the origin. pbrt-v4 offsets a spawned ray's origin by its error bound for
 // the same reason (Sec. 6.8.6); a legitimate hit that close to the origin is
 // indistinguishable from it.
-inline double selfRootDistance(const KernelRay& ray) {
+// (orgError: the ray's whole bound, for a ray whose orgError is deferred.)
+inline double selfRootDistance(const KernelRay& ray, double orgError) {
   const glm::dvec3& o = ray.org;
-  return 2.0 * (ray.orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)));
+  return 2.0 * (orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)));
 }
-inline double selfRootWindow(const KernelRay& ray) {
-  return selfRootDistance(ray) / std::sqrt(glm::dot(ray.dir, ray.dir));
+inline double selfRootDistance(const KernelRay& ray) { return selfRootDistance(ray, ray.orgError); }
+inline double selfRootWindow(const KernelRay& ray, double orgError) {
+  return selfRootDistance(ray, orgError) / std::sqrt(glm::dot(ray.dir, ray.dir));
 }
+inline double selfRootWindow(const KernelRay& ray) { return selfRootWindow(ray, ray.orgError); }
 // Whether a root s >= 0 lies within that window, without its root and division (the
 // quadric path's shadow rays, where most first roots lie far beyond it: measured, the
 // window computed for every such ray cost the sphere's shadow rays ~10 %).
