@@ -59,7 +59,7 @@ IntersectContext* instanceDoubleContext(RTCIntersectContext* context, unsigned n
 }
 
 // ---- Rays into object space ------------------------------------------------------------
-// deferFloatTerm: leave a float ray's floatOriginError to the generic walk
+// deferFloatTerm: leave a float ray's floatOriginError to the kernels
 // (KernelRay::orgErrorDeferred).
 KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
                     double tfar, double roundoff, double orgError, bool deferFloatTerm = false) {
@@ -536,7 +536,7 @@ template <class Args>
 }
 
 // One lane's ray in object space: the double ray of an algray context, else the float ray
-// (deferFloatTerm: for the generic walk, see objectRay).
+// (deferFloatTerm: for the generic walk and the quadric path, see objectRay).
 template <class Args>
 KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L,
                   bool deferFloatTerm = false) {
@@ -593,15 +593,18 @@ template <bool kOcclusion, class Args>
 void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
   const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
   Lane L{args, data, lane, doubleContext(args->context, args->N), 0.0};
-  const KernelRay kr = laneRay(args, ray, lane, L);
+  const KernelRay kr = laneRay(args, ray, lane, L, true);
   QuadricSpan q;
   double s;
   if (!quadricSpan(*data, kr, q) || !quadricRoot(q, q.slo, s)) return;
   // A first root within the self-root window is the origin's own (selfRootWindow): the
   // roots from the window on.
-  if (q.g.selfRoot && withinSelfRootWindow(kr, s) &&
-      !quadricRoot(q, std::max(q.slo, selfRootWindow(kr)), s))
-    return;
+  if (q.g.selfRoot) {
+    const double orgError = wholeOrgError(*data, kr);
+    if (withinSelfRootWindow(kr, s, orgError) &&
+        !quadricRoot(q, std::max(q.slo, selfRootWindow(kr, orgError)), s))
+      return;
+  }
   offerQuadricRoots<kOcclusion>(L, kr, q, s);
 }
 

@@ -43,6 +43,10 @@ struct QuadricBox {
   // covers that passes outside it has no root to report (quadricSpan's early rejection).
   glm::dvec3 ballCentre{0.0};
   double ballRadius2 = std::numeric_limits<double>::infinity();
+  // A float ray with a deferred origin error (KernelRay::orgErrorDeferred) and no host
+  // part (orgError 0) has its whole bound within orgError when |o - centre|^2 is at most
+  // this (0: never; quadricSpan, set by boundedQuadricBox).
+  double coveredNear2 = 0;
 };
 
 // A degree-2 surface as f(x) = x^T A x + b . x + c (A symmetric), for the quadric path of
@@ -143,8 +147,9 @@ struct KernelRay {
   // (the double channel): a root is owned by a cell that Embree can reach.
   bool hasTraversalRay = false;
   // orgError lacks the float origin's term floatOriginError (the bridge's float rays into
-  // the generic walk, which adds it only where the self-root rule needs it; its square
-  // root cost every primary ray, see surface_intersect.cpp's restrict).
+  // the generic walk and the quadric path, which add it only where a test needs it,
+  // wholeOrgError; its square root cost every primary ray, see surface_intersect.cpp's
+  // restrict).
   bool orgErrorDeferred = false;
   std::uint64_t trace = 0;  // the double channel's IntersectContext::trace (0: none)
   glm::dvec3 travOrg{0.0}, travDir{0.0};
@@ -163,6 +168,23 @@ KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm:
 // unit roundoff. One expression for the bridge and the walk's deferred form (bit for bit).
 inline double floatOriginError(const SurfaceData& data, const glm::dvec3& o, double roundoff) {
   return 16.0 * roundoff * (glm::length(o - data.centre) + data.radius);
+}
+
+// A ray's whole orgError (with its deferred term added, KernelRay::orgErrorDeferred).
+inline double wholeOrgError(const SurfaceData& data, const KernelRay& ray) {
+  return ray.orgErrorDeferred ? ray.orgError + floatOriginError(data, ray.org, ray.orgRoundoff)
+                              : ray.orgError;
+}
+
+// Whether originOutsideClipBall holds for a float ray whose orgError lacks its
+// floatOriginError (orgErrorDeferred), known without that term's square root (oc2:
+// |o - centre|^2): the origin lies beyond selfRootRadius2 but within 256 R of the centre
+// (floatOriginNear2), so with u_float <= 2^-24 and a host part at most 2^-13 R the whole
+// bound is at most 2^-13 R + 2^-20 (257 R) (1 + 4 u) < 2^-11 R. (0: a radius outside
+// [2^-400, 2^400], where the scalings might round: the term is then computed.)
+inline bool surelyOutsideClipBall(const SurfaceData& data, double oc2, const KernelRay& ray) {
+  return oc2 > data.selfRootRadius2 && oc2 <= data.floatOriginNear2 && ray.orgRoundoff <= 0x1p-24 &&
+         ray.orgError <= 0x1p-13 * data.radius;
 }
 
 // A candidate root handed to the acceptance callback (the host filter).
@@ -239,6 +261,10 @@ inline double selfRootWindow(const KernelRay& ray) { return selfRootWindow(ray, 
 // Whether a root s >= 0 lies within that window, without its root and division (the
 // quadric path's shadow rays, where most first roots lie far beyond it: measured, the
 // window computed for every such ray cost the sphere's shadow rays ~10 %).
+inline bool withinSelfRootWindow(const KernelRay& ray, double s, double orgError) {
+  const double dist = selfRootDistance(ray, orgError);
+  return s * s * glm::dot(ray.dir, ray.dir) <= dist * dist;
+}
 inline bool withinSelfRootWindow(const KernelRay& ray, double s) {
   const double dist = selfRootDistance(ray);
   return s * s * glm::dot(ray.dir, ray.dir) <= dist * dist;

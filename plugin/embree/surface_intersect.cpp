@@ -293,17 +293,10 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
   return restrictOutside(data, ray, r0, r1, closest, g);
 }
 
-// Whether originOutsideClipBall holds for a float ray whose orgError lacks its
-// floatOriginError (orgErrorDeferred), known without that term's square root: the origin
-// lies beyond selfRootRadius2 but within 256 R of the centre (floatOriginNear2), so with
-// u_float <= 2^-24 and a host part at most 2^-13 R the whole bound is at most
-// 2^-13 R + 2^-20 (257 R) (1 + 4 u) < 2^-11 R. (0: a radius outside [2^-400, 2^400],
-// where the scalings might round: the term is then computed.)
+// Whether originOutsideClipBall holds without the deferred term (surelyOutsideClipBall).
 bool surelyOutsideClipBall(const SurfaceData& data, const KernelRay& ray) {
   const glm::dvec3 oc = ray.org - data.centre;
-  const double oc2 = glm::dot(oc, oc);
-  return oc2 > data.selfRootRadius2 && oc2 <= data.floatOriginNear2 && ray.orgRoundoff <= 0x1p-24 &&
-         ray.orgError <= 0x1p-13 * data.radius;
+  return surelyOutsideClipBall(data, glm::dot(oc, oc), ray);
 }
 
 // restrictWhole, for a ray with a deferred orgError too: a camera's primary rays (origin
