@@ -950,8 +950,9 @@ RTCBounds sceneBounds(RTCScene scene) {
 }  // namespace
 
 KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
-                        double tnear, double tfar, double roundoff, double orgError) {
-  return objectRay(data, o, d, tnear, tfar, roundoff, orgError);
+                        double tnear, double tfar, double roundoff, double orgError,
+                        bool deferFloatTerm) {
+  return objectRay(data, o, d, tnear, tfar, roundoff, orgError, deferFloatTerm);
 }
 
 namespace {

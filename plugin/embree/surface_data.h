@@ -160,8 +160,10 @@ struct KernelRay {
 // objectRay, kept static there: measured, an external objectRay cost the quadric path's
 // single rays a quarter of their speed in copies of the returned ray). For tests; the
 // packet lanes of quadric_packet.cpp repeat it for float rays.
+// deferFloatTerm: as the bridge's float rays, with orgErrorDeferred.
 KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
-                        double tnear, double tfar, double roundoff, double orgError);
+                        double tnear, double tfar, double roundoff, double orgError,
+                        bool deferFloatTerm = false);
 
 // The term a float ray's orgError gets for its origin's own rounding (objectRay,
 // embree_bridge.cpp): 16 u_float (|o - c| + R) for its object-space origin o, roundoff its
