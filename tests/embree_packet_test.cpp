@@ -328,6 +328,95 @@ TEST_F(EmbreePacket, QuadricPacketsMatchSingleRays) {
 
 std::uint64_t bits(double f) { return std::bit_cast<std::uint64_t>(f); }
 
+// Every root the kernels offer (walkRoots' accept function).
+bool collectRoot(void* user, const KernelHit& hit) {
+  static_cast<std::vector<KernelHit>*>(user)->push_back(hit);
+  return false;
+}
+
+// The bridge hands float rays to the kernels with the origin's own error term deferred
+// (KernelRay::orgErrorDeferred), added only where a test needs it: the kernels' answers
+// must be those of the whole bound, bit for bit (the quadric path's span, restriction
+// and first root; the generic walk's roots, points and gradients), for cameras near and
+// far, rays leaving the surface inside and outside the clip ball, and transformed
+// surfaces (whose bound has a host part too). The cubic takes the generic walk, the
+// quadrics both (one cell: the quadric path; cells: the walk's quadric branch).
+TEST_F(EmbreePacket, DeferredOriginErrorGivesTheWholeBoundsAnswers) {
+  std::vector<Case> all = cases();
+  const Polynomial x = X(), y = Y(), z = Z();
+  all.push_back({"cubic", x * x * x + y * y * y + z * z * z - x * y * z - Polynomial(0.5),
+                 ClipSphere{{0, 0, 0}, 1.5}, glm::dmat4(1.0)});
+  int quadricRays = 0, rootsSeen = 0, shortcut = 0, covered = 0;
+  for (const Case& c : all) {
+    for (const int depth : {0, 2}) {
+      SCOPED_TRACE(testing::Message() << c.name << " depth " << depth);
+      SurfaceDesc desc{c.f, c.clip, c.transform, {}};
+      desc.options.cellDepth = depth;
+      SurfaceGeometry g(device, desc);
+      const auto& data = *static_cast<const SurfaceData*>(rtcGetGeometryUserData(g.geometry()));
+      findOutsidePoints(c);
+      Scene scene(device);
+      scene.attach(g.geometry());
+      scene.commit();
+      const glm::mat4 world(c.transform);
+      for (const float dist : {3.0f, 30.0f, 1e4f}) {
+        const glm::vec3 eye = glm::vec3(world * glm::vec4(dist * randomDir(), 1));
+        for (int k = 0; k < 150; ++k) {
+          const RTCRay r = randomRay(scene, eye, dist, world);
+          const glm::dvec3 o(r.org_x, r.org_y, r.org_z), d(r.dir_x, r.dir_y, r.dir_z);
+          const KernelRay whole = hostObjectRay(data, o, d, r.tnear, r.tfar, 0x1p-24, 0.0);
+          const KernelRay deferred = hostObjectRay(data, o, d, r.tnear, r.tfar, 0x1p-24, 0.0, true);
+          ASSERT_TRUE(deferred.orgErrorDeferred);
+          ASSERT_EQ(bits(wholeOrgError(data, deferred)), bits(whole.orgError));
+          const glm::dvec3 oc = deferred.org - data.centre;
+          shortcut += surelyOutsideClipBall(data, glm::dot(oc, oc), deferred);
+          covered += data.quadricCellClip && glm::dot(oc, oc) <= data.quadricBox.coveredNear2;
+          if (usesQuadricPath(data)) {
+            ++quadricRays;
+            QuadricSpan qw, qd;
+            const bool fw = quadricSpan(data, whole, qw), fd = quadricSpan(data, deferred, qd);
+            ASSERT_EQ(fw, fd);
+            if (fw) {
+              EXPECT_EQ(qw.g.degree, qd.g.degree);
+              EXPECT_EQ(qw.g.selfRoot, qd.g.selfRoot);
+              EXPECT_EQ(bits(qw.g.tShift), bits(qd.g.tShift));
+              for (int i = 0; i < 3; ++i) {
+                EXPECT_EQ(bits(qw.g.c[i]), bits(qd.g.c[i])) << "c" << i;
+                EXPECT_EQ(bits(qw.g.err[i]), bits(qd.g.err[i])) << "err" << i;
+              }
+              EXPECT_EQ(bits(qw.slo), bits(qd.slo));
+              EXPECT_EQ(bits(qw.shi), bits(qd.shi));
+            }
+            continue;
+          }
+          for (unsigned cell = 0; cell < data.cells.size(); ++cell) {
+            std::vector<KernelHit> hw, hd;
+            for (const bool occlusion : {false, true}) {
+              hw.clear();
+              hd.clear();
+              algray::walkRoots(data, cell, whole, occlusion, &collectRoot, &hw);
+              algray::walkRoots(data, cell, deferred, occlusion, &collectRoot, &hd);
+              ASSERT_EQ(hw.size(), hd.size());
+              rootsSeen += static_cast<int>(hw.size());
+              for (size_t i = 0; i < hw.size(); ++i) {
+                EXPECT_EQ(bits(hw[i].t), bits(hd[i].t));
+                for (int a = 0; a < 3; ++a) {
+                  EXPECT_EQ(bits(hw[i].point[a]), bits(hd[i].point[a]));
+                  EXPECT_EQ(bits(hw[i].gradient[a]), bits(hd[i].gradient[a]));
+                }
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(quadricRays, 3000);
+  EXPECT_GT(rootsSeen, 1000);
+  EXPECT_GT(shortcut, 1000);
+  EXPECT_GT(covered, 1000);  // quadricSpan's shortcut (QuadricBox::coveredNear2)
+}
+
 // The packet lanes' doubles against the scalar kernel's, bit for bit: the object-space
 // ray (hostObjectRay), the span and restriction (quadricSpan), the first root (quadricRoot)
 // and the float u, v at it (surfaceUVFloat), for every lane they decide.

@@ -59,8 +59,10 @@ IntersectContext* instanceDoubleContext(RTCIntersectContext* context, unsigned n
 }
 
 // ---- Rays into object space ------------------------------------------------------------
+// deferFloatTerm: leave a float ray's floatOriginError to the kernels
+// (KernelRay::orgErrorDeferred).
 KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double tnear,
-                    double tfar, double roundoff, double orgError) {
+                    double tfar, double roundoff, double orgError, bool deferFloatTerm = false) {
   KernelRay r;
   r.tnear = tnear;
   r.tfar = tfar;
@@ -98,8 +100,12 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
   // gamma_3 (|o| + |t d|) in float units (pbrt-v4 Sec. 6.8.6) with |o| unknown here. The
   // adapter assumes that ray started within a few object sizes: 16 u_float (|o| + R), R
   // the clip radius. Hosts needing better pass double rays with RayD::orgError.
-  if (roundoff > kUnitRoundoff)
-    r.orgError += 16.0 * roundoff * (glm::length(r.org - data.centre) + data.radius);
+  if (roundoff > kUnitRoundoff) {
+    if (deferFloatTerm)
+      r.orgErrorDeferred = true;
+    else
+      r.orgError += floatOriginError(data, r.org, roundoff);
+  }
   return r;
 }
 
@@ -529,9 +535,11 @@ template <class Args>
   return kr;
 }
 
-// One lane's ray in object space: the double ray of an algray context, else the float ray.
+// One lane's ray in object space: the double ray of an algray context, else the float ray
+// (deferFloatTerm: for the generic walk and the quadric path, see objectRay).
 template <class Args>
-KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L) {
+KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L,
+                  bool deferFloatTerm = false) {
   if (L.dctx) return doubleLaneRay(args, ray, lane, L);
   const unsigned n = args->N;
   const glm::dvec3 o = lanePoint(RTCRayN_org_x(ray, n, lane), RTCRayN_org_y(ray, n, lane),
@@ -539,14 +547,14 @@ KernelRay laneRay(const Args* args, RTCRayN* ray, unsigned lane, Lane& L) {
   const glm::dvec3 d = lanePoint(RTCRayN_dir_x(ray, n, lane), RTCRayN_dir_y(ray, n, lane),
                                  RTCRayN_dir_z(ray, n, lane));
   return objectRay(*L.data, o, d, RTCRayN_tnear(ray, n, lane), RTCRayN_tfar(ray, n, lane),
-                   kFloatRoundoff, 0.0);
+                   kFloatRoundoff, 0.0, deferFloatTerm);
 }
 
 template <class Args>
 bool traceLane(const Args* args, RTCRayN* ray, unsigned lane, bool occlusion, AcceptFn accept) {
   const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
   Lane L{args, data, lane, doubleContext(args->context, args->N), 0.0};
-  const KernelRay kr = laneRay(args, ray, lane, L);
+  const KernelRay kr = laneRay(args, ray, lane, L, true);
   return walkRoots(*data, args->primID, kr, occlusion, accept, &L);
 }
 
@@ -585,15 +593,18 @@ template <bool kOcclusion, class Args>
 void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
   const auto* data = static_cast<const SurfaceData*>(args->geometryUserPtr);
   Lane L{args, data, lane, doubleContext(args->context, args->N), 0.0};
-  const KernelRay kr = laneRay(args, ray, lane, L);
+  const KernelRay kr = laneRay(args, ray, lane, L, true);
   QuadricSpan q;
   double s;
   if (!quadricSpan(*data, kr, q) || !quadricRoot(q, q.slo, s)) return;
   // A first root within the self-root window is the origin's own (selfRootWindow): the
   // roots from the window on.
-  if (q.g.selfRoot && withinSelfRootWindow(kr, s) &&
-      !quadricRoot(q, std::max(q.slo, selfRootWindow(kr)), s))
-    return;
+  if (q.g.selfRoot) {
+    const double orgError = wholeOrgError(*data, kr);
+    if (withinSelfRootWindow(kr, s, orgError) &&
+        !quadricRoot(q, std::max(q.slo, selfRootWindow(kr, orgError)), s))
+      return;
+  }
   offerQuadricRoots<kOcclusion>(L, kr, q, s);
 }
 
@@ -939,8 +950,9 @@ RTCBounds sceneBounds(RTCScene scene) {
 }  // namespace
 
 KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
-                        double tnear, double tfar, double roundoff, double orgError) {
-  return objectRay(data, o, d, tnear, tfar, roundoff, orgError);
+                        double tnear, double tfar, double roundoff, double orgError,
+                        bool deferFloatTerm) {
+  return objectRay(data, o, d, tnear, tfar, roundoff, orgError, deferFloatTerm);
 }
 
 namespace {

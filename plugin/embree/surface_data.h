@@ -43,6 +43,10 @@ struct QuadricBox {
   // covers that passes outside it has no root to report (quadricSpan's early rejection).
   glm::dvec3 ballCentre{0.0};
   double ballRadius2 = std::numeric_limits<double>::infinity();
+  // A float ray with a deferred origin error (KernelRay::orgErrorDeferred) and no host
+  // part (orgError 0) has its whole bound within orgError when |o - centre|^2 is at most
+  // this (0: never; quadricSpan, set by boundedQuadricBox).
+  double coveredNear2 = 0;
 };
 
 // A degree-2 surface as f(x) = x^T A x + b . x + c (A symmetric), for the quadric path of
@@ -112,7 +116,8 @@ struct SurfaceData {
   // re-centring and the scale every relative tolerance of the adapter refers to.
   glm::dvec3 centre{0.0};
   double radius = 1.0;
-  double selfRootRadius2 = 1.0;  // (radius (1 + 2^-9))^2: see restrictQuadricRay
+  double selfRootRadius2 = 1.0;   // (radius (1 + 2^-9))^2: see restrictQuadricRay
+  double floatOriginNear2 = 0.0;  // (256 radius)^2 (0: unused): see surelyOutsideClipBall
   std::vector<SurfaceCell> cells;
   // The cells' grid (they are one level of a regular subdivision of the box around the
   // clip region): box corner, size and cells per axis, and the cell of each grid key.
@@ -141,6 +146,11 @@ struct KernelRay {
   // The float ray Embree traverses with (geometry space), when it differs from this one
   // (the double channel): a root is owned by a cell that Embree can reach.
   bool hasTraversalRay = false;
+  // orgError lacks the float origin's term floatOriginError (the bridge's float rays into
+  // the generic walk and the quadric path, which add it only where a test needs it,
+  // wholeOrgError; its square root cost every primary ray, see surface_intersect.cpp's
+  // restrict).
+  bool orgErrorDeferred = false;
   std::uint64_t trace = 0;  // the double channel's IntersectContext::trace (0: none)
   glm::dvec3 travOrg{0.0}, travDir{0.0};
 };
@@ -150,8 +160,34 @@ struct KernelRay {
 // objectRay, kept static there: measured, an external objectRay cost the quadric path's
 // single rays a quarter of their speed in copies of the returned ray). For tests; the
 // packet lanes of quadric_packet.cpp repeat it for float rays.
+// deferFloatTerm: as the bridge's float rays, with orgErrorDeferred.
 KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
-                        double tnear, double tfar, double roundoff, double orgError);
+                        double tnear, double tfar, double roundoff, double orgError,
+                        bool deferFloatTerm = false);
+
+// The term a float ray's orgError gets for its origin's own rounding (objectRay,
+// embree_bridge.cpp): 16 u_float (|o - c| + R) for its object-space origin o, roundoff its
+// unit roundoff. One expression for the bridge and the walk's deferred form (bit for bit).
+inline double floatOriginError(const SurfaceData& data, const glm::dvec3& o, double roundoff) {
+  return 16.0 * roundoff * (glm::length(o - data.centre) + data.radius);
+}
+
+// A ray's whole orgError (with its deferred term added, KernelRay::orgErrorDeferred).
+inline double wholeOrgError(const SurfaceData& data, const KernelRay& ray) {
+  return ray.orgErrorDeferred ? ray.orgError + floatOriginError(data, ray.org, ray.orgRoundoff)
+                              : ray.orgError;
+}
+
+// Whether originOutsideClipBall holds for a float ray whose orgError lacks its
+// floatOriginError (orgErrorDeferred), known without that term's square root (oc2:
+// |o - centre|^2): the origin lies beyond selfRootRadius2 but within 256 R of the centre
+// (floatOriginNear2), so with u_float <= 2^-24 and a host part at most 2^-13 R the whole
+// bound is at most 2^-13 R + 2^-20 (257 R) (1 + 4 u) < 2^-11 R. (0: a radius outside
+// [2^-400, 2^400], where the scalings might round: the term is then computed.)
+inline bool surelyOutsideClipBall(const SurfaceData& data, double oc2, const KernelRay& ray) {
+  return oc2 > data.selfRootRadius2 && oc2 <= data.floatOriginNear2 && ray.orgRoundoff <= 0x1p-24 &&
+         ray.orgError <= 0x1p-13 * data.radius;
+}
 
 // A candidate root handed to the acceptance callback (the host filter).
 struct KernelHit {
@@ -214,24 +250,27 @@ inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, 
 // can tell from the origin. pbrt-v4 offsets a spawned ray's origin by its error bound for
 // the same reason (Sec. 6.8.6); a legitimate hit that close to the origin is
 // indistinguishable from it.
-inline double selfRootDistance(const KernelRay& ray) {
+// (orgError: the ray's whole bound, for a ray whose orgError is deferred.)
+inline double selfRootDistance(const KernelRay& ray, double orgError) {
   const glm::dvec3& o = ray.org;
-  return 2.0 * (ray.orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)));
+  return 2.0 * (orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)));
 }
-inline double selfRootWindow(const KernelRay& ray) {
-  return selfRootDistance(ray) / std::sqrt(glm::dot(ray.dir, ray.dir));
+inline double selfRootDistance(const KernelRay& ray) { return selfRootDistance(ray, ray.orgError); }
+inline double selfRootWindow(const KernelRay& ray, double orgError) {
+  return selfRootDistance(ray, orgError) / std::sqrt(glm::dot(ray.dir, ray.dir));
 }
+inline double selfRootWindow(const KernelRay& ray) { return selfRootWindow(ray, ray.orgError); }
 // Whether a root s >= 0 lies within that window, without its root and division (the
 // quadric path's shadow rays, where most first roots lie far beyond it: measured, the
 // window computed for every such ray cost the sphere's shadow rays ~10 %).
+inline bool withinSelfRootWindow(const KernelRay& ray, double s, double orgError) {
+  const double dist = selfRootDistance(ray, orgError);
+  return s * s * glm::dot(ray.dir, ray.dir) <= dist * dist;
+}
 inline bool withinSelfRootWindow(const KernelRay& ray, double s) {
   const double dist = selfRootDistance(ray);
   return s * s * glm::dot(ray.dir, ray.dir) <= dist * dist;
 }
-
-// The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                    double& t1);
 
 // The axis-aligned box of a clip region (a sphere's bounding box, or the box itself).
 inline void clipRegionBox(const ClipRegion& clip, glm::dvec3& lo, glm::dvec3& hi) {
@@ -445,6 +484,22 @@ inline bool clipToSphere(const ClipSphere& s, const glm::dvec3& o, const glm::dv
   t0 = std::max(t0, tc - dt);
   t1 = std::min(t1, tc + dt);
   return t0 <= t1;
+}
+
+// The ray's span (t0, t1) inside the clip region (every cell shares it); false if empty.
+// Inline: out of line (in surface_intersect.cpp) it returned t0, t1 through memory, and
+// the walk then built the pair (t0, t1) for its per-thread record from two 8-byte
+// stores with one 16-byte load, a store-forwarding stall on every ray (perf: 19 % of
+// walkRootsOf's samples on the Barth sextic).
+inline bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
+                           double& t0, double& t1) {
+  t0 = -std::numeric_limits<double>::infinity();
+  t1 = std::numeric_limits<double>::infinity();
+  double tc;
+  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip))
+    return clipToSphere(*s, o, d, t0, t1, tc);
+  const auto& b = std::get<ClipBox>(data.desc.clip);
+  return clipToBox(b.lo, b.hi, o, d, t0, t1);
 }
 
 // The self-root rule's division by s (surface_intersect.cpp): g(0) = 0 is removed from

@@ -338,6 +338,10 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
     boxHi = b.hi;
   }
   data->selfRootRadius2 = (data->radius * (1.0 + 0x1p-9)) * (data->radius * (1.0 + 0x1p-9));
+  // (256 R)^2, exact scalings of R^2 (rounded once) within this range of R; else 0: the
+  // walk's shortcut for deferred float origin errors is off (surelyOutsideClipBall).
+  const bool normalRange = data->radius >= 0x1p-400 && data->radius <= 0x1p400;
+  data->floatOriginNear2 = normalRange ? 65536.0 * (data->radius * data->radius) : 0.0;
   // The Frobenius norm bounds A's spectral norm; 2^-20 covers the rounding of both.
   data->worldCentre = data->a * data->centre + data->b;
   const double normA =

@@ -132,7 +132,8 @@ struct OriginValue {
 static_assert(std::is_trivially_destructible_v<OriginValue>);
 thread_local OriginValue tlsOriginValue;
 
-bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
+// orgError: the ray's whole bound (with a deferred float term added).
+bool originOnSurface(const SurfaceData& data, const KernelRay& ray, double orgError) {
   OriginValue& v = tlsOriginValue;
   if (v.id != data.id || v.org != ray.org) {
     v.id = 0;
@@ -148,9 +149,9 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray) {
   // A float ray's origin is exact (orgError = 0): no length, whose square root and
   // divisions were the largest single cost of a shadow ray leaving a quadric.
   double move = ray.orgRoundoff * v.gradDotOrg;
-  if (ray.orgError != 0.0) {
+  if (orgError != 0.0) {
     if (v.gradLength < 0) v.gradLength = safeLength(v.gradient);
-    move += v.gradLength * ray.orgError;
+    move += v.gradLength * orgError;
   }
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
@@ -210,6 +211,7 @@ struct RayRoots {
   std::uint64_t id = 0;
   glm::dvec3 org{0.0}, dir{0.0};
   double orgRoundoff = 0, orgError = 0;
+  bool orgErrorDeferred = false;
   RayPolynomial g;
   double r0 = 0, r1 = 0;    // the region span in t
   double slo = 0, shi = 0;  // the same in s
@@ -233,23 +235,48 @@ thread_local RayRoots tlsRayRoots;
 // expansion point's distance from it; about an off-centre box's centre (-2.05, 0.24, -0.41)
 // Chmutov-16's hits were 2e-3 box radii off. For a clip region centred on the origin (the
 // gallery, every --clip-sphere) the two points are the same.
+// closest: that parameter, closestParameter(o, d, 0), when the walk has it from its clip
+// sphere (regionSpan), which holds it in [r0, r1] already (NaN: not). Taken from there,
+// the restriction no longer waits for the chord's square root, on which r0 and r1 and so
+// the clamp depend (measured below, at walkRootsOf).
 void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0,
-                       double r1, RayPolynomial& g) {
-  const double tShift = data.desc.options.recentre
-                            ? std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1)
-                            : 0.0;
+                       double r1, RayPolynomial& g,
+                       double closest = std::numeric_limits<double>::quiet_NaN()) {
+  double tShift = 0.0;
+  if (data.desc.options.recentre)
+    tShift =
+        closest == closest ? closest : std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1);
   restrictToRay(data.horner, o, d, tShift, g);
 }
 
+// From an origin outside the clip ball (no self-root rule): from the origin cache or
+// re-centred.
+CacheEntry* restrictOutside(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                            double closest, RayPolynomial& g) {
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  if (CacheEntry* entry = data.desc.options.originCache ? cachedExpansion(data, o) : nullptr) {
+    entry->expansion.restrict(d, g);
+    return entry;
+  }
+  restrictRecentred(data, o, d, r0, r1, g, closest);
+  return nullptr;
+}
+
 // Returns the cache entry when g came from it; selfWindow > 0 when the self-root rule
-// divided out the origin's root (selfRootWindow), else 0.
-CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
-                     RayPolynomial& g, double& selfWindow) {
+// divided out the origin's root (selfRootWindow), else 0. orgError: the ray's whole bound
+// (ray.orgError, with a deferred float term added).
+CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double orgError, double r0,
+                          double r1, double closest, RayPolynomial& g, double& selfWindow) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   selfWindow = 0.0;
   if (data.quadric) {
-    if (restrictQuadric(data, ray, r0, r1, g)) selfWindow = selfRootWindow(ray);
+    // (A quadric in cells: the quadric path's functions read the bound from the ray.)
+    KernelRay whole = ray;
+    whole.orgError = orgError;
+    whole.orgErrorDeferred = false;
+    if (restrictQuadric(data, whole, r0, r1, g)) selfWindow = selfRootWindow(whole);
     return nullptr;
   }
   // Outside the clip ball (originOutsideClipBall, as the quadric path) the self-root rule
@@ -257,18 +284,36 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
   // high-degree f is "on the surface within rounding" whenever f's expansion cancels more
   // digits there than f(o) has (a random degree-16 surface seen from 3.5 radii), and the
   // deflated polynomial, expanded about that far origin, lost the ray's real roots.
-  if (!originOutsideClipBall(data, o, ray.orgError) && originOnSurface(data, ray)) {
+  if (!originOutsideClipBall(data, o, orgError) && originOnSurface(data, ray, orgError)) {
     restrictToRay(data.horner, o, d, 0.0, g);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
-    selfWindow = selfRootWindow(ray);
+    selfWindow = selfRootWindow(ray, orgError);
     return nullptr;
   }
-  if (CacheEntry* entry = data.desc.options.originCache ? cachedExpansion(data, o) : nullptr) {
-    entry->expansion.restrict(d, g);
-    return entry;
+  return restrictOutside(data, ray, r0, r1, closest, g);
+}
+
+// Whether originOutsideClipBall holds without the deferred term (surelyOutsideClipBall).
+bool surelyOutsideClipBall(const SurfaceData& data, const KernelRay& ray) {
+  const glm::dvec3 oc = ray.org - data.centre;
+  return surelyOutsideClipBall(data, glm::dot(oc, oc), ray);
+}
+
+// restrictWhole, for a ray with a deferred orgError too: a camera's primary rays (origin
+// outside the clip ball) never need the term, other rays get it here (bit for bit the
+// bridge's, floatOriginError). Measured (speed_report, one thread, interleaved): computed
+// for every float ray in the bridge, its square root cost the Barth sextic's primary rays
+// 2-3 % (2.85 -> 2.92-2.94 Mrays/s deferred).
+CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                     double closest, RayPolynomial& g, double& selfWindow) {
+  if (!ray.orgErrorDeferred)
+    return restrictWhole(data, ray, ray.orgError, r0, r1, closest, g, selfWindow);
+  if (!data.quadric && surelyOutsideClipBall(data, ray)) {
+    selfWindow = 0.0;
+    return restrictOutside(data, ray, r0, r1, closest, g);
   }
-  restrictRecentred(data, o, d, r0, r1, g);
-  return nullptr;
+  const double orgError = ray.orgError + floatOriginError(data, ray.org, ray.orgRoundoff);
+  return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow);
 }
 
 // The solver's options for a clip-region span: its start is the region's boundary, not a
@@ -385,16 +430,18 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
   }
 }
 
-RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1) {
+RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                   double closest) {
   RayRoots& rr = tlsRayRoots;
   if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir &&
-      rr.orgRoundoff == ray.orgRoundoff && rr.orgError == ray.orgError && rr.tnear == ray.tnear)
+      rr.orgRoundoff == ray.orgRoundoff && rr.orgError == ray.orgError && rr.tnear == ray.tnear &&
+      rr.orgErrorDeferred == ray.orgErrorDeferred)
     return rr;
   rr.id = 0;  // invalid until complete (restriction may throw)
   rr.r0 = r0;
   rr.r1 = r1;
   rr.tnear = ray.tnear;
-  CacheEntry* entry = restrict(data, ray, r0, r1, rr.g, rr.selfWindow);
+  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
     ++entry->failures;
@@ -427,6 +474,7 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   rr.dir = ray.dir;
   rr.orgRoundoff = ray.orgRoundoff;
   rr.orgError = ray.orgError;
+  rr.orgErrorDeferred = ray.orgErrorDeferred;
   rr.id = data.id;
   return rr;
 }
@@ -566,17 +614,6 @@ Claim claimsRoot(const SurfaceData& data, unsigned cell, const glm::dvec3& p, co
 
 }  // namespace
 
-bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                    double& t1) {
-  t0 = -kInf;
-  t1 = kInf;
-  double tc;
-  if (const auto* s = std::get_if<ClipSphere>(&data.desc.clip))
-    return clipToSphere(*s, o, d, t0, t1, tc);
-  const auto& b = std::get<ClipBox>(data.desc.clip);
-  return clipToBox(b.lo, b.hi, o, d, t0, t1);
-}
-
 void surfaceUV(const SurfaceData& data, const glm::dvec3& point, double& u, double& v) {
   constexpr double kPi = 3.14159265358979323846;
   const glm::dvec3 r = point - data.centre;
@@ -706,19 +743,44 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 
 namespace {
 
+// clipRegionSpan, and closest: closestParameter(o, d, 0) for restrictRecentred when the
+// clip region is a sphere centred on the object-space origin (the gallery's), else NaN.
+// clipToSphere's tc is that value bit for bit: with the centre 0, o - 0 = o, and
+// dot(0 - o, d) is -dot(o, d) exactly but for the sign of a zero sum (0 - o_i is +0 where
+// -o_i is -0), so a zero tc is left to closestParameter. It lies in [t0, t1] =
+// [tc - dt, tc + dt] (dt >= 0 or NaN, and t0, t1 start unbounded), where the clamp of
+// restrictRecentred keeps it.
+inline bool regionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
+                       double& t0, double& t1, double& closest) {
+  closest = std::numeric_limits<double>::quiet_NaN();
+  const auto* s = std::get_if<ClipSphere>(&data.desc.clip);
+  if (!s) return clipRegionSpan(data, o, d, t0, t1);
+  t0 = -kInf;
+  t1 = kInf;
+  double tc;
+  if (!clipToSphere(*s, o, d, t0, t1, tc)) return false;
+  if (tc != 0.0 && s->center == glm::dvec3(0.0)) closest = tc;
+  return true;
+}
+
 bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, bool occlusion,
                  AcceptFn accept, void* user) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   // ---- Input: non-finite or degenerate rays have no hit (and must not hang) ----------
+  // (A deferred orgError, the bridge's, is >= 0 or NaN, and its floatOriginError >= 0
+  // for a finite origin: the whole bound passes this test exactly when it does.)
   if (!finite(o) || !finite(d) || std::isnan(ray.tnear) || std::isnan(ray.tfar) ||
       !(ray.orgError >= 0.0))
     return false;
   if (!(glm::dot(d, d) > 0.0) || !(ray.tnear < ray.tfar)) return false;
 
   // ---- 1. Span: clip region, then the cell (closed, widened for rounding) -------------
-  double r0, r1;
-  if (!clipRegionSpan(data, o, d, r0, r1)) return false;
+  // (closest: the re-centring point from the clip sphere's chord, regionSpan; measured,
+  // speed_report one thread, interleaved: Barth sextic primary 2.83 -> 2.85 Mrays/s,
+  // Sarti dodecic 0.941 -> 0.952.)
+  double r0, r1, closest;
+  if (!regionSpan(data, o, d, r0, r1, closest)) return false;
   const SurfaceCell& box = data.cells[cell];
   double c0 = r0, c1 = r1;
   if (!clipToBox(box.lo, box.hi, o, d, c0, c1, true)) return false;
@@ -728,7 +790,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
   // ---- 2. Restriction and roots (shared by all cells the ray visits) -------------------
   // The per-thread record, re-derived if the host filter called below traced rays of its
   // own on this thread and so replaced it (the same computation gives the same roots).
-  auto current = [&]() -> RayRoots& { return rayRoots(data, ray, r0, r1); };
+  auto current = [&]() -> RayRoots& { return rayRoots(data, ray, r0, r1, closest); };
 
   // ---- 3. The cell's roots in order, offered to the host filter -------------------------
   // A root belongs to the cell whose grid box holds its point (claimsRoot), which the
