@@ -294,6 +294,12 @@ class EmbreePacket : public ::testing::Test {
   }
 };
 
+// The adapter's record of a surface alone in its scene (the kernel-level tests below call
+// the kernels on it directly).
+const SurfaceData& surfaceData(const SurfaceScene& s) {
+  return *static_cast<const SurfaceData*>(rtcGetGeometryUserData(s.geometry.geometry()));
+}
+
 TEST_F(EmbreePacket, QuadricPacketsMatchSingleRays) {
   int lanes = 0, hits = 0;
   for (const Case& c : cases()) {
@@ -352,12 +358,9 @@ TEST_F(EmbreePacket, DeferredOriginErrorGivesTheWholeBoundsAnswers) {
       SCOPED_TRACE(testing::Message() << c.name << " depth " << depth);
       SurfaceDesc desc{c.f, c.clip, c.transform, {}};
       desc.options.cellDepth = depth;
-      SurfaceGeometry g(device, desc);
-      const auto& data = *static_cast<const SurfaceData*>(rtcGetGeometryUserData(g.geometry()));
+      const SurfaceScene scene(device, desc);
+      const auto& data = surfaceData(scene);
       findOutsidePoints(c);
-      Scene scene(device);
-      scene.attach(g.geometry());
-      scene.commit();
       const glm::mat4 world(c.transform);
       for (const float dist : {3.0f, 30.0f, 1e4f}) {
         const glm::vec3 eye = glm::vec3(world * glm::vec4(dist * randomDir(), 1));
@@ -426,13 +429,10 @@ TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
     SCOPED_TRACE(c.name);
     SurfaceDesc desc{c.f, c.clip, c.transform, {}};
     desc.options.cellDepth = 0;
-    SurfaceGeometry g(device, desc);
-    const auto& data = *static_cast<const SurfaceData*>(rtcGetGeometryUserData(g.geometry()));
+    const SurfaceScene scene(device, desc);
+    const auto& data = surfaceData(scene);
     if (!usesQuadricPacket(data)) continue;
     findOutsidePoints(c);
-    Scene scene(device);
-    scene.attach(g.geometry());
-    scene.commit();
     const glm::mat4 world(c.transform);
     for (const float dist : {3.0f, 30.0f, 1e4f}) {
       const glm::vec3 eye = glm::vec3(world * glm::vec4(dist * randomDir(), 1));
