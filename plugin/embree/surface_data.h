@@ -268,8 +268,7 @@ inline bool withinSelfRootWindow(const KernelRay& ray, double s, double orgError
   return s * s * glm::dot(ray.dir, ray.dir) <= dist * dist;
 }
 inline bool withinSelfRootWindow(const KernelRay& ray, double s) {
-  const double dist = selfRootDistance(ray);
-  return s * s * glm::dot(ray.dir, ray.dir) <= dist * dist;
+  return withinSelfRootWindow(ray, s, ray.orgError);
 }
 
 // The axis-aligned box of a clip region (a sphere's bounding box, or the box itself).
