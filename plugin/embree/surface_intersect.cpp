@@ -312,7 +312,7 @@ CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, d
     selfWindow = 0.0;
     return restrictOutside(data, ray, r0, r1, closest, g);
   }
-  const double orgError = ray.orgError + floatOriginError(data, ray.org, ray.orgRoundoff);
+  const double orgError = wholeOrgError(data, ray);
   return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow);
 }
 
