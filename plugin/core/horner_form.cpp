@@ -152,7 +152,8 @@ struct Nested {
 };
 
 template <class Groups>
-inline Nested nestedHorner(const Groups& g, double x, double y, double z) {
+__attribute__((always_inline)) inline Nested nestedHorner(const Groups& g, double x, double y,
+                                                          double z) {
   // Horner with derivatives: (v, dv) <- (v t + c, dv t + v) is v(t) and v'(t) of the level
   // polynomial (Higham, Alg. 5.2 with k = 1); the y- and z-derivatives of the inner levels
   // are carried as coefficients of the outer ones. The *a variables run the bound's scheme.
@@ -406,7 +407,8 @@ bool HornerForm::reducedApplies(const glm::dvec3& p) const {
 // Gradient: df/dx = 2 x F_X(X^) on an even axis (the chain rule; 2 x is exact), F_X from
 // the same derivative recurrences; it needs no bound, and its terms carry at most
 // N + 1 roundings, about those of f's own box.
-Polynomial::Evaluation HornerForm::evaluateReduced(const glm::dvec3& p) const {
+__attribute__((noinline)) Polynomial::Evaluation HornerForm::evaluateReduced(
+    const glm::dvec3& p) const {
   const double sq[3] = {p.x * p.x, p.y * p.y, p.z * p.z};
   double q[3];
   for (int a = 0; a < 3; ++a) q[a] = (evenAxes_ >> a & 1u) != 0 ? sq[a] : p[a];
