@@ -361,11 +361,24 @@ TEST(HornerFormEvenAxes, DetectedPerAxis) {
   // The classic even surfaces of the gallery.
   for (const char* name : {"sphere", "barth-sextic", "sarti-dodecic", "chmutov-8"})
     EXPECT_EQ(HornerForm(findGallerySurface(name)->build()).evenAxes(), 7u) << name;
-  for (const GallerySurface& s : gallery())
-    std::printf("%-22s even axes %s%s%s\n", std::string(s.name).c_str(),
-                (HornerForm(s.build()).evenAxes() & 1u) ? "x" : "-",
-                (HornerForm(s.build()).evenAxes() & 2u) ? "y" : "-",
-                (HornerForm(s.build()).evenAxes() & 4u) ? "z" : "-");
+  // Printed: the even axes of every gallery surface and the sizes of the two boxes (F's
+  // built here from f's monomials with the even exponents halved).
+  for (const GallerySurface& s : gallery()) {
+    const Polynomial f = s.build();
+    const unsigned even = HornerForm(f).evenAxes();
+    Polynomial reduced;
+    for (int n = 0; n <= f.degree(); ++n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+        const int e[3] = {i, j, k};
+        int r[3];
+        for (int a = 0; a < 3; ++a) r[a] = (even >> a & 1u) ? e[a] / 2 : e[a];
+        if (f.coeffs()[idx] != 0.0) reduced.setCoeff(r[0], r[1], r[2], f.coeffs()[idx]);
+      });
+    std::printf("%-16s even axes %c%c%c, box of f %3d slots, of F %3d\n",
+                std::string(s.name).c_str(), (even & 1u) ? 'x' : '-', (even & 2u) ? 'y' : '-',
+                (even & 4u) ? 'z' : '-', HornerForm(f).coefficientCount(),
+                HornerForm(reduced).coefficientCount());
+  }
 }
 
 // The claims on the even form against MPFR: |computed - exact| <= valueError, the

@@ -13,6 +13,10 @@
 // row. A separable surface (Chmutov: T(x) + T(y) + T(z)) then costs ~3(m+1) coefficients
 // instead of the (m+1)(m+2)(m+3)/6 of the dense graded storage, with no sparse index.
 //
+// Even axes: when every exponent of x (y, z) is even, evaluate() runs the same scheme on
+// F(X, y, z) = f(x, y, z), X = x^2, over F's own box (about half the blocks or rows or
+// slots per even axis: Sarti's dodecic 84 instead of 167), with its own rigorous bound.
+//
 // Cost per evaluation: no heap allocation; 6 flops per stored coefficient, 8 per row,
 // 10 per block. Measured against Polynomial::evaluateWithBound in
 // tests/bench/polynomial_bench.cpp (BM_PointEval*).

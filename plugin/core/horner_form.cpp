@@ -381,7 +381,8 @@ bool HornerForm::reducedApplies(const glm::dvec3& p) const {
 // When every exponent of x is even, f(x, y, z) = F(X, y, z) with X = x^2, and F has half
 // the x-degree: the box of F has about half the x-blocks (and likewise for y, z-rows for
 // z), where f's own box carries the zero odd blocks, rows and slots and spends a
-// multiply-add on each. Sarti's dodecic: 167 slots in f's box, 56 in F's.
+// multiply-add on each. Slots in the two boxes: Sarti's dodecic 167 and 84, the Barth sextic
+// 33 and 17, Chmutov-16 49 and 25 (HornerFormEvenAxes.DetectedPerAxis prints the gallery).
 //
 // Bound. Write a slot of F's box as (a, b, c), its coefficient C, its monomial in f
 // x^{e_x a} y^{e_y b} z^{e_z c} with e = 2 on an even axis and 1 on the others. On an
