@@ -343,6 +343,11 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
 }
 
 Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
+  // The even form (evaluateReduced) out of line, f's own box inlined here as before: with
+  // nestedHorner called from both paths (out of line, or inlined twice: two scratch
+  // frames), a polynomial with no even axis measured 4-5 % slower (polynomial_bench,
+  // medians of 5 interleaved pairs: dense degree 10 172 -> 180 ns, 20 805 -> 834); as
+  // here, 168 -> 169 and 782 -> 785 (7 pairs).
   if (evenAxes_ != 0 && reducedApplies(p)) [[likely]]
     return evaluateReduced(p);
   Polynomial::Evaluation e;
@@ -408,6 +413,14 @@ bool HornerForm::reducedApplies(const glm::dvec3& p) const {
 // Gradient: df/dx = 2 x F_X(X^) on an even axis (the chain rule; 2 x is exact), F_X from
 // the same derivative recurrences; it needs no bound, and its terms carry at most
 // N + 1 roundings, about those of f's own box.
+//
+// Measured (AMD EPYC Zen 3, AVX2; polynomial_bench BM_EvalNew, ns, medians of 7
+// interleaved pairs): Sarti's dodecic 147 -> 71.3, Barth decic 96.4 -> 51.0, Chmutov-16
+// 110 -> 56.5, Endrass octic 77.4 -> 42.7, Barth sextic 41.0 -> 27.0, torus 33.8 -> 25.8,
+// Kummer (x, y even) 33.8 -> 26.6; SSE2 kernels: Sarti 177 -> 84.5. speed_report, one
+// thread, Mrays/s, medians of 5 pairs: Sarti primary 0.948 -> 1.03, shadow 0.840 -> 0.944
+// (shadow rays evaluate f at their origin on the surface); Barth sextic primary
+// 3.01 -> 3.02, shadow 2.28 -> 2.37.
 __attribute__((noinline)) Polynomial::Evaluation HornerForm::evaluateReduced(
     const glm::dvec3& p) const {
   const double sq[3] = {p.x * p.x, p.y * p.y, p.z * p.z};
