@@ -526,6 +526,26 @@ TEST(HornerForm, BoundsHoldUnderFlushToZero) {
 #endif
 }
 
+// NaN and inf on any axis, even or not, give a non-finite value, bound and gradient (they
+// run f's own box), for every parity subset.
+TEST(HornerFormEvenAxes, NonFiniteInputGivesNonFiniteOutput) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::mt19937_64 rng(41);
+  for (unsigned mask = 0; mask < 8; ++mask)
+    for (int m : {2, 6, 13}) {
+      const HornerForm h(evenPolynomial(rng, mask, m, -1.0, 1.0));
+      for (int axis = 0; axis < 3; ++axis)
+        for (double v : {std::numeric_limits<double>::quiet_NaN(), kInf, -kInf}) {
+          glm::dvec3 p(0.25, -0.5, 0.75);
+          p[axis] = v;
+          const auto e = h.evaluate(p);
+          EXPECT_FALSE(std::isfinite(e.value)) << "mask " << mask << " axis " << axis;
+          EXPECT_FALSE(std::isfinite(e.valueError)) << "mask " << mask << " axis " << axis;
+          EXPECT_FALSE(std::isfinite(e.gradient.x + e.gradient.y + e.gradient.z));
+        }
+    }
+}
+
 // The even form under flush-to-zero / denormals-are-zero and gradual underflow alike:
 // random even polynomials (every parity subset) with coefficients from 1e-300 to 1e300
 // at points from 1e-150 to 1e150 (squares underflowing, overflowing and in range), zero
