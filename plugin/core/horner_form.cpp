@@ -418,9 +418,10 @@ bool HornerForm::reducedApplies(const glm::dvec3& p) const {
 // interleaved pairs): Sarti's dodecic 147 -> 71.3, Barth decic 96.4 -> 51.0, Chmutov-16
 // 110 -> 56.5, Endrass octic 77.4 -> 42.7, Barth sextic 41.0 -> 27.0, torus 33.8 -> 25.8,
 // Kummer (x, y even) 33.8 -> 26.6; SSE2 kernels: Sarti 177 -> 84.5. speed_report, one
-// thread, Mrays/s, medians of 5 pairs: Sarti primary 0.948 -> 1.03, shadow 0.840 -> 0.944
+// thread, Mrays/s, medians of 8 pairs: Sarti primary 0.958 -> 1.02, shadow 0.847 -> 0.930
 // (shadow rays evaluate f at their origin on the surface); Barth sextic primary
-// 3.01 -> 3.02, shadow 2.28 -> 2.37.
+// 3.01 -> 3.03, shadow 2.29 -> 2.34. Not kept: four row groups interleaved in zRowsAvx2
+// instead of two (Sarti 71.3 -> 76.6 ns, dense degree 10 172 -> 182, 5 pairs).
 __attribute__((noinline)) Polynomial::Evaluation HornerForm::evaluateReduced(
     const glm::dvec3& p) const {
   const double sq[3] = {p.x * p.x, p.y * p.y, p.z * p.z};
