@@ -67,6 +67,25 @@ std::vector<Polynomial> polynomials(std::mt19937_64& rng) {
       f.setCoeff(0, 0, m, 1.0);  // keep the degree
       polys.push_back(f);
     }
+  // Even in every subset of the axes (HornerForm::evaluate runs F(x^2, y, z) etc.).
+  for (unsigned mask = 1; mask < 8; ++mask)
+    for (int m : {4, 10, 16}) {
+      Polynomial f;
+      for (int n = 0; n <= m; ++n)
+        forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+          const int e[3] = {i, j, k};
+          for (int a = 0; a < 3; ++a)
+            if ((mask >> a & 1u) && e[a] % 2) return;
+          if (u(rng) < 0.6) f.setCoeff(i, j, k, wild(rng));
+        });
+      for (int a = 0; a < 3; ++a) {
+        int e[3] = {0, 0, 0};
+        e[a] = (mask >> a & 1u) ? m : 1;
+        f.setCoeff(e[0], e[1], e[2], 1.0);  // every axis decided, the degree kept
+      }
+      EXPECT_EQ(HornerForm(f).evenAxes(), mask);
+      polys.push_back(f);
+    }
   return polys;
 }
 

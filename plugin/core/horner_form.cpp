@@ -1,8 +1,10 @@
 #include "algray/horner_form.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <span>
 
@@ -143,77 +145,15 @@ __attribute__((noinline)) void zRowsAvx2(const GroupSlot* s, const std::uint16_t
 #pragma GCC pop_options
 #endif
 
-}  // namespace
+// The nested scheme over a box in row groups (HornerForm::evaluate, which explains it) at
+// (x, y, z): the value, the three partial derivatives and the magnitude scheme's value.
+struct Nested {
+  double f, fx, fy, fz, fa;
+};
 
-HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
-  // The zero polynomial is stored as one zero coefficient, so that it too turns a
-  // non-finite point into NaN (0 * inf) instead of a clean 0.
-  const int m = std::max(degree_, 0);
-  const double g = gamma(2 * m + 3);
-  errorFactor_ = g / (1.0 - g) * kSlack;
-  // Highest i with a non-zero block, highest j per block, highest k per row: the box.
-  int topI = 0;
-  for (int i = 0; i <= m; ++i)
-    for (int j = 0; i + j <= m; ++j)
-      for (int k = 0; i + j + k <= m; ++k)
-        if (f.coeff(i, j, k) != 0.0) topI = std::max(topI, i);
-  for (int i = topI; i >= 0; --i) {
-    int topJ = 0;
-    for (int j = 0; i + j <= m; ++j)
-      for (int k = 0; i + j + k <= m; ++k)
-        if (f.coeff(i, j, k) != 0.0) topJ = std::max(topJ, j);
-    // Every block keeps at least one row and every row one slot (possibly a zero
-    // coefficient): the multiplication by x (or y) that passes it can underflow, and its
-    // slot must carry kUnderflowFloor.
-    blockRows_.push_back(static_cast<std::uint8_t>(topJ + 1));
-    for (int j = topJ; j >= 0; --j) {
-      int topK = 0;
-      for (int k = 0; i + j + k <= m; ++k)
-        if (f.coeff(i, j, k) != 0.0) topK = k;
-      rowLength_.push_back(static_cast<std::uint8_t>(topK + 1));
-      for (int k = topK; k >= 0; --k) {
-        const double c = f.coeff(i, j, k);
-        slots_.push_back({c, std::abs(c) + kUnderflowFloor});
-        signedTerms_.push_back({c, std::abs(c)});
-        absCoeffSum_ += std::abs(c);
-      }
-    }
-  }
-  // The rows in groups of four of similar length (evaluate): row starts in slots_, the
-  // rows by decreasing length (ties in order), then each group's padded positions. A
-  // group short of four rows repeats its last row in the spare lanes (computed twice,
-  // stored once more: the same value).
-  const std::size_t rows = rowLength_.size();
-  std::vector<std::size_t> start(rows + 1, 0);
-  for (std::size_t r = 0; r < rows; ++r) start[r + 1] = start[r] + rowLength_[r];
-  std::vector<std::uint16_t> order(rows);
-  for (std::size_t r = 0; r < rows; ++r) order[r] = static_cast<std::uint16_t>(r);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::uint16_t a, std::uint16_t b) { return rowLength_[a] > rowLength_[b]; });
-  for (std::size_t g0 = 0; g0 < rows; g0 += 4) {
-    std::uint16_t lane[4];
-    for (std::size_t l = 0; l < 4; ++l) lane[l] = order[std::min(g0 + l, rows - 1)];
-    const int len = rowLength_[lane[0]];
-    groupLength_.push_back(static_cast<std::uint8_t>(len));
-    for (const std::uint16_t r : lane) groupRows_.push_back(r);
-    for (int k = 0; k < len; ++k) {
-      GroupSlot p{{0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
-      for (int l = 0; l < 4; ++l) {
-        const int lenL = rowLength_[lane[l]];
-        if (k < len - lenL) continue;
-        const Slot& slot = slots_[start[lane[l]] + static_cast<std::size_t>(k - (len - lenL))];
-        p.c[l] = slot.c;
-        p.absC[l] = slot.absC;
-      }
-      groupSlots_.push_back(p);
-    }
-  }
-}
-
-Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
-  Polynomial::Evaluation e;
-  const double x = p.x, y = p.y, z = p.z;
-  const double ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
+template <class Groups>
+__attribute__((always_inline)) inline Nested nestedHorner(const Groups& g, double x, double y,
+                                                          double z) {
   // Horner with derivatives: (v, dv) <- (v t + c, dv t + v) is v(t) and v'(t) of the level
   // polynomial (Higham, Alg. 5.2 with k = 1); the y- and z-derivatives of the inner levels
   // are carried as coefficients of the outer ones. The *a variables run the bound's scheme.
@@ -243,13 +183,14 @@ Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
   double rq[kMaxRows], rqz[kMaxRows], rqa[kMaxRows];
 #if ALGRAY_CORE_AVX2
   if (core_isa::active() == core_isa::Isa::kAvx2)
-    zRowsAvx2(groupSlots_.data(), groupRows_.data(), groupLength_, z, rq, rqz, rqa);
+    zRowsAvx2(g.slots.data(), g.rows.data(), g.length, z, rq, rqz, rqa);
   else
 #endif
-    zRows(groupSlots_.data(), groupRows_.data(), groupLength_, z, rq, rqz, rqa);
+    zRows(g.slots.data(), g.rows.data(), g.length, z, rq, rqz, rqa);
+  const double ax = std::abs(x), ay = std::abs(y);
   double f = 0.0, fx = 0.0, fy = 0.0, fz = 0.0, fa = 0.0;
   std::size_t r = 0;
-  for (const std::uint8_t blockRows : blockRows_) {
+  for (const std::uint8_t blockRows : g.blockRows) {
     double b = 0.0, by = 0.0, bz = 0.0, ba = 0.0;
     for (const std::size_t end = r + blockRows; r != end; ++r) {
       by = by * y + b;
@@ -263,10 +204,160 @@ Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
     fz = fz * x + bz;
     fa = fa * ax + ba;
   }
-  e.value = f;
-  e.gradient = {fx, fy, fz};
-  e.magnitude = fa;
-  e.valueError = errorFactor_ * fa;
+  return {f, fx, fy, fz, fa};
+}
+
+}  // namespace
+
+void HornerForm::buildBox(const Polynomial& f, int m, std::vector<Slot>& slots,
+                          std::vector<std::uint8_t>& rowLength,
+                          std::vector<std::uint8_t>& blockRows) {
+  // Highest i with a non-zero block, highest j per block, highest k per row: the box.
+  int topI = 0;
+  for (int i = 0; i <= m; ++i)
+    for (int j = 0; i + j <= m; ++j)
+      for (int k = 0; i + j + k <= m; ++k)
+        if (f.coeff(i, j, k) != 0.0) topI = std::max(topI, i);
+  for (int i = topI; i >= 0; --i) {
+    int topJ = 0;
+    for (int j = 0; i + j <= m; ++j)
+      for (int k = 0; i + j + k <= m; ++k)
+        if (f.coeff(i, j, k) != 0.0) topJ = std::max(topJ, j);
+    // Every block keeps at least one row and every row one slot (possibly a zero
+    // coefficient): the multiplication by x (or y) that passes it can underflow, and its
+    // slot must carry kUnderflowFloor.
+    blockRows.push_back(static_cast<std::uint8_t>(topJ + 1));
+    for (int j = topJ; j >= 0; --j) {
+      int topK = 0;
+      for (int k = 0; i + j + k <= m; ++k)
+        if (f.coeff(i, j, k) != 0.0) topK = k;
+      rowLength.push_back(static_cast<std::uint8_t>(topK + 1));
+      for (int k = topK; k >= 0; --k) {
+        const double c = f.coeff(i, j, k);
+        slots.push_back({c, std::abs(c) + kUnderflowFloor});
+      }
+    }
+  }
+}
+
+HornerForm::Groups HornerForm::buildGroups(std::span<const Slot> slots,
+                                           std::span<const std::uint8_t> rowLength,
+                                           std::span<const std::uint8_t> blockRows) {
+  // The rows in groups of four of similar length (evaluate): row starts in slots, the
+  // rows by decreasing length (ties in order), then each group's padded positions. A
+  // group short of four rows repeats its last row in the spare lanes (computed twice,
+  // stored once more: the same value).
+  Groups out;
+  out.blockRows.assign(blockRows.begin(), blockRows.end());
+  const std::size_t rows = rowLength.size();
+  std::vector<std::size_t> start(rows + 1, 0);
+  for (std::size_t r = 0; r < rows; ++r) start[r + 1] = start[r] + rowLength[r];
+  std::vector<std::uint16_t> order(rows);
+  for (std::size_t r = 0; r < rows; ++r) order[r] = static_cast<std::uint16_t>(r);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint16_t a, std::uint16_t b) { return rowLength[a] > rowLength[b]; });
+  for (std::size_t g0 = 0; g0 < rows; g0 += 4) {
+    std::uint16_t lane[4];
+    for (std::size_t l = 0; l < 4; ++l) lane[l] = order[std::min(g0 + l, rows - 1)];
+    const int len = rowLength[lane[0]];
+    out.length.push_back(static_cast<std::uint8_t>(len));
+    for (const std::uint16_t r : lane) out.rows.push_back(r);
+    for (int k = 0; k < len; ++k) {
+      GroupSlot p{{0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
+      for (int l = 0; l < 4; ++l) {
+        const int lenL = rowLength[lane[l]];
+        if (k < len - lenL) continue;
+        const Slot& slot = slots[start[lane[l]] + static_cast<std::size_t>(k - (len - lenL))];
+        p.c[l] = slot.c;
+        p.absC[l] = slot.absC;
+      }
+      out.slots.push_back(p);
+    }
+  }
+  return out;
+}
+
+HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
+  // The zero polynomial is stored as one zero coefficient, so that it too turns a
+  // non-finite point into NaN (0 * inf) instead of a clean 0.
+  const int m = std::max(degree_, 0);
+  const double g = gamma(2 * m + 3);
+  errorFactor_ = g / (1.0 - g) * kSlack;
+  buildBox(f, m, slots_, rowLength_, blockRows_);
+  for (const Slot& s : slots_) {
+    signedTerms_.push_back({s.c, std::abs(s.c)});
+    absCoeffSum_ += std::abs(s.c);
+  }
+  groups_ = buildGroups(slots_, rowLength_, blockRows_);
+
+  // ---- Even axes: f(x, y, z) = F(x^2, y, z) etc. (evaluate, "Even axes") ----
+  // An axis is even when every non-zero monomial has an even exponent in it, and
+  // worth halving when some exponent is not 0.
+  bool odd[3] = {false, false, false};
+  int top[3] = {0, 0, 0};
+  for (int n = 0; n <= degree_; ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      if (f.coeffs()[idx] == 0.0) return;
+      const int e[3] = {i, j, k};
+      for (int a = 0; a < 3; ++a) {
+        odd[a] = odd[a] || e[a] % 2 != 0;
+        top[a] = std::max(top[a], e[a]);
+      }
+    });
+  for (int a = 0; a < 3; ++a)
+    if (!odd[a] && top[a] > 0) evenAxes_ |= 1u << a;
+  if (evenAxes_ == 0) return;
+  auto isEven = [&](int a) { return (evenAxes_ >> a & 1u) != 0; };
+  Polynomial reduced;
+  for (int n = 0; n <= degree_; ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      const double c = f.coeffs()[idx];
+      if (c != 0.0)
+        reduced.setCoeff(isEven(0) ? i / 2 : i, isEven(1) ? j / 2 : j, isEven(2) ? k / 2 : k, c);
+    });
+  std::vector<Slot> slots;
+  std::vector<std::uint8_t> rowLength, blockRows;
+  buildBox(reduced, std::max(reduced.degree(), 0), slots, rowLength, blockRows);
+  reduced_ = buildGroups(slots, rowLength, blockRows);
+  // N: the most roundings on any slot (a, b, c) of F's box, 3a + 1 on an even axis and
+  // 2a + 1 on the others (derivation in evaluate).
+  int roundings = 0;
+  std::size_t row = 0;
+  int a = static_cast<int>(blockRows.size()) - 1;
+  auto count = [&](int axis, int e) { return isEven(axis) ? 3 * e + 1 : 2 * e + 1; };
+  for (const std::uint8_t rows : blockRows) {
+    for (int b = rows - 1; b >= 0; --b, ++row)
+      roundings = std::max(roundings, count(0, a) + count(1, b) + count(2, rowLength[row] - 1));
+    --a;
+  }
+  const double gN = gamma(roundings);
+  reducedMagFactor_ = (1.0 + 0x1p-50) / (1.0 - gN);
+  reducedErrorFactor_ = gN * kSlack;
+  // The exponent fields (biased) a coordinate may have on the reduced path: on an even
+  // axis 2^-400 <= |x| < 2^401 (x^2 normal and finite, far from both ends), on the others
+  // any normal number; +-0 everywhere.
+  for (int axis = 0; axis < 3; ++axis) {
+    reducedExpLo_[axis] = isEven(axis) ? 1023 - 400 : 1;
+    reducedExpSpan_[axis] = isEven(axis) ? 800 : 2045;
+  }
+}
+
+Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
+  // The even form (evaluateReduced) out of line, f's own box inlined here as before: with
+  // nestedHorner called from both paths (out of line, or inlined twice: two scratch
+  // frames), a polynomial with no even axis measured 4-5 % slower (polynomial_bench,
+  // medians of 5 interleaved pairs: dense degree 10 172 -> 180 ns, 20 805 -> 834); as
+  // here, 168 -> 169 and 782 -> 785 (7 pairs).
+  if (evenAxes_ != 0 && reducedApplies(p)) [[likely]]
+    return evaluateReduced(p);
+  Polynomial::Evaluation e;
+  const double x = p.x, y = p.y, z = p.z;
+  const double ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
+  const Nested n = nestedHorner(groups_, x, y, z);
+  e.value = n.f;
+  e.gradient = {n.fx, n.fy, n.fz};
+  e.magnitude = n.fa;
+  e.valueError = errorFactor_ * n.fa;
   // A subnormal coordinate reads as 0 under DAZ, in the value and in the magnitudes: the
   // result is f at a point moved by eps < 2^-1022 per coordinate, which differs from
   // f(p) by at most m sum|c| 2^-1022 max(1, |p_i|)^(m-1) (telescoped over the factors of
@@ -276,6 +367,74 @@ Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
     const int m = std::max(degree_, 1);
     e.valueError += 2.0 * m * absCoeffSum_ * ray_horner::pow2(a * (m - 1) - 1022);
   }
+  return e;
+}
+
+bool HornerForm::reducedApplies(const glm::dvec3& p) const {
+  // From the bits (under DAZ a subnormal compares equal to 0): each coordinate +-0 or
+  // with its exponent field in its axis's range. NaN and inf (field 2047) never are.
+  bool ok = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::uint64_t b = std::bit_cast<std::uint64_t>(p[axis]) << 1;  // without the sign
+    const std::uint32_t field = static_cast<std::uint32_t>(b >> 53);
+    ok &= b == 0 || field - reducedExpLo_[axis] <= reducedExpSpan_[axis];
+  }
+  return ok;
+}
+
+// ---- Even axes ----
+// When every exponent of x is even, f(x, y, z) = F(X, y, z) with X = x^2, and F has half
+// the x-degree: the box of F has about half the x-blocks (and likewise for y, z-rows for
+// z), where f's own box carries the zero odd blocks, rows and slots and spends a
+// multiply-add on each. Slots in the two boxes: Sarti's dodecic 167 and 84, the Barth sextic
+// 33 and 17, Chmutov-16 49 and 25 (HornerFormEvenAxes.DetectedPerAxis prints the gallery).
+//
+// Bound. Write a slot of F's box as (a, b, c), its coefficient C, its monomial in f
+// x^{e_x a} y^{e_y b} z^{e_z c} with e = 2 on an even axis and 1 on the others. On an
+// even axis the input is X^ = fl(x^2) = x^2 (1 + delta), |delta| <= u, exactly when
+// x^2 is normal and finite (2^-400 <= |x| < 2^401 below; x = +-0 gives X^ = 0 exactly),
+// so X^a = x^{2a} (1 + theta_a) (Higham, Lemma 3.1). The nested Horner scheme on F at
+// the computed inputs puts (2a+1) + (2b+1) + (2c+1) roundings on C (see the top), so the
+// computed value is sum C x^{e_x a} y^{e_y b} z^{e_z c} (1 + theta_n) with
+// n = sum over the axes of 3a + 1 on an even axis and 2a + 1 on the others, and
+//   |computed - f| <= gamma_N E,   E = sum |C| |x|^{e_x a} |y|^{e_y b} |z|^{e_z c},
+// N the largest n over the box (the constructor; n <= the 2m + 3 of f's own box, since
+// 3a + 1 <= 2 (2a) + 1). E is f's own magnitude (the same terms). The magnitude scheme
+// runs on |C| and the same inputs, so its computed value is >= (1 - gamma_N) E and
+//   magnitude = Ê (1 + 2^-50) / (1 - gamma_N) >= E
+// (the 2^-50 covers the roundings of that product and factor, and the magnitude
+// scheme's own underflow etas, each < 2^-56 of the floor 2^-966 carried by its slot);
+// valueError = gamma_N kSlack magnitude >= gamma_N E. Underflow in the scheme on F is
+// covered by the floor in F's slots exactly as on f's box (the inputs X^ are doubles
+// like any other). The reduced path takes no subnormal input (so DAZ changes nothing)
+// and no NaN or inf: those, and an even coordinate whose square would underflow or
+// overflow, run f's own box (whose rules hold for every input).
+//
+// Gradient: df/dx = 2 x F_X(X^) on an even axis (the chain rule; 2 x is exact), F_X from
+// the same derivative recurrences; it needs no bound, and its terms carry at most
+// N + 1 roundings, about those of f's own box.
+//
+// Measured (AMD EPYC Zen 3, AVX2; polynomial_bench BM_EvalNew, ns, medians of 7
+// interleaved pairs): Sarti's dodecic 147 -> 71.3, Barth decic 96.4 -> 51.0, Chmutov-16
+// 110 -> 56.5, Endrass octic 77.4 -> 42.7, Barth sextic 41.0 -> 27.0, torus 33.8 -> 25.8,
+// Kummer (x, y even) 33.8 -> 26.6; SSE2 kernels: Sarti 177 -> 84.5. speed_report, one
+// thread, Mrays/s, medians of 8 pairs: Sarti primary 0.958 -> 1.02, shadow 0.847 -> 0.930
+// (shadow rays evaluate f at their origin on the surface); Barth sextic primary
+// 3.01 -> 3.03, shadow 2.29 -> 2.34. Not kept: four row groups interleaved in zRowsAvx2
+// instead of two (Sarti 71.3 -> 76.6 ns, dense degree 10 172 -> 182, 5 pairs).
+__attribute__((noinline)) Polynomial::Evaluation HornerForm::evaluateReduced(
+    const glm::dvec3& p) const {
+  const double sq[3] = {p.x * p.x, p.y * p.y, p.z * p.z};
+  double q[3];
+  for (int a = 0; a < 3; ++a) q[a] = (evenAxes_ >> a & 1u) != 0 ? sq[a] : p[a];
+  const Nested n = nestedHorner(reduced_, q[0], q[1], q[2]);
+  // The chain rule: d/dx F(x^2) = 2 x F_X(x^2).
+  const double d[3] = {n.fx, n.fy, n.fz};
+  Polynomial::Evaluation e;
+  e.value = n.f;
+  for (int a = 0; a < 3; ++a) e.gradient[a] = (evenAxes_ >> a & 1u) != 0 ? 2.0 * p[a] * d[a] : d[a];
+  e.magnitude = reducedMagFactor_ * n.fa;
+  e.valueError = reducedErrorFactor_ * e.magnitude;
   return e;
 }
 

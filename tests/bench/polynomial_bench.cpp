@@ -152,7 +152,8 @@ BENCHMARK(BM_MultiplyDense)->Arg(4)->Arg(8)->Arg(12)->Arg(20)->Unit(benchmark::k
 void registerDynamic() {
   // Point evaluation, old and new side by side (registered in pairs, run in this order).
   for (const char* name :
-       {"sphere", "barth-sextic", "chmutov-8", "chmutov-12", "chmutov-16", "sarti-dodecic"}) {
+       {"sphere", "torus", "kummer-quartic", "barth-sextic", "chmutov-8", "chmutov-12",
+        "chmutov-16", "endrass-octic", "barth-decic", "sarti-dodecic"}) {
     const algray::GallerySurface* s = algray::findGallerySurface(name);
     const Polynomial f = s->build();
     const std::string suffix = std::string("/") + name;
