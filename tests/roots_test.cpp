@@ -206,6 +206,68 @@ TEST(RootsKnown, RandomRootsAllDegrees) {
   EXPECT_GT(tally.checked, 500);  // the generator really produces checkable roots
 }
 
+// Spans around 0, as the adapter's re-centred rays have (taylor.h: the expansion point is
+// the clip chord's midpoint): the subdivision starts there from the halves [lo, 0] and
+// [0, hi], each converted to Bernstein form without a shift (roots_yuksel.cpp, solveTop).
+// Ray-shaped problems of degree 3-20, 30 and 40 on spans with 0 in their middle half,
+// some with real roots close to 0 on either side (1e-12 to 1e-3 away: next to the split
+// point) or at 0 itself (G(0) within noise: the start falls back to one root node), all
+// against the MPFR references of checkProblem (every well-conditioned root within 4 u
+// cond, the first root, the walk from each root and the other methods agreeing).
+TEST(RootsKnown, SpansAroundZero) {
+  std::mt19937_64 rng(20261203);
+  std::uniform_real_distribution<double> uni(0, 1);
+  std::vector<int> degrees;
+  for (int d = 3; d <= 20; ++d) degrees.push_back(d);
+  degrees.push_back(30);
+  degrees.push_back(40);
+  Tally tally;
+  for (int deg : degrees) {
+    for (int trial = 0; trial < 24; ++trial) {
+      const int maxReal = std::min(deg, 8);
+      int nReal = deg % 2 + 2 * static_cast<int>(uni(rng) * (maxReal / 2 + 1));
+      nReal = std::min(nReal, maxReal - (maxReal - deg % 2) % 2);
+      const double scale = std::pow(10.0, -2 + 4 * uni(rng));  // any span length
+      std::vector<double> roots;
+      for (int i = 0; i < nReal; ++i) {
+        const double kind = uni(rng);
+        double r = scale * (-1 + 2 * uni(rng));
+        if (kind < 0.25) r = (uni(rng) < 0.5 ? -1 : 1) * scale * std::pow(10.0, -12 + 9 * uni(rng));
+        if (kind > 0.95) r = 0;
+        roots.push_back(r);
+      }
+      std::vector<std::pair<double, double>> pairs;
+      for (int i = 0; i < (deg - nReal) / 2; ++i)
+        pairs.emplace_back(scale * (-1.5 + 3 * uni(rng)),
+                           scale * std::pow(10.0, -2 + 2 * uni(rng)));
+      const double lead = (uni(rng) < 0.5 ? -1 : 1) * std::pow(10.0, -3 + 6 * uni(rng));
+      // 0 between the span's middle quarters or near them: lo in [-1.2, -0.3] scale, hi
+      // in [0.3, 1.2] scale.
+      const double lo = -scale * (0.3 + 0.9 * uni(rng)), hi = scale * (0.3 + 0.9 * uni(rng));
+      const Problem p =
+          fromRoots("around 0, degree " + std::to_string(deg) + " trial " + std::to_string(trial),
+                    roots, pairs, lo, hi, lead);
+      if (std::find(roots.begin(), roots.end(), 0.0) == roots.end()) {
+        checkProblem(p, &tally);
+        continue;
+      }
+      // A root at 0 itself (conditioning 0: it must come out exactly; G(0) is within noise,
+      // so the subdivision starts from one root node): Auto's answers only, since Sturm's
+      // count loses roots at 0 (docs/roots.md: roots near 0 in (-1, 1)).
+      SCOPED_TRACE(p.name);
+      const auto all = solveAll(p);
+      checkAccuracy(test::refineAll(p.c, p.starts, p.lo, p.hi), all, p.lo, p.hi, &tally);
+      EXPECT_TRUE(std::find(all.begin(), all.end(), 0.0) != all.end());
+      const auto first = firstRoot(p.c, {}, p.lo, p.hi);
+      ASSERT_TRUE(first.has_value());
+      EXPECT_EQ(*first, all[0]);
+    }
+  }
+  std::printf("around 0: %d roots checked, worst error %.2f u cond\n", tally.checked,
+              tally.worstUlps);
+  EXPECT_GT(tally.checked, 500);
+}
+
 TEST(RootsKnown, Wilkinson) {
   for (int k : {5, 10, 15, 20}) {
     std::vector<double> roots;

@@ -59,6 +59,7 @@
 #include "roots_scan.h"
 
 #include <algorithm>
+#include <bit>
 #include <type_traits>
 
 namespace algray::roots_detail {
@@ -163,6 +164,38 @@ T bound(const E& x) {
     return x[1];
 }
 
+// The n passes b_i += b_{i-1} (i from n down to k in pass k) of the change of basis to
+// Bernstein form (toBernsteinWithBound, bernsteinFromZero). With a compile-time degree both
+// loops unroll fully and b stays in registers (as loops of varying length,
+// bernsteinFromZero was 16 % of a solve of Sarti's real rays in perf, unrolled 8 %);
+// run-time degrees (above 20) keep the loops. The same additions in the same order either
+// way.
+template <class E, class D>
+inline void pascalPasses(E* b, D deg) {
+  const int n = deg;
+  if constexpr (std::is_same_v<D, int>) {
+    for (int k = 1; k <= n; ++k) {
+      E cur = b[n];  // carried in a register (see splitBernstein)
+      for (int i = n; i >= k; --i) {
+        const E below = b[i - 1];
+        b[i] = cur + below;
+        cur = below;
+      }
+    }
+  } else {
+#pragma GCC unroll 24
+    for (int k = 1; k <= n; ++k) {
+      E cur = b[n];
+#pragma GCC unroll 24
+      for (int i = n; i >= k; --i) {
+        const E below = b[i - 1];
+        b[i] = cur + below;
+        cur = below;
+      }
+    }
+  }
+}
+
 // Measured and not kept (session 10): the conversion by Horner's rule in the Bernstein
 // basis (Farouki and Rajan 1988; roots_bernstein.cpp's), whose intermediates stay below
 // sum |C_j| M^j, M = max(|lo|, |hi|), where the Taylor shift's reach sum |C_j| (|lo| +
@@ -197,14 +230,7 @@ T toBernsteinWithBound(const LocalPoly<T>& g, D deg, E* b) {
   const T* inv = kInverseBinomials<T>.row(n);
   T p = 1;
   for (int j = 0; j <= n; ++j, p *= w) b[j] = (a[j] * p) * inv[j];
-  for (int k = 1; k <= n; ++k) {
-    E cur = b[n];  // carried in a register (see splitBernstein)
-    for (int i = n; i >= k; --i) {
-      const E below = b[i - 1];
-      b[i] = cur + below;
-      cur = below;
-    }
-  }
+  pascalPasses(b, deg);
   constexpr int kD = kSubdivideDepth<T>;
   if constexpr (kPairs) {
     // beta_i -> the bound (*) at the depth cap: gamma(4n + 6 + 3D), two more roundings
@@ -219,6 +245,50 @@ T toBernsteinWithBound(const LocalPoly<T>& g, D deg, E* b) {
     // pass instead of a second shift. Rounded up: |lo| + w by 2u, the Horner sum of
     // non-negative terms (at most 2n roundings each) by gamma(2n + 2).
     const T x = (std::abs(lo) + w) * (1 + 2 * kUnit<T>);
+    T sumA = 0;
+    for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
+    sumA *= 1 + gammaT<T>(2 * n + 2);
+    return gammaT<T>(4 * n + 4 + 3 * kD) * sumA;
+  }
+}
+
+// Bernstein coefficients of G on the node between 0 and h (h of either sign; b_0 at the
+// node's left end, as toBernsteinWithBound orders them), with the same bounds. Why (the
+// start at 0 of solveTop): the shift by lo is what the bound (*) pays for. Shifted to lo
+// and scaled by w, the coefficients' majorant is A(1) = |C|(|lo| + w), which on a span
+// around 0 is |C| at up to 3 max(|lo|, |hi|): 3^n times G's own majorant there (5e5 at
+// degree 12, the re-centred rays' spans being nearly symmetric). From 0 there is no shift
+// (the shift by 0 is exact: every step adds 0 times a coefficient) and A(1) = |C|(|h|).
+// For h < 0 the node is G(-|h| u'), u' = 1 - u: the odd coefficients negated (exact),
+// scaled by |h|^j, converted, and read backwards. The derivation of (*) holds term for
+// term with the shift's rounding absent (each remaining rounding relative to the same
+// majorants), so the bounds and the uniform E returned are those of
+// toBernsteinWithBound's formula at lo = 0, w = |h|.
+template <class T, class E, class D>
+T bernsteinFromZero(const LocalPoly<T>& g, D deg, T h, E* b) {
+  constexpr bool kPairs = !std::is_same_v<E, T>;
+  const int n = deg;
+  const T w = std::abs(h);
+  const bool left = h < 0;
+  const T* inv = kInverseBinomials<T>.row(n);
+  T p = 1;
+  for (int j = 0; j <= n; ++j, p *= w) {
+    const T c = left && (j & 1) ? -g.c[j] : g.c[j];
+    if constexpr (kPairs)
+      b[j] = (E{c, std::abs(c)} * p) * inv[j];
+    else
+      b[j] = (c * p) * inv[j];
+  }
+  pascalPasses(b, deg);
+  if (left)
+    for (int i = 0, j = n; i < j; ++i, --j) std::swap(b[i], b[j]);
+  constexpr int kD = kSubdivideDepth<T>;
+  if constexpr (kPairs) {
+    const T scale = gammaT<T>(4 * n + 6 + 3 * kD) * (1 + 2 * gammaT<T>(4 * n + 4 + 2 * kD));
+    for (int j = 0; j <= n; ++j) b[j][1] *= scale;
+    return T(0);
+  } else {
+    const T x = w * (1 + 2 * kUnit<T>);
     T sumA = 0;
     for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
     sumA *= 1 + gammaT<T>(2 * n + 2);
@@ -264,15 +334,36 @@ void splitBernstein(const E* b, D deg, T t, E* l, E* r) {
       r[n - k - 1] = x[n - k - 1];
     }
   }
-  for (; k <= n; ++k) {
-    E next = x[n - k + 1];
-    for (int i = n - k; i >= 0; --i) {
-      const E cur = x[i];
-      x[i] = s * cur + t * next;
-      next = cur;
+  if constexpr (std::is_same_v<D, int>) {
+    for (; k <= n; ++k) {
+      E next = x[n - k + 1];
+      for (int i = n - k; i >= 0; --i) {
+        const E cur = x[i];
+        x[i] = s * cur + t * next;
+        next = cur;
+      }
+      l[k] = x[0];
+      r[n - k] = x[n - k];
     }
-    l[k] = x[0];
-    r[n - k] = x[n - k];
+  } else {
+    // Compile-time degrees: unrolled in full, x in registers, the same operations in the
+    // same order. As loops of varying length (entered through a jump per level) the
+    // gallery's real rays took longer: roots_bench BM_GalleryRays, medians of 3
+    // interleaved runs, ns per solve, loops -> unrolled: Barth decic 525 -> 472,
+    // Chmutov-12 629 -> 602, Chmutov-16 1143 -> 1002, Endrass octic 372 -> 316, Sarti
+    // 635 -> 622, Barth sextic 187 -> 187.
+#pragma GCC unroll 24
+    for (; k <= n; ++k) {
+      E next = x[n - k + 1];
+#pragma GCC unroll 24
+      for (int i = n - k; i >= 0; --i) {
+        const E cur = x[i];
+        x[i] = s * cur + t * next;
+        next = cur;
+      }
+      l[k] = x[0];
+      r[n - k] = x[n - k];
+    }
   }
 }
 
@@ -531,14 +622,18 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, D
     int t16 = 8;  // t in sixteenths (dyadic: the node ends stay exact, see above)
     if constexpr (!kPairs) {
       const int n = deg;
-      int c1 = 0, c2 = 0, changes = 0;  // the first two sign changes, without branches
-      for (int i = 0; i < n; ++i) {
-        const bool change = signBit(b[i]) != signBit(b[i + 1]);
-        c1 = change && changes == 0 ? i : c1;
-        c2 = change && changes == 1 ? i : c2;
-        changes += change;
-      }
-      if (changes >= 2) {
+      // The first two sign changes, without branches: bit i of `changes` is a change
+      // between b_i and b_{i+1}; the lowest two set bits are the first two. (As a loop that
+      // selected c1, c2 per index, a serial chain of conditional moves, it was a tenth of
+      // subdivide's samples on Sarti's rays; the same indices.)
+      static_assert(kPairNodeDegree < 32);
+      unsigned changes = 0;
+#pragma GCC unroll 24
+      for (int i = 0; i < n; ++i)
+        changes |= static_cast<unsigned>(signBit(b[i]) != signBit(b[i + 1])) << i;
+      const unsigned rest = changes & (changes - 1);  // without the first change
+      if (rest != 0) {
+        const int c1 = std::countr_zero(changes), c2 = std::countr_zero(rest);
         t16 = std::clamp((8 * (c1 + c2 + 1) + n / 2) / n, 4, 12);
         t = T(t16) / 16;
       }
