@@ -173,20 +173,31 @@ Problem fromRoots(std::string name, const std::vector<double>& roots,
 
 // ---- Known roots --------------------------------------------------------------------
 
+// Degrees first..20, 30 and 40: the issue's list.
+std::vector<int> issueDegrees(int first) {
+  std::vector<int> degrees;
+  for (int d = first; d <= 20; ++d) degrees.push_back(d);
+  degrees.push_back(30);
+  degrees.push_back(40);
+  return degrees;
+}
+
+// Ray-tracing shape: few real roots (at most 8, deg's parity), the rest complex pairs;
+// u uniform in [0, 1) picks how many.
+int rayRealRootCount(int deg, double u) {
+  const int maxReal = std::min(deg, 8);
+  const int nReal = deg % 2 + 2 * static_cast<int>(u * (maxReal / 2 + 1));
+  return std::min(nReal, maxReal - (maxReal - deg % 2) % 2);
+}
+
 TEST(RootsKnown, RandomRootsAllDegrees) {
   std::mt19937_64 rng(20261122);
   std::uniform_real_distribution<double> uni(0, 1);
-  std::vector<int> degrees;
-  for (int d = 1; d <= 20; ++d) degrees.push_back(d);
-  degrees.push_back(30);
-  degrees.push_back(40);
   Tally tally;
-  for (int deg : degrees) {
+  for (int deg : issueDegrees(1)) {
     for (int trial = 0; trial < 24; ++trial) {
       // Ray-tracing shape: few real roots, the rest complex pairs, any scale.
-      const int maxReal = std::min(deg, 8);
-      int nReal = deg % 2 + 2 * static_cast<int>(uni(rng) * (maxReal / 2 + 1));
-      nReal = std::min(nReal, maxReal - (maxReal - deg % 2) % 2);
+      const int nReal = rayRealRootCount(deg, uni(rng));
       std::vector<double> roots;
       for (int i = 0; i < nReal; ++i) roots.push_back(-1 + 2 * uni(rng));
       std::vector<std::pair<double, double>> pairs;
@@ -217,16 +228,10 @@ TEST(RootsKnown, RandomRootsAllDegrees) {
 TEST(RootsKnown, SpansAroundZero) {
   std::mt19937_64 rng(20261203);
   std::uniform_real_distribution<double> uni(0, 1);
-  std::vector<int> degrees;
-  for (int d = 3; d <= 20; ++d) degrees.push_back(d);
-  degrees.push_back(30);
-  degrees.push_back(40);
   Tally tally;
-  for (int deg : degrees) {
+  for (int deg : issueDegrees(3)) {
     for (int trial = 0; trial < 24; ++trial) {
-      const int maxReal = std::min(deg, 8);
-      int nReal = deg % 2 + 2 * static_cast<int>(uni(rng) * (maxReal / 2 + 1));
-      nReal = std::min(nReal, maxReal - (maxReal - deg % 2) % 2);
+      const int nReal = rayRealRootCount(deg, uni(rng));
       const double scale = std::pow(10.0, -2 + 4 * uni(rng));  // any span length
       std::vector<double> roots;
       for (int i = 0; i < nReal; ++i) {
