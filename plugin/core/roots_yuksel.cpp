@@ -311,6 +311,24 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
 constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 40, kRecursionFirstDegree = 20;
 constexpr int kShortOrder = 3;
 
+// Whether a query that has found k roots asks for more (the first root, or all of them).
+inline bool wantsMore(Query q, int k, int maxOut) {
+  return k == 0 || (q == Query::All && k < maxOut);
+}
+
+// A subdivision whose node budget ran out (SubdivideState::exhausted) hands the rest,
+// [resumeAt, hi], to the recursion in one piece (a cluster at resumeAt was reported by the
+// node before it, see roots_scan.h); returns the roots found in all.
+template <class T, class Direct>
+int restAfterBudget(const LocalPoly<T>& g, LocalPoly<T>& work, bool exhausted, T resumeAt, Query q,
+                    int k, Direct& direct, LocalRoot<T>* out, int maxOut) {
+  if (!exhausted || !wantsMore(q, k, maxOut)) return k;
+  work.lo = resumeAt;
+  work.hi = g.hi;
+  work.closedLo = g.closedLo && resumeAt == g.lo;
+  return k + direct(work, out + k, maxOut - k);
+}
+
 // The subdivision of solveTop from the halves [g.lo, 0] and [0, g.hi] (see there); work is
 // the subdivision's working copy of g, b room for a half's coefficients. (Inlined into
 // solveTop, as here, speed_report's Sarti rays were 3-7 % faster than with it out of line,
@@ -330,7 +348,7 @@ int solveFromZero(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* ou
   int k = subdivide(left, deg, b, T(0), T(1), 1, direct, out, maxOut, known);
   T resumeAt = left.resumeAt;
   bool exhausted = left.exhausted;
-  if (!exhausted && (k == 0 || (q == Query::All && k < maxOut))) {
+  if (!exhausted && wantsMore(q, k, maxOut)) {
     work.lo = 0;
     work.hi = g.hi;
     err = bernsteinFromZero(g, deg, g.hi, b);
@@ -340,13 +358,7 @@ int solveFromZero(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* ou
     resumeAt = right.resumeAt;
     exhausted = right.exhausted;
   }
-  if (exhausted && (k == 0 || (q == Query::All && k < maxOut))) {
-    work.lo = resumeAt;
-    work.hi = g.hi;
-    work.closedLo = g.closedLo && resumeAt == g.lo;
-    k += direct(work, out + k, maxOut - k);
-  }
-  return k;
+  return restAfterBudget(g, work, exhausted, resumeAt, q, k, direct, out, maxOut);
 }
 
 template <class T, class D>
@@ -401,16 +413,8 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
     return solveFromZero(g, deg, q, tol, out, maxOut, work, b, direct);
   const T err = toBernsteinWithBound(g, deg, b);
   SubdivideState<T> st{work, g.lo, g.hi - g.lo, err, q, tol, g.closedLo};
-  int k = subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
-  if (st.exhausted && (k == 0 || (q == Query::All && k < maxOut))) {
-    // The budget ran out: the recursion takes the rest, [resumeAt, hi], in one piece
-    // (a cluster at resumeAt was reported by the node before it, see roots_scan.h).
-    work.lo = st.resumeAt;
-    work.hi = g.hi;
-    work.closedLo = g.closedLo && st.resumeAt == g.lo;
-    k += direct(work, out + k, maxOut - k);
-  }
-  return k;
+  const int k = subdivide(st, deg, b, T(0), T(1), 0, direct, out, maxOut);
+  return restAfterBudget(g, work, st.exhausted, st.resumeAt, q, k, direct, out, maxOut);
 }
 
 template <class T, int... Ns>
