@@ -60,7 +60,7 @@ class HornerForm {
   // (k descending to 0), all in evaluation order.
   std::span<const Slot> slots() const { return slots_; }
   std::span<const std::uint8_t> rowLengths() const { return rowLength_; }
-  std::span<const std::uint8_t> blockRows() const { return blockRows_; }
+  std::span<const std::uint8_t> blockRows() const { return groups_.blockRows; }
 
   // The slots' coefficients as (c, |c|), 16-byte aligned: the direct restriction to a ray
   // (taylor_box.cpp) runs value and magnitude as one SSE vector and loads a slot's pair in
@@ -78,7 +78,6 @@ class HornerForm {
   std::vector<Slot> slots_;              // z-rows in evaluation order: i, j, k descending
   std::vector<SignedTerm> signedTerms_;  // the same order
   std::vector<std::uint8_t> rowLength_;  // per z-row, >= 1 (kMaxDegree + 1 fits)
-  std::vector<std::uint8_t> blockRows_;  // per x-block (i descending): its y-rows, >= 1
   // The z-rows four at a time for evaluate() (see there): groups of rows of similar
   // length, longest first, each row padded at its start with slots (0, 0) to the group's
   // length; per position (c, absC) of the four rows, per group its length and its rows.

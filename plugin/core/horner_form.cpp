@@ -283,12 +283,13 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
   const int m = std::max(degree_, 0);
   const double g = gamma(2 * m + 3);
   errorFactor_ = g / (1.0 - g) * kSlack;
-  buildBox(f, m, slots_, rowLength_, blockRows_);
+  std::vector<std::uint8_t> ownBlockRows;  // kept in groups_ (blockRows())
+  buildBox(f, m, slots_, rowLength_, ownBlockRows);
   for (const Slot& s : slots_) {
     signedTerms_.push_back({s.c, std::abs(s.c)});
     absCoeffSum_ += std::abs(s.c);
   }
-  groups_ = buildGroups(slots_, rowLength_, blockRows_);
+  groups_ = buildGroups(slots_, rowLength_, ownBlockRows);
 
   // ---- Even axes: f(x, y, z) = F(x^2, y, z) etc. (evaluate, "Even axes") ----
   // An axis is even when every non-zero monomial has an even exponent in it, and
