@@ -88,9 +88,10 @@
 // (1 + u) (P + s D)^2 coefficientwise (P = max(1, |p_a|), D = max(1, |d_a|)): a quadratic
 // step acts as two linear factors of the argument there, and (1 + u)^(m/2) is inside its
 // (1 + gamma) slack. The number of etas: a quadratic step on an accumulator of degree
-// <= m - 2 takes at most 3 (m - 1) products and 3 (m - 1) + 1 additions <= 2 (4m + 3),
-// the allowance of the two linear steps of f's box it stands for (f's box has the slots,
-// rows or blocks 2a and 2a - 1 for F's a, the odd ones zero), so taylor.cpp's
+// <= m - 2 takes at most 3 (m - 1) products and 2 (m - 1) + (m + 1) additions, together
+// 6m - 4 < 2 (4m + 3), the allowance of the two linear steps of f's box it stands for
+// (f's box has the slots, rows or blocks 2a and 2a - 1 for F's a, the odd ones zero); so
+// counting a quadratic step twice, F's scheme has no more steps than f's, and taylor.cpp's
 // N <= 4 (m + 2) termCount(m + 1) still counts them. The factors themselves never
 // underflow (range above), and no component is subnormal on this path (DAZ reads nothing
 // as 0), so the same UnderflowFloor (f's degree, P, D and sum |c|) bounds the rest.
