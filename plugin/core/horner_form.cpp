@@ -322,6 +322,7 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
   reduced_ = buildGroups(slots, rowLength, blockRows);
   for (const Slot& s : slots) evenTerms_.push_back({s.c, std::abs(s.c)});
   evenRowLength_ = rowLength;
+  restrictEven_ = degree_ >= 4;
   // N: the most roundings on any slot (a, b, c) of F's box, 3a + 1 on an even axis and
   // 2a + 1 on the others (derivation in evaluate).
   int roundings = 0;
