@@ -97,6 +97,20 @@
 // as 0), so the same UnderflowFloor (f's degree, P, D and sum |c|) bounds the rest.
 // Non-finite input (inf, NaN, a square that would overflow) never takes this path.
 //
+// Kernels: the z-row's H with compile-time length (K = 2 rows up to 11 slots), F <- F Y + H
+// unrolled when F has the dense-like degree (every gallery row but a block's first, which
+// copies H), and tables of unrolled passes per accumulator degree for one-constant and
+// zero rows and blocks (Chmutov's) and dense-like blocks; run-time loops for other shapes.
+// Measured (taylor_bench BM_GalleryDirect/horner-box, AMD EPYC Zen 3, AVX2, pinned to one
+// core, ns per ray, medians of 5 interleaved runs against the parent commit, ranges over
+// the runs; the host is noisy): Sarti's dodecic 509 (493-545) -> 322 (318-326), Barth's
+// decic 298 (291-453) -> 238 (236-240), Endrass' octic 276 -> 169, Chmutov-12 240 -> 179,
+// Chmutov-16 367 -> 240, the heart 170 -> 122, the Barth sextic 137 -> 121, Kummer's
+// quartic 103 -> 93, the torus 103 -> 92.5; the quadrics (on f's box from here, see
+// HornerForm::restrictsOnSquares) and the odd cubics unchanged within the noise (sphere
+// 70.7 -> 69.7, Clebsch 105 -> 101, Roman 91.3 -> 90.3). Primary rays (speed_report, one
+// thread, Mrays/s, medians of 3 interleaved pairs): see the commit message.
+//
 #include "algray/taylor.h"
 
 #include <algorithm>
