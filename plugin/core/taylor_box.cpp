@@ -108,8 +108,11 @@
 // Chmutov-16 367 -> 240, the heart 170 -> 122, the Barth sextic 137 -> 121, Kummer's
 // quartic 103 -> 93, the torus 103 -> 92.5; the quadrics (on f's box from here, see
 // HornerForm::restrictsOnSquares) and the odd cubics unchanged within the noise (sphere
-// 70.7 -> 69.7, Clebsch 105 -> 101, Roman 91.3 -> 90.3). Primary rays (speed_report, one
-// thread, Mrays/s, medians of 3 interleaved pairs): see the commit message.
+// 70.7 -> 69.7, Clebsch 105 -> 101, Roman 91.3 -> 90.3). SSE2 kernels (ALGRAY_CORE_ISA=sse2,
+// medians of 3): Sarti 555 -> 385, Barth decic 331 -> 247, Chmutov-16 389 -> 264. Primary
+// rays (speed_report, one thread, Mrays/s, medians of 3 interleaved pairs): Sarti
+// 1.16 -> 1.31, Barth decic 1.56 -> 1.65, Chmutov-12 1.55 -> 1.68, torus 3.86 -> 4.17; the
+// Barth sextic 3.14 -> 3.10 (7 pairs: 3.08-3.17 -> 2.71-3.12; its shadow rays 2.37 -> 2.39).
 //
 #include "algray/taylor.h"
 
