@@ -143,6 +143,7 @@ TEST_F(CoreIsa, RestrictionIsTheBaselineBitForBit) {
   std::vector<glm::dvec3> ds = {glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(-0.0, 1.0, -0.0),
                                 glm::dvec3(0.0, -0.6, 0.8)};
   for (int i = 0; i < 12; ++i) ds.push_back({wild(rng), wild(rng), wild(rng)});
+  int onSquares = 0;  // rays of even polynomials on squared coordinates (taylor_box.cpp)
   for (const Polynomial& f : polynomials(rng)) {
     const HornerForm h(f);
     for (std::size_t i = 0; i < ps.size(); ++i)
@@ -150,6 +151,7 @@ TEST_F(CoreIsa, RestrictionIsTheBaselineBitForBit) {
         const glm::dvec3& o = ps[i];
         const glm::dvec3& d = ds[k];
         const double tShift = k % 2 == 0 ? 0.0 : closestParameter(o, d, glm::dvec3(0.0));
+        onSquares += h.restrictsOnSquares(tShift == 0.0 ? o : o + tShift * d, d) ? 1 : 0;
         ASSERT_TRUE(core_isa::select(Isa::kSse2));
         const RayPolynomial want = restrictToRay(h, o, d, tShift);
         ASSERT_TRUE(core_isa::select(Isa::kAvx2));
@@ -163,6 +165,7 @@ TEST_F(CoreIsa, RestrictionIsTheBaselineBitForBit) {
         }
       }
   }
+  EXPECT_GT(onSquares, 1000);
 }
 
 }  // namespace

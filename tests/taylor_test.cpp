@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -163,13 +164,19 @@ TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
         EXPECT_EQ(g.tShift, tShift);
         checkAgainstReference(g, cs.f, o + tShift * d, d, what + " (direct)");
 
-        // The same over the precompiled Horner box: the same operations on the same
-        // non-zero data, so the same values (bits but for the sign of a zero, see
-        // support/box_reference.h), and the same bits as before its unrolled kernels.
+        // The same over the precompiled Horner box: on f's own box the same operations on
+        // the same non-zero data, so the same values (bits but for the sign of a zero, see
+        // support/box_reference.h), and the same bits as before its unrolled kernels; on
+        // squared coordinates (even axes, taylor_box.cpp) its own bound.
         const RayPolynomial gb = restrictToRay(box, o, d, tShift);
-        expectSameValues(gb, g, what + " box");
-        expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift),
-                       what + " box vs reference");
+        const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
+        if (box.restrictsOnSquares(p, d)) {
+          checkAgainstReference(gb, cs.f, p, d, what + " (box, even axes)");
+        } else {
+          expectSameValues(gb, g, what + " box");
+          expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift),
+                         what + " box vs reference");
+        }
       }
     }
   }
@@ -179,7 +186,10 @@ TEST(Taylor, BothPathsMatchHighPrecisionWithinTheirBounds) {
 // (bit for bit) and the Polynomial path (value for value) on box shapes the gallery lacks (sparse
 // random polynomials: gaps, rows longer or shorter than their neighbours, zero blocks, degrees past
 // the unrolled lengths) and on rays with zero and negative-zero components (signed zeros through
-// the value chain).
+// the value chain). Where the restriction runs on squared coordinates (a polynomial with even
+// axes, HornerForm::restrictsOnSquares) it is checked against MPFR within its bound instead;
+// rays with a component outside that path's range (an even polynomial's fallback to its own
+// box) keep the bit-for-bit check.
 TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -198,21 +208,34 @@ TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
     }
   const std::vector<glm::dvec3> special = {
       {0.0, 0.0, 1.0}, {-0.0, 1.0, -0.0}, {1.0, -0.0, 0.0}, {0.0, -0.6, 0.8}, {-0.0, -0.0, -1.0}};
+  int onSquares = 0, ownBoxOfEven = 0, ownBox = 0;
   for (const Polynomial& f : polys) {
     const HornerForm box(f);
-    for (int ray = 0; ray < 12; ++ray) {
+    for (int ray = 0; ray < 14; ++ray) {
       glm::dvec3 o{normal(rng), normal(rng), normal(rng)}, d{normal(rng), normal(rng), normal(rng)};
       if (ray < 5) d = special[ray];
       if (ray >= 5 && ray < 8) o = glm::dvec3(0.0);
       if (ray == 8) o = glm::dvec3(-0.0, 0.5, -0.0);
+      if (ray == 12) o.x = 0x1p-401;  // outside the even path's range on x (and on y below)
+      if (ray == 13) d.y = -0x1p-402;
       const double tShift = ray % 2 == 0 ? 0.0 : closestParameter(o, d, glm::dvec3(0.0));
       const std::string what =
           "degree " + std::to_string(f.degree()) + " ray " + std::to_string(ray);
       const RayPolynomial gb = restrictToRay(box, o, d, tShift);
+      const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
+      if (box.restrictsOnSquares(p, d)) {
+        checkAgainstReference(gb, f, p, d, what + " (even axes)");
+        ++onSquares;
+        continue;
+      }
+      ++(box.evenAxes() != 0 ? ownBoxOfEven : ownBox);
       expectSameBits(gb, test::restrictToRayReference(box, o, d, tShift), what + " vs reference");
       expectSameValues(gb, restrictToRay(f, o, d, tShift), what + " vs Polynomial path");
     }
   }
+  EXPECT_GT(onSquares, 50);
+  EXPECT_GT(ownBoxOfEven, 10);
+  EXPECT_GT(ownBox, 300);
 }
 
 // closestParameter against the closest point in long double (64-bit significand): within
@@ -437,6 +460,163 @@ TEST(Taylor, EvaluateWithBoundCoversTheValue) {
       EXPECT_LE(std::abs((Mp(v) - r).toDouble()), bound) << cs.name;
     }
   }
+}
+
+// ---- The restriction on squared coordinates (even axes, taylor_box.cpp) ----
+
+// A random f of degree m (even, >= 2) with every exponent even on the axes of `mask`: about
+// `density` of those monomials set, coefficients +-scale 10^[-3, 0]; a pure power on each
+// axis (m on an even one, 1 on the others) decides the axes and keeps the degree.
+Polynomial evenPolynomial(std::mt19937_64& rng, unsigned mask, int m, double density,
+                          double scale) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Polynomial f;
+  for (int n = 0; n <= m; ++n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+      const int e[3] = {i, j, k};
+      for (int a = 0; a < 3; ++a)
+        if ((mask >> a & 1u) != 0 && e[a] % 2 != 0) return;
+      if (u(rng) < density) f.setCoeff(i, j, k, scale * test::signedPow10(rng, -3.0, 0.0));
+    });
+  for (int a = 0; a < 3; ++a) {
+    int e[3] = {0, 0, 0};
+    e[a] = (mask >> a & 1u) != 0 ? m : 1;
+    f.setCoeff(e[0], e[1], e[2], scale);
+  }
+  return f;
+}
+
+// The range of the even path, from the bits: +-0 or normal, and on an even axis
+// 2^-400 <= |v| < 2^401 (HornerForm::restrictsOnSquares).
+TEST(TaylorEvenAxes, PathTakenExactlyInItsRange) {
+  std::mt19937_64 rng(7);
+  const HornerForm even(evenPolynomial(rng, 1u, 4, 0.5, 1.0));  // x even only
+  const HornerForm odd(evenPolynomial(rng, 0u, 3, 0.5, 1.0));
+  ASSERT_EQ(even.evenAxes(), 1u);
+  ASSERT_EQ(odd.evenAxes(), 0u);
+  const glm::dvec3 d{0.3, -0.2, 0.9};
+  const double lo = 0x1p-400, hi = 0x1p401;
+  for (const double s : {1.0, -1.0}) {
+    EXPECT_TRUE(even.restrictsOnSquares({s * lo, 1.0, 1.0}, d));
+    EXPECT_FALSE(even.restrictsOnSquares({s * std::nextafter(lo, 0.0), 1.0, 1.0}, d));
+    EXPECT_TRUE(even.restrictsOnSquares({s * std::nextafter(hi, 0.0), 1.0, 1.0}, d));
+    EXPECT_FALSE(even.restrictsOnSquares({s * hi, 1.0, 1.0}, d));
+    EXPECT_TRUE(even.restrictsOnSquares({s * 0.0, 1.0, 1.0}, {s * 0.0, 1.0, 1.0}));
+    EXPECT_FALSE(even.restrictsOnSquares({1.0, 1.0, 1.0}, {s * hi, 1.0, 1.0}));
+    // Odd axes: any normal number or +-0, no subnormal, inf or NaN.
+    EXPECT_TRUE(even.restrictsOnSquares({1.0, s * 1e-300, s * 1e300}, d));
+    EXPECT_FALSE(even.restrictsOnSquares({1.0, s * 1e-310, 1.0}, d));
+    EXPECT_FALSE(even.restrictsOnSquares({1.0, 1.0, s * INFINITY}, d));
+    EXPECT_FALSE(even.restrictsOnSquares({1.0, 1.0, 1.0}, {0.0, std::nan(""), 1.0}));
+  }
+  EXPECT_FALSE(odd.restrictsOnSquares({1.0, 1.0, 1.0}, d));
+}
+
+// Every subset of even axes, degrees 2 (f's own box) and 4 to 20 (F's), ray components from ~1e-130 to 1e125 (the
+// path's range ends near 2^-400 ~ 3.9e-121 and 2^401 ~ 5.2e120), zero and negative-zero
+// components, components at and next to the range's ends: every coefficient within its
+// bound of the MPFR expansion about the same double point, on both paths; the even path
+// taken where restrictsOnSquares says so (and bit-identical to f's own box elsewhere).
+TEST(TaylorEvenAxes, BoundsHoldAgainstMpfrOnEverySubset) {
+  std::mt19937_64 rng(2718);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double edges[] = {0x1p-400, std::nextafter(0x1p-400, 0.0), std::nextafter(0x1p401, 0.0),
+                          0x1p401};
+  int onSquares = 0, fallback = 0, finiteChecked = 0;
+  for (unsigned mask = 1; mask < 8; ++mask)
+    for (int m = 2; m <= 20; m += 2)
+      for (const double density : {0.3, 1.0}) {
+        for (int ray = 0; ray < 6; ++ray) {
+          // One scale per ray, each component within 10^[e - 3, e]; the coefficients scaled
+          // so that the restriction's magnitudes stay near 1 where that fits in a double.
+          const double e = ray == 0 ? 0.0 : -130.0 + 255.0 * u(rng);
+          const double coeffScale = std::pow(10.0, std::clamp(-m * e, -300.0, 300.0));
+          const Polynomial f = evenPolynomial(rng, mask, m, density, coeffScale);
+          const HornerForm box(f);
+          ASSERT_EQ(box.evenAxes(), mask);
+          glm::dvec3 o, d;
+          for (int a = 0; a < 3; ++a) {
+            o[a] = test::signedPow10(rng, e - 3.0, e);
+            d[a] = test::signedPow10(rng, e - 3.0, e);
+            const double z = u(rng);
+            if (z < 0.1) o[a] = 0.0;
+            if (z > 0.9) o[a] = -0.0;
+            const double zd = u(rng);
+            if (zd < 0.1) d[a] = 0.0;
+            if (zd > 0.9) d[a] = -0.0;
+          }
+          if (ray == 5) {  // an edge of the range on a random axis
+            const int a = static_cast<int>(3 * u(rng)) % 3;
+            const double v = edges[static_cast<int>(4 * u(rng)) % 4] * (u(rng) < 0.5 ? -1 : 1);
+            (u(rng) < 0.5 ? o : d)[a] = v;
+          }
+          if (d == glm::dvec3(0.0)) d.z = 1.0;
+          double tShift = ray % 2 == 0 ? 0.0 : closestParameter(o, d, glm::dvec3(0.0));
+          if (!std::isfinite(tShift)) tShift = 0.0;
+          const RayPolynomial g = restrictToRay(box, o, d, tShift);
+          const glm::dvec3 p = tShift == 0.0 ? o : o + tShift * d;
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "mask %u degree %d scale 1e%.0f ray %d", mask, m, e, ray);
+          std::string first;
+          EXPECT_EQ(boundViolations(g, f, p, d, first, buf), 0) << first;
+          EXPECT_TRUE(m >= 4 || !box.restrictsOnSquares(p, d)) << buf;  // quadrics: own box
+          if (box.restrictsOnSquares(p, d)) {
+            ++onSquares;
+            bool finite = true;
+            for (int n = 0; n <= m; ++n) finite = finite && std::isfinite(g.error[n]);
+            finiteChecked += finite ? 1 : 0;
+          } else {
+            ++fallback;
+            expectSameBits(g, test::restrictToRayReference(box, o, d, tShift), buf);
+          }
+        }
+      }
+  EXPECT_GT(onSquares, 500);
+  EXPECT_GT(finiteChecked, 400);
+  EXPECT_GT(fallback, 60);
+}
+
+// The even path where products underflow, with gradual underflow and with FTZ/DAZ
+// (Taylor.BoundsHoldWhereProductsUnderflow for f's own box): coefficients from 1e-300 to
+// 1e300, ray components from 2^-400 to 2^400 (inside the path's range, whose squares are
+// then from 2^-800), degrees 4 to 12 in every subset of even axes.
+TEST(TaylorEvenAxes, BoundsHoldWhereProductsUnderflow) {
+  std::mt19937_64 rng(4243);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int onSquares = 0;
+  for (int trial = 0; trial < 420; ++trial) {
+    const unsigned mask = 1u + static_cast<unsigned>(trial % 7);
+    const int m = 4 + 2 * (trial / 7 % 5);
+    const double scale = trial < 14 ? 1e-300 : std::pow(10.0, -300.0 + 600.0 * u(rng));
+    const Polynomial f = evenPolynomial(rng, mask, m, 0.7, scale);
+    glm::dvec3 o, d;
+    const double oScale = trial < 14 ? 100.0 : -118.0 + 236.0 * u(rng);
+    const double dScale = trial < 14 ? -20.0 : -118.0 + 236.0 * u(rng);
+    for (int a = 0; a < 3; ++a) {
+      o[a] = u(rng) < 0.15 ? 0.0 : test::signedPow10(rng, oScale - 2.0, oScale);
+      d[a] = u(rng) < 0.15 ? 0.0 : test::signedPow10(rng, dScale - 2.0, dScale);
+    }
+    if (d == glm::dvec3(0.0)) d.x = std::pow(10.0, dScale);
+    const HornerForm box(f);
+    for (const bool flush : {false, true}) {
+      RayPolynomial g;
+      glm::dvec3 p;
+      double tShift = 0.0;
+      {
+        std::optional<FlushToZero> mode;
+        if (flush) mode.emplace();
+        tShift = trial % 2 == 0 ? 0.0 : closestParameter(o, d, glm::dvec3(0.0));
+        if (!std::isfinite(tShift)) tShift = 0.0;
+        g = restrictToRay(box, o, d, tShift);
+        p = tShift == 0.0 ? o : o + tShift * d;  // as restrictToRay forms it, in this mode
+        onSquares += box.restrictsOnSquares(p, d) ? 1 : 0;
+      }
+      std::string first;
+      const std::string what = "trial " + std::to_string(trial) + (flush ? " FTZ/DAZ" : " gradual");
+      EXPECT_EQ(boundViolations(g, f, p, d, first, what), 0) << first;
+    }
+  }
+  EXPECT_GT(onSquares, 600);
 }
 
 }  // namespace

@@ -55,8 +55,11 @@ double closestParameter(const glm::dvec3& o, const glm::dvec3& d, const glm::dve
 // degree m, less for sparse ones.
 RayPolynomial restrictToRay(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d,
                             double tShift = 0.0);
-// The same over f's precompiled Horner box: identical coefficients and bound, but only the
-// box f occupies is visited (a separable f, Chmutov's, costs O(m^2) instead of O(m^4)).
+// The same over f's precompiled Horner box: only the box f occupies is visited (a separable
+// f, Chmutov's, costs O(m^2) instead of O(m^4)), with identical coefficients and bound; where
+// f has even axes and the ray's components are in range (HornerForm::restrictsOnSquares),
+// over the smaller box of F, f(x, y, z) = F(x^2, y, z) etc., with quadratic steps: other
+// roundings, within a bound of the same form (taylor_box.cpp, "Even axes").
 RayPolynomial restrictToRay(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d,
                             double tShift = 0.0);
 // The same into an existing record (a per-thread one on the adapter's path: returning the

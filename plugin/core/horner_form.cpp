@@ -320,6 +320,9 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
   std::vector<std::uint8_t> rowLength, blockRows;
   buildBox(reduced, std::max(reduced.degree(), 0), slots, rowLength, blockRows);
   reduced_ = buildGroups(slots, rowLength, blockRows);
+  for (const Slot& s : slots) evenTerms_.push_back({s.c, std::abs(s.c)});
+  evenRowLength_ = rowLength;
+  restrictEven_ = degree_ >= 4;
   // N: the most roundings on any slot (a, b, c) of F's box, 3a + 1 on an even axis and
   // 2a + 1 on the others (derivation in evaluate).
   int roundings = 0;
@@ -369,18 +372,6 @@ Polynomial::Evaluation HornerForm::evaluate(const glm::dvec3& p) const {
     e.valueError += 2.0 * m * absCoeffSum_ * ray_horner::pow2(a * (m - 1) - 1022);
   }
   return e;
-}
-
-bool HornerForm::reducedApplies(const glm::dvec3& p) const {
-  // From the bits (under DAZ a subnormal compares equal to 0): each coordinate +-0 or
-  // with its exponent field in its axis's range. NaN and inf (field 2047) never are.
-  bool ok = true;
-  for (int axis = 0; axis < 3; ++axis) {
-    const std::uint64_t b = std::bit_cast<std::uint64_t>(p[axis]) << 1;  // without the sign
-    const std::uint32_t field = static_cast<std::uint32_t>(b >> 53);
-    ok &= b == 0 || field - reducedExpLo_[axis] <= reducedExpSpan_[axis];
-  }
-  return ok;
 }
 
 // ---- Even axes ----
