@@ -512,11 +512,12 @@ TEST(TaylorEvenAxes, PathTakenExactlyInItsRange) {
   EXPECT_FALSE(odd.restrictsOnSquares({1.0, 1.0, 1.0}, d));
 }
 
-// Every subset of even axes, degrees 2 (f's own box) and 4 to 20 (F's), ray components from ~1e-130 to 1e125 (the
-// path's range ends near 2^-400 ~ 3.9e-121 and 2^401 ~ 5.2e120), zero and negative-zero
-// components, components at and next to the range's ends: every coefficient within its
-// bound of the MPFR expansion about the same double point, on both paths; the even path
-// taken where restrictsOnSquares says so (and bit-identical to f's own box elsewhere).
+// Every subset of even axes, degrees 2 (f's own box) and 4 to 20 (F's), ray components from
+// ~1e-130 to 1e125 (the path's range ends near 2^-400 ~ 3.9e-121 and 2^401 ~ 5.2e120), zero
+// and negative-zero components, components at and next to the range's ends: every
+// coefficient within its bound of the MPFR expansion about the same double point, on both
+// paths; the even path taken where restrictsOnSquares says so (and bit-identical to f's own
+// box elsewhere).
 TEST(TaylorEvenAxes, BoundsHoldAgainstMpfrOnEverySubset) {
   std::mt19937_64 rng(2718);
   std::uniform_real_distribution<double> u(0.0, 1.0);
