@@ -992,6 +992,54 @@ TEST(RootsContract, SimpleRootBeforeANoiseLevelEnd) {
   }
 }
 
+// The walk from a grazing root past a node that is within noise at its ends only (the
+// noise-node rule of roots_subdivide.h, degrees above 20). A degree-40 polynomial
+// (adversarial campaign, session 18: a tangent problem (s - a)^2 + d times pairs, d 1e-4 of
+// the noise bound at a, expanded in MPFR and rounded) with a grazing root at 1.5952 and
+// a second one in the noise region from 2.42 on (|g| below its bound gamma(81) sum |c_i|
+// |s|^i there, 1.65e11 against 7.8e11 at 2.56); between them |g| clears its bound by up to
+// 5e4. allRoots reports both; firstRoot from the first skipped the second: its first node
+// had both ends within noise, and the bound of the rule, the noise at the node's far end,
+// is 1e4 times that at 1.6, so the node was dropped. The rule now also asks G within noise
+// at the quarter points.
+TEST(RootsContract, WalkPastANoiseLevelNode) {
+  const std::vector<double> c{
+      -0x1.143c5085dd639p+59, 0x1.4349e3721ef7ep+62,  -0x1.2d7f52e36c9bep+64,
+      0x1.ebb05644e1681p+64,  -0x1.5da1a51f8982ap+63, -0x1.2c982fe853084p+65,
+      0x1.e3e40757fa49p+65,   -0x1.c17800dee520ap+64, -0x1.3a7a75284b3fp+64,
+      0x1.198bcf50d2ebbp+65,  -0x1.35607d465194ap+64, -0x1.31994eb0b085ep+59,
+      0x1.0dd6bf6941475p+63,  -0x1.5d5bfbd67a507p+62, -0x1.53e753ab24338p+56,
+      0x1.3c45e5c0dba9ap+61,  -0x1.ac8a6ee3bbc8ep+60, 0x1.40ee7e6d6bfefp+58,
+      0x1.90ee63bbda5dap+57,  -0x1.dd723930dc4b4p+56, -0x1.99d560af3784ep+52,
+      0x1.abdab70139092p+54,  -0x1.0e110841bdf57p+53, -0x1.50aac78e440d5p+50,
+      0x1.b38d9d0216c0ep+50,  -0x1.d31e34a75a8f3p+48, -0x1.0ee5048cbbe8ap+44,
+      0x1.6dbd4a866c739p+45,  -0x1.97159117f023dp+43, 0x1.a0ec19e72c3f2p+39,
+      0x1.cefcde8d22641p+38,  -0x1.35b74f2d01c93p+37, 0x1.311b60bf01126p+34,
+      0x1.c885bd52eab74p+29,  -0x1.8f9a9959c0c1bp+29, 0x1.3e972cce6bb4fp+27,
+      -0x1.2f593d972e626p+24, 0x1.7e63f1aa739a1p+20,  -0x1.3bf9d8295b2ebp+16,
+      0x1.39060eae673dp+11,   -0x1.1bb16681a882fp+5};
+  const double lo = -0x1.092d04a700c97p+1, hi = 0x1.be89e852f323cp+1;
+  std::vector<double> all(kMaxDegree + 1);
+  all.resize(allRoots(c, {}, lo, hi, all));
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_NEAR(all[0], 1.5952, 1e-3);
+  EXPECT_GT(all[1], 2.4);
+  std::vector<double> walk;
+  for (double from = lo; walk.size() < 4;) {
+    const auto r = firstRoot(c, {}, from, hi);
+    if (!r) break;
+    walk.push_back(*r);
+    from = *r;
+  }
+  ASSERT_EQ(walk.size(), all.size());
+  EXPECT_NEAR(walk[0], all[0], 1e-3);
+  EXPECT_GT(walk[1], 2.4);  // in the same noise region as all[1]
+  for (double r : walk) {
+    long double bound;
+    EXPECT_LE(std::fabs(evalLong(c, r, bound)), bound) << r;
+  }
+}
+
 TEST(RootsContract, NoiseLeadingCoefficientIsDropped) {
   // x^2 - 1 + 1e-30 x^3: the cubic term is rounding noise on [-2, 2]; its far root
   // (-1e30) is outside anyway, but a solver that kept it would see a degree-3 problem.
