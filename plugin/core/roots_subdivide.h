@@ -60,6 +60,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <iterator>
 #include <type_traits>
 
 namespace algray::roots_detail {
@@ -556,17 +557,22 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, D
   // 99 -> 96 (ray, 40).
   if constexpr (kPairs) {
     if (deg > kNoiseNodeDegree && (u0 != 0 || !st.closedLo) && withinBounds(b, deg, margin)) {
-      // The ends first (a node they keep costs no more than before).
-      bool within = true;
+      // The ends first (a node they keep costs no more than before), then the points
+      // between, from the end nearer 0.
       const bool nearA = std::abs(va) <= std::abs(vb);
       const T from = nearA ? va : vb, step = nearA ? vb - va : va - vb;
-      for (int i = 0; within && i < 7; ++i) {
-        const T at[5] = {T(0.0625), T(0.125), T(0.25), T(0.5), T(0.75)};
-        const T v = i == 0 ? va : i == 1 ? vb : from + step * at[i - 2];
+      const T points[7] = {va,
+                           vb,
+                           from + step * T(0.0625),
+                           from + step * T(0.125),
+                           from + step * T(0.25),
+                           from + step * T(0.5),
+                           from + step * T(0.75)};
+      const bool within = std::all_of(std::begin(points), std::end(points), [&](T v) {
         T f, nv;
         hornerNoise(g.c.data(), g.noise.data(), deg, v, f, nv);
-        within = std::abs(f) <= nv;
-      }
+        return std::abs(f) <= nv;
+      });
       if (within) return 0;
     }
   }
