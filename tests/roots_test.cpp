@@ -1484,6 +1484,37 @@ TEST(RootsKnown, TinyRootsAndTheStopRule) {
   }
 }
 
+// Open (adversarial campaign, session 18; examined in session 19, kept disabled): roots
+// whose values between them underflow. g = s^2 - 2^-540 s on (-0.5, 1] has the roots 0 and
+// 2^-540; Auto and Yuksel report one, 2^-541 (Sturm none). Not the interval's scaling: the
+// frame normalises max |C_j| to [1, 2) (roots_detail.h), so G's values relative to its
+// largest coefficient do not depend on the frame, and G at the critical point 2^-542 (local)
+// is -2^-1084 exactly, below the subnormal range: Horner computes +0 and the noise bound 0
+// (its terms, ~gamma 2^-1083, underflow too), 0 <= 0 puts the critical point in the noise
+// and the two roots merge into one tangent cluster. The noise bound has no underflow term;
+// with one (n 2^-1075: below the normal range a product rounds with an absolute error up to
+// 2^-1075, not a relative one; sums there are exact) the merge would be the stated
+// behaviour. Short of a merge the subnormal values lose accuracy: Yuksel gives 2^-530 with a
+// relative error 6e-5, 2^-520 with 2e-11 (the closed form at degree 2 is exact there). Both
+// roots would need G's values in the normal range: a frame with headroom (max |C_j| near
+// 2^400 instead of [1, 2) in double; every rule that assumes [1, 2), the leading-coefficient
+// drop, the polish's product tests, would be restated).
+TEST(RootsContract, DISABLED_RootsWhoseValuesBetweenThemUnderflow) {
+  for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel}) {
+    RootOptions o;
+    o.method = m;
+    for (const double t : {0x1p-520, 0x1p-530, 0x1p-540}) {
+      const std::vector<double> c{0, -t, 1};
+      std::vector<double> out(3);
+      out.resize(allRoots(c, {}, -0.5, 1.0, out, o));
+      EXPECT_EQ(out.size(), 2u) << static_cast<int>(m) << " " << t;
+      if (out.size() != 2) continue;
+      EXPECT_EQ(out[0], 0.0);
+      EXPECT_NEAR(out[1], t, 4 * kU * t) << static_cast<int>(m) << " " << t;
+    }
+  }
+}
+
 TEST(RootsContract, QuadraticFastPathIsFirstRoot) {
   // firstRootQuadratic promises firstRoot's answer bit for bit (the frame scaling it
   // skips is exact). Random quadratics of every shape the quadric path produces: two
