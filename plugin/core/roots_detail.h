@@ -310,10 +310,68 @@ inline bool predictedBelow(T df, T dd, T d3, bool halley, T step, T xn, D) {
                 : std::abs(dd) * (step * step) <= bound;
 }
 
-// The iteration from a given start x in (a, b) (newtonFrom: a closed form's value,
-// polished on the original polynomial; newtonInBracket: the secant point).
+// On a monotone piece between a clearly non-zero end `clear` (value fClear) and a
+// noise-level point `noisy`: a point m between them where p is clearly non-zero with the
+// sign opposite to fClear, found by bisection towards `noisy` (a clear point of fClear's
+// sign moves the search past it, a noise-level one back towards `clear`). Such a point
+// proves the piece's root in (clear, m) (the noise bounds are rigorous). Only where the
+// noise bound is smaller inside the piece than at `noisy` (|v| smaller: the bound grows
+// with |v|) can it exist: between the root and `noisy` the monotone p is below
+// |p(noisy)| <= noise(noisy) in magnitude; elsewhere no point is tried.
 template <class T, class D>
-T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
+bool clearCrossing(const T* p, const T* noise, D deg, T clear, T fClear, T noisy, T& m, T& fm) {
+  const T nearZero = (clear < 0) != (noisy < 0) ? T(0) : std::min(std::abs(clear), std::abs(noisy));
+  if (!(nearZero < std::abs(noisy))) return false;
+  T a = clear, b = noisy;  // the crossing, if any, lies between a (fClear's sign) and b
+  for (int it = 0; it < 16; ++it) {
+    m = a + (b - a) / 2;
+    if (m == a || m == b) return false;
+    T nm;
+    hornerNoise(p, noise, deg, m, fm, nm);
+    if (std::abs(fm) <= nm)
+      b = m;
+    else if (signBit(fm) == signBit(fClear))
+      a = m;
+    else
+      return true;
+  }
+  return false;
+}
+
+template <class T, class D>
+T newtonIterate(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol, bool& untrusted);
+
+// Where the polish stops at noise level with an untrusted last step (see newtonFrom), x may
+// lie in a wide noise region far from the piece's root: the noise bound grows with |v|, so
+// a monotone piece can run from a clear end with a well-conditioned root into a stretch
+// where p is within its bound, and the secant start lands there. Below the top level this
+// lost critical points: G' of a degree-35 tangent problem had its simple root (G's minimum,
+// |G| 470 times its bound) at 739 and was within noise from 900 on; the polish stopped at
+// 913, G's pieces then ran from the previous root through the minimum without a critical
+// point, and firstRoot(c, err, previousRoot, hi) merged the root at lo with the one within
+// noise of hi (tests/roots_test.cpp, RootsContract.WalkPastACleanStretchToANoiseLevelHi).
+// As the sweep does for G itself (roots_scan.h), a clear point of the other sign between a
+// clear end of the bracket [a0, b0] and x proves the root beside it; it is polished there
+// (without a further search). Otherwise x is as good as the data. Only on this exit (rare:
+// multiple roots, flat pieces), out of line.
+template <class T, class D>
+[[gnu::noinline, gnu::cold]] T rootBesideNoise(const T* p, const T* noise, D deg, T a0, T b0, T x,
+                                               T tol) {
+  T m, fm, f0, n0;
+  bool unused = false;  // (the polish beside the noise searches no further)
+  hornerNoise(p, noise, deg, a0, f0, n0);
+  if (std::abs(f0) > n0 && clearCrossing(p, noise, deg, a0, f0, x, m, fm))
+    return newtonIterate(p, noise, deg, a0, m, f0, a0 + (m - a0) / 2, tol, unused);
+  hornerNoise(p, noise, deg, b0, f0, n0);
+  if (std::abs(f0) > n0 && clearCrossing(p, noise, deg, b0, f0, x, m, fm))
+    return newtonIterate(p, noise, deg, m, b0, fm, m + (b0 - m) / 2, tol, unused);
+  return x;
+}
+
+// The iteration from a given start x in (a, b); `untrusted` is set where it stops at noise
+// level with an untrusted step (see rootBesideNoise).
+template <class T, class D>
+T newtonIterate(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol, bool& untrusted) {
   const bool negA = signBit(fa);
   T stepOld = b - a;
   for (int it = 0; it < kMaxNewton; ++it) {
@@ -358,12 +416,20 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
       return 2 * std::abs(dd * (xn - x)) <= std::abs(df) && std::abs(df) > 2 * nbSlope;
     };
     if (!inside || creep * std::abs(xn - x) > stepOld) {
-      if (atNoise) return inside && trusted() ? xn : x;
+      if (atNoise) {
+        if (inside && trusted()) return xn;
+        untrusted = true;
+        return x;
+      }
       xn = bisectionPoint(a, b);
       if (!(xn > a && xn < b)) xn = a + (b - a) / 2;
       if (!(xn > a && xn < b)) return x;  // adjacent doubles
     } else {
-      if (atNoise) return trusted() ? xn : x;
+      if (atNoise) {
+        if (trusted()) return xn;
+        untrusted = true;
+        return x;
+      }
       // The error after a step of size h (Taylor with remainder): Newton's is about
       // |K| h^2, Halley's |K^2 - L| h^3, K = f''/(2f') = dd/df, L = f'''/(6f') = d3/df
       // (Traub, Sec. 5.2). When it is below the rounding of x the next step could not
@@ -382,6 +448,22 @@ T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
     x = xn;
   }
   return x;
+}
+
+// The polish from a given start x in (a, b) (newtonFrom: a closed form's value, polished on
+// the original polynomial; newtonInBracket: the secant point). An untrusted stop at noise
+// level looks for the root beside the noise (rootBesideNoise). The rule sits outside the
+// iteration: written into its loop (the bracket's first ends kept for the search), GCC no
+// longer built the loop's IPA-SRA clone (newtonFrom<double, 6> 0x7b5 bytes before, 0x85c
+// and a call to a lambda then; newtonIterate's clone is 0x7c9, the loop as before but two
+// flag stores on its exits).
+template <class T, class D>
+T newtonFrom(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol) {
+  bool untrusted = false;
+  const T r = newtonIterate(p, noise, deg, a, b, fa, x, tol, untrusted);
+  if (untrusted) [[unlikely]]
+    return rootBesideNoise(p, noise, deg, a, b, r, tol);
+  return r;
 }
 
 template <class T, class D>

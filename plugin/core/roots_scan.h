@@ -35,30 +35,10 @@
 
 namespace algray::roots_detail {
 
-// On the monotone piece between a clearly non-zero end `clear` (value fClear) and a
-// noise-level end `noisy`: a point m between them where G is clearly non-zero with the
-// sign opposite to fClear, found by bisection towards `noisy` (a clear point of fClear's
-// sign moves the search past it, a noise-level one back towards `clear`). Only where the
-// noise bound is smaller inside the piece than at `noisy` (|v| smaller, the bound grows
-// with |v|) can such a point exist: elsewhere no point is tried.
+// clearCrossing of roots_detail.h on G.
 template <class T, class D>
 bool clearCrossing(const LocalPoly<T>& g, D deg, T clear, T fClear, T noisy, T& m, T& fm) {
-  const T nearZero = (clear < 0) != (noisy < 0) ? T(0) : std::min(std::abs(clear), std::abs(noisy));
-  if (!(nearZero < std::abs(noisy))) return false;
-  T a = clear, b = noisy;  // the crossing, if any, lies between a (fClear's sign) and b
-  for (int it = 0; it < 16; ++it) {
-    m = a + (b - a) / 2;
-    if (m == a || m == b) return false;
-    T nm;
-    hornerNoise(g.c.data(), g.noise.data(), deg, m, fm, nm);
-    if (std::abs(fm) <= nm)
-      b = m;
-    else if (signBit(fm) == signBit(fClear))
-      a = m;
-    else
-      return true;
-  }
-  return false;
+  return clearCrossing(g.c.data(), g.noise.data(), deg, clear, fClear, noisy, m, fm);
 }
 
 template <class T, class D, class Piece>
