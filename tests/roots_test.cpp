@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <optional>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,20 @@ std::vector<double> solveAll(const Problem& p, RootMethod m = RootMethod::Auto) 
   o.method = m;
   out.resize(allRoots(p.c, {}, p.lo, p.hi, out, o));
   return out;
+}
+
+// The roots the walk firstRoot(c, err, previousRoot, hi) visits from lo, at most `cap` (a
+// walk that repeated a root would not end by itself).
+std::vector<double> walkRoots(std::span<const double> c, std::span<const double> err, double lo,
+                              double hi, size_t cap, const RootOptions& o = {}) {
+  std::vector<double> walk;
+  for (double from = lo; walk.size() < cap;) {
+    const auto r = firstRoot(c, err, from, hi, o);
+    if (!r) break;
+    walk.push_back(*r);
+    from = *r;
+  }
+  return walk;
 }
 
 // The product of two polynomials (coefficients from the constant term up), in double: the
@@ -128,14 +143,7 @@ void checkProblem(const Problem& p, Tally* tally = nullptr, RootMethod m = RootM
 
   // (4) Asking again from each root (lo = previous root) walks the same list: no root
   // is reported twice, tangent or not.
-  std::vector<double> walk;
-  double lo = p.lo;
-  for (int k = 0; k <= n + 1; ++k) {
-    const auto r = firstRoot(p.c, {}, lo, p.hi, opt);
-    if (!r) break;
-    walk.push_back(*r);
-    lo = *r;
-  }
+  const std::vector<double> walk = walkRoots(p.c, {}, p.lo, p.hi, n + 2, opt);
   // A different lo gives a different bracket, so a root may land on a neighbouring
   // double: the walk must find the same roots, each as accurate as (1) requires.
   EXPECT_EQ(walk.size(), all.size());
@@ -450,14 +458,7 @@ TEST(RootsComparison, EndRulesSturmBernstein) {
         for (size_t i = 0; i < ref.size(); ++i) separated &= wellConditioned(ref, i, p.lo, p.hi);
         if (!separated) continue;
         const auto all = solveAll(p, m);
-        std::vector<double> walk;
-        double lo = p.lo;
-        for (int k = 0; k <= deg + 1; ++k) {
-          const auto r = firstRoot(p.c, {}, lo, p.hi, o);
-          if (!r) break;
-          walk.push_back(*r);
-          lo = *r;
-        }
+        const std::vector<double> walk = walkRoots(p.c, {}, p.lo, p.hi, deg + 2, o);
         EXPECT_EQ(walk.size(), ref.size()) << deg << " " << trial;
         if (walk.size() != ref.size()) continue;
         EXPECT_EQ(all.size(), ref.size()) << deg << " " << trial;
@@ -1069,13 +1070,7 @@ TEST(RootsContract, WalkPastANoiseLevelNode) {
   ASSERT_EQ(all.size(), 2u);
   EXPECT_NEAR(all[0], 1.5952, 1e-3);
   EXPECT_GT(all[1], 2.4);
-  std::vector<double> walk;
-  for (double from = lo; walk.size() < 4;) {
-    const auto r = firstRoot(c, {}, from, hi);
-    if (!r) break;
-    walk.push_back(*r);
-    from = *r;
-  }
+  const std::vector<double> walk = walkRoots(c, {}, lo, hi, 4);
   ASSERT_EQ(walk.size(), all.size());
   EXPECT_NEAR(walk[0], all[0], 1e-3);
   EXPECT_GT(walk[1], 2.4);  // in the same noise region as all[1]
@@ -1126,13 +1121,7 @@ TEST(RootsContract, WalkPastACleanStretchToANoiseLevelHi) {
   const double lo = -0x1.36b131d841691p+8, hi = 0x1.d209cac4621d9p+9;
   std::vector<double> all(kMaxDegree + 1);
   all.resize(allRoots(c, err, lo, hi, all));
-  std::vector<double> walk;
-  for (double from = lo; walk.size() < all.size() + 2;) {
-    const auto r = firstRoot(c, err, from, hi);
-    if (!r) break;
-    walk.push_back(*r);
-    from = *r;
-  }
+  const std::vector<double> walk = walkRoots(c, err, lo, hi, all.size() + 2);
   ASSERT_EQ(all.size(), 3u);
   EXPECT_EQ(all[2], hi);
   ASSERT_EQ(walk.size(), all.size());
@@ -1234,13 +1223,8 @@ TEST(RootsContract, WalkMatchesAllRootsOnTangentProblems) {
     const std::vector<double> err = errOf(c);
     std::vector<double> all(kMaxDegree + 1);
     all.resize(allRoots(c, err, lo, hi, all));
-    std::vector<double> walk;
-    for (double from = lo; walk.size() < all.size() + 3;) {
-      const auto r = firstRoot(c, err, from, hi);
-      if (!r) break;
-      walk.push_back(*r);
-      from = *r;
-    }
+    // Not const: the checks below take &all and &walk as one pointer type.
+    std::vector<double> walk = walkRoots(c, err, lo, hi, all.size() + 3);
     ++problems;
     walkedRoots += static_cast<int>(walk.size());
     for (const auto* list : {&all, &walk})
