@@ -19,6 +19,7 @@
 #include "algray/horner_form.h"
 #include "algray/taylor.h"
 #include "core_isa.h"
+#include "support/scales.h"
 
 namespace algray {
 namespace {
@@ -71,13 +72,9 @@ std::vector<Polynomial> polynomials(std::mt19937_64& rng) {
   for (unsigned mask = 1; mask < 8; ++mask)
     for (int m : {4, 10, 16}) {
       Polynomial f;
-      for (int n = 0; n <= m; ++n)
-        forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
-          const int e[3] = {i, j, k};
-          for (int a = 0; a < 3; ++a)
-            if ((mask >> a & 1u) && e[a] % 2) return;
-          if (u(rng) < 0.6) f.setCoeff(i, j, k, wild(rng));
-        });
+      test::forEachMonomialEvenOn(mask, m, [&](int i, int j, int k) {
+        if (u(rng) < 0.6) f.setCoeff(i, j, k, wild(rng));
+      });
       for (int a = 0; a < 3; ++a) {
         int e[3] = {0, 0, 0};
         e[a] = (mask >> a & 1u) ? m : 1;

@@ -331,13 +331,9 @@ TEST(HornerForm, UnderflowIsInsideTheBound) {
 Polynomial evenPolynomial(std::mt19937_64& rng, unsigned mask, int degree, double lo, double hi) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   Polynomial f;
-  for (int n = 0; n <= degree; ++n)
-    forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
-      const int e[3] = {i, j, k};
-      for (int a = 0; a < 3; ++a)
-        if ((mask >> a & 1u) && e[a] % 2) return;
-      if (u(rng) < 0.6) f.setCoeff(i, j, k, test::signedPow10(rng, lo, hi));
-    });
+  test::forEachMonomialEvenOn(mask, degree, [&](int i, int j, int k) {
+    if (u(rng) < 0.6) f.setCoeff(i, j, k, test::signedPow10(rng, lo, hi));
+  });
   for (int a = 0; a < 3; ++a) {
     int e[3] = {0, 0, 0};
     e[a] = (mask >> a & 1u) ? 2 : 1;

@@ -471,13 +471,9 @@ Polynomial evenPolynomial(std::mt19937_64& rng, unsigned mask, int m, double den
                           double scale) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   Polynomial f;
-  for (int n = 0; n <= m; ++n)
-    forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
-      const int e[3] = {i, j, k};
-      for (int a = 0; a < 3; ++a)
-        if ((mask >> a & 1u) != 0 && e[a] % 2 != 0) return;
-      if (u(rng) < density) f.setCoeff(i, j, k, scale * test::signedPow10(rng, -3.0, 0.0));
-    });
+  test::forEachMonomialEvenOn(mask, m, [&](int i, int j, int k) {
+    if (u(rng) < density) f.setCoeff(i, j, k, scale * test::signedPow10(rng, -3.0, 0.0));
+  });
   for (int a = 0; a < 3; ++a) {
     int e[3] = {0, 0, 0};
     e[a] = (mask >> a & 1u) != 0 ? m : 1;
