@@ -99,5 +99,70 @@ TEST(RootsSubdivide, BernsteinFromZeroWithinItsBounds) {
   checkDegree<20>(rng);
 }
 
+// The noise-node rule's proof (provedWithinNoise, degrees above 20): where it says |G| <=
+// 4 N(|v|) on a node (N the noise bound), G evaluated in long double at 1001 points of the
+// node must agree; random nodes (on either side of 0, around it, next to it) and random G
+// against random noise coefficients, at scales where the proof holds and where it fails
+// (both must occur). Then the factor itself, on nodes left and right of 0 where N changes
+// 1e5-fold across the node: G = 2N (odd terms negated on the left, G(v) = 2 N(|v|)) is
+// proved, G = 5N is not.
+TEST(RootsSubdivide, NoiseNodeProofHoldsWhereItClaims) {
+  constexpr int n = 25;  // a run-time degree, paired nodes
+  using E = BPair<double>;
+  std::mt19937_64 rng(2012);
+  std::uniform_real_distribution<double> uni(0, 1);
+  auto prove = [](const LocalPoly<double>& g, double va, double vb) {
+    LocalPoly<double> node = g;
+    node.lo = va;
+    node.hi = vb;
+    E b[kMaxDegree + 1];
+    roots_detail::toBernsteinWithBound(node, n, b);
+    const double delta = 0x1p-52 * (std::abs(va) + (vb - va));
+    return roots_detail::provedWithinNoise(node, n, b, va, vb, delta);
+  };
+  int proved = 0, refused = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    LocalPoly<double> g;
+    g.n = n;
+    const double scale = std::ldexp(1.0, static_cast<int>(rng() % 9) - 2);
+    for (int j = 0; j <= n; ++j) {
+      g.noise[j] = rng() % 4 == 0 ? 0.0 : std::ldexp(uni(rng), -40);
+      g.c[j] = g.noise[j] * scale * (2 * uni(rng) - 1);
+    }
+    g.noise[0] = std::ldexp(0.5 + uni(rng), -40);
+    double va = 2 * uni(rng) - 1, vb = 2 * uni(rng) - 1;
+    if (va > vb) std::swap(va, vb);
+    if (trial % 3 == 0) vb = va + (vb - va) * 1e-3;  // short nodes: N nearly constant
+    if (!(va < vb)) continue;
+    if (!prove(g, va, vb)) {
+      ++refused;
+      continue;
+    }
+    ++proved;
+    for (int k = 0; k <= 1000; ++k) {
+      const long double v = va + (static_cast<long double>(vb) - va) * k / 1000;
+      long double f = 0, nb = 0;
+      for (int j = n; j >= 0; --j) {
+        f = f * v + g.c[j];
+        nb = nb * std::fabs(v) + g.noise[j];
+      }
+      ASSERT_LE(std::fabs(f), 4 * nb * (1 + 1e-12L)) << "trial " << trial << " node [" << va << ", "
+                                                     << vb << "] at " << static_cast<double>(v);
+    }
+  }
+  EXPECT_GT(proved, 300);
+  EXPECT_GT(refused, 300);
+  for (const double factor : {2.0, 5.0}) {
+    LocalPoly<double> g;
+    g.n = n;
+    for (int j = 0; j <= n; ++j) g.noise[j] = 0x1p-45;
+    for (const auto& [va, vb] : {std::pair{0.3, 0.9}, std::pair{-0.9, -0.3}}) {
+      for (int j = 0; j <= n; ++j) g.c[j] = factor * g.noise[j] * (va < 0 && j % 2 ? -1 : 1);
+      EXPECT_EQ(prove(g, va, vb), factor < 4)
+          << "G = " << factor << " N on [" << va << ", " << vb << "]";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace algray
