@@ -197,6 +197,18 @@ inline void pascalPasses(E* b, D deg) {
   }
 }
 
+// b_i = sum_{j <= i} C(i, j) / C(n, j) a_j w^j, the Bernstein coefficients on [0, 1] of
+// sum_j a_j (w u)^j: a_j w^j / C(n, j) (a table of reciprocals), then the n Pascal passes
+// (toBernsteinWithBound counts the roundings).
+template <class T, class E, class D>
+inline void scaledToBernstein(const E* a, D deg, T w, E* b) {
+  const int n = deg;
+  const T* inv = kInverseBinomials<T>.row(n);
+  T p = 1;
+  for (int j = 0; j <= n; ++j, p *= w) b[j] = (a[j] * p) * inv[j];
+  pascalPasses(b, deg);
+}
+
 // Measured and not kept (session 10): the conversion by Horner's rule in the Bernstein
 // basis (Farouki and Rajan 1988; roots_bernstein.cpp's), whose intermediates stay below
 // sum |C_j| M^j, M = max(|lo|, |hi|), where the Taylor shift's reach sum |C_j| (|lo| +
@@ -228,10 +240,7 @@ T toBernsteinWithBound(const LocalPoly<T>& g, D deg, E* b) {
   // to a partial sum of |a_j| / C(n, j) C(i, j) <= beta_i.
   // The scaling by w^j and the division share one loop (as two, the second re-read what
   // the first had just stored, in pairs once vectorised: the stall of plugin/CMakeLists.txt).
-  const T* inv = kInverseBinomials<T>.row(n);
-  T p = 1;
-  for (int j = 0; j <= n; ++j, p *= w) b[j] = (a[j] * p) * inv[j];
-  pascalPasses(b, deg);
+  scaledToBernstein(a, deg, w, b);
   constexpr int kD = kSubdivideDepth<T>;
   if constexpr (kPairs) {
     // beta_i -> the bound (*) at the depth cap: gamma(4n + 6 + 3D), two more roundings
@@ -502,10 +511,7 @@ bool provedWithinNoise(const LocalPoly<T>& g, D deg, const E* b, T va, T vb, T d
     const T s = x0 - 2 * delta, w = x1 - x0;
     copyCoeffs(g.noise.data(), n + 1, nu);
     taylorShift(nu, n, s);
-    const T* inv = kInverseBinomials<T>.row(n);
-    T p = 1;
-    for (int j = 0; j <= n; ++j, p *= w) nu[j] = (nu[j] * p) * inv[j];
-    pascalPasses(nu, deg);
+    scaledToBernstein(nu, deg, w, nu);
     if (negative)
       for (int i = 0, j = n; i < j; ++i, --j) std::swap(nu[i], nu[j]);
   }
