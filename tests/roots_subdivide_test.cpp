@@ -103,9 +103,9 @@ TEST(RootsSubdivide, BernsteinFromZeroWithinItsBounds) {
 // 4 N(|v|) on a node (N the noise bound), G evaluated in long double at 1001 points of the
 // node must agree; random nodes (on either side of 0, around it, next to it) and random G
 // against random noise coefficients, at scales where the proof holds and where it fails
-// (both must occur). Then the factor itself, on nodes left and right of 0 where N changes
-// 1e5-fold across the node: G = 2N (odd terms negated on the left, G(v) = 2 N(|v|)) is
-// proved, G = 5N is not.
+// (both must occur). Then the factor itself, on nodes left and right of 0 across which N
+// grows 6.5-fold: G = 2N (odd terms negated on the left, G(v) = 2 N(|v|)) is proved, G = 5N
+// is not.
 TEST(RootsSubdivide, NoiseNodeProofHoldsWhereItClaims) {
   constexpr int n = 25;  // a run-time degree, paired nodes
   using E = BPair<double>;

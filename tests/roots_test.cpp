@@ -1271,7 +1271,7 @@ TEST(RootsContract, WalkMatchesAllRootsOnTangentProblems) {
 
 // The same on whole spans (around 0 and from near 0), where the subdivision and its
 // noise-node rule run (roots_subdivide.h: above degree 20 a node within noise reports
-// nothing, proved to 4 times the noise bound since session 20). 1.4 s.
+// nothing, proved to 4 times the noise bound since session 20). 1.0 s.
 TEST(RootsContract, WalkMatchesAllRootsOnWholeSpans) {
   checkWalksOnTangentProblems(WalkSpan::AroundZero, 6, kWholeSpanProblems);
   checkWalksOnTangentProblems(WalkSpan::FromNearZero, 7, kWholeSpanProblems);
