@@ -419,7 +419,7 @@ T newtonIterate(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol, b
     // noise region to a point where |G| was 3 times its bound.
     auto trusted = [&] {
       const T h = std::abs(xn - x), adf = std::abs(df);
-      if (!(2 * std::abs(dd * (xn - x)) <= adf && adf > 2 * nbSlope)) return false;
+      if (!(2 * std::abs(dd) * h <= adf && adf > 2 * nbSlope)) return false;
       return halley ? (dd * dd + std::abs(d3 * df)) * (h * h * h) <= nb * adf
                     : std::abs(dd) * (h * h) <= nb;
     };
