@@ -77,6 +77,19 @@ long double evalLong(const std::vector<double>& p, long double x, long double& b
 
 double accuracyBound(const RefRoot& r) { return kAccuracyUlps * kU * r.conditioning; }
 
+// Whether an answer r is a root: g changes sign across r +- 1e-9, or |g(r)| is within its
+// rounding bound (long double evaluation).
+testing::AssertionResult rootOrWithinNoise(const std::vector<double>& p, double r) {
+  long double bound, unused;
+  const long double g = evalLong(p, r, bound);
+  const bool change =
+      std::signbit(evalLong(p, r - 1e-9, unused)) != std::signbit(evalLong(p, r + 1e-9, unused));
+  if (change || std::fabs(g) <= bound) return testing::AssertionSuccess();
+  return testing::AssertionFailure()
+         << "answer " << r << " with |g| = " << static_cast<double>(std::fabs(g))
+         << " beyond its bound " << static_cast<double>(bound);
+}
+
 // Separation of reference root i from its neighbours and the interval ends.
 double separation(const std::vector<RefRoot>& ref, size_t i, double lo, double hi) {
   double s = std::min(ref[i].value - lo, hi - ref[i].value);
@@ -637,14 +650,8 @@ TEST(RootsComparison, EveryAnswerIsARootOrWithinNoise) {
         const std::optional<double> r = firstRoot(p, {}, lo, hi, options);
         if (!r) continue;
         ++answers;
-        long double bound, unused;
-        const long double g = evalLong(p, *r, bound);
-        const bool change = std::signbit(evalLong(p, *r - 1e-9, unused)) !=
-                            std::signbit(evalLong(p, *r + 1e-9, unused));
-        EXPECT_TRUE(change || std::fabs(g) <= bound)
-            << "method " << static_cast<int>(method) << ", degree " << deg << ": answer " << *r
-            << " with |g| = " << static_cast<double>(std::fabs(g)) << " beyond its bound "
-            << static_cast<double>(bound);
+        EXPECT_TRUE(rootOrWithinNoise(p, *r))
+            << "method " << static_cast<int>(method) << ", degree " << deg;
       }
     EXPECT_GT(answers, 6000);
   }
@@ -677,13 +684,7 @@ TEST(RootsComparison, FlatSimpleRootKeepsNoStepItsModelCannotSupport) {
   const double lo = 0x1.d3e7f10458723p-3, hi = 0x1.8ac54b3dab266p-1;
   const std::optional<double> r = firstRoot(p, {}, lo, hi);
   ASSERT_TRUE(r);
-  long double bound, unused;
-  const long double g = evalLong(p, *r, bound);
-  const bool change =
-      std::signbit(evalLong(p, *r - 1e-9, unused)) != std::signbit(evalLong(p, *r + 1e-9, unused));
-  EXPECT_TRUE(change || std::fabs(g) <= bound)
-      << *r << ": |g| " << static_cast<double>(std::fabs(g)) << " against its bound "
-      << static_cast<double>(bound);
+  EXPECT_TRUE(rootOrWithinNoise(p, *r));
 }
 
 TEST(RootsTangent, DoubleRootIsReportedOnce) {
