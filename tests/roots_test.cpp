@@ -1525,34 +1525,56 @@ TEST(RootsKnown, TinyRootsAndTheStopRule) {
   }
 }
 
-// Open (adversarial campaign, session 18; examined in session 19, kept disabled): roots
-// whose values between them underflow. g = s^2 - 2^-540 s on (-0.5, 1] has the roots 0 and
-// 2^-540; Auto and Yuksel report one, 2^-541 (Sturm none). Not the interval's scaling: the
-// frame normalises max |C_j| to [1, 2) (roots_detail.h), so G's values relative to its
-// largest coefficient do not depend on the frame, and G at the critical point 2^-542 (local)
-// is -2^-1084 exactly, below the subnormal range: Horner computes +0 and the noise bound 0
-// (its terms, ~gamma 2^-1083, underflow too), 0 <= 0 puts the critical point in the noise
-// and the two roots merge into one tangent cluster. The noise bound has no underflow term;
-// with one (n 2^-1075: below the normal range a product rounds with an absolute error up to
-// 2^-1075, not a relative one; sums there are exact) the merge would be the stated
-// behaviour. Short of a merge the subnormal values lose accuracy: Yuksel gives 2^-530 with a
-// relative error 6e-5, 2^-520 with 2e-11 (the closed form at degree 2 is exact there). Both
-// roots would need G's values in the normal range: a frame with headroom (max |C_j| near
-// 2^400 instead of [1, 2) in double; every rule that assumes [1, 2), the leading-coefficient
-// drop, the polish's product tests, would be restated).
-TEST(RootsContract, DISABLED_RootsWhoseValuesBetweenThemUnderflow) {
+// Roots whose values between them underflow (session 18's adversarial campaign). g = s^2 -
+// 2^-540 s on (-0.5, 1] has the roots 0 and 2^-540. In one frame (max |C_j| in [1, 2),
+// roots_detail.h) G at the critical point 2^-542 (local) is -2^-1084, below the subnormal
+// range: Horner gives +0, the noise bound 0, and the two roots merged into one tangent
+// cluster (2^-541; Sturm none). Since session 21 exact zeros at the bottom are factored out
+// (g = s^k h, roots.cpp): 0 and h's roots, each in its own frame. Checked against the known
+// roots for k = 1..3, each query, both interval rules and the walk from 0. (Two non-zero
+// roots that close to 0 have a product below the subnormal range: not representable.)
+TEST(RootsContract, RootsWhoseValuesBetweenThemUnderflow) {
   for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel}) {
     RootOptions o;
     o.method = m;
-    for (const double t : {0x1p-520, 0x1p-530, 0x1p-540}) {
-      const std::vector<double> c{0, -t, 1};
-      std::vector<double> out(3);
-      out.resize(allRoots(c, {}, -0.5, 1.0, out, o));
-      EXPECT_EQ(out.size(), 2u) << static_cast<int>(m) << " " << t;
-      if (out.size() != 2) continue;
-      EXPECT_EQ(out[0], 0.0);
-      EXPECT_NEAR(out[1], t, 4 * kU * t) << static_cast<int>(m) << " " << t;
-    }
+    for (int k = 1; k <= 3; ++k)
+      for (const double t : {0x1p-520, 0x1p-530, 0x1p-540}) {
+        std::vector<double> c(static_cast<size_t>(k) + 2, 0.0);  // s^k (s - t)
+        c[k] = -t;
+        c[k + 1] = 1;
+        const std::vector<double> err(c.size(), 0.0);  // zero bounds: the rule still applies
+        std::vector<double> out(4);
+        out.resize(allRoots(c, err, -0.5, 1.0, out, o));
+        ASSERT_EQ(out.size(), 2u) << static_cast<int>(m) << " k " << k << " t " << t;
+        EXPECT_EQ(out[0], 0.0);
+        EXPECT_NEAR(out[1], t, 4 * kU * t) << static_cast<int>(m) << " k " << k << " t " << t;
+        EXPECT_EQ(firstRoot(c, {}, -0.5, 1.0, o), 0.0);
+        EXPECT_NEAR(firstRoot(c, {}, 0.0, 1.0, o).value_or(1), t, 4 * kU * t);  // the walk
+        RootOptions closed = o;
+        closed.closedLo = true;
+        EXPECT_EQ(firstRoot(c, {}, 0.0, 1.0, closed), 0.0);
+        EXPECT_TRUE(hasRoot(c, {}, 0.0, 1.0, o));
+        EXPECT_FALSE(hasRoot(c, {}, t * 2, 1.0, o));
+        EXPECT_FALSE(firstRoot(c, {}, -0.5, -t, o).has_value());
+        // One output slot: the first root only.
+        std::vector<double> one(1);
+        EXPECT_EQ(allRoots(c, {}, -0.5, 1.0, one, o), 1);
+        EXPECT_EQ(one[0], 0.0);
+      }
+    // A root of h below 0 comes before the root 0; non-finite coefficients above the
+    // zeros still give no root; so does an error bound on the zero coefficient's place
+    // that is not zero (then 0 is not known to be a root: the general path decides).
+    const std::vector<double> below{0, 0x1p-540, 1};  // s (s + 2^-540)
+    EXPECT_NEAR(firstRoot(below, {}, -0.5, 1.0, o).value_or(1), -0x1p-540, 4 * kU * 0x1p-540);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<double> bad{0, nan, 1};
+    EXPECT_FALSE(firstRoot(bad, {}, -0.5, 1.0, o).has_value());
+    EXPECT_FALSE(hasRoot(bad, {}, -0.5, 1.0, o));
+    std::vector<double> out(3);
+    EXPECT_EQ(allRoots(bad, {}, -0.5, 1.0, out, o), 0);
+    const std::vector<double> badErr{0, 0, 0}, lin{0, -0.25, 1};
+    EXPECT_FALSE(firstRoot(lin, std::vector<double>{0, nan, 0}, -0.5, 1.0, o).has_value());
+    EXPECT_EQ(allRoots(lin, badErr, -0.5, 1.0, out, o), 2);
   }
 }
 

@@ -341,10 +341,42 @@ int solveLocal(const LocalPoly<T>& g, Query q, const RootOptions& o, LocalRoot<T
   return roots_detail::solveClosedForm(g, q, tol, out, maxOut);
 }
 
+// ---- Exact roots at 0 -----------------------------------------------------------------
+// With c_0 .. c_{k-1} exactly zero and no error on them, g(s) = s^k h(s) exactly: g's
+// roots are 0 and h's, and h is solved on its own. In one frame G's values between 0 and a
+// root of h far below the interval's scale underflow (s^2 - 2^-540 s on (-0.5, 1]: |G| ~
+// 2^-1080 between the roots, below the subnormal range in any frame with max |C_j| in
+// [1, 2)), so the two roots merged; h's frame keeps them apart. The noise rules keep their
+// meaning: |g(s)| <= N_g(s) = |s|^k N_h(s) exactly where |h(s)| <= N_h(s), with h's
+// (smaller) Horner count in N_h. Returns k, or 0 where the rule does not apply: no exact
+// zero at the bottom, the zero polynomial, or non-finite input or interval (those keep
+// the general path's "no root").
 template <class T>
-bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
-                const RootOptions& o) {
-  checkSizes(c, err, "firstRoot");
+int exactZeroOrder(std::span<const T> c, std::span<const T> err, T lo, T hi) {
+  const int size = static_cast<int>(c.size());
+  int k = 0;
+  while (k < size && c[k] == 0 && (err.empty() || err[k] == 0)) ++k;
+  if (k == 0 || k == size || !(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) return 0;
+  for (int j = k; j < size; ++j)
+    if (!std::isfinite(c[j]) || (!err.empty() && !std::isfinite(err[j]))) return 0;
+  return k;
+}
+
+// Whether the root 0 of s^k is in the interval: (lo, hi], or [lo, hi] with closedLo.
+template <class T>
+bool zeroInside(T lo, T hi, bool closedLo) {
+  return (closedLo ? lo <= 0 : lo < 0) && 0 <= hi;
+}
+
+template <class T>
+std::span<const T> withoutFirst(std::span<const T> s, int k) {
+  return s.empty() ? s : s.subspan(static_cast<size_t>(k));
+}
+
+// The general path: one frame for the whole polynomial.
+template <class T>
+bool firstRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
+                      const RootOptions& o) {
   LocalPoly<T> g;
   Frame<T> fr;
   if (!toLocal(c, err, lo, hi, g, fr)) return false;
@@ -356,14 +388,100 @@ bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& roo
 }
 
 template <class T>
-bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const RootOptions& o) {
-  checkSizes(c, err, "hasRoot");
+bool hasRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi,
+                    const RootOptions& o) {
   LocalPoly<T> g;
   Frame<T> fr;
   if (!toLocal(c, err, lo, hi, g, fr)) return false;
   g.closedLo = o.closedLo;
   LocalRoot<T> r[1];
   return solveLocal(g, Query::Any, o, r, 1) > 0;
+}
+
+int allRootsInFrame(std::span<const double> c, std::span<const double> err, double lo, double hi,
+                    std::span<double> out, const RootOptions& options) {
+  LocalPoly<double> g;
+  Frame<double> fr;
+  if (!toLocal(c, err, lo, hi, g, fr)) return 0;
+  g.closedLo = options.closedLo;
+  LocalRoot<double> r[kMaxDegree + 1];
+  const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
+  const int k = solveLocal(g, Query::All, options, r, maxOut);
+  // The sweep returns roots in increasing order; the clamping into (lo, hi] could merge
+  // two of them: keep the output strictly increasing.
+  int m = 0;
+  for (int i = 0; i < k; ++i) {
+    const double s = toCaller(fr, g, r[i]);
+    if (m > 0 && s <= out[m - 1]) continue;
+    out[m++] = s;
+  }
+  return m;
+}
+
+// g = s^k h: 0 and h's roots (h(0) = c_k != 0, so h takes the general path). Out of line:
+// only c_0 == 0 comes here, and the common path keeps one comparison.
+template <class T>
+[[gnu::noinline]] bool firstRootFactored(std::span<const T> c, std::span<const T> err, T lo, T hi,
+                                         T& root, const RootOptions& o) {
+  const int k = exactZeroOrder(c, err, lo, hi);
+  if (k == 0) return firstRootInFrame(c, err, lo, hi, root, o);
+  T r;
+  const bool found = firstRootInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, r, o);
+  if (zeroInside(lo, hi, o.closedLo) && !(found && r < 0)) {
+    root = 0;
+    return true;
+  }
+  if (found) root = r;
+  return found;
+}
+
+template <class T>
+[[gnu::noinline]] bool hasRootFactored(std::span<const T> c, std::span<const T> err, T lo, T hi,
+                                       const RootOptions& o) {
+  const int k = exactZeroOrder(c, err, lo, hi);
+  if (k == 0) return hasRootInFrame(c, err, lo, hi, o);
+  return zeroInside(lo, hi, o.closedLo) ||
+         hasRootInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, o);
+}
+
+[[gnu::noinline]] int allRootsFactored(std::span<const double> c, std::span<const double> err,
+                                       double lo, double hi, std::span<double> out,
+                                       const RootOptions& options) {
+  const int k = exactZeroOrder(c, err, lo, hi);
+  if (k == 0) return allRootsInFrame(c, err, lo, hi, out, options);
+  // h's roots in order, with 0 put in its place (a root of h within its noise bound of 0
+  // may come back as 0 itself: reported once).
+  const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
+  double h[kMaxDegree + 1];
+  const int nh =
+      allRootsInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, std::span(h, maxOut), options);
+  bool zeroPending = zeroInside(lo, hi, options.closedLo);
+  int m = 0;
+  for (int i = 0; i < nh && m < maxOut; ++i) {
+    if (zeroPending && h[i] >= 0) {
+      out[m++] = 0;
+      zeroPending = false;
+      if (h[i] == 0 || m == maxOut) continue;
+    }
+    out[m++] = h[i];
+  }
+  if (zeroPending && m < maxOut) out[m++] = 0;
+  return m;
+}
+
+template <class T>
+bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
+                const RootOptions& o) {
+  checkSizes(c, err, "firstRoot");
+  if (!c.empty() && c[0] == 0) return firstRootFactored(c, err, lo, hi, root, o);
+  return firstRootInFrame(c, err, lo, hi, root, o);
+}
+
+template <class T>
+bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const RootOptions& o) {
+  checkSizes(c, err, "hasRoot");
+  if (!c.empty() && c[0] == 0) return hasRootFactored(c, err, lo, hi, o);
+  return hasRootInFrame(c, err, lo, hi, o);
 }
 
 }  // namespace
@@ -381,22 +499,9 @@ bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, 
 int allRoots(std::span<const double> c, std::span<const double> err, double lo, double hi,
              std::span<double> out, const RootOptions& options) {
   checkSizes(c, err, "allRoots");
-  LocalPoly<double> g;
-  Frame<double> fr;
-  if (out.empty() || !toLocal(c, err, lo, hi, g, fr)) return 0;
-  g.closedLo = options.closedLo;
-  LocalRoot<double> r[kMaxDegree + 1];
-  const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
-  const int k = solveLocal(g, Query::All, options, r, maxOut);
-  // The sweep returns roots in increasing order; the clamping into (lo, hi] could merge
-  // two of them: keep the output strictly increasing.
-  int m = 0;
-  for (int i = 0; i < k; ++i) {
-    const double s = toCaller(fr, g, r[i]);
-    if (m > 0 && s <= out[m - 1]) continue;
-    out[m++] = s;
-  }
-  return m;
+  if (out.empty()) return 0;
+  if (!c.empty() && c[0] == 0) return allRootsFactored(c, err, lo, hi, out, options);
+  return allRootsInFrame(c, err, lo, hi, out, options);
 }
 
 bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
