@@ -349,7 +349,8 @@ T newtonIterate(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol, b
 // |G| 470 times its bound) at 739 and was within noise from 900 on; the polish stopped at
 // 913, G's pieces then ran from the previous root through the minimum without a critical
 // point, and firstRoot(c, err, previousRoot, hi) merged the root at lo with the one within
-// noise of hi (tests/roots_test.cpp, RootsContract.WalkPastACleanStretchToANoiseLevelHi).
+// noise of hi (tests/roots_contract_test.cpp,
+// RootsContract.WalkPastACleanStretchToANoiseLevelHi).
 // As the sweep does for G itself (roots_scan.h), a clear point of the other sign between a
 // clear end of the bracket [a0, b0] and x proves the root beside it; it is polished there
 // (without a further search). Otherwise x is as good as the data. Only on this exit (rare:
