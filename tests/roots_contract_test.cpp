@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -612,6 +613,44 @@ TEST(RootsContract, RootsWhoseValuesBetweenThemUnderflow) {
     const std::vector<double> badErr{0, 0, 0}, lin{0, -0.25, 1};
     EXPECT_FALSE(firstRoot(lin, std::vector<double>{0, nan, 0}, -0.5, 1.0, o).has_value());
     EXPECT_EQ(allRoots(lin, badErr, -0.5, 1.0, out, o), 2);
+  }
+}
+
+// Exact zeros at the bottom at every degree: g = s^k q with a k-fold root at 0 (k = 1..3)
+// and ray-shaped q (random real roots, complex pairs, any scale), on intervals around 0,
+// from 0 and beside it. Each problem gets checkProblem (MPFR references of the rounded
+// polynomial: every well-conditioned root within 4 u cond, first root, hasRoot and the
+// walk agreeing, every answer a root of the data), and 0 is reported exactly once where
+// the interval holds it.
+TEST(RootsContract, ExactZerosAtTheBottomAtEveryDegree) {
+  std::mt19937_64 rng(20261203);
+  std::uniform_real_distribution<double> uni(0, 1);
+  for (int deg : issueDegrees(4)) {
+    for (int trial = 0; trial < 6; ++trial) {
+      const int k = 1 + trial % 3;
+      const int nReal = std::min(rayRealRootCount(deg - k, uni(rng)), deg - k);
+      std::vector<double> roots(static_cast<size_t>(k), 0.0);
+      for (int i = 0; i < nReal; ++i) roots.push_back(-1 + 2 * uni(rng));
+      std::vector<std::pair<double, double>> pairs;
+      for (int i = 0; i < (deg - k - nReal) / 2; ++i)
+        pairs.emplace_back(-1.5 + 3 * uni(rng), std::pow(10.0, -2 + 2 * uni(rng)));
+      if (static_cast<int>(roots.size() + 2 * pairs.size()) < deg) roots.push_back(uni(rng));
+      const double lead = (uni(rng) < 0.5 ? -1 : 1) * std::pow(10.0, -3 + 6 * uni(rng));
+      const double lo = trial < 3 ? -0.3 - uni(rng) : (trial == 3 ? 0.0 : 0.05);
+      const double hi = 0.2 + uni(rng);
+      Problem p = fromRoots("degree " + std::to_string(deg) + " k " + std::to_string(k) +
+                                " trial " + std::to_string(trial),
+                            roots, pairs, lo, hi, lead);
+      ASSERT_EQ(static_cast<int>(p.c.size()), deg + 1);
+      for (int j = 0; j < k; ++j) ASSERT_EQ(p.c[j], 0.0);  // the rule applies
+      checkProblem(p);
+      const std::vector<double> all = solveAll(p);
+      const auto zeros = std::count(all.begin(), all.end(), 0.0);
+      EXPECT_EQ(zeros, lo < 0 ? 1 : 0) << p.name;
+      if (lo < 0) {
+        EXPECT_TRUE(hasRoot(p.c, {}, p.lo, p.hi));
+      }
+    }
   }
 }
 

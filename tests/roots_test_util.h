@@ -191,4 +191,21 @@ inline Problem fromRoots(std::string name, const std::vector<double>& roots,
   return p;
 }
 
+// Degrees first..20, 30 and 40: the issue's list.
+inline std::vector<int> issueDegrees(int first) {
+  std::vector<int> degrees;
+  for (int d = first; d <= 20; ++d) degrees.push_back(d);
+  degrees.push_back(30);
+  degrees.push_back(40);
+  return degrees;
+}
+
+// Ray-tracing shape: few real roots (at most 8, deg's parity), the rest complex pairs;
+// u uniform in [0, 1) picks how many.
+inline int rayRealRootCount(int deg, double u) {
+  const int maxReal = std::min(deg, 8);
+  const int nReal = deg % 2 + 2 * static_cast<int>(u * (maxReal / 2 + 1));
+  return std::min(nReal, maxReal - (maxReal - deg % 2) % 2);
+}
+
 }  // namespace algray::roots_testing
