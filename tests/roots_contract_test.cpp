@@ -679,6 +679,14 @@ TEST(RootsContract, QuadraticFastPathIsFirstRoot) {
     if (i % 3 == 0)
       for (int k = 0; k < 3; ++k) err[k] = 1e-14 * std::abs(c[k]) * std::abs(uni(rng));
     double lo = uni(rng) * 2, hi = lo + std::abs(uni(rng)) * 3;
+    if (i % 19 == 0) {
+      // An exact root at 0 (c0 = 0 with no error: firstRoot factors it out, roots.cpp)
+      // beside a root whose slope's error bound can put both in one noise cluster (err1 >=
+      // |c1| / 2 makes the vertex a tangent root in one frame).
+      c[0] = 0;
+      err = {0, std::abs(c[1]) * 4 * std::abs(uni(rng)), 0};
+      lo = -std::abs(lo);
+    }
     if (i % 5 == 0) lo = r0;  // the previous root as lo
     if (i % 17 == 0) hi = r1;
     if (!(lo < hi)) continue;

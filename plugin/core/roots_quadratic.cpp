@@ -10,7 +10,8 @@
 // overflows or underflows; the range check below keeps the coefficients and the powers
 // of the interval ends far from both. The rule that drops a leading coefficient as
 // rounding noise is applied in the same form; a quadratic it would drop goes to
-// firstRoot, as does anything outside the range.
+// firstRoot, as do anything outside the range and an exact root at 0 (c0 = 0 with no
+// error, which firstRoot factors out).
 #include "algray/roots.h"
 
 #include "roots_detail.h"
@@ -29,6 +30,9 @@ bool solveFirstRootQuadratic(std::span<const double, 3> c, std::span<const doubl
   bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c[2] != 0.0;
   for (int i = 0; i < 3 && safe; ++i)
     safe = inRange(c[i]) && inRange(err[i]) && std::isfinite(err[i]);
+  // An exact root at 0 (c0 = 0 with no error) is factored out by firstRoot (roots.cpp): the
+  // closed form here could put it in one noise cluster with the other root.
+  safe = safe && (c[0] != 0.0 || err[0] != 0.0);
   // The drop rule of toLocal (roots.cpp) in the caller's frame: |c2| S^2 against
   // u max(|c0|, |c1| S) and against the caller's own bound on c2 (S = max(|lo|, |hi|)
   // here, the next power of two there: a quadratic near the rule's threshold goes to

@@ -68,8 +68,9 @@ double toSpan(double v, double lo, double hi) {
 int quadraticFirst(const QuadricRay& g, double lo, double hi, double& s) {
   const double c0 = g.c[0], c1 = g.c[1], c2 = g.c[2];
   const double scale = std::max(std::abs(lo), std::abs(hi));
+  // (c0 = 0 with no error is an exact root at 0, which firstRoot factors out: roots.cpp.)
   bool safe = std::isfinite(lo) && std::isfinite(hi) && lo < hi && scale <= 1e30 && c2 != 0.0 &&
-              coefficientsInRange<3>(g);
+              (c0 != 0.0 || g.err[0] != 0.0) && coefficientsInRange<3>(g);
   if (safe) {
     const double lead = std::abs(c2) * scale * scale;
     const double lower = std::max(std::abs(c0), std::abs(c1) * scale);
