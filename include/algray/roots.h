@@ -19,6 +19,9 @@
 //  * Tangent roots: at a local extremum s* of g where |g(s*)| <= sum_i (err[i] +
 //    gamma(2 deg + 1) |c[i]|) |s*|^i, s* is reported as a root (grazing hits are kept;
 //    near misses within that bound are reported too).
+//  * Exact zeros: where c[0] .. c[k-1] are 0 and their error bounds 0, g = s^k h exactly;
+//    0 is reported (if in the interval) and h's roots are found in h's own frame, so roots
+//    of h far closer to 0 than the interval's scale stay apart from it.
 //  * Accuracy: a simple root to within a few u cond(r), cond(r) = sum|c_i||r|^i / |g'(r)|
 //    (measured worst case 1.74 u cond over 781 roots in tests/roots_test.cpp).
 //  * Cost: bounded; non-finite coefficients, error bounds or interval ends give "no root".
