@@ -3,6 +3,7 @@
 #include "algray/embree.h"
 
 #include <embree3/rtcore.h>
+#include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -206,5 +207,22 @@ inline bool embreeHonoursValidMask(RTCDevice device, int n) {
       return true;
   }
 }
+
+// A ray from o along d with no far end.
+inline RayD unboundedRay(const glm::dvec3& o, const glm::dvec3& d) {
+  RayD ray;
+  ray.org = o;
+  ray.dir = d;
+  ray.tfar = std::numeric_limits<double>::infinity();
+  return ray;
+}
+
+// A device and a seeded generator per test (the suites' fixture).
+class EmbreeFixture : public ::testing::Test {
+ protected:
+  Device device;
+  std::mt19937 rng{12345};
+  glm::vec3 randomDir() { return randomUnit(rng); }
+};
 
 }  // namespace algray::test
