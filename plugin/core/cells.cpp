@@ -8,10 +8,15 @@
 #include "algray/taylor.h"
 #include "gradual_underflow.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
+#include <vector>
 
 namespace algray {
 
@@ -57,6 +62,9 @@ constexpr double kTestsPerCell = 4.0;
 constexpr double kVolumeRatio = 0.75;
 constexpr double kEffectiveRatio = 0.6;
 constexpr long kMinAutoCells = 64;
+// A level is refined in this many chunks of consecutive cells at most (Builder::refine):
+// enough to balance a few dozen threads, few enough that a chunk's start-up is nothing.
+constexpr std::size_t kRefineChunks = 64;
 
 long autoBudget(const MonomialTables& t, int maxCells, RangeBound bound) {
   const long perTest = t.splitCost() + (bound == RangeBound::Bernstein ? t.bernsteinCost() : 0);
@@ -97,54 +105,37 @@ class Builder {
   // The kept root (level 0), or nothing.
   std::vector<Node> rootLevel() {
     Node root;
+    ++tested_;
     if (!keep(root, rootPoly_)) return {};
     return {root};
   }
 
-  // The kept boxes of the next level, or nullopt once more than budget are kept.
+  // The kept boxes of the next level, or nullopt once more than budget are kept. The
+  // level's cells are split in parallel (TBB) in fixed chunks of consecutive cells, each
+  // depth-first as one thread would, and the chunks' boxes are concatenated in order: the
+  // same cells in the same order on any number of threads. "Over budget" is decided on
+  // the exact total (one shared count), so it is the same too; only the test count of an
+  // abandoned level depends on how far the other chunks got.
   std::optional<std::vector<Node>> refine(const std::vector<Node>& level, int nextLevel,
                                           long budget) {
+    const std::size_t chunks = std::min<std::size_t>(level.size(), kRefineChunks);
+    std::vector<std::vector<Node>> parts(chunks);
+    std::vector<long> tests(chunks, 0);
+    std::atomic<long> kept{0};
+    std::atomic<bool> over{false};
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t i) {
+      // Each worker's own floating-point mode: TBB's and Embree's workers may flush
+      // subnormals to zero (gradual_underflow.h).
+      const GradualUnderflow gradual;
+      const std::size_t from = level.size() * i / chunks, to = level.size() * (i + 1) / chunks;
+      tests[i] = refineCells(std::span(level).subspan(from, to - from), nextLevel, budget, kept,
+                             over, parts[i]);
+    });
+    for (long t : tests) tested_ += t;
+    if (over.load()) return std::nullopt;
     std::vector<Node> out;
-    // Depth-first stack whose slots (and their coefficient storage) are reused: no
-    // allocation per box after the first few.
-    struct Entry {
-      Node node;
-      BoxPolynomial poly;
-    };
-    std::vector<Entry> stack;
-    std::size_t top = 0;
-    auto push = [&]() -> Entry& {
-      if (top == stack.size()) stack.emplace_back();
-      return stack[top++];
-    };
-    BoxPolynomial parent;
-    for (const Node& cell : level) {
-      const glm::dvec3 centre = 0.5 * (cell.wlo + cell.whi);  // exact (dyadic)
-      Entry& first = push();
-      first.node = cell;
-      rootPoly_.subBox(centre, cell.splits, first.poly);
-      while (top > 0) {
-        --top;
-        const Node node = stack[top].node;
-        std::swap(parent, stack[top].poly);  // the slot is reused by the children
-        const int axis = splitAxis(node);
-        const double mid = 0.5 * (node.wlo[axis] + node.whi[axis]);
-        for (int side : {+1, -1}) {  // the -1 half is processed first
-          Entry& child = push();
-          child.node = node;
-          (side < 0 ? child.node.whi : child.node.wlo)[axis] = mid;
-          ++child.node.splits[axis];
-          parent.half(axis, side, child.poly);
-          if (!keep(child.node, child.poly)) {
-            --top;
-          } else if (reaches(child.node.splits, nextLevel)) {
-            out.push_back(child.node);
-            --top;
-            if (static_cast<long>(out.size()) > budget) return std::nullopt;
-          }
-        }
-      }
-    }
+    out.reserve(static_cast<std::size_t>(kept.load()));
+    for (const std::vector<Node>& part : parts) out.insert(out.end(), part.begin(), part.end());
     return out;
   }
 
@@ -171,8 +162,60 @@ class Builder {
   }
 
  private:
-  bool keep(const Node& node, const BoxPolynomial& poly) {
-    ++tested_;
+  // The boxes of the next level inside cells, depth-first, appended to out; returns the
+  // number of boxes tested. Stops once the shared count passes budget (over).
+  long refineCells(std::span<const Node> cells, int nextLevel, long budget, std::atomic<long>& kept,
+                   std::atomic<bool>& over, std::vector<Node>& out) const {
+    long tests = 0;
+    // Depth-first stack whose slots (and their coefficient storage) are reused: no
+    // allocation per box after the first few.
+    struct Entry {
+      Node node;
+      BoxPolynomial poly;
+    };
+    std::vector<Entry> stack;
+    std::size_t top = 0;
+    auto push = [&]() -> Entry& {
+      if (top == stack.size()) stack.emplace_back();
+      return stack[top++];
+    };
+    BoxPolynomial parent;
+    for (const Node& cell : cells) {
+      if (over.load(std::memory_order_relaxed)) return tests;
+      const glm::dvec3 centre = 0.5 * (cell.wlo + cell.whi);  // exact (dyadic)
+      Entry& first = push();
+      first.node = cell;
+      rootPoly_.subBox(centre, cell.splits, first.poly);
+      while (top > 0) {
+        --top;
+        const Node node = stack[top].node;
+        std::swap(parent, stack[top].poly);  // the slot is reused by the children
+        const int axis = splitAxis(node);
+        const double mid = 0.5 * (node.wlo[axis] + node.whi[axis]);
+        for (int side : {+1, -1}) {  // the -1 half is processed first
+          Entry& child = push();
+          child.node = node;
+          (side < 0 ? child.node.whi : child.node.wlo)[axis] = mid;
+          ++child.node.splits[axis];
+          parent.half(axis, side, child.poly);
+          ++tests;
+          if (!keep(child.node, child.poly)) {
+            --top;
+          } else if (reaches(child.node.splits, nextLevel)) {
+            out.push_back(child.node);
+            --top;
+            if (kept.fetch_add(1, std::memory_order_relaxed) + 1 > budget) {
+              over.store(true, std::memory_order_relaxed);
+              return tests;
+            }
+          }
+        }
+      }
+    }
+    return tests;
+  }
+
+  bool keep(const Node& node, const BoxPolynomial& poly) const {
     if (sphere_ && outsideSphere(worldBox(node))) return false;
     if (poly.provablyNonZero()) return false;
     if (bound_ == RangeBound::Bernstein) {
