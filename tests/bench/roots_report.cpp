@@ -13,7 +13,9 @@
 // intervals hold no root. The reference is the first certified real root of the *rounded*
 // polynomial in (lo, hi) (MPFR Newton from the known roots); problems whose first root is
 // not well separated (1e6 u cond >= distance to a neighbour or an end) are skipped, so
-// every problem has one right answer.
+// every problem has one right answer. The float rows are timed on every problem but
+// scored only on those whose float-rounded polynomial passes the same test at float's u
+// (their "problems" column counts those).
 //
 // Figures per method, precision and degree: ns per solve (median of 5 interleaved
 // repetitions), the error |t - t_ref| in units of u cond(t_ref) (median, p99, max; u of
@@ -24,6 +26,13 @@
 // roots of the rounded polynomial that Newton from the known roots did not reach: at
 // degree >= 16 rounding turns some complex pairs into close real pairs), "false hits"
 // are beyond it (not a root of the data). Writes DIR/roots.csv, prints a Markdown table.
+//
+// By outcome (DIR/roots-outcomes.csv and a second table): Auto and Sturm timed apart on
+// the problems with a reference root, the near misses (no root, but a complex pair within
+// 0.01 of the axis whose real part lies inside the interval: where an exclusion test must
+// shrink its node to the pair's distance from the axis while Sturm's count settles it at
+// once), and the rest (no root anywhere near), so that a ratio over all problems can be
+// read as the mix it is.
 #include "algray/roots.h"
 
 #include "../roots_mpfr.h"
@@ -53,7 +62,14 @@ struct Problem {
   double cond;    // its conditioning
   bool hasRootF;  // the same for the float-rounded polynomial
   double rootF, condF;
+  bool floatScored;  // the float reference is well separated (the float rows' problems)
+  bool nearPair;     // a complex pair a +- b i with b < 0.01 and a in (lo, hi)
 };
+
+enum Outcome { kRoot, kNearMiss, kNone };
+const char* const kOutcomeNames[] = {"root", "near miss", "none"};
+
+Outcome outcomeOf(const Problem& p) { return p.hasRoot ? kRoot : p.nearPair ? kNearMiss : kNone; }
 
 struct Method {
   const char* name;
@@ -71,6 +87,13 @@ const Method kMethods[] = {
     {"Auto", "float", "first", RootMethod::Auto},
     {"Auto", "double", "any", RootMethod::Auto},
 };
+
+// The double-precision first-root row of a method (the outcome table's).
+const Method& doubleFirst(RootMethod m) {
+  return *std::find_if(std::begin(kMethods), std::end(kMethods), [&](const Method& k) {
+    return k.method == m && !std::strcmp(k.precision, "double") && !std::strcmp(k.query, "first");
+  });
+}
 
 // ClosedForm is Yuksel's recursion above degree 4 (roots.h): no rows of its own there.
 bool applies(const Method& m, int degree) {
@@ -103,16 +126,30 @@ std::vector<Problem> makeProblems(int degree, int count, bool cell, std::mt19937
     p.cf.assign(p.c.begin(), p.c.end());
     p.lo = shape.lo;
     p.hi = shape.hi;
+    p.nearPair = std::any_of(pairs.begin(), pairs.end(), [&](const auto& ab) {
+      return ab.second < 0.01 && ab.first > p.lo && ab.first < p.hi;
+    });
     std::vector<double> starts = roots;
     for (auto [a, b] : pairs)
       if (b < 0.05) starts.push_back(a);  // only near pairs can turn real by rounding
     const std::vector<double> cfd(p.cf.begin(), p.cf.end());
     if (!reference(p.c, starts, p.lo, p.hi, 0x1p-53, p.hasRoot, p.root, p.cond)) continue;
-    if (!reference(cfd, starts, p.lo, p.hi, 0x1p-24, p.hasRootF, p.rootF, p.condF)) continue;
+    // The float rows are scored only where the float-rounded polynomial's first root is
+    // well separated at float's u; that filter must not choose the problems of the double
+    // rows: at u = 2^-24 it rejects nearly every problem with a root (1e6 u cond is 0.06
+    // cond), and until session 23 it left the double rows 9 % problems with a root at
+    // degree 6 instead of the shape's ~60 % (the report then measured mostly misses).
+    p.floatScored = reference(cfd, starts, p.lo, p.hi, 0x1p-24, p.hasRootF, p.rootF, p.condF);
     out.push_back(std::move(p));
   }
   return out;
 }
+
+struct OutcomeRow {
+  const char* family;
+  int degree, outcome, problems;
+  double autoNs, sturmNs;
+};
 
 struct Row {
   const Method* m;
@@ -158,8 +195,11 @@ void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& 
     (resid <= bound ? row.noiseHits : row.falseHits) += 1;
   };
   std::vector<double> errs;
+  row.problems = 0;
   for (size_t i = 0; i < ps.size(); ++i) {
     const Problem& p = ps[i];
+    if (isFloat && !p.floatScored) continue;
+    ++row.problems;
     const bool has = isFloat ? p.hasRootF : p.hasRoot;
     const double ref = isFloat ? p.rootF : p.root, cond = isFloat ? p.condF : p.cond;
     const bool got = answers[i] >= 0;
@@ -237,6 +277,7 @@ int main(int argc, char** argv) {
   const int reps = tiny ? 1 : 5;
   std::mt19937_64 rng(42);
   std::vector<Row> rows;
+  std::vector<OutcomeRow> outcomeRows;
   for (const char* family : {"ray", "cell"})
     for (int degree : degrees) {
       const auto ps = makeProblems(degree, problems, std::strcmp(family, "cell") == 0, rng);
@@ -253,11 +294,28 @@ int main(int argc, char** argv) {
         row.m = &kMethods[k];
         row.family = family;
         row.degree = degree;
-        row.problems = static_cast<int>(ps.size());
         std::sort(times[k].begin(), times[k].end());
         row.ns = times[k][times[k].size() / 2];
         score(row, ps, answers[k]);
         rows.push_back(row);
+      }
+      // Auto and Sturm on each outcome's problems alone, interleaved as above.
+      std::vector<Problem> byOutcome[3];
+      for (const Problem& p : ps) byOutcome[outcomeOf(p)].push_back(p);
+      const Method& autoM = doubleFirst(RootMethod::Auto);
+      const Method& sturmM = doubleFirst(RootMethod::Sturm);
+      for (int o = 0; o < 3; ++o) {
+        const auto& sub = byOutcome[o];
+        if (sub.empty()) continue;
+        std::vector<double> unused(sub.size()), autoT, sturmT;
+        for (int r = 0; r < reps; ++r) {
+          autoT.push_back(runPass(autoM, sub, unused));
+          sturmT.push_back(runPass(sturmM, sub, unused));
+        }
+        std::sort(autoT.begin(), autoT.end());
+        std::sort(sturmT.begin(), sturmT.end());
+        outcomeRows.push_back({family, degree, o, static_cast<int>(sub.size()),
+                               autoT[autoT.size() / 2], sturmT[sturmT.size() / 2]});
       }
       std::fprintf(stderr, "%s degree %d: %zu problems\n", family, degree, ps.size());
     }
@@ -288,5 +346,20 @@ int main(int argc, char** argv) {
   }
   std::printf("\nerrors in units of u cond(root) (u of the precision solved); wrote %s\n",
               csvPath.c_str());
+
+  const std::string outcomePath = outDir + "/roots-outcomes.csv";
+  std::ofstream ocsv(outcomePath);
+  ocsv << "family,degree,outcome,problems,auto_ns,sturm_ns\n";
+  std::printf(
+      "\nby outcome (double, first root)\n\n"
+      "| family | degree | outcome | problems | Auto ns | Sturm ns | Sturm / Auto |\n"
+      "|---|---:|---|---:|---:|---:|---:|\n");
+  for (const OutcomeRow& r : outcomeRows) {
+    ocsv << r.family << ',' << r.degree << ',' << kOutcomeNames[r.outcome] << ',' << r.problems
+         << ',' << r.autoNs << ',' << r.sturmNs << '\n';
+    std::printf("| %s | %d | %s | %d | %.0f | %.0f | %.2f |\n", r.family, r.degree,
+                kOutcomeNames[r.outcome], r.problems, r.autoNs, r.sturmNs, r.sturmNs / r.autoNs);
+  }
+  std::printf("\nwrote %s\n", outcomePath.c_str());
   return 0;
 }
