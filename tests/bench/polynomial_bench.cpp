@@ -4,7 +4,8 @@
 //   BM_ParseFactored   : parse the factored definition of a classic surface, side by side
 //   BM_BuildGallery      with building the same polynomial by plain Polynomial arithmetic
 //                        (the ratio is the cost of the bound tracking),
-//   BM_ParseExpanded   : parse the expanded toString() text of a gallery surface,
+//   BM_ParseExpanded   : parse the expanded toString() text of a gallery surface (and of a
+//                        dense degree-40 polynomial, every one of its 12341 terms),
 //   BM_PowBinary       : (x+y+z+1)^n by Polynomial::pow (binary powering) and
 //   BM_PowRepeated       by n-1 products with the base (the order the parser uses),
 //   BM_MultiplyDense   : product of two dense random polynomials of degree d,
@@ -196,6 +197,10 @@ void registerDynamic() {
                                  algray::findGallerySurface(name)->build().toString(),
                                  algray::ParseOptions{})
         ->Unit(benchmark::kMicrosecond);
+  // The largest input the parser takes: every term of degree <= 40 (docs/equations.md).
+  benchmark::RegisterBenchmark("BM_ParseExpanded/dense-40", parseBenchmark,
+                               densePolynomial(40, 5).toString(), algray::ParseOptions{})
+      ->Unit(benchmark::kMillisecond);
 }
 
 }  // namespace
