@@ -8,7 +8,8 @@
 //                         so that ratios are measured side by side;
 //   disagree              hit/miss disagreements on well-conditioned rays;
 //   err median/p99/max    |t - t_ref| |d| / R on well-conditioned rays both call a hit;
-//   ferr ...              the same for Embree's float tfar (what a float host sees);
+//   ferr ...              the same for Embree's float tfar (the float proxy ray of
+//                         makeRayHit, which starts a far ray near the scene);
 //   ... all               hit/miss disagreements and errors on every ray, conditioning
 //                         ignored (grazing and singular rays are ill-conditioned by design);
 //   speckles              hits within 1e-6 R of the ray origin (shadow rays hitting their
@@ -52,7 +53,7 @@ namespace {
 struct Config {
   std::string name;
   SurfaceOptions options;
-  bool floatRays = false;  // plain float Embree rays, no double channel
+  bool floatRays = false;  // plain float Embree rays (plainFloatRay), no double channel
 };
 
 std::vector<Config> configurations() {
@@ -88,27 +89,50 @@ struct TraceResult {
   bool finite = true;
 };
 
+// The float ray a host without the double channel traces: the double ray rounded to float
+// as it stands (no re-centring of far origins, which only makeRayHit does).
+RTCRayHit plainFloatRay(const RayD& ray) {
+  RTCRayHit rh{};
+  rh.ray.org_x = static_cast<float>(ray.org.x);
+  rh.ray.org_y = static_cast<float>(ray.org.y);
+  rh.ray.org_z = static_cast<float>(ray.org.z);
+  rh.ray.dir_x = static_cast<float>(ray.dir.x);
+  rh.ray.dir_y = static_cast<float>(ray.dir.y);
+  rh.ray.dir_z = static_cast<float>(ray.dir.z);
+  rh.ray.tnear = static_cast<float>(ray.tnear);
+  rh.ray.tfar = static_cast<float>(ray.tfar);
+  rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
 TraceResult traceOne(RTCScene scene, const RayD& ray, bool floatRays) {
   TraceResult r;
-  // The double channel's context also carries the float ray's map (makeRayHit,
-  // fromFloatParameter), which the float rays use without tracing through it.
-  HitD hit;
-  IntersectContext context;
-  initIntersectContext(&context, &ray, &hit, scene);
-  RTCRayHit rh = makeRayHit(context);
   if (floatRays) {
+    // Only what a float host does per ray: the float ray and its trace (until session 23
+    // this configuration traced makeRayHit's float proxy, far origins moved near the scene,
+    // and its time included the double channel's set-up).
+    RTCRayHit rh = plainFloatRay(ray);
     RTCIntersectContext plain;
     rtcInitIntersectContext(&plain);
     rtcIntersect1(scene, &plain, &rh);
     r.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    r.t = fromFloatParameter(context, rh.ray.tfar);
-  } else {
-    rtcIntersect1(scene, &context.base, &rh);
-    r.hit = hit.hit;
-    r.t = hit.t;
-    r.finite = !hit.hit || (std::isfinite(hit.t) && std::isfinite(hit.Ng.x) &&
-                            std::isfinite(hit.Ng.y) && std::isfinite(hit.Ng.z));
+    r.t = r.tf = rh.ray.tfar;  // along the float direction, the double one rounded
+    if (r.hit && !std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) r.finite = false;
+    return r;
   }
+  // The double channel; its context also carries the float ray's map (makeRayHit,
+  // fromFloatParameter) for the float tfar column.
+  HitD hit;
+  IntersectContext context;
+  initIntersectContext(&context, &ray, &hit, scene);
+  RTCRayHit rh = makeRayHit(context);
+  rtcIntersect1(scene, &context.base, &rh);
+  r.hit = hit.hit;
+  r.t = hit.t;
+  r.finite = !hit.hit || (std::isfinite(hit.t) && std::isfinite(hit.Ng.x) &&
+                          std::isfinite(hit.Ng.y) && std::isfinite(hit.Ng.z));
   r.tf = fromFloatParameter(context, rh.ray.tfar);
   if (r.hit && !std::isfinite(rh.hit.Ng_x + rh.hit.Ng_y + rh.hit.Ng_z)) r.finite = false;
   return r;
