@@ -74,8 +74,8 @@ struct SurfaceOptions {
   bool originCache = false;      // per-thread expansion about the last ray origin (a camera's
                                  // rays then evaluate its homogeneous parts only); off by
                                  // default since the direct restriction of taylor_box.cpp
-                                 // got 2x faster: measured 0.95x-1.18x of no cache on the
-                                 // gallery (README, Speed)
+                                 // got 2x faster: the gallery's primary rays 0.76x-1.00x
+                                 // of their rate without it (docs/speed.md, session 22)
   bool recentre = true;          // expand far rays about their closest point to the clip
   bool quadricPath = true;       // degree 2: restriction and normal in closed form
   bool quadricCallbacks = true;  // degree 2 with one cell: dedicated Embree callbacks
