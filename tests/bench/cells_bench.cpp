@@ -39,6 +39,8 @@
 #include <string>
 #include <vector>
 
+#include "float_ray.h"
+
 namespace algray {
 namespace {
 
@@ -71,18 +73,8 @@ struct Rays {
 Rays makeRays(double r) {
   Rays out;
   auto add = [&](glm::dvec3 o, glm::dvec3 d) {
-    RTCRayHit rh{};
-    rh.ray.org_x = static_cast<float>(o.x);
-    rh.ray.org_y = static_cast<float>(o.y);
-    rh.ray.org_z = static_cast<float>(o.z);
-    rh.ray.dir_x = static_cast<float>(d.x);
-    rh.ray.dir_y = static_cast<float>(d.y);
-    rh.ray.dir_z = static_cast<float>(d.z);
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    out.rays.push_back(rh);
+    out.rays.push_back(
+        bench::plainFloatRay(RayD{o, d, 0.0, std::numeric_limits<double>::infinity(), 0.0}));
   };
   // A camera at distance 3r on a skew direction, field of view just covering the ball.
   const glm::dvec3 eye = 3.0 * r * glm::normalize(glm::dvec3(0.6, -0.7, 0.4));

@@ -44,6 +44,7 @@
 #include <thread>
 #include <vector>
 
+#include "float_ray.h"
 #include "intersector_rays.h"
 
 namespace algray::bench {
@@ -53,7 +54,7 @@ namespace {
 struct Config {
   std::string name;
   SurfaceOptions options;
-  bool floatRays = false;  // plain float Embree rays (plainFloatRay), no double channel
+  bool floatRays = false;  // plain float Embree rays (float_ray.h), no double channel
 };
 
 std::vector<Config> configurations() {
@@ -88,24 +89,6 @@ struct TraceResult {
   double tf = 0;  // Embree's float tfar as t along the ray (fromFloatParameter)
   bool finite = true;
 };
-
-// The float ray a host without the double channel traces: the double ray rounded to float
-// as it stands (no re-centring of far origins, which only makeRayHit does).
-RTCRayHit plainFloatRay(const RayD& ray) {
-  RTCRayHit rh{};
-  rh.ray.org_x = static_cast<float>(ray.org.x);
-  rh.ray.org_y = static_cast<float>(ray.org.y);
-  rh.ray.org_z = static_cast<float>(ray.org.z);
-  rh.ray.dir_x = static_cast<float>(ray.dir.x);
-  rh.ray.dir_y = static_cast<float>(ray.dir.y);
-  rh.ray.dir_z = static_cast<float>(ray.dir.z);
-  rh.ray.tnear = static_cast<float>(ray.tnear);
-  rh.ray.tfar = static_cast<float>(ray.tfar);
-  rh.ray.mask = ~0u;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  return rh;
-}
 
 TraceResult traceOne(RTCScene scene, const RayD& ray, bool floatRays) {
   TraceResult r;
