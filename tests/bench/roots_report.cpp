@@ -20,14 +20,15 @@
 // 0.15 (a filter that changes what is measured; see makeProblems).
 //
 // Figures per method, precision and degree: ns per solve (median of 5 interleaved
-// repetitions, each starting at another method: see the timing loop), the error |t - t_ref| in units of u cond(t_ref) (median, p99, max; u of
-// the precision solved), missed roots (a reference root and no answer, or an answer
-// beyond the reference root), and answers where there is no reference root or before it,
-// split by their exact residual |g(t)| / sum|c_i||t|^i (MPFR): "noise hits" are within
-// the solver's rounding bound gamma(2n+1) (grazing hits by the tangent rule, or real
-// roots of the rounded polynomial that Newton from the known roots did not reach: at
-// degree >= 16 rounding turns some complex pairs into close real pairs), "false hits"
-// are beyond it (not a root of the data). Writes DIR/roots.csv, prints a Markdown table.
+// repetitions, each starting at another method: see the timing loop), the error
+// |t - t_ref| in units of u cond(t_ref) (median, p99, max; u of the precision solved),
+// missed roots (a reference root and no answer, or an answer beyond the reference root),
+// and answers where there is no reference root or before it, split by their exact
+// residual |g(t)| / sum|c_i||t|^i (MPFR): "noise hits" are within the solver's rounding
+// bound gamma(2n+1) (grazing hits by the tangent rule, or real roots of the rounded
+// polynomial that Newton from the known roots did not reach: at degree >= 16 rounding
+// turns some complex pairs into close real pairs), "false hits" are beyond it (not a root
+// of the data). Writes DIR/roots.csv, prints a Markdown table.
 //
 // By outcome (DIR/roots-outcomes.csv and a second table): Auto and Sturm timed apart on
 // the problems with a reference root, the near misses (no root, but a complex pair within
@@ -327,7 +328,8 @@ int main(int argc, char** argv) {
       for (int r = 0; r < reps; ++r)
         for (size_t i = 0; i < nMethods; ++i) {
           const size_t k = (i + static_cast<size_t>(r)) % nMethods;
-          if (applies(kMethods[k], degree)) times[k].push_back(runPass(kMethods[k], ps, answers[k]));
+          if (applies(kMethods[k], degree))
+            times[k].push_back(runPass(kMethods[k], ps, answers[k]));
         }
       for (size_t k = 0; k < std::size(kMethods); ++k) {
         if (!applies(kMethods[k], degree)) continue;
