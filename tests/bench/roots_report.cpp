@@ -321,9 +321,11 @@ int main(int argc, char** argv) {
       std::vector<std::vector<double>> times(std::size(kMethods));
       std::vector<std::vector<double>> answers(std::size(kMethods), std::vector<double>(ps.size()));
       // Interleave the methods in each repetition: machine noise hits all of them alike.
-      // Each repetition starts one method further on: in a fixed order a pass ran faster
-      // after certain others (session 24: Yuksel, the very code Auto runs at degrees 3-40,
-      // timed 2-6 % faster than Auto right before it at degrees 6-12, in every run).
+      // Each repetition starts one method further on, so that no method always runs right
+      // after the same other one. (Session 24: in the fixed order Yuksel's row, the very
+      // code Auto runs at degrees 3-40, timed 2-6 % faster than Auto's at degrees 6-12; with
+      // the rotation it still timed 1-7 % faster at degree 6 and ~2 % at 9 and 12, so that
+      // gap is not the order alone: the two call paths differ in code layout, not in work.)
       const size_t nMethods = std::size(kMethods);
       for (int r = 0; r < reps; ++r)
         for (size_t i = 0; i < nMethods; ++i) {
