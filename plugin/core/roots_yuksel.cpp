@@ -312,8 +312,9 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
 // because its end rules merge a root with a noise-level end, so firstRoot(c, err,
 // previousRoot, hi) no longer walks every root (RootsKnown.Wilkinson,
 // RootsKnown.RandomRootsAllDegrees fail). On a short interval (a ray's span in one cell)
-// the exclusion test of rootFreeOrder usually proves a low derivative root-free at once,
-// and then the recursion is cheaper than any subdivision.
+// the exclusion test of rootFreeOrder usually proves a low derivative root-free at once;
+// where it proves G itself or G' root-free nothing is cheaper than the recursion, above
+// that see shortOrder below.
 // Above degree 20 (session 3, roots_bench, ns, without -> with): the subdivision only
 // where the exclusion test proves no derivative but the constant one root-free, i.e. on
 // long spans: whole rays of degree 30 19762 -> 10396, 40 32895 -> 24443; cells (nearly
@@ -328,7 +329,22 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
 // intervals of high degree (every interval, or those whose test stops above order n / 2)
 // made cells of degree 30-40 1.5-8x slower.
 constexpr int kSubdivideMinDegree = 3, kSubdivideMaxDegree = 40, kRecursionFirstDegree = 20;
-constexpr int kShortOrder = 3;
+// A short interval goes to the recursion where rootFreeOrder is at most 2 up to degree 16
+// (G'' root-free: at most one critical point to polish before G), at most 3 above;
+// anything else subdivides, where a one-variation node needs a single polish. Until
+// session 25 the rule was order 3 at every degree, set before the subdivision's
+// one-variation nodes and crossing splits (sessions 3 and 14) made it cheaper. Measured
+// (session 25, Zen 5 host, roots_report built three times with order 1, 2 and 3 here,
+// interleaved runs, medians of Sturm / Auto on cells): order 3 -> 2 at degrees 6-12
+// (seven runs each) 3.87 -> 4.14x, 4.41 -> 4.52, 4.82 -> 5.04, 4.58 -> 4.74, 5.33 -> 5.41,
+// 5.31 -> 5.48, 5.40 -> 5.39; order 1 (four runs) 4.25, 4.64, 5.09, 4.78, 5.51, 5.53, 5.56;
+// at degrees 17-20 order 3 stays ahead (4.18-4.71 against 4.03-4.67 at orders 1-2, 3.69-3.75
+// against 3.26-3.40 at 20). Order 1 was not kept for the gallery's surfaces (speed_report,
+// three interleaved runs, primary rays against order 3: Endrass octic 0.91x, Chmutov-8
+// 0.94x, Barth sextic 0.975x; shadow rays 1.02-1.04x); with order 2 primary rays 0.98-1.00x,
+// shadow rays 1.005-1.036x. The report's p99 and worst errors, misses and noise-level
+// answers are the same at every order (median errors within 0.01 u cond).
+inline constexpr int shortOrder(int n) { return n <= 16 ? 2 : 3; }
 
 // Whether a query that has found k roots asks for more (the first root, or all of them).
 inline bool wantsMore(Query q, int k, int maxOut) {
@@ -399,7 +415,7 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   if (4 * (g.hi - g.lo) <= std::max(std::abs(g.lo), std::abs(g.hi))) {
     const int order = rootFreeOrder(g, deg);
     if (order == 0) return 0;
-    if (order <= (high ? n - 1 : kShortOrder))
+    if (order <= (high ? n - 1 : shortOrder(n)))
       return solveDirect(g, deg, order, q, tol, out, maxOut);
   }
   // The subdivision's working copy (node ends move); only the n + 1 live coefficients.
