@@ -312,9 +312,9 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
 // because its end rules merge a root with a noise-level end, so firstRoot(c, err,
 // previousRoot, hi) no longer walks every root (RootsKnown.Wilkinson,
 // RootsKnown.RandomRootsAllDegrees fail). On a short interval (a ray's span in one cell)
-// the exclusion test of rootFreeOrder usually proves a low derivative root-free at once;
-// where it proves G itself or G' root-free nothing is cheaper than the recursion, above
-// that see shortOrder below.
+// the exclusion test of rootFreeOrder usually proves a low derivative root-free at once,
+// and where that derivative is low enough (shortOrder below) the recursion is cheaper than
+// any subdivision.
 // Above degree 20 (session 3, roots_bench, ns, without -> with): the subdivision only
 // where the exclusion test proves no derivative but the constant one root-free, i.e. on
 // long spans: whole rays of degree 30 19762 -> 10396, 40 32895 -> 24443; cells (nearly
