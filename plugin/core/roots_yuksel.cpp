@@ -411,6 +411,8 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   // Short: at most a quarter of the frame's scale (max(|lo|, |hi|) is in [1/2, 1]). Above
   // degree 20 a short interval is subdivided only where no derivative below the constant
   // one is proved root-free (see kSubdivideMaxDegree); long ones are always subdivided.
+  // (An eighth instead of a quarter, session 26: roots_report's cells 2-7 % faster at
+  // degrees 8-12, but speed_report's Barth decic primary rays 0.90x; docs/roots.md.)
   const bool high = n > kRecursionFirstDegree;
   if (4 * (g.hi - g.lo) <= std::max(std::abs(g.lo), std::abs(g.hi))) {
     const int order = rootFreeOrder(g, deg);
