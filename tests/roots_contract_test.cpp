@@ -563,6 +563,101 @@ TEST(RootsContract, HighDegreesOnHugeIntervals) {
   EXPECT_NEAR(*r, static_cast<double>(exact), kAccuracyUlps * kU * static_cast<double>(exact));
 }
 
+// Roots spread over more binades than one frame holds (session 26's fuzz campaign against
+// an MPFR sign scan). A frame keeps its coefficients in double's range relative to the
+// largest; with roots near 1 and near 1e8 at degree 40 (1 and 1e16 at degree 20) the terms
+// near the small roots are ~2^-1100 of the largest over the interval, below that range,
+// and were kept as the smallest normal number: the small roots vanished and every one of
+// these problems was answered with a point where |g| is its whole term sum (relative
+// residual 1). The interval is now solved in pieces by magnitude (roots.cpp, rangeSplit).
+// Checked: every query, against MPFR roots of the rounded polynomial, for Auto and Yuksel,
+// on intervals reaching 0 and on ones that start above the small roots, with roots on
+// three scales (1e-60, 1, 1e60) and in float. (Sturm's comparison solver gets the pieces
+// too, but its sequence loses the small roots of one degree-20 case, roots near 1 and
+// 1.9e16, whose inner piece spans 2^209 in its coefficients.)
+TEST(RootsContract, RootsSpreadOverMoreBinadesThanOneFrame) {
+  std::mt19937_64 rng(26);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  struct Case {
+    std::vector<double> c, starts;
+  };
+  std::vector<Case> cases;
+  for (const int degree : {20, 30, 40})
+    for (const double big : {1e8, 1e16, 1e100})
+      for (int k = 0; k < 4; ++k) {
+        std::vector<double> roots = {0.25 + 0.5 * uni(rng), 1 + uni(rng), big * (1 + uni(rng))};
+        std::vector<std::pair<double, double>> pairs;
+        while (static_cast<int>(roots.size() + 2 * pairs.size()) + 2 <= degree)
+          pairs.emplace_back(2 * uni(rng) - 1, 0.1 + uni(rng));
+        if (static_cast<int>(roots.size() + 2 * pairs.size()) < degree)
+          roots.push_back(-2 - uni(rng));
+        cases.push_back({test::expand(roots, pairs), roots});
+      }
+  {  // three scales: 1e-60, 1 and 1e60, degree 24
+    std::vector<double> roots = {1e-60, 0.5, 1e60};
+    std::vector<std::pair<double, double>> pairs;
+    for (int i = 0; i < 10; ++i) pairs.emplace_back(2 * uni(rng) - 1, 0.1 + uni(rng));
+    roots.push_back(-3);
+    cases.push_back({test::expand(roots, pairs), roots});
+  }
+  for (const RootMethod m : {RootMethod::Auto, RootMethod::Yuksel}) {
+    RootOptions o;
+    o.method = m;
+    for (std::size_t ci = 0; ci < cases.size(); ++ci) {
+      const std::vector<double>& c = cases[ci].c;
+      const double far = 10 * *std::max_element(cases[ci].starts.begin(), cases[ci].starts.end());
+      for (const double lo :
+           {-far, 0.1 * *std::min_element(
+                            cases[ci].starts.begin() + 1, cases[ci].starts.end(),
+                            [](double a, double b) { return std::abs(a) < std::abs(b); })}) {
+        const auto ref = test::refineAll(c, cases[ci].starts, lo, far);
+        ASSERT_FALSE(ref.empty()) << ci;
+        const std::string what = "method " + std::to_string(static_cast<int>(m)) + " case " +
+                                 std::to_string(ci) + " lo " + std::to_string(lo);
+        std::vector<double> out(c.size());
+        out.resize(allRoots(c, {}, lo, far, out, o));
+        ASSERT_EQ(out.size(), ref.size()) << what;
+        for (std::size_t i = 0; i < ref.size(); ++i)
+          EXPECT_NEAR(out[i], ref[i].value, accuracyBound(ref[i])) << what << " root " << i;
+        const auto first = firstRoot(c, {}, lo, far, o);
+        ASSERT_TRUE(first) << what;
+        EXPECT_NEAR(*first, ref[0].value, accuracyBound(ref[0])) << what;
+        EXPECT_TRUE(hasRoot(c, {}, lo, far, o)) << what;
+        const auto walk = walkRoots(c, {}, lo, far, 2 * c.size(), o);
+        ASSERT_EQ(walk.size(), ref.size()) << what;
+        for (std::size_t i = 0; i < ref.size(); ++i)
+          EXPECT_NEAR(walk[i], ref[i].value, accuracyBound(ref[i])) << what << " walk " << i;
+        // Between the roots nothing: (ref[0], ref[1]) open at both ends has no root.
+        if (ref.size() > 1) {
+          // (clear of each root's noise region: (2n + 1) u cond wide, and more)
+          const double wide = 100 * static_cast<double>(c.size());
+          const double a = ref[0].value + wide * kU * ref[0].conditioning;
+          const double b = ref[1].value - wide * kU * ref[1].conditioning;
+          if (a < b) {
+            EXPECT_FALSE(hasRoot(c, {}, a, b, o)) << what;
+          }
+        }
+      }
+    }
+  }
+  // float: the same shape at degree 20 with roots near 1 and 1e8 (float's range holds
+  // ~100 binades: split there too). Reference: the float-rounded coefficients, exact in
+  // double, through MPFR; float's unit roundoff and 4 u cond.
+  for (int k = 0; k < 8; ++k) {
+    std::vector<double> roots = {0.25 + 0.5 * uni(rng), 1e8 * (1 + uni(rng))};
+    std::vector<std::pair<double, double>> pairs;
+    for (int i = 0; i < 9; ++i) pairs.emplace_back(2 * uni(rng) - 1, 0.3 + uni(rng));
+    const std::vector<double> cd = test::expand(roots, pairs);
+    std::vector<float> cf(cd.begin(), cd.end());
+    const std::vector<double> cr(cf.begin(), cf.end());
+    const auto ref = test::refineAll(cr, roots, -1e9, 1e9);
+    ASSERT_FALSE(ref.empty()) << k;
+    const auto r = firstRoot(std::span<const float>(cf), {}, -1e9f, 1e9f);
+    ASSERT_TRUE(r) << k;
+    EXPECT_NEAR(*r, ref[0].value, kAccuracyUlps * 0x1p-24 * ref[0].conditioning) << k;
+  }
+}
+
 // Roots whose values between them underflow (session 18's adversarial campaign). g = s^2 -
 // 2^-540 s on (-0.5, 1] has the roots 0 and 2^-540. In one frame (max |C_j| in [1, 2),
 // roots_detail.h) G at the critical point 2^-542 (local) is -2^-1084, below the subnormal

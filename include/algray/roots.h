@@ -22,6 +22,9 @@
 //  * Exact zeros: where c[0] .. c[k-1] are 0 and their error bounds 0, g = s^k h exactly;
 //    0 is reported (if in the interval) and h's roots are found in h's own frame, so roots
 //    of h far closer to 0 than the interval's scale stay apart from it.
+//  * Range: where g's terms over the interval span more binades than one frame holds
+//    (roots near 1 and 1e8 at degree 40), the interval is solved in pieces by magnitude,
+//    each in its own frame (roots.cpp, rangeSplit), so no root is lost below the range.
 //  * Accuracy: a simple root to within a few u cond(r), cond(r) = sum|c_i||r|^i / |g'(r)|
 //    (measured worst case 1.74 u cond over 781 roots in tests/roots_test.cpp).
 //  * Cost: bounded; non-finite coefficients, error bounds or interval ends give "no root".

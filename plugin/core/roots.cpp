@@ -30,7 +30,8 @@ using roots_detail::Query;
 template <class T>
 struct Frame {
   T lo, hi;
-  int e;  // s = 2^e v
+  int e;                 // s = 2^e v
+  bool clamped = false;  // a coefficient left T's normal range (see rangeSplit)
 };
 
 // x 2^k, exact when the result is normal. The common case (both x and the result normal)
@@ -130,7 +131,7 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
   // ---- Frame: 2^e >= max(|lo|, |hi|) ------------------------------------------------
   // max = f 2^e with f in [0.5, 1), as std::frexp (max > 0: lo < hi)
   const int e = exponentOf(std::max(std::abs(lo), std::abs(hi))) + 1;
-  fr = Frame<T>{lo, hi, e};
+  fr = Frame<T>{lo, hi, e, false};
   g.lo = scale2(lo, -e);
   g.hi = scale2(hi, -e);
   if (!(g.lo < g.hi)) return false;  // only when lo, hi are adjacent subnormals
@@ -242,6 +243,7 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
       return cutLo < cutHi && toLocalSized(c, size, err, cutLo, cutHi, g, fr, true);
     }
   }
+  fr.clamped = belowRange;  // the callers check whether that is harmless (rangeSplit)
 
   // ---- Drop leading coefficients that are noise -------------------------------------
   // On [-1, 1], |C_n v^n| <= |C_n| |v|^k for k < n, so a leading coefficient with
@@ -292,6 +294,78 @@ template <class T>
 bool toLocal(std::span<const T> c, std::span<const T> err, T lo, T hi, LocalPoly<T>& g,
              Frame<T>& fr) {
   return toLocalSmall(c, err, lo, hi, g, fr, std::make_integer_sequence<int, 20>{});
+}
+
+// ---- Pieces of one dynamic range ------------------------------------------------------
+// toLocal keeps a coefficient that its scaling takes below T's normal range as +-the
+// smallest normal number. That is harmless where G's terms are far above that floor over
+// the whole interval; where the polynomial's roots spread over more binades than one frame
+// holds (about 1000 / n: roots near 1 and 1e8 at degree 40, near 1 and 1e16 at degree 20,
+// even after the cut to the root bound), G near the smaller roots is made of terms below
+// the floor, those roots vanish, and the raised constants put "roots" where the data have
+// none. (A fuzz campaign of session 26 against an MPFR sign scan found it: every such
+// problem answered with a relative residual ~1, the true first root missed.)
+// In log2, M(t) = max_j (log2|c_j| + j t) is the size of the largest term of g at |s| =
+// 2^t, within a factor n + 1 of sum |c_j| |s|^j; a frame of scale 2^e holds every term
+// down to M(e) - (1022 - 106) (double) with 2^-106 to spare against the clamped floor's
+// change. rangeSplit returns the split point 2^t, the smallest |s| where that still holds,
+// when the interval reaches below it (|s| < 2^t); the caller then solves the pieces |s| <=
+// 2^t and |s| > 2^t apart, each in its own frame (the inner one splits again if needed).
+// False where one frame is enough, including every interval whose coefficients all stay
+// in range (toLocal's common path does not call this).
+template <class T>
+int envelopeLog2(std::span<const T> c, int t) {
+  int m = std::numeric_limits<int>::min();
+  for (int j = 0; j < static_cast<int>(c.size()); ++j)
+    if (c[j] != 0) m = std::max(m, exponentOf(c[j]) + j * t);
+  return m;
+}
+
+template <class T>
+bool rangeSplit(std::span<const T> c, T lo, T hi, T& split) {
+  using Limits = std::numeric_limits<T>;
+  constexpr int kRange = -(Limits::min_exponent - 1) - 2 * Limits::digits;
+  const int e = exponentOf(std::max(std::abs(lo), std::abs(hi))) + 1;
+  const int top = envelopeLog2(c, e);
+  // The smallest |s| of the interval: 0 where it reaches 0 (then the lowest non-zero
+  // term sets the floor: the envelope's limit, or no limit for c_0 == 0).
+  const bool reachesZero = lo <= 0 && hi >= 0;
+  const int tMin = reachesZero ? Limits::min_exponent - Limits::digits
+                               : exponentOf(std::min(std::abs(lo), std::abs(hi)));
+  if (envelopeLog2(c, tMin) - top >= -kRange) return false;
+  // Smallest t in (tMin, e] with M(t) >= top - kRange (M is non-decreasing in t).
+  int a = tMin, b = e;  // M(a) too small, M(b) large enough
+  while (b - a > 1) {
+    const int m = a + (b - a) / 2;
+    (envelopeLog2(c, m) - top >= -kRange ? b : a) = m;
+  }
+  // The inner piece's frame must be smaller (its scale is 2^(b + 1)), or a piece would
+  // split into itself again; and 2^b a normal number. Each split takes at least kRange - 2n
+  // binades off the largest term (M(b - 1) < top - kRange and M grows by at most n per
+  // binade), so in double a piece splits at most ~50 times; in float, where kRange is 78,
+  // at least one binade a split.
+  if (b > e - 2 || b < Limits::min_exponent) return false;
+  split = std::ldexp(T(1), b);
+  return true;
+}
+
+// The pieces of (lo, hi] at -split and split, in increasing order: (lo, -split],
+// (-split, split], (split, hi], each where it is not empty.
+template <class T>
+int splitPieces(T lo, T hi, T split, T (*pieces)[2]) {
+  int k = 0;
+  const T cuts[4] = {lo, -split, split, hi};
+  T a = lo;
+  for (int i = 1; i < 4; ++i) {
+    const T b = std::min(cuts[i], hi);
+    if (b > a) {
+      pieces[k][0] = a;
+      pieces[k][1] = b;
+      ++k;
+      a = b;
+    }
+  }
+  return k;
 }
 
 // Maps a local root back to (lo, hi] ([lo, hi] with closedLo): exact (a power of two)
@@ -376,13 +450,19 @@ std::span<const T> withoutFirst(std::span<const T> s, int k) {
   return s.empty() ? s : s.subspan(static_cast<size_t>(k));
 }
 
-// The general path: one frame for the whole polynomial.
+// The general path: one frame for the whole polynomial, or, where toLocal had to clamp a
+// coefficient and one frame cannot hold the interval (rangeSplit), the pieces of
+// splitPieces in increasing order, each by the general path again (closedLo only on the
+// first: a split point is the previous piece's hi). The pieces' path is out of line and
+// cold, the common one keeps a test of Frame::clamped (callgrind, session 26: a degree-6
+// cell 930 -> 950 instructions, as with the pieces written inline; interleaved times
+// within noise).
 template <class T>
 bool firstRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
-                      const RootOptions& o) {
-  LocalPoly<T> g;
-  Frame<T> fr;
-  if (!toLocal(c, err, lo, hi, g, fr)) return false;
+                      const RootOptions& o);
+
+template <class T>
+bool firstRootOf(LocalPoly<T>& g, const Frame<T>& fr, T& root, const RootOptions& o) {
   g.closedLo = o.closedLo;
   LocalRoot<T> r[1];
   if (solveLocal(g, Query::First, o, r, 1) == 0) return false;
@@ -391,21 +471,72 @@ bool firstRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, 
 }
 
 template <class T>
-bool hasRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi,
-                    const RootOptions& o) {
+[[gnu::noinline, gnu::cold]] bool firstRootClamped(std::span<const T> c, std::span<const T> err,
+                                                   LocalPoly<T>& g, const Frame<T>& fr, T& root,
+                                                   const RootOptions& o) {
+  T split, pieces[3][2];
+  if (!rangeSplit(c, fr.lo, fr.hi, split)) return firstRootOf(g, fr, root, o);
+  const int k = splitPieces(fr.lo, fr.hi, split, pieces);
+  for (int i = 0; i < k; ++i) {
+    RootOptions oi = o;
+    oi.closedLo = o.closedLo && i == 0;
+    if (firstRootInFrame(c, err, pieces[i][0], pieces[i][1], root, oi)) return true;
+  }
+  return false;
+}
+
+template <class T>
+bool firstRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
+                      const RootOptions& o) {
   LocalPoly<T> g;
   Frame<T> fr;
   if (!toLocal(c, err, lo, hi, g, fr)) return false;
+  if (fr.clamped) [[unlikely]]
+    return firstRootClamped(c, err, g, fr, root, o);
+  return firstRootOf(g, fr, root, o);
+}
+
+template <class T>
+bool hasRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, const RootOptions& o);
+
+template <class T>
+bool hasRootOf(LocalPoly<T>& g, const RootOptions& o) {
   g.closedLo = o.closedLo;
   LocalRoot<T> r[1];
   return solveLocal(g, Query::Any, o, r, 1) > 0;
 }
 
+template <class T>
+[[gnu::noinline, gnu::cold]] bool hasRootClamped(std::span<const T> c, std::span<const T> err,
+                                                 LocalPoly<T>& g, const Frame<T>& fr,
+                                                 const RootOptions& o) {
+  T split, pieces[3][2];
+  if (!rangeSplit(c, fr.lo, fr.hi, split)) return hasRootOf(g, o);
+  const int k = splitPieces(fr.lo, fr.hi, split, pieces);
+  for (int i = 0; i < k; ++i) {
+    RootOptions oi = o;
+    oi.closedLo = o.closedLo && i == 0;
+    if (hasRootInFrame(c, err, pieces[i][0], pieces[i][1], oi)) return true;
+  }
+  return false;
+}
+
+template <class T>
+bool hasRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi,
+                    const RootOptions& o) {
+  LocalPoly<T> g;
+  Frame<T> fr;
+  if (!toLocal(c, err, lo, hi, g, fr)) return false;
+  if (fr.clamped) [[unlikely]]
+    return hasRootClamped(c, err, g, fr, o);
+  return hasRootOf(g, o);
+}
+
 int allRootsInFrame(std::span<const double> c, std::span<const double> err, double lo, double hi,
-                    std::span<double> out, const RootOptions& options) {
-  LocalPoly<double> g;
-  Frame<double> fr;
-  if (!toLocal(c, err, lo, hi, g, fr)) return 0;
+                    std::span<double> out, const RootOptions& options);
+
+int allRootsOf(LocalPoly<double>& g, const Frame<double>& fr, std::span<double> out,
+               const RootOptions& options) {
   g.closedLo = options.closedLo;
   LocalRoot<double> r[kMaxDegree + 1];
   const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
@@ -419,6 +550,36 @@ int allRootsInFrame(std::span<const double> c, std::span<const double> err, doub
     out[m++] = s;
   }
   return m;
+}
+
+[[gnu::noinline, gnu::cold]] int allRootsClamped(std::span<const double> c,
+                                                 std::span<const double> err, LocalPoly<double>& g,
+                                                 const Frame<double>& fr, std::span<double> out,
+                                                 const RootOptions& options) {
+  double split, pieces[3][2];
+  if (!rangeSplit(c, fr.lo, fr.hi, split)) return allRootsOf(g, fr, out, options);
+  const int k = splitPieces(fr.lo, fr.hi, split, pieces);
+  int m = 0;
+  for (int i = 0; i < k && m < static_cast<int>(out.size()); ++i) {
+    RootOptions oi = options;
+    oi.closedLo = options.closedLo && i == 0;
+    const int mi = allRootsInFrame(c, err, pieces[i][0], pieces[i][1], out.subspan(m), oi);
+    int w = m;  // strictly increasing across the split points too
+    for (int j = 0; j < mi; ++j)
+      if (w == 0 || out[m + j] > out[w - 1]) out[w++] = out[m + j];
+    m = w;
+  }
+  return m;
+}
+
+int allRootsInFrame(std::span<const double> c, std::span<const double> err, double lo, double hi,
+                    std::span<double> out, const RootOptions& options) {
+  LocalPoly<double> g;
+  Frame<double> fr;
+  if (!toLocal(c, err, lo, hi, g, fr)) return 0;
+  if (fr.clamped) [[unlikely]]
+    return allRootsClamped(c, err, g, fr, out, options);
+  return allRootsOf(g, fr, out, options);
 }
 
 // g = s^k h: 0 and h's roots (h(0) = c_k != 0, so h takes the general path). Out of line:
