@@ -349,23 +349,24 @@ bool rangeSplit(std::span<const T> c, T lo, T hi, T& split) {
   return true;
 }
 
-// The pieces of (lo, hi] at -split and split, in increasing order: (lo, -split],
-// (-split, split], (split, hi], each where it is not empty.
-template <class T>
-int splitPieces(T lo, T hi, T split, T (*pieces)[2]) {
-  int k = 0;
-  const T cuts[4] = {lo, -split, split, hi};
+// piece(a, b, options) on the pieces of (lo, hi] at -split and split in increasing order,
+// (lo, -split], (-split, split], (split, hi], each where it is not empty, with closedLo on
+// the first only (a split point is the previous piece's hi), until one returns true.
+template <class T, class Piece>
+bool forEachPiece(T lo, T hi, T split, const RootOptions& o, Piece&& piece) {
+  const T cuts[3] = {-split, split, hi};
   T a = lo;
-  for (int i = 1; i < 4; ++i) {
-    const T b = std::min(cuts[i], hi);
-    if (b > a) {
-      pieces[k][0] = a;
-      pieces[k][1] = b;
-      ++k;
-      a = b;
-    }
+  bool first = true;
+  for (const T cut : cuts) {
+    const T b = std::min(cut, hi);
+    if (!(b > a)) continue;
+    RootOptions oi = o;
+    oi.closedLo = o.closedLo && first;
+    if (piece(a, b, oi)) return true;
+    first = false;
+    a = b;
   }
-  return k;
+  return false;
 }
 
 // Maps a local root back to (lo, hi] ([lo, hi] with closedLo): exact (a power of two)
@@ -452,11 +453,10 @@ std::span<const T> withoutFirst(std::span<const T> s, int k) {
 
 // The general path: one frame for the whole polynomial, or, where toLocal had to clamp a
 // coefficient and one frame cannot hold the interval (rangeSplit), the pieces of
-// splitPieces in increasing order, each by the general path again (closedLo only on the
-// first: a split point is the previous piece's hi). The pieces' path is out of line and
-// cold, the common one keeps a test of Frame::clamped (callgrind, session 26: a degree-6
-// cell 930 -> 950 instructions, as with the pieces written inline; interleaved times
-// within noise).
+// forEachPiece in increasing order, each by the general path again. The pieces' path is
+// out of line and cold, the common one keeps a test of Frame::clamped (callgrind, session
+// 26: a degree-6 cell 930 -> 950 instructions, as with the pieces written inline;
+// interleaved times within noise).
 template <class T>
 bool firstRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
                       const RootOptions& o);
@@ -474,15 +474,11 @@ template <class T>
 [[gnu::noinline, gnu::cold]] bool firstRootClamped(std::span<const T> c, std::span<const T> err,
                                                    LocalPoly<T>& g, const Frame<T>& fr, T& root,
                                                    const RootOptions& o) {
-  T split, pieces[3][2];
+  T split;
   if (!rangeSplit(c, fr.lo, fr.hi, split)) return firstRootOf(g, fr, root, o);
-  const int k = splitPieces(fr.lo, fr.hi, split, pieces);
-  for (int i = 0; i < k; ++i) {
-    RootOptions oi = o;
-    oi.closedLo = o.closedLo && i == 0;
-    if (firstRootInFrame(c, err, pieces[i][0], pieces[i][1], root, oi)) return true;
-  }
-  return false;
+  return forEachPiece(fr.lo, fr.hi, split, o, [&](T a, T b, const RootOptions& oi) {
+    return firstRootInFrame(c, err, a, b, root, oi);
+  });
 }
 
 template <class T>
@@ -510,15 +506,11 @@ template <class T>
 [[gnu::noinline, gnu::cold]] bool hasRootClamped(std::span<const T> c, std::span<const T> err,
                                                  LocalPoly<T>& g, const Frame<T>& fr,
                                                  const RootOptions& o) {
-  T split, pieces[3][2];
+  T split;
   if (!rangeSplit(c, fr.lo, fr.hi, split)) return hasRootOf(g, o);
-  const int k = splitPieces(fr.lo, fr.hi, split, pieces);
-  for (int i = 0; i < k; ++i) {
-    RootOptions oi = o;
-    oi.closedLo = o.closedLo && i == 0;
-    if (hasRootInFrame(c, err, pieces[i][0], pieces[i][1], oi)) return true;
-  }
-  return false;
+  return forEachPiece(fr.lo, fr.hi, split, o, [&](T a, T b, const RootOptions& oi) {
+    return hasRootInFrame(c, err, a, b, oi);
+  });
 }
 
 template <class T>
@@ -556,19 +548,17 @@ int allRootsOf(LocalPoly<double>& g, const Frame<double>& fr, std::span<double> 
                                                  std::span<const double> err, LocalPoly<double>& g,
                                                  const Frame<double>& fr, std::span<double> out,
                                                  const RootOptions& options) {
-  double split, pieces[3][2];
+  double split;
   if (!rangeSplit(c, fr.lo, fr.hi, split)) return allRootsOf(g, fr, out, options);
-  const int k = splitPieces(fr.lo, fr.hi, split, pieces);
   int m = 0;
-  for (int i = 0; i < k && m < static_cast<int>(out.size()); ++i) {
-    RootOptions oi = options;
-    oi.closedLo = options.closedLo && i == 0;
-    const int mi = allRootsInFrame(c, err, pieces[i][0], pieces[i][1], out.subspan(m), oi);
+  forEachPiece(fr.lo, fr.hi, split, options, [&](double a, double b, const RootOptions& oi) {
+    const int mi = allRootsInFrame(c, err, a, b, out.subspan(m), oi);
     int w = m;  // strictly increasing across the split points too
     for (int j = 0; j < mi; ++j)
       if (w == 0 || out[m + j] > out[w - 1]) out[w++] = out[m + j];
     m = w;
-  }
+    return m == static_cast<int>(out.size());  // full
+  });
   return m;
 }
 
