@@ -131,7 +131,7 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
   // ---- Frame: 2^e >= max(|lo|, |hi|) ------------------------------------------------
   // max = f 2^e with f in [0.5, 1), as std::frexp (max > 0: lo < hi)
   const int e = exponentOf(std::max(std::abs(lo), std::abs(hi))) + 1;
-  fr = Frame<T>{lo, hi, e, false};
+  fr = Frame<T>{lo, hi, e};
   g.lo = scale2(lo, -e);
   g.hi = scale2(hi, -e);
   if (!(g.lo < g.hi)) return false;  // only when lo, hi are adjacent subnormals
@@ -222,7 +222,10 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
   // between the terms) are kept as +-the smallest normal number: a non-zero term still
   // counts where it dominates. (1e-300 + 1e300 v^4 has no real root; with its constant
   // flushed to 0 it had a 4-fold root at 0, which the tangent rule reported.) The change,
-  // below 2^-1022 against a largest coefficient in [1, 2), moves only roots that tiny.
+  // below 2^-1022 against a largest coefficient in [1, 2), is harmless only where G's terms
+  // stay far above it over the whole interval; where they do not (roots spread over more
+  // binades than one frame holds), the callers solve the interval in pieces (rangeSplit,
+  // told by Frame::clamped).
   // (The scaling loop above tracks the smallest scaled non-zero coefficient, so this loop
   // runs only where one left the normal range: degree-6 and 8 cells 2-4 % faster.)
   bool belowRange = false;
