@@ -78,8 +78,6 @@ ScanRoot firstSignChange(const std::vector<double>& c, double lo, double hi, int
   return out;
 }
 
-double gammaN(int n) { return n * roots_testing::kU / (1 - n * roots_testing::kU); }
-
 struct FuzzProblem {
   std::vector<double> c, err, known;
   double lo = 0, hi = 0;
@@ -172,7 +170,7 @@ TEST(RootsFuzz, AgainstAnMpfrSignScan) {
     }
 
     const int n = static_cast<int>(c.size()) - 1;
-    const double relNoise = gammaN(2 * n + 1) + (p.err.empty() ? 0.0 : 0x1p-50);
+    const double relNoise = gamma(2 * n + 1) + (p.err.empty() ? 0.0 : 0x1p-50);
     const ScanRoot scan = firstSignChange(
         c, p.options.closedLo ? std::nextafter(p.lo, -INFINITY) : p.lo, p.hi, 3000, relNoise);
     if (scan.found && scan.clear) {
