@@ -325,10 +325,11 @@ int envelopeLog2(std::span<const T> c, int t) {
 }
 
 template <class T>
-bool rangeSplit(std::span<const T> c, T lo, T hi, T& split) {
+bool rangeSplit(std::span<const T> c, const Frame<T>& fr, T& split) {
   using Limits = std::numeric_limits<T>;
   constexpr int kRange = -(Limits::min_exponent - 1) - 2 * Limits::digits;
-  const int e = exponentOf(std::max(std::abs(lo), std::abs(hi))) + 1;
+  const T lo = fr.lo, hi = fr.hi;
+  const int e = fr.e;
   const int top = envelopeLog2(c, e);
   // The smallest |s| of the interval: 0 where it reaches 0 (then the lowest non-zero
   // term sets the floor: the envelope's limit, or no limit for c_0 == 0).
@@ -478,7 +479,7 @@ template <class T>
                                                    LocalPoly<T>& g, const Frame<T>& fr, T& root,
                                                    const RootOptions& o) {
   T split;
-  if (!rangeSplit(c, fr.lo, fr.hi, split)) return firstRootOf(g, fr, root, o);
+  if (!rangeSplit(c, fr, split)) return firstRootOf(g, fr, root, o);
   return forEachPiece(fr.lo, fr.hi, split, o, [&](T a, T b, const RootOptions& oi) {
     return firstRootInFrame(c, err, a, b, root, oi);
   });
@@ -510,7 +511,7 @@ template <class T>
                                                  LocalPoly<T>& g, const Frame<T>& fr,
                                                  const RootOptions& o) {
   T split;
-  if (!rangeSplit(c, fr.lo, fr.hi, split)) return hasRootOf(g, o);
+  if (!rangeSplit(c, fr, split)) return hasRootOf(g, o);
   return forEachPiece(fr.lo, fr.hi, split, o, [&](T a, T b, const RootOptions& oi) {
     return hasRootInFrame(c, err, a, b, oi);
   });
@@ -552,7 +553,7 @@ int allRootsOf(LocalPoly<double>& g, const Frame<double>& fr, std::span<double> 
                                                  const Frame<double>& fr, std::span<double> out,
                                                  const RootOptions& options) {
   double split;
-  if (!rangeSplit(c, fr.lo, fr.hi, split)) return allRootsOf(g, fr, out, options);
+  if (!rangeSplit(c, fr, split)) return allRootsOf(g, fr, out, options);
   int m = 0;
   forEachPiece(fr.lo, fr.hi, split, options, [&](double a, double b, const RootOptions& oi) {
     const int mi = allRootsInFrame(c, err, a, b, out.subspan(m), oi);
