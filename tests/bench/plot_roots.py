@@ -7,7 +7,8 @@ Usage: /usr/bin/python3 tests/bench/plot_roots.py docs/roots.csv docs/roots.png
 
 One row per interval family (whole ray, one cell). Left: ns per solve against degree.
 Right: run time against error (p99 of |t - t_ref| in units of u cond(t_ref)), one marker
-series per method (a point per degree), so "faster and as accurate" is down and to the left.
+curve per method (a point per degree, joined in degree order), so "faster and as accurate"
+is down and to the left.
 """
 import csv
 import sys
@@ -41,8 +42,9 @@ def main(src, dst):
             if "(any)" in label:
                 continue
             err = [max(float(r["err_p99_ucond"]), 1e-2) for r in rs]
-            ax_e.scatter(ns, err, s=14, label=label, color=color,
-                         marker="x" if "float" in label else "o")
+            # A curve per method through its degrees in order (the labels name some).
+            ax_e.plot(ns, err, style, lw=0.8, ms=4, label=label, color=color,
+                      marker="x" if "float" in label else "o")
             for r, x, y in zip(rs, ns, err):
                 if int(r["degree"]) in (2, 6, 12, 20, 40):
                     ax_e.annotate(r["degree"], (x, y), fontsize=7, xytext=(2, 2),
