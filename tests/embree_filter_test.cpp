@@ -188,8 +188,8 @@ TEST_F(EmbreeFilter, PlanesOnCellFacesOfferedOnce) {
     glm::dvec3 target(u(rng) / 3, u(rng) / 3, u(rng) / 3);
     (i % 2 ? target.x : target.z) = i % 2 ? 0.0 : 0.25;
     // Exactly representable in float, so both channels trace the same line.
-    const glm::dvec3 d = glm::dvec3(glm::vec3(target - o));
-    rays.push_back(RayD{glm::dvec3(glm::vec3(o)), d, 0.0, kInfF});
+    const glm::dvec3 d = floatValues(target - o);
+    rays.push_back(RayD{floatValues(o), d, 0.0, kInfF});
   }
   for (const char* equation : {"x", "z - 0.25", "x*y", "x + y"}) {
     std::vector<size_t> offers[2];

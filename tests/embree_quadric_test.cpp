@@ -155,8 +155,8 @@ TEST_F(EmbreeQuadric, CallbacksMatchGenericWalk) {
           SCOPED_TRACE(testing::Message() << "case " << ci << " filter " << filter << " dist "
                                           << dist << " ray " << i);
           // Float values, so that the float and double rays are the same line.
-          const glm::dvec3 o(glm::vec3(i % 2 ? eye : dist * glm::dvec3(randomDir())));
-          const glm::dvec3 d(glm::vec3(glm::dvec3(u(rng), u(rng), u(rng)) - o));
+          const glm::dvec3 o = floatValues(i % 2 ? eye : dist * glm::dvec3(randomDir()));
+          const glm::dvec3 d = floatValues(glm::dvec3(u(rng), u(rng), u(rng)) - o);
           // Float rays (the filter's counter is reset so both sides see the same sequence).
           RTCRayHit fa = makeRay(glm::vec3(o), glm::vec3(d)), fb = fa;
           filterCalls = 0;
@@ -329,7 +329,7 @@ TEST_F(EmbreeQuadric, TightBoundsKeepHits) {
       for (double dist : {2.5, 6.0, 1e5}) {
         for (int i = 0; i < 150; ++i) {
           SCOPED_TRACE(testing::Message() << "dist " << dist << " ray " << i);
-          const glm::dvec3 o(glm::vec3(centre + dist * glm::dvec3(randomDir())));
+          const glm::dvec3 o = floatValues(centre + dist * glm::dvec3(randomDir()));
           // Half the rays aim at the world box's faces (grazing the tight bounds).
           glm::dvec3 target = centre + glm::dvec3(u(rng), u(rng), u(rng));
           if (i % 2) {
@@ -339,7 +339,7 @@ TEST_F(EmbreeQuadric, TightBoundsKeepHits) {
             target[axis] = (i % 4 < 2) ? lo[axis] : hi[axis];
             ++grazing;
           }
-          const glm::dvec3 d(glm::vec3(target - o));
+          const glm::dvec3 d = floatValues(target - o);
           const RTCRayHit fa = intersect1(sa, makeRay(glm::vec3(o), glm::vec3(d)));
           const RTCRayHit fb = intersect1(sb, makeRay(glm::vec3(o), glm::vec3(d)));
           expectSameFloatHit(fa, fb);

@@ -11,6 +11,8 @@
 #include <random>
 #include <vector>
 
+#include "support/float_values.h"
+
 namespace algray::test {
 
 inline Polynomial X() { return Polynomial::variable(0); }

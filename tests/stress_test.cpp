@@ -182,7 +182,7 @@ TEST(StressNodes, RaysLeavingASingularPointFromARoundedOrigin) {
     int floatHits = 0, doubleHits = 0;
     for (int k = 0; k < 400; ++k) {
       const glm::dvec3 d = glm::normalize(glm::dvec3(normal(rng), normal(rng), normal(rng)));
-      const RayD floatRay = rayD(glm::dvec3(glm::vec3(apex)), glm::dvec3(glm::vec3(d)));
+      const RayD floatRay = rayD(floatValues(apex), floatValues(d));
       if (const auto t = s.intersectFloat(floatRay, name); t && *t < 1e-6) {
         ++floatHits;
         ADD_FAILURE() << name << ": float ray " << k << " hit its origin at t = " << *t;

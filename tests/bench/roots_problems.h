@@ -12,18 +12,9 @@
 #include <utility>
 #include <vector>
 
-namespace algray::bench {
+#include "../support/float_values.h"
 
-// x rounded to float, as a double. Through a volatile float: GCC 12.2 at -O2 (Debian
-// bookworm's) pairs the two plain round trips of lo and hi below into vector conversions
-// (the SLP vectoriser) and its FRE pass then folds the vector (double)(float) pair into
-// the identity, so lo and hi kept all 53 bits. Until session 27 roots_report's float rows
-// were therefore solved on float(lo), float(hi) but scored on the double ends (its one
-// "false" float answer, at degree 6, was float(hi), just beyond the double hi).
-inline double roundedToFloat(double x) {
-  volatile float f = static_cast<float>(x);
-  return f;
-}
+namespace algray::bench {
 
 struct ProblemShape {
   std::vector<double> roots;                     // real roots
@@ -50,8 +41,8 @@ inline ProblemShape randomProblemShape(int degree, bool cell, std::mt19937_64& r
     p.lo = 0.5 * uni(rng);
     p.hi = p.lo + 0.1 + (1 - p.lo - 0.1) * uni(rng);
   }
-  p.lo = roundedToFloat(p.lo);  // the same interval in both precisions
-  p.hi = roundedToFloat(p.hi);
+  p.lo = test::floatValue(p.lo);  // the same interval in both precisions (see floatValue)
+  p.hi = test::floatValue(p.hi);
   return p;
 }
 
