@@ -658,6 +658,63 @@ TEST(RootsContract, RootsSpreadOverMoreBinadesThanOneFrame) {
   }
 }
 
+// The same in float at degree 40, where the terms fall through float's range within two
+// binades (session 27's float fuzz against an MPFR sign scan). g = s^40 - 4 s^38 + 2^-8 s
+// - 2^-9 (exact in float) has the real roots -2, 0.5, 0.812 and 2: on (0, 8] its frame
+// is 2^3 with the largest term 2^120, the terms near 0.5 are 2^-8, below float's range of
+// 2^126 there, and C_0 was clamped to the smallest normal number. rangeSplit's split point was 2^2 (M(1) = 40 < 120 - 78), whose inner piece has
+// the same frame, so it refused to split and the clamped frame answered 2 (the root 0.5
+// missed; on the fuzz's random degree-40 problems, points with a relative residual ~0.5
+// before the true first root, the last case below). Now it splits one binade below that.
+// Reference: MPFR roots of the float data (exact in double); float's unit roundoff, 4 u
+// (cond + |r|) (the answer is rounded to float).
+TEST(RootsContract, FloatDegree40SplitsWhereTheTermsLeaveTheRange) {
+  auto near = [](double r, const test::RefRoot& ref) {
+    return std::abs(r - ref.value) <=
+           kAccuracyUlps * 0x1p-24 * (ref.conditioning + std::abs(ref.value));
+  };
+  std::vector<float> c(41, 0.0f);
+  c[40] = 1;
+  c[38] = -4;
+  c[1] = 0x1p-8f;
+  c[0] = -0x1p-9f;
+  const std::vector<double> cd(c.begin(), c.end());
+  const auto small = test::refine(cd, 0.5), second = test::refine(cd, 0.81);
+  ASSERT_TRUE(small && second);
+  for (const auto& [lo, hi] : std::vector<std::pair<float, float>>{
+           {0.0f, 8.0f}, {-1.0f, 8.0f}, {0.25f, 8.0f}, {0.0f, 4.0f}, {-1.0f, 1e6f}}) {
+    for (const bool closedLo : {false, true}) {
+      RootOptions o;
+      o.closedLo = closedLo;
+      const std::string what = "(" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+      const auto r = firstRoot(std::span<const float>(c), {}, lo, hi, o);
+      EXPECT_TRUE(r && near(*r, *small)) << what << ": " << r.value_or(NAN);
+      EXPECT_TRUE(hasRoot(std::span<const float>(c), {}, lo, hi, o)) << what;
+      // The walk (lo = the previous root, (lo, hi]) goes on to the next root.
+      const auto next = firstRoot(std::span<const float>(c), {}, r.value_or(0.5f), hi);
+      EXPECT_TRUE(next && near(*next, *second)) << what << ": " << next.value_or(NAN);
+    }
+  }
+  // As the fuzz found it (seed 6, problem 410): random coefficients over 16 decades.
+  const std::vector<float> f = {
+      0x1.ead998p-25,  -0x1.71a76p+9,   0x1.8a2be4p-21,  0x1.fc2f6cp-15,  -0x1.9ccf94p-5,
+      -0x1.7a3122p+0,  -0x1.5c4c8cp-17, 0x1.f0e8d8p-4,   -0x1.21476ap-23, 0x1.8c2e48p-23,
+      -0x1.36a842p-1,  -0x1.dcc7f2p-18, -0x1.6514b2p+23, -0x1.1f1e08p+2,  -0x1.d6dc7cp-6,
+      0x1.3330c2p+12,  0x1.52f248p+13,  0x1.18364cp-13,  0x1.dd3362p+24,  0x1.19f242p+19,
+      0x1.92f4c4p-19,  0x1.c2d40ap+25,  -0x1.3f690ap+23, 0x1.bc542cp-20,  0x1.2d726ap+13,
+      -0x1.52d11ep+4,  -0x1.427c2ap-14, 0x1.56e036p+14,  -0x1.01bcbcp-19, -0x1.0ba2c4p-22,
+      -0x1.22ebaep+26, -0x1.c77a3ap-14, -0x1.be3a86p+24, -0x1.a8c562p+0,  0x1.352dacp+13,
+      -0x1.a992d8p-18, -0x1.7c7ed4p-5,  -0x1.e00e14p-20, -0x1.6ed8b8p+18, 0x1.7f0fd2p-16,
+      -0x1.31c8c8p+16};
+  const std::vector<double> fd(f.begin(), f.end());
+  const auto first = test::refine(fd, -0.4156);  // the first sign change of the data
+  ASSERT_TRUE(first);
+  RootOptions o;
+  o.closedLo = true;
+  const auto r = firstRoot(std::span<const float>(f), {}, -0x1.457b0cp+4f, 0x1.73e1b4p+4f, o);
+  EXPECT_TRUE(r && near(*r, *first)) << r.value_or(NAN);  // was -0.47137147, residual 0.57
+}
+
 // Roots whose values between them underflow (session 18's adversarial campaign). g = s^2 -
 // 2^-540 s on (-0.5, 1] has the roots 0 and 2^-540. In one frame (max |C_j| in [1, 2),
 // roots_detail.h) G at the critical point 2^-542 (local) is -2^-1084, below the subnormal

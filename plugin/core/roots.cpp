@@ -346,9 +346,17 @@ bool rangeSplit(std::span<const T> c, const Frame<T>& fr, T& split) {
   // The inner piece's frame must be smaller (its scale is 2^(b + 1)), or a piece would
   // split into itself again; and 2^b a normal number. Each split takes at least kRange - 2n
   // binades off the largest term (M(b - 1) < top - kRange and M grows by at most n per
-  // binade), so in double a piece splits at most ~50 times; in float, where kRange is 78,
-  // at least one binade a split.
-  if (b > e - 2 || b < Limits::min_exponent) return false;
+  // binade), so in double a piece splits at most ~50 times. In float, where kRange is 78,
+  // degree 40 can leave b = e - 1 (M grew by more than kRange over the two binades below
+  // 2^e); the split is then at 2^(e - 2), one binade a split: the outer piece, |s| >
+  // 2^(e - 2), spans at most 2n = 80 binades of terms, still 2^46 above the clamped floor,
+  // and does not split again. (It answered from the clamped frame instead: a "root" with
+  // a relative residual ~1 before the true first one; the float fuzz, session 27.)
+  if (b > e - 2) {
+    if (tMin >= e - 2) return false;
+    b = e - 2;
+  }
+  if (b < Limits::min_exponent) return false;
   split = std::ldexp(T(1), b);
   return true;
 }
