@@ -662,10 +662,11 @@ TEST(RootsContract, RootsSpreadOverMoreBinadesThanOneFrame) {
 // binades (session 27's float fuzz against an MPFR sign scan). g = s^40 - 4 s^38 + 2^-8 s
 // - 2^-9 (exact in float) has the real roots -2, 0.5, 0.812 and 2: on (0, 8] its frame
 // is 2^3 with the largest term 2^120, the terms near 0.5 are 2^-8, below float's range of
-// 2^126 there, and C_0 was clamped to the smallest normal number. rangeSplit's split point was 2^2 (M(1) = 40 < 120 - 78), whose inner piece has
-// the same frame, so it refused to split and the clamped frame answered 2 (the root 0.5
-// missed; on the fuzz's random degree-40 problems, points with a relative residual ~0.5
-// before the true first root, the last case below). Now it splits one binade below that.
+// 2^126 there, and C_0 was clamped to the smallest normal number. rangeSplit's split
+// point was 2^2 (M(1) = 40 < 120 - 78), whose inner piece has the same frame, so it
+// refused to split and the clamped frame answered 2 (the root 0.5 missed; on the fuzz's
+// random degree-40 problems, points with a relative residual ~0.5 before the true first
+// root, the last case below). Now it splits one binade below that.
 // Reference: MPFR roots of the float data (exact in double); float's unit roundoff, 4 u
 // (cond + |r|) (the answer is rounded to float).
 TEST(RootsContract, FloatDegree40SplitsWhereTheTermsLeaveTheRange) {
