@@ -7,7 +7,7 @@
 // glm::dvec3(glm::vec3(v)) or the two ends of an interval: its FRE pass then folds the
 // vector (double)(float) conversion pair into the identity, and the "float" values keep
 // all 53 bits (session 27, reduced from roots_report, whose float rows were solved on
-// float(hi) but scored on the double hi; RootsProblems.IntervalEndsAreFloats and
+// float(hi) but scored on the double hi; FloatValues.BenchIntervalEndsAreFloats and
 // FloatValues.VectorComponentsAreFloats fail with the plain casts).
 #include <glm/vec3.hpp>
 
