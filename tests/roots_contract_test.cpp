@@ -694,6 +694,12 @@ TEST(RootsContract, FloatDegree40SplitsWhereTheTermsLeaveTheRange) {
       // The walk (lo = the previous root, (lo, hi]) goes on to the next root.
       const auto next = firstRoot(std::span<const float>(c), {}, r.value_or(0.5f), hi);
       EXPECT_TRUE(next && near(*next, *second)) << what << ": " << next.value_or(NAN);
+      // allRoots (float's since session 27): the same two first, in order.
+      float all[kMaxDegree + 1];
+      const int n = allRoots(std::span<const float>(c), {}, lo, hi, std::span<float>(all), o);
+      ASSERT_GE(n, 2) << what;
+      EXPECT_TRUE(near(all[0], *small) && near(all[1], *second))
+          << what << ": " << all[0] << ", " << all[1];
     }
   }
   // As the fuzz found it (seed 6, problem 410): random coefficients over 16 decades.

@@ -2,7 +2,7 @@
 // 26: a longer run of this driver found the wrong answers that
 // RootsContract.RootsSpreadOverMoreBinadesThanOneFrame now pins down), for the double
 // solver and for the float one (roots.h's float variants, the renderer's
-// SurfaceOptions::singlePrecision; float has no allRoots). Problems of every kind the
+// SurfaceOptions::singlePrecision; float has allRoots since session 27). Problems of every kind the
 // contract names: random coefficients over up to 16 decades, products of real roots with
 // double roots, clusters and complex pairs up to 1e-9 off the axis, scales from 1e-100 to
 // 1e100 (1e-30 to 1e30 in float), exact zeros at 0, noise-level or zero leading
@@ -219,7 +219,7 @@ FuzzProblem<T> draw(std::mt19937_64& rng) {
 struct Answers {
   std::optional<double> first;
   bool any = false;
-  int nAll = -1;  // -1: no allRoots (float has none)
+  int nAll = 0;
   double all0 = 0;
 };
 
@@ -229,11 +229,9 @@ Answers solve(const FuzzProblem<T>& p) {
   const auto first = firstRoot(std::span<const T>(p.c), p.err, p.lo, p.hi, p.options);
   if (first) a.first = *first;
   a.any = hasRoot(std::span<const T>(p.c), p.err, p.lo, p.hi, p.options);
-  if constexpr (std::is_same_v<T, double>) {
-    double all[kMaxDegree + 1] = {};
-    a.nAll = allRoots(p.c, p.err, p.lo, p.hi, std::span<double>(all), p.options);
-    a.all0 = all[0];
-  }
+  T all[kMaxDegree + 1] = {};
+  a.nAll = allRoots(std::span<const T>(p.c), p.err, p.lo, p.hi, std::span<T>(all), p.options);
+  a.all0 = all[0];
   return a;
 }
 
@@ -254,11 +252,9 @@ void checkProblem(const FuzzProblem<T>& p, const std::string& what) {
     EXPECT_LE(*first, hi) << what << describe(p);
   }
   EXPECT_EQ(a.any, first.has_value()) << what << describe(p);
-  if (a.nAll >= 0) {
-    ASSERT_EQ(a.nAll > 0, first.has_value()) << what << describe(p);
-    if (first) {
-      EXPECT_EQ(a.all0, *first) << what << describe(p);
-    }
+  ASSERT_EQ(a.nAll > 0, first.has_value()) << what << describe(p);
+  if (first) {
+    EXPECT_EQ(a.all0, *first) << what << describe(p);
   }
 
   const std::vector<double> c(p.c.begin(), p.c.end());  // exact

@@ -114,5 +114,7 @@ inline std::optional<float> firstRoot(std::span<const float> c, std::span<const 
 }
 bool hasRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
              const RootOptions& options = {});
+int allRoots(std::span<const float> c, std::span<const float> err, float lo, float hi,
+             std::span<float> out, const RootOptions& options = {});
 
 }  // namespace algray

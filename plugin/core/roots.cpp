@@ -536,34 +536,35 @@ bool hasRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi,
   return hasRootOf(g, o);
 }
 
-int allRootsInFrame(std::span<const double> c, std::span<const double> err, double lo, double hi,
-                    std::span<double> out, const RootOptions& options);
+template <class T>
+int allRootsInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, std::span<T> out,
+                    const RootOptions& options);
 
-int allRootsOf(LocalPoly<double>& g, const Frame<double>& fr, std::span<double> out,
-               const RootOptions& options) {
+template <class T>
+int allRootsOf(LocalPoly<T>& g, const Frame<T>& fr, std::span<T> out, const RootOptions& options) {
   g.closedLo = options.closedLo;
-  LocalRoot<double> r[kMaxDegree + 1];
+  LocalRoot<T> r[kMaxDegree + 1];
   const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
   const int k = solveLocal(g, Query::All, options, r, maxOut);
   // The sweep returns roots in increasing order; the clamping into (lo, hi] could merge
   // two of them: keep the output strictly increasing.
   int m = 0;
   for (int i = 0; i < k; ++i) {
-    const double s = toCaller(fr, g, r[i]);
+    const T s = toCaller(fr, g, r[i]);
     if (m > 0 && s <= out[m - 1]) continue;
     out[m++] = s;
   }
   return m;
 }
 
-[[gnu::noinline, gnu::cold]] int allRootsClamped(std::span<const double> c,
-                                                 std::span<const double> err, LocalPoly<double>& g,
-                                                 const Frame<double>& fr, std::span<double> out,
-                                                 const RootOptions& options) {
-  double split;
+template <class T>
+[[gnu::noinline, gnu::cold]] int allRootsClamped(std::span<const T> c, std::span<const T> err,
+                                                 LocalPoly<T>& g, const Frame<T>& fr,
+                                                 std::span<T> out, const RootOptions& options) {
+  T split;
   if (!rangeSplit(c, fr, split)) return allRootsOf(g, fr, out, options);
   int m = 0;
-  forEachPiece(fr.lo, fr.hi, split, options, [&](double a, double b, const RootOptions& oi) {
+  forEachPiece(fr.lo, fr.hi, split, options, [&](T a, T b, const RootOptions& oi) {
     const int mi = allRootsInFrame(c, err, a, b, out.subspan(m), oi);
     int w = m;  // strictly increasing across the split points too
     for (int j = 0; j < mi; ++j)
@@ -574,10 +575,11 @@ int allRootsOf(LocalPoly<double>& g, const Frame<double>& fr, std::span<double> 
   return m;
 }
 
-int allRootsInFrame(std::span<const double> c, std::span<const double> err, double lo, double hi,
-                    std::span<double> out, const RootOptions& options) {
-  LocalPoly<double> g;
-  Frame<double> fr;
+template <class T>
+int allRootsInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, std::span<T> out,
+                    const RootOptions& options) {
+  LocalPoly<T> g;
+  Frame<T> fr;
   if (!toLocal(c, err, lo, hi, g, fr)) return 0;
   if (fr.clamped) [[unlikely]]
     return allRootsClamped(c, err, g, fr, out, options);
@@ -610,17 +612,17 @@ template <class T>
          hasRootInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, o);
 }
 
-[[gnu::noinline]] int allRootsFactored(std::span<const double> c, std::span<const double> err,
-                                       double lo, double hi, std::span<double> out,
-                                       const RootOptions& options) {
+template <class T>
+[[gnu::noinline]] int allRootsFactored(std::span<const T> c, std::span<const T> err, T lo, T hi,
+                                       std::span<T> out, const RootOptions& options) {
   const int k = exactZeroOrder(c, err, lo, hi);
   if (k == 0) return allRootsInFrame(c, err, lo, hi, out, options);
   // h's roots in order, with 0 put in its place (a root of h within its noise bound of 0
   // may come back as 0 itself: reported once).
   const int maxOut = static_cast<int>(std::min<size_t>(out.size(), kMaxDegree + 1));
-  double h[kMaxDegree + 1];
+  T h[kMaxDegree + 1];
   const int nh =
-      allRootsInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, std::span(h, maxOut), options);
+      allRootsInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, std::span<T>(h, maxOut), options);
   bool zeroPending = zeroInside(lo, hi, options.closedLo);
   int m = 0;
   for (int i = 0; i < nh && m < maxOut; ++i) {
@@ -650,6 +652,15 @@ bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const Ro
   return hasRootInFrame(c, err, lo, hi, o);
 }
 
+template <class T>
+int allRootsT(std::span<const T> c, std::span<const T> err, T lo, T hi, std::span<T> out,
+              const RootOptions& options) {
+  checkSizes(c, err, "allRoots");
+  if (out.empty()) return 0;
+  if (!c.empty() && c[0] == 0) return allRootsFactored(c, err, lo, hi, out, options);
+  return allRootsInFrame(c, err, lo, hi, out, options);
+}
+
 }  // namespace
 
 bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
@@ -664,10 +675,7 @@ bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, 
 
 int allRoots(std::span<const double> c, std::span<const double> err, double lo, double hi,
              std::span<double> out, const RootOptions& options) {
-  checkSizes(c, err, "allRoots");
-  if (out.empty()) return 0;
-  if (!c.empty() && c[0] == 0) return allRootsFactored(c, err, lo, hi, out, options);
-  return allRootsInFrame(c, err, lo, hi, out, options);
+  return allRootsT(c, err, lo, hi, out, options);
 }
 
 bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
@@ -678,6 +686,11 @@ bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float 
 bool hasRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
              const RootOptions& options) {
   return hasRootT(c, err, lo, hi, options);
+}
+
+int allRoots(std::span<const float> c, std::span<const float> err, float lo, float hi,
+             std::span<float> out, const RootOptions& options) {
+  return allRootsT(c, err, lo, hi, out, options);
 }
 
 }  // namespace algray
