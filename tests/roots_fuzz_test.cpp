@@ -2,11 +2,11 @@
 // 26: a longer run of this driver found the wrong answers that
 // RootsContract.RootsSpreadOverMoreBinadesThanOneFrame now pins down), for the double
 // solver and for the float one (roots.h's float variants, the renderer's
-// SurfaceOptions::singlePrecision). Problems of every kind the contract names: random coefficients over up to 16 decades, products of real roots with
-// double roots, clusters and complex pairs up to 1e-9 off the axis, scales from 1e-100 to
-// 1e100 (1e-30 to 1e30 in float), exact zeros at 0, noise-level or zero leading
-// coefficients, caller error bounds, closedLo, and intervals around 0, far from it, ending
-// on a root or up to 1e96 wide. Each problem is drawn in double and rounded to the solver's
+// SurfaceOptions::singlePrecision). Problems of every kind the contract names: random
+// coefficients over up to 16 decades, products of real roots with double roots, clusters
+// and complex pairs up to 1e-9 off the axis, scales from 1e-100 to 1e100 (1e-30 to 1e30 in
+// float), exact zeros at 0, noise-level or zero leading coefficients, caller error bounds,
+// closedLo, and intervals around 0, far from it, ending on a root or up to 1e96 wide. Each problem is drawn in double and rounded to the solver's
 // type (coefficients, error bounds, interval ends). The reference is independent of the
 // solver: the exact value of the rounded polynomial (its coefficients converted to double
 // exactly, MPFR, 256 bits) at 3000 points of the interval, the first sign change bisected
