@@ -6,13 +6,13 @@
 // coefficients over up to 16 decades, products of real roots with double roots, clusters
 // and complex pairs up to 1e-9 off the axis, scales from 1e-100 to 1e100 (1e-30 to 1e30 in
 // float), exact zeros at 0, noise-level or zero leading coefficients, caller error bounds,
-// closedLo, and intervals around 0, far from it, ending on a root or up to 1e96 wide. Each problem is drawn in double and rounded to the solver's
-// type (coefficients, error bounds, interval ends). The reference is independent of the
-// solver: the exact value of the rounded polynomial (its coefficients converted to double
-// exactly, MPFR, 256 bits) at 3000 points of the interval, the first sign change bisected
-// in MPFR. What is asserted, with the noise bound N(s) = sum (err_i + gamma(2n+1) |c_i|)
-// |s|^i (gamma of the solver's type) as the contract's measure of "within rounding", and
-// u the solver's unit roundoff:
+// closedLo, and intervals around 0, far from it, ending on a root or up to 1e96 wide.
+// Each problem is drawn in double and rounded to the solver's type (coefficients, error
+// bounds, interval ends). The reference is independent of the solver: the exact value of
+// the rounded polynomial (its coefficients converted to double exactly, MPFR, 256 bits) at
+// 3000 points of the interval, the first sign change bisected in MPFR. What is asserted,
+// with the noise bound N(s) = sum (err_i + gamma(2n+1) |c_i|) |s|^i (gamma of the solver's
+// type) as the contract's measure of "within rounding", and u the solver's unit roundoff:
 //  * every answer lies in (lo, hi] ([lo, hi] with closedLo), and hasRoot, firstRoot and
 //    allRoots' first agree;
 //  * a sign change whose sample ends are clear of N is found, and not passed: an answer
