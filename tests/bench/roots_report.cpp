@@ -36,6 +36,14 @@
 // shrink its node to the pair's distance from the axis while Sturm's count settles it at
 // once), and the rest (no root anywhere near), so that a ratio over all problems can be
 // read as the mix it is.
+//
+// Per problem (DIR/roots-spread.csv and a third table, degrees 6-12 where the issue sets its
+// 5x target): Auto and Sturm timed on each problem alone (the best of a few short runs of
+// the same problem, which trains the branch predictors on it and so flatters the branchy
+// Auto), the spread of the per-problem ratio (median, 90th percentile, largest, share of
+// problems at 5x or more), and what Sturm / Auto would read if every problem took Auto as
+// long as the fastest tenth, or the median, of the problems of its outcome: whether the
+// gap to a target is the slow problems' (the tail) or every problem's (the base cost).
 #include "algray/roots.h"
 
 #include "../roots_mpfr.h"
@@ -47,6 +55,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -167,6 +176,13 @@ struct OutcomeRow {
   double autoNs, sturmNs;
 };
 
+// Per-problem timings of Auto and Sturm (see the file's header).
+struct SpreadRow {
+  const char* family;
+  int degree, problems;
+  double ratioOfMeans, ratioMedian, ratioP90, ratioMax, shareAt5, ifP10, ifMedian;
+};
+
 struct Row {
   const Method* m;
   const char* family;
@@ -257,6 +273,63 @@ void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& 
   }
 }
 
+// ns per firstRoot of one problem: the best of kSpreadTrials runs of kSpreadSolves solves.
+double timeOne(const Problem& p, RootMethod method) {
+  constexpr int kSpreadTrials = 7, kSpreadSolves = 4;
+  RootOptions o;
+  o.method = method;
+  double best = std::numeric_limits<double>::infinity(), sink = 0;
+  for (int t = 0; t < kSpreadTrials; ++t) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < kSpreadSolves; ++k) sink += firstRoot(p.c, {}, p.lo, p.hi, o).value_or(0);
+    const auto t1 = std::chrono::steady_clock::now();
+    best = std::min(best, std::chrono::duration<double, std::nano>(t1 - t0).count());
+  }
+  volatile double keep = sink;  // the answers are used: the solves cannot be dropped
+  (void)keep;
+  return best / kSpreadSolves;
+}
+
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
+}
+
+SpreadRow spreadOf(const char* family, int degree, const std::vector<Problem>& ps) {
+  std::vector<double> autoT(ps.size()), sturmT(ps.size()), ratio(ps.size());
+  std::vector<double> byOutcome[3];
+  for (size_t i = 0; i < ps.size(); ++i) {  // either one first in turn
+    if (i % 2 == 1) sturmT[i] = timeOne(ps[i], RootMethod::Sturm);
+    autoT[i] = timeOne(ps[i], RootMethod::Auto);
+    if (i % 2 == 0) sturmT[i] = timeOne(ps[i], RootMethod::Sturm);
+    ratio[i] = sturmT[i] / autoT[i];
+    byOutcome[outcomeOf(ps[i])].push_back(autoT[i]);
+  }
+  double sumAuto = 0, sumSturm = 0, sumP10 = 0, sumMedian = 0;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    sumAuto += autoT[i];
+    sumSturm += sturmT[i];
+  }
+  for (const auto& times : byOutcome) {
+    if (times.empty()) continue;
+    const double n = static_cast<double>(times.size());
+    sumP10 += n * quantile(times, 0.1);
+    sumMedian += n * quantile(times, 0.5);
+  }
+  const double at5 = static_cast<double>(
+      std::count_if(ratio.begin(), ratio.end(), [](double r) { return r >= 5; }));
+  return {family,
+          degree,
+          static_cast<int>(ps.size()),
+          sumSturm / sumAuto,
+          quantile(ratio, 0.5),
+          quantile(ratio, 0.9),
+          quantile(ratio, 1.0),
+          at5 / static_cast<double>(ps.size()),
+          sumSturm / sumP10,
+          sumSturm / sumMedian};
+}
+
 std::string cpuModel() {
   std::ifstream in("/proc/cpuinfo");
   std::string line;
@@ -304,6 +377,7 @@ int main(int argc, char** argv) {
   const int reps = tiny ? 1 : 5;
   std::vector<Row> rows;
   std::vector<OutcomeRow> outcomeRows;
+  std::vector<SpreadRow> spreadRows;
   for (const char* family : {"ray", "cell"})
     for (int degree : degrees) {
       DrawCounts counts;
@@ -369,6 +443,7 @@ int main(int argc, char** argv) {
         outcomeRows.push_back({family, degree, o, static_cast<int>(sub.size()),
                                autoT[autoT.size() / 2], sturmT[sturmT.size() / 2]});
       }
+      if (degree >= 6 && degree <= 12) spreadRows.push_back(spreadOf(family, degree, ps));
       std::fprintf(stderr, "%s degree %d: %zu problems\n", family, degree, ps.size());
     }
 
@@ -413,5 +488,24 @@ int main(int argc, char** argv) {
                 kOutcomeNames[r.outcome], r.problems, r.autoNs, r.sturmNs, r.sturmNs / r.autoNs);
   }
   std::printf("\nwrote %s\n", outcomePath.c_str());
+
+  const std::string spreadPath = outDir + "/roots-spread.csv";
+  std::ofstream scsv(spreadPath);
+  scsv << "family,degree,problems,sturm_over_auto,ratio_median,ratio_p90,ratio_max,share_at_5x,"
+          "if_outcome_p10,if_outcome_median\n";
+  std::printf(
+      "\nper problem (double, first root; each problem timed alone)\n\n"
+      "| family | degree | problems | Sturm / Auto | per problem: median | p90 | max | "
+      "share >= 5x | if each at its outcome's p10 | at its median |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const SpreadRow& r : spreadRows) {
+    scsv << r.family << ',' << r.degree << ',' << r.problems << ',' << r.ratioOfMeans << ','
+         << r.ratioMedian << ',' << r.ratioP90 << ',' << r.ratioMax << ',' << r.shareAt5 << ','
+         << r.ifP10 << ',' << r.ifMedian << '\n';
+    std::printf("| %s | %d | %d | %.2f | %.2f | %.2f | %.2f | %.3f | %.2f | %.2f |\n", r.family,
+                r.degree, r.problems, r.ratioOfMeans, r.ratioMedian, r.ratioP90, r.ratioMax,
+                r.shareAt5, r.ifP10, r.ifMedian);
+  }
+  std::printf("\nwrote %s\n", spreadPath.c_str());
   return 0;
 }
