@@ -214,6 +214,12 @@ double runPass(const Method& m, const std::vector<Problem>& ps, std::vector<doub
   return std::chrono::duration<double, std::nano>(t1 - t0).count() / ps.size();
 }
 
+// The q-quantile of v (q = 0.5: the median, the upper one of an even count; 1: the largest).
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
+}
+
 void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& answers) {
   const bool isFloat = std::strcmp(row.m->precision, "float") == 0;
   const bool any = std::strcmp(row.m->query, "any") == 0;
@@ -266,10 +272,9 @@ void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& 
     errs.push_back(err / (u * cond));
   }
   if (!errs.empty()) {
-    std::sort(errs.begin(), errs.end());
-    row.errMedian = errs[errs.size() / 2];
-    row.errP99 = errs[std::min(errs.size() - 1, static_cast<size_t>(0.99 * errs.size()))];
-    row.errMax = errs.back();
+    row.errMedian = quantile(errs, 0.5);
+    row.errP99 = quantile(errs, 0.99);
+    row.errMax = quantile(errs, 1);
   }
 }
 
@@ -288,11 +293,6 @@ double timeOne(const Problem& p, RootMethod method) {
   volatile double keep = sink;  // the answers are used: the solves cannot be dropped
   (void)keep;
   return best / kSpreadSolves;
-}
-
-double quantile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
 }
 
 SpreadRow spreadOf(const char* family, int degree, const std::vector<Problem>& ps) {
@@ -419,8 +419,7 @@ int main(int argc, char** argv) {
         row.m = &kMethods[k];
         row.family = family;
         row.degree = degree;
-        std::sort(times[k].begin(), times[k].end());
-        row.ns = times[k][times[k].size() / 2];
+        row.ns = quantile(times[k], 0.5);
         score(row, ps, answers[k]);
         rows.push_back(row);
       }
@@ -438,10 +437,8 @@ int main(int argc, char** argv) {
           autoT.push_back(runPass(autoM, sub, unused));
           if (r % 2 == 0) sturmT.push_back(runPass(sturmM, sub, unused));
         }
-        std::sort(autoT.begin(), autoT.end());
-        std::sort(sturmT.begin(), sturmT.end());
         outcomeRows.push_back({family, degree, o, static_cast<int>(sub.size()),
-                               autoT[autoT.size() / 2], sturmT[sturmT.size() / 2]});
+                               quantile(autoT, 0.5), quantile(sturmT, 0.5)});
       }
       if (degree >= 6 && degree <= 12) spreadRows.push_back(spreadOf(family, degree, ps));
       std::fprintf(stderr, "%s degree %d: %zu problems\n", family, degree, ps.size());
