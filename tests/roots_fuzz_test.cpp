@@ -34,7 +34,6 @@
 #include <span>
 #include <sstream>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 namespace algray {
@@ -64,17 +63,6 @@ struct Precision<float> {
   static constexpr double kErrRel = 0x1p-21;
   static constexpr double kNoiseLead = 5e-10;
 };
-
-// gamma(n) = n u / (1 - n u) for T's unit roundoff (polynomial.h's gamma for double).
-template <class T>
-double gammaOf(int n) {
-  if constexpr (std::is_same_v<T, double>) {
-    return gamma(n);
-  } else {
-    constexpr double u = Precision<T>::kU;
-    return n * u / (1 - n * u);
-  }
-}
 
 struct ScanRoot {
   bool found = false;
@@ -258,7 +246,8 @@ void checkProblem(const FuzzProblem<T>& p, const std::string& what) {
 
   const std::vector<double> c(p.c.begin(), p.c.end());  // exact
   const int n = static_cast<int>(c.size()) - 1;
-  const double relNoise = gammaOf<T>(2 * n + 1) + (p.err.empty() ? 0.0 : Precision<T>::kErrRel);
+  const double relNoise = test::gammaOfUnit(2 * n + 1, Precision<T>::kU) +
+                          (p.err.empty() ? 0.0 : Precision<T>::kErrRel);
   const ScanRoot scan = firstSignChange(c, p.options.closedLo ? std::nextafter(lo, -INFINITY) : lo,
                                         hi, 3000, relNoise);
   if (scan.found && scan.clear) {

@@ -166,6 +166,10 @@ inline std::vector<RefRoot> refineAll(const std::vector<double>& c,
   return out;
 }
 
+// Higham's gamma_n = n u / (1 - n u) for the unit roundoff u of the precision solved (float's
+// or double's; polynomial.h's gamma is double's): the scale relativeResidual is compared with.
+inline double gammaOfUnit(int n, double u) { return n * u / (1 - n * u); }
+
 // |g(x)| in MPFR relative to sum |c_i| |x|^i: how much of a root x is, for the data.
 inline double relativeResidual(const std::vector<double>& c, double x) {
   Mp mx(x), f, df, sum, pw(1.0), t, ax;

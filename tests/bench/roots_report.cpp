@@ -230,10 +230,9 @@ void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& 
   // (5.3)), so an answer the rule accepts has an exact relative residual up to the sum of
   // the two. (With the first alone, until session 27, a float answer at 1.01 times it, at
   // the interval's end, counted as false.)
-  auto gammaU = [&](int k) { return k * u / (1 - k * u); };
   auto unexpected = [&](const Problem& p, double t) {
     const int n = static_cast<int>(p.c.size()) - 1;
-    const double bound = gammaU(2 * n + 1) + gammaU(2 * n);
+    const double bound = test::gammaOfUnit(2 * n + 1, u) + test::gammaOfUnit(2 * n, u);
     const std::vector<double> cf(p.cf.begin(), p.cf.end());
     const double resid = test::relativeResidual(isFloat ? cf : p.c, t);
     (resid <= bound ? row.noiseHits : row.falseHits) += 1;
