@@ -40,29 +40,12 @@ struct Problem {
   double lo, hi;
 };
 
-// Coefficients (lowest first) of lead * prod(t - r) * prod((t - a)^2 + b^2), in double.
-std::vector<double> expand(const std::vector<double>& roots,
-                           const std::vector<std::pair<double, double>>& pairs, double lead) {
-  std::vector<double> p{lead};
-  auto mul = [&](std::initializer_list<double> f) {  // f lowest first
-    std::vector<double> q(p.size() + f.size() - 1, 0.0);
-    for (size_t i = 0; i < p.size(); ++i) {
-      size_t j = 0;
-      for (double fj : f) q[i + j++] += p[i] * fj;
-    }
-    p.swap(q);
-  };
-  for (double r : roots) mul({-r, 1.0});
-  for (auto [a, b] : pairs) mul({a * a + b * b, -2 * a, 1.0});
-  return p;
-}
-
 std::vector<Problem> makeProblems(int degree, bool cell) {
   std::mt19937_64 rng(1000 * degree + cell);  // fixed seed per benchmark
   std::vector<Problem> out(kPool);
   for (Problem& p : out) {
     const algray::bench::ProblemShape shape = algray::bench::randomProblemShape(degree, cell, rng);
-    p.c = expand(shape.roots, shape.pairs, shape.lead);
+    p.c = algray::bench::expandInDouble(shape);
     p.cf.assign(p.c.begin(), p.c.end());
     p.lo = shape.lo;
     p.hi = shape.hi;

@@ -1,13 +1,14 @@
 #pragma once
 // The shape of a random first-root problem of ray-tracing type, shared by
-// roots_report.cpp (expanded in MPFR, with references) and roots_bench.cpp (expanded in
-// double, timing only): a few real roots along the ray (t in [0, 1]), the other roots
+// roots_report.cpp (expanded in MPFR, with references), roots_bench.cpp and roots_ab.cpp
+// (expanded in double, timing only): a few real roots along the ray (t in [0, 1]), the other roots
 // complex pairs whose real parts spread over [-0.5, 1.5] and whose imaginary parts are
 // log-uniform in [1e-3, 1] (near misses), any leading scale, and an interval that is a
 // whole ray (a random piece of [0, 1] of length >= 0.1) or a ray's span in one cell
 // (length 1% to 20%), the same in float and double.
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <random>
 #include <utility>
 #include <vector>
@@ -43,6 +44,22 @@ inline ProblemShape randomProblemShape(int degree, bool cell, std::mt19937_64& r
   }
   p.lo = test::floatValue(p.lo);  // the same interval in both precisions (see floatValue)
   p.hi = test::floatValue(p.hi);
+  return p;
+}
+
+// Coefficients (lowest first) of lead * prod(t - r) * prod((t - a)^2 + b^2), in double.
+inline std::vector<double> expandInDouble(const ProblemShape& shape) {
+  std::vector<double> p{shape.lead};
+  auto mul = [&](std::initializer_list<double> f) {  // f lowest first
+    std::vector<double> q(p.size() + f.size() - 1, 0.0);
+    for (size_t i = 0; i < p.size(); ++i) {
+      size_t j = 0;
+      for (double fj : f) q[i + j++] += p[i] * fj;
+    }
+    p.swap(q);
+  };
+  for (double r : shape.roots) mul({-r, 1.0});
+  for (auto [a, b] : shape.pairs) mul({a * a + b * b, -2 * a, 1.0});
   return p;
 }
 
