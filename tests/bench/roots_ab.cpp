@@ -17,10 +17,12 @@
 // alternating by round) and keeps the ratio B / A; the median of those paired ratios
 // cancels the drift (A/A runs: 1.000 +- 0.01, quartiles within 1 %).
 // The problems are roots_report's (roots_problems.h, the same seed per degree and family)
-// expanded in double. Each round also times Sturm (A's build) for the ratio the issue's
-// target is about; --interleave runs the other methods' passes between rounds as
-// roots_report does (which evicts the branch predictors' state of Auto's code: degree-6
-// cells 56 -> 63 ns, session 29). The answers of A and B are compared bit for bit.
+// expanded in double. Sturm's ratio is measured after the A/B rounds, paired per round
+// too: warm by default (each timed pass after an untimed one of the same method), or with
+// --interleave as roots_report runs them (each method right after the others, on branch
+// predictors they trained: Auto's degree-6 cells 56 -> 63 ns, session 29), in which mode
+// the other methods' passes also run between the A/B rounds. The answers of A and B are
+// compared bit for bit.
 #include "algray/roots.h"
 
 #include "roots_problems.h"
@@ -172,39 +174,52 @@ int main(int argc, char** argv) {
     p.hi = shape.hi;
   }
 
+  using algray::RootMethod;
   std::vector<double> answersA(ps.size()), answersB(ps.size()), scratch(ps.size());
-  std::vector<double> timeA, timeB, timeSturm, ratio;
-  int differ = 0;
+  const RootMethod others[] = {RootMethod::ClosedForm, RootMethod::Yuksel, RootMethod::Bernstein,
+                               RootMethod::Sturm};
+  // ---- A against B: one pass each per round, back to back, the order alternating ----
+  // (--interleave: the other methods' passes between rounds, from A and B in turn)
+  std::vector<double> timeA, timeB, ratioBA;
   for (int r = 0; r < o.rounds; ++r) {
-    double a, b;
-    if (r % 2 == 0) {
-      a = pass(solveA, ps, o.method, answersA);
-      b = pass(solveB, ps, o.method, answersB);
-    } else {
-      b = pass(solveB, ps, o.method, answersB);
-      a = pass(solveA, ps, o.method, answersA);
-    }
-    timeA.push_back(a);
-    timeB.push_back(b);
-    ratio.push_back(b / a);
-    timeSturm.push_back(pass(solveA, ps, algray::RootMethod::Sturm, scratch));
+    const bool aFirst = r % 2 == 0;
+    const double first = pass(aFirst ? solveA : solveB, ps, o.method, aFirst ? answersA : answersB);
+    const double second =
+        pass(aFirst ? solveB : solveA, ps, o.method, aFirst ? answersB : answersA);
+    timeA.push_back(aFirst ? first : second);
+    timeB.push_back(aFirst ? second : first);
+    ratioBA.push_back(timeB.back() / timeA.back());
     if (o.interleave)
-      for (auto m : {algray::RootMethod::ClosedForm, algray::RootMethod::Yuksel,
-                     algray::RootMethod::Bernstein})
-        pass(solveA, ps, m, scratch);
-    if (r == 0)
-      for (size_t i = 0; i < ps.size(); ++i)
-        differ += std::memcmp(&answersA[i], &answersB[i], sizeof(double)) != 0;
+      for (RootMethod m : others) pass(aFirst ? solveA : solveB, ps, m, scratch);
   }
-  const double medA = quantile(timeA, 0.5), medB = quantile(timeB, 0.5);
-  const double medSturm = quantile(timeSturm, 0.5);
+  int differ = 0;
+  for (size_t i = 0; i < ps.size(); ++i)
+    differ += std::memcmp(&answersA[i], &answersB[i], sizeof(double)) != 0;
+
+  // ---- Sturm against A, paired per round ---------------------------------------------
+  // Warm (the default): each timed pass follows an untimed pass of the same method, so
+  // neither runs on branch predictors the other trained (a Sturm pass just before cost
+  // Auto's degree-10 cells 15 %, session 29). Interleaved: each right after the other and
+  // the remaining methods, as in roots_report.
+  std::vector<double> ratioSturm;
+  for (int r = 0; r < o.rounds; ++r) {
+    if (!o.interleave) pass(solveA, ps, o.method, scratch);
+    const double a = pass(solveA, ps, o.method, scratch);
+    if (!o.interleave) pass(solveA, ps, RootMethod::Sturm, scratch);
+    const double sturm = pass(solveA, ps, RootMethod::Sturm, scratch);
+    ratioSturm.push_back(sturm / a);
+    if (o.interleave)
+      for (RootMethod m : others)
+        if (m != RootMethod::Sturm) pass(solveA, ps, m, scratch);
+  }
+  const double bOverA = quantile(ratioBA, 0.5), sturmOverA = quantile(ratioSturm, 0.5);
   std::printf(
-      "%s degree %d, %d problems, %d rounds%s: A %.1f ns, B %.1f ns; B / A paired "
-      "median %.4f (quartiles %.4f %.4f); Sturm %.1f ns = %.2fx A, %.2fx B; answers "
-      "differ on %d problems\n",
+      "%s degree %d, %d problems, %d rounds%s: A %.1f ns, B %.1f ns; B / A paired median %.4f "
+      "(quartiles %.4f %.4f); Sturm / A %.2fx, so Sturm / B %.2fx; answers differ on %d "
+      "problems\n",
       o.cell ? "cell" : "ray", o.degree, o.problems, o.rounds, o.interleave ? ", interleaved" : "",
-      medA, medB, quantile(ratio, 0.5), quantile(ratio, 0.25), quantile(ratio, 0.75), medSturm,
-      medSturm / medA, medSturm / medB, differ);
+      quantile(timeA, 0.5), quantile(timeB, 0.5), bOverA, quantile(ratioBA, 0.25),
+      quantile(ratioBA, 0.75), sturmOverA, sturmOverA / bOverA, differ);
   // An A/A run (the smoke test's) must answer bit for bit alike: the solver is deterministic.
   if (!copy.empty() && differ != 0) {
     std::fprintf(stderr, "A/A run: the two loads of one module answered differently\n");
