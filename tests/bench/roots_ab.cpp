@@ -42,6 +42,7 @@
 
 namespace {
 
+using algray::bench::quantile;
 using EntryPoint = bool (*)(const double*, std::size_t, double, double, int, double*);
 
 struct Problem {
@@ -137,11 +138,6 @@ double pass(EntryPoint solve, const std::vector<Problem>& ps, algray::RootMethod
   }
   const auto t1 = std::chrono::steady_clock::now();
   return std::chrono::duration<double, std::nano>(t1 - t0).count() / ps.size();
-}
-
-double quantile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
 }
 
 }  // namespace

@@ -63,4 +63,10 @@ inline std::vector<double> expandInDouble(const ProblemShape& shape) {
   return p;
 }
 
+// The q-quantile of v (q = 0.5: the median, the upper one of an even count; 1: the largest).
+inline double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
+}
+
 }  // namespace algray::bench

@@ -64,6 +64,7 @@
 namespace {
 
 using namespace algray;
+using bench::quantile;
 
 struct Problem {
   std::vector<double> c;
@@ -212,12 +213,6 @@ double runPass(const Method& m, const std::vector<Problem>& ps, std::vector<doub
   }
   const auto t1 = std::chrono::steady_clock::now();
   return std::chrono::duration<double, std::nano>(t1 - t0).count() / ps.size();
-}
-
-// The q-quantile of v (q = 0.5: the median, the upper one of an even count; 1: the largest).
-double quantile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
 }
 
 void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& answers) {
