@@ -88,6 +88,40 @@ TEST(RootsContract, IntervalEnds) {
   EXPECT_EQ(out[1], 1.0);
 }
 
+// solveFirstRoot's atNoise: a root at a sign change of g is not one of the noise rules; a
+// double root (an extremum within the noise bound, the tangent rule), a quadruple one
+// within its noise region of a closed lo, and a root within noise of hi are. The same
+// root as the plain call, in double and in float.
+TEST(RootsContract, AtNoiseTellsTheNoiseRulesRoots) {
+  const std::vector<double> simple{-0.25, 1.0};                                    // 1/4
+  const std::vector<double> doubleRoot = test::expand({0.5, 0.5, -3.0}, {}, 1.0);  // 1/2 twice
+  const std::vector<double> quadruple = test::expand({0.3, 0.3, 0.3, 0.3, -0.75}, {}, 1.0);
+  RootOptions closed;
+  closed.closedLo = true;
+  struct Case {
+    const std::vector<double>* c;
+    double lo, hi;
+    RootOptions o;
+    bool noise;
+  };
+  for (const Case& k :
+       {Case{&simple, 0.0, 1.0, {}, false}, Case{&doubleRoot, 0.0, 1.0, {}, true},
+        Case{&quadruple, 0.3 - 1e-6, 1.0, closed, true}, Case{&simple, 0.0, 0.25, {}, true}}) {
+    double r = -1, plain = -2;
+    bool atNoise = !k.noise;
+    ASSERT_TRUE(solveFirstRoot(*k.c, {}, k.lo, k.hi, r, atNoise, k.o)) << (*k.c)[0];
+    ASSERT_TRUE(solveFirstRoot(*k.c, {}, k.lo, k.hi, plain, k.o));
+    EXPECT_EQ(r, plain) << (*k.c)[0];
+    EXPECT_EQ(atNoise, k.noise) << (*k.c)[0] << " on (" << k.lo << ", " << k.hi << "]";
+    const std::vector<float> cf(k.c->begin(), k.c->end());
+    float rf = -1;
+    bool atNoiseF = !k.noise;
+    ASSERT_TRUE(solveFirstRoot(std::span<const float>(cf), {}, static_cast<float>(k.lo),
+                               static_cast<float>(k.hi), rf, atNoiseF, k.o));
+    EXPECT_EQ(atNoiseF, k.noise) << "float " << (*k.c)[0];
+  }
+}
+
 // RootOptions::closedLo: the interval becomes [lo, hi]. A simple root exactly at lo and a
 // quadruple root within its noise region of lo (rounded coefficients: about u^(1/4) of
 // the scale) are reported with it and not without it, by every method; a root inside

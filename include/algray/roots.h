@@ -81,6 +81,13 @@ inline std::optional<double> firstRoot(std::span<const double> c, std::span<cons
   if (!solveFirstRoot(c, err, lo, hi, root, options)) return std::nullopt;
   return root;
 }
+// The same, and whether the root came from the noise rules above (a tangent or grazing
+// point, or an end within noise: g's data cannot tell it from a near miss) rather than
+// from a sign change of g, which proves a root within g's noise region about it. A caller
+// that can evaluate its function more accurately than g's error bound allows may check
+// such a root (the Embree adapter does: plugin/embree/surface_intersect.cpp).
+bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
+                    double& root, bool& atNoise, const RootOptions& options = {});
 bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
              const RootOptions& options = {});
 // Writes the roots in increasing order (each multiple root once) into out and returns how
@@ -106,6 +113,8 @@ inline std::optional<double> firstRootQuadratic(std::span<const double, 3> c,
 // ~4 that the tangent rule reports many near misses as hits; see docs/roots-summary.md.
 bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
                     float& root, const RootOptions& options = {});
+bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
+                    float& root, bool& atNoise, const RootOptions& options = {});
 inline std::optional<float> firstRoot(std::span<const float> c, std::span<const float> err,
                                       float lo, float hi, const RootOptions& options = {}) {
   float root;

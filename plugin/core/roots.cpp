@@ -469,39 +469,43 @@ std::span<const T> withoutFirst(std::span<const T> s, int k) {
 // out of line and cold, the common one keeps a test of Frame::clamped (callgrind, session
 // 26: a degree-6 cell 930 -> 950 instructions, as with the pieces written inline;
 // interleaved times within noise).
+// atNoise, where given, receives whether the root came from the noise rules (a tangent
+// root or an end within noise: LocalRoot::tangent) rather than from a sign change.
 template <class T>
 bool firstRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
-                      const RootOptions& o);
+                      const RootOptions& o, bool* atNoise);
 
 template <class T>
-bool firstRootOf(LocalPoly<T>& g, const Frame<T>& fr, T& root, const RootOptions& o) {
+bool firstRootOf(LocalPoly<T>& g, const Frame<T>& fr, T& root, const RootOptions& o,
+                 bool* atNoise) {
   g.closedLo = o.closedLo;
   LocalRoot<T> r[1];
   if (solveLocal(g, Query::First, o, r, 1) == 0) return false;
   root = toCaller(fr, g, r[0]);
+  if (atNoise) *atNoise = r[0].tangent;
   return true;
 }
 
 template <class T>
 [[gnu::noinline, gnu::cold]] bool firstRootClamped(std::span<const T> c, std::span<const T> err,
                                                    LocalPoly<T>& g, const Frame<T>& fr, T& root,
-                                                   const RootOptions& o) {
+                                                   const RootOptions& o, bool* atNoise) {
   T split;
-  if (!rangeSplit(c, fr, split)) return firstRootOf(g, fr, root, o);
+  if (!rangeSplit(c, fr, split)) return firstRootOf(g, fr, root, o, atNoise);
   return forEachPiece(fr.lo, fr.hi, split, o, [&](T a, T b, const RootOptions& oi) {
-    return firstRootInFrame(c, err, a, b, root, oi);
+    return firstRootInFrame(c, err, a, b, root, oi, atNoise);
   });
 }
 
 template <class T>
 bool firstRootInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
-                      const RootOptions& o) {
+                      const RootOptions& o, bool* atNoise) {
   LocalPoly<T> g;
   Frame<T> fr;
   if (!toLocal(c, err, lo, hi, g, fr)) return false;
   if (fr.clamped) [[unlikely]]
-    return firstRootClamped(c, err, g, fr, root, o);
-  return firstRootOf(g, fr, root, o);
+    return firstRootClamped(c, err, g, fr, root, o, atNoise);
+  return firstRootOf(g, fr, root, o, atNoise);
 }
 
 template <class T>
@@ -590,13 +594,14 @@ int allRootsInFrame(std::span<const T> c, std::span<const T> err, T lo, T hi, st
 // only c_0 == 0 comes here, and the common path keeps one comparison.
 template <class T>
 [[gnu::noinline]] bool firstRootFactored(std::span<const T> c, std::span<const T> err, T lo, T hi,
-                                         T& root, const RootOptions& o) {
+                                         T& root, const RootOptions& o, bool* atNoise) {
   const int k = exactZeroOrder(c, err, lo, hi);
-  if (k == 0) return firstRootInFrame(c, err, lo, hi, root, o);
+  if (k == 0) return firstRootInFrame(c, err, lo, hi, root, o, atNoise);
   T r;
-  const bool found = firstRootInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, r, o);
+  const bool found = firstRootInFrame(c.subspan(k), withoutFirst(err, k), lo, hi, r, o, atNoise);
   if (zeroInside(lo, hi, o.closedLo) && !(found && r < 0)) {
-    root = 0;
+    root = 0;  // exact
+    if (atNoise) *atNoise = false;
     return true;
   }
   if (found) root = r;
@@ -639,10 +644,10 @@ template <class T>
 
 template <class T>
 bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
-                const RootOptions& o) {
+                const RootOptions& o, bool* atNoise = nullptr) {
   checkSizes(c, err, "firstRoot");
-  if (!c.empty() && c[0] == 0) return firstRootFactored(c, err, lo, hi, root, o);
-  return firstRootInFrame(c, err, lo, hi, root, o);
+  if (!c.empty() && c[0] == 0) return firstRootFactored(c, err, lo, hi, root, o, atNoise);
+  return firstRootInFrame(c, err, lo, hi, root, o, atNoise);
 }
 
 template <class T>
@@ -668,6 +673,11 @@ bool solveFirstRoot(std::span<const double> c, std::span<const double> err, doub
   return firstRootT(c, err, lo, hi, root, options);
 }
 
+bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
+                    double& root, bool& atNoise, const RootOptions& options) {
+  return firstRootT(c, err, lo, hi, root, options, &atNoise);
+}
+
 bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
              const RootOptions& options) {
   return hasRootT(c, err, lo, hi, options);
@@ -681,6 +691,11 @@ int allRoots(std::span<const double> c, std::span<const double> err, double lo, 
 bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
                     float& root, const RootOptions& options) {
   return firstRootT(c, err, lo, hi, root, options);
+}
+
+bool solveFirstRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
+                    float& root, bool& atNoise, const RootOptions& options) {
+  return firstRootT(c, err, lo, hi, root, options, &atNoise);
 }
 
 bool hasRoot(std::span<const float> c, std::span<const float> err, float lo, float hi,
