@@ -504,7 +504,7 @@ def weird_json_value(old):
     if r < 0.35:
         return float("nan") if R.random() < 0.5 else float("inf") * R.choice([1, -1])
     if isinstance(old, (int, float)) and not isinstance(old, bool):
-        return R.choice([old * 10.0 ** R.randint(-40, 40) if abs(old) < 1e260 else old, -old, 0, old + 1e-9, int(old) if old == old else 0,
+        return R.choice([old * 10.0 ** R.randint(-40, 40) if abs(old) < 1e260 else old, -old, 0, old + 1e-9, int(old) if math.isfinite(old) else 0,
                          10.0 ** R.uniform(-320, 308)])
     if isinstance(old, str):
         return R.choice([mutate_text(old), old.upper(), old + " ", "", gen_equation()])
