@@ -487,8 +487,8 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
   KernelHit hit;
   hit.t = rr.g.tShift + rr.roots[0];
   Polynomial::Evaluation e;
-  const bool onF =
-      polish(data.horner, ray.org, ray.dir, rr.r0, rr.r1, 1e-4 * (rr.r1 - rr.r0), hit, &e);
+  const bool onF = polish(data.horner, ray.org, ray.dir, std::max(rr.r0, ray.tnear), rr.r1,
+                          1e-4 * (rr.r1 - rr.r0), hit, &e);
   rr.roots[0] = hit.t - rr.g.tShift;
   rr.firstPolished = true;
   rr.firstGradient = hit.gradient;
@@ -582,8 +582,14 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   // root g placed wrongly can still be searched for again; an occlusion query only where
   // the noise rules reported the root (a sign change of g proves one). A cached root was
   // confirmed above; a quadric's closed form is accurate to its conditioning.
+  // The search again needs the solver's exact first root (all before it is then clear of
+  // g's noise): not with a tolerance or the float solver, whose roots may lie past f's
+  // (with them it took later roots, 0.7-0.96 radii off, in intersector_report's tol1e-03
+  // and float-solver rows).
+  const RootOptions& opt = data.desc.options.roots;
+  const bool exact = opt.relTolerance == 0.0 && !data.desc.options.singlePrecision;
   if (rr.count == 1 && !rr.firstPolished && !data.quadric && (!occlusion || rr.firstAtNoise))
-    settleFirstRoot(data, ray, rr, !rr.fromCache && !(rr.selfWindow > 0.0));
+    settleFirstRoot(data, ray, rr, exact && !rr.fromCache && !(rr.selfWindow > 0.0));
   rr.org = ray.org;
   rr.dir = ray.dir;
   rr.orgRoundoff = ray.orgRoundoff;
