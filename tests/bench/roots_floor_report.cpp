@@ -17,10 +17,12 @@
 //  * a Halley polish that stops after a step below 1e-12 relative (Auto: its predicted
 //    error below half an ulp, with noise rules).
 // Where its answer agrees with Auto's (column `agree`) it solved the same problem with
-// less work than any Bernstein-first solver that keeps the contract can do, so Sturm /
-// floor bounds what tuning Auto can reach. `floor_free_nm` is the floor with every
-// problem it gave up at the depth cap (near misses, mostly) costing nothing: a bound
-// more optimistic still.
+// less work than a Bernstein-first solver that keeps the contract can do along the same
+// path, so Sturm / floor bounds what tuning Auto's path can reach. (Not at degree 12 and
+// above: there Auto's exclusion test and recursion settle near misses with less work than
+// the plain subdivision, and the two take about as long.) `floor_free_nm` is the floor
+// with every problem it gave up at the depth cap (near misses, mostly) costing nothing: a
+// bound more optimistic still.
 // All three methods run in one process, one pass each per round (order rotated), on the
 // same problems expanded in double (roots_problems.h, roots_report's seed per degree and
 // family); ns per solve are the medians over rounds, the ratios the medians of each
