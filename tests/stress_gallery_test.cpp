@@ -333,6 +333,49 @@ TEST(StressRange, TermsAtTheCentreFarAboveThoseAtTheHits) {
   }
 }
 
+// Occlusion against the closest hit where g's noise region is wide: 1e143 z^7 + x^2 + y^2 +
+// z^2 = 1 is the plane z = 0 to within 1e-20 inside the unit circle, and a ray's expansion
+// about its point nearest the origin carries the z^7 term's size there (up to 1e143) in its
+// error bound, so g is within its noise over ~1e-3 of the ray about the plane and its sign
+// change may lie anywhere in that stretch. The closest hit places the root on f (and
+// searches again); before session 31 an occlusion query kept g's sign change, and rays
+// ending up to 1e-4 before the closest hit were occluded, or rays ending just past it not
+// (43 of the 117 rays that hit). Expected: occlusion and the closest hit agree on every ray ending just before or
+// just after that hit, each query on a fresh ray record (the adapter keeps one per thread
+// and ray: another ray in between replaces it).
+TEST(StressRange, OcclusionAgreesWithTheClosestHitInAWideNoiseRegion) {
+  Polynomial f(-1.0);
+  f.setCoeff(0, 0, 7, 1e143);
+  f.setCoeff(2, 0, 0, 1.0);
+  f.setCoeff(0, 2, 0, 1.0);
+  f.setCoeff(0, 0, 2, 1.0);
+  OneSurface s(describe(f, 1.0));
+  const auto otherRay = [&] { s.intersect(rayD(glm::dvec3(0.1, 0.2, 3.0), glm::dvec3(0, 0, -1))); };
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int hits = 0;
+  for (int i = 0; i < 200; ++i) {
+    const glm::dvec3 o = 3.0 * glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+    const glm::dvec3 d = glm::normalize(0.8 * glm::dvec3(u(rng), u(rng), u(rng)) - o);
+    const auto hit = s.intersect(rayD(o, d));
+    if (!hit) continue;
+    ++hits;
+    for (const double rel : {-1e-4, -1e-6, -1e-9, 1e-9, 1e-6, 1e-4}) {
+      const RayD ray = rayD(o, d, 0.0, hit->t * (1 + rel));
+      otherRay();
+      const bool occluded = s.occluded(ray);
+      otherRay();
+      const bool closest = s.intersect(ray).has_value();
+      EXPECT_EQ(occluded, closest)
+          << "ray " << i << " ending " << rel << " relative past t " << hit->t;
+      if (std::abs(rel) >= 1e-6) {
+        EXPECT_EQ(closest, rel > 0) << "ray " << i << ", " << rel;
+      }
+    }
+  }
+  EXPECT_GT(hits, 100);
+}
+
 // ---- Shadow rays from hit points on every gallery surface -------------------------------
 // A camera's rays hit the surface; from each hit point (o + t d in double, as a renderer
 // computes it, with the error bound gamma_3 (|o| + |t d|) embree.h asks for in

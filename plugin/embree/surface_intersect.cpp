@@ -452,8 +452,9 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
 // first root is checked on f itself, which the hit's polish did anyway (settleFirstRoot),
 // and where f is clearly non-zero there the ray is restricted again about that point (up
 // to kReexpansions times), where the new g holds f's terms there. Occlusion queries,
-// which polish nothing, check only roots of the noise rules (roots.h: solveFirstRoot's
-// atNoise).
+// which otherwise polish nothing, check roots of the noise rules (roots.h: solveFirstRoot's
+// atNoise) and sign changes that g cannot place on one side of tnear and tfar
+// (occlusionRootCertain, session 31).
 // Measured (session 29, callgrind, 1500 camera rays, the same answers bit for bit): the
 // walk's instructions 1.007-1.026x on gallery surfaces; timings docs/speed-details.md.
 constexpr int kReexpansions = 4;
@@ -538,6 +539,54 @@ void settleFirstRoot(const SurfaceData& data, const KernelRay& ray, RayRoots& rr
     searchAgain(data, ray, rr, s);
 }
 
+// settleFirstRoot with the search again where it applies: it needs the solver's exact
+// first root (all before it is then clear of g's noise), not one with a tolerance or the
+// float solver's, whose roots may lie past f's (with them it took later roots, 0.7-0.96
+// radii off, in intersector_report's tol1e-03 and float-solver rows); not a cached
+// expansion's, whose root was confirmed on f already; and not the self-root rule's
+// deflated g, whose root at the origin a new expansion would bring back.
+void settleFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
+  const RootOptions& opt = data.desc.options.roots;
+  const bool exact = opt.relTolerance == 0.0 && !data.desc.options.singlePrecision;
+  settleFirstRoot(data, ray, rr, exact && !rr.fromCache && !(rr.selfWindow > 0.0));
+}
+
+// Whether an occlusion query can keep g's first root, a sign change, without placing it on
+// f (the closest hit does that anyway, settleFirst): f's root must be on the same side of
+// tnear and of tfar as g's. g's rigorous noise bound proves a root of f wherever g clears
+// it with opposite signs, so that holds where g does so at two points a < s < b with
+// neither tnear nor tfar in [a, b]: trivially when the whole search span lies in (tnear,
+// tfar) (the solver's own bracket lies in it), else at s -+ 4 |bound / g'(s)|, the
+// first-order reach of the noise bound (the factor covers the curvature and the solver's
+// error). Where g cannot show it there (a wide noise region, as where g's terms are far
+// larger than f's: the sign change placed anywhere inside it), or tnear or tfar lies in
+// [a, b], the root is settled on f as the closest hit's is. Why: on 1e143 z^7 + x^2 + y^2 +
+// z^2 = 1 (the plane z = 0 to 1e-20, g's noise region about it 1e-3 wide) rays ending up
+// to 1e-4 before the closest hit were occluded, or rays ending just past it not: 43 of
+// 117 hits in tests/stress_gallery_test.cpp,
+// OcclusionAgreesWithTheClosestHitInAWideNoiseRegion (session 31; 9 with the first-order test of [a, b] alone, no evaluation at a and b).
+// Measured (speed_report, shadow 1T, 4 alternating runs against the base build): the
+// gallery's shadow rays 0.99-1.02x the time (its light lies outside the clip region).
+bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray) {
+  const RayPolynomial& g = rr.g;
+  if (g.tShift + rr.slo > ray.tnear && g.tShift + rr.shi < ray.tfar) return true;
+  const double s = rr.roots[0];
+  double bound;
+  g.evaluateWithBound(s, bound);
+  double v = g.coeff[g.degree], slope = 0.0;
+  for (int i = g.degree - 1; i >= 0; --i) {
+    slope = slope * s + v;
+    v = v * s + g.coeff[i];
+  }
+  const double h = std::max(4.0 * bound / std::abs(slope), 0x1p-50 * std::abs(s));
+  const double a = s - h, b = s + h;
+  const auto outside = [&](double t) { return t < g.tShift + a || t > g.tShift + b; };
+  if (!(h < kInf) || !outside(ray.tnear) || !outside(ray.tfar)) return false;
+  double boundA, boundB;
+  const double ga = g.evaluateWithBound(a, boundA), gb = g.evaluateWithBound(b, boundB);
+  return std::abs(ga) > boundA && std::abs(gb) > boundB && std::signbit(ga) != std::signbit(gb);
+}
+
 RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
                    double closest, bool occlusion) {
   RayRoots& rr = tlsRayRoots;
@@ -580,16 +629,11 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   }
   // A closest hit needs its first root on f anyway (the hit's polish): done here, where a
   // root g placed wrongly can still be searched for again; an occlusion query only where
-  // the noise rules reported the root (a sign change of g proves one). A cached root was
-  // confirmed above; a quadric's closed form is accurate to its conditioning.
-  // The search again needs the solver's exact first root (all before it is then clear of
-  // g's noise): not with a tolerance or the float solver, whose roots may lie past f's
-  // (with them it took later roots, 0.7-0.96 radii off, in intersector_report's tol1e-03
-  // and float-solver rows).
-  const RootOptions& opt = data.desc.options.roots;
-  const bool exact = opt.relTolerance == 0.0 && !data.desc.options.singlePrecision;
+  // the noise rules reported the root (a sign change of g proves one), or where g cannot
+  // tell on which side of tnear or tfar it lies (walkRootsOf, occlusionRootCertain). A cached
+  // root was confirmed above; a quadric's closed form is accurate to its conditioning.
   if (rr.count == 1 && !rr.firstPolished && !data.quadric && (!occlusion || rr.firstAtNoise))
-    settleFirstRoot(data, ray, rr, exact && !rr.fromCache && !(rr.selfWindow > 0.0));
+    settleFirst(data, ray, rr);
   rr.org = ray.org;
   rr.dir = ray.dir;
   rr.orgRoundoff = ray.orgRoundoff;
@@ -922,6 +966,9 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
   const HornerForm& f = data.horner;
   for (int i = 0;; ++i) {
     RayRoots& rr = current();
+    if (occlusion && i == 0 && rr.count == 1 && !rr.firstPolished && !data.quadric &&
+        !occlusionRootCertain(rr, ray)) [[unlikely]]
+      settleFirst(data, ray, rr);
     const double window = 0x1p-20 * (std::abs(rr.g.tShift) + std::abs(lo) + std::abs(hi));
     if (i >= rr.count) {
       if (rr.complete || !(rr.roots[rr.count - 1] < hi + window - rr.g.tShift)) break;
