@@ -459,14 +459,24 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
 // walk's instructions 1.007-1.026x on gallery surfaces; timings docs/speed-details.md.
 constexpr int kReexpansions = 4;
 
-// The last point before s (towards slo) where g is clear of its noise bound, or slo.
+// The last point before s (towards slo) where g is clear of its noise bound with the sign
+// it has before its first root s, or slo. That sign is g's at slo where g is clear there
+// (no root of g in [slo, s) changes it); elsewhere any clear point is taken. Why the sign:
+// the solver may place an odd multiple root anywhere in its noise region, also at its far
+// edge, where g just before s is clear already but past the root (a triple root of f,
+// the ray crossing the plane x = 0 of -1.8e70 x^3 y z (x + 5) + O(1e20) terms: the search
+// went on from 1.6e-10 past it and reported the next root, 0.32 further; session 31).
 double clearBefore(const RayPolynomial& g, double s, double slo) {
+  double boundLo;
+  const double gLo = g.evaluateWithBound(slo, boundLo);
+  const bool signKnown = std::abs(gLo) > boundLo;
   double step = std::max(0x1p-51 * std::abs(s), std::numeric_limits<double>::min());
   for (int i = 0; i < 2200; ++i, step *= 2.0) {  // (doubling from 2 ulp reaches any span)
     const double y = s - step;
     if (!(y > slo)) break;
     double bound;
-    if (std::abs(g.evaluateWithBound(y, bound)) > bound) return y;
+    const double v = g.evaluateWithBound(y, bound);
+    if (std::abs(v) > bound && (!signKnown || std::signbit(v) == std::signbit(gLo))) return y;
   }
   return slo;
 }
