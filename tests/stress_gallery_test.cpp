@@ -378,6 +378,42 @@ TEST(StressRange, TripleRootAtTheFarEdgeOfItsNoiseRegion) {
   }
 }
 
+// Roots closer together than g's noise: on the surface above, a ray passing 2e-5 from the z
+// axis crosses the plane y = 0 and then, 2.3e-5 further, x = 0 (a triple root). g, expanded
+// 0.2 away, is within its noise bound (~1e51 of f's scale here) over both, reports one
+// root by its noise rules, and the polish on f took it to x = 0. Expected: y = 0 first (the
+// searchBefore rule: before session 31 the hit was x = 0, 2.3e-5 late, found in 1 of 20000
+// random rays of the test above). The ray is that one; and rays crossing y = 0 and then
+// x = 0 at 1e-3 .. 1e-6 from the z axis (they passed before the change too: the campaign's
+// ray needs g's expansion point far enough from the pair).
+TEST(StressRange, RootsCloserThanGsNoiseAreSearchedAgain) {
+  const Polynomial f = parsePolynomial(
+      "-1.8030091941184772e70*x^4*y*z - 9.0150459705923861e70*x^3*y*z"
+      " + 1.7555120354519091e17*x*y^4 + 8.7775601772595456e17*y^4 + x^3 + x*y^2 + x*z^2"
+      " + 5*x^2 + 5*y^2 + 5*z^2 - 7.3575898489057436e19*x - 3.6787949244528715e20");
+  OneSurface s(describe(f, 1.0));
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> rays = {
+      {{-2.7921537860753807, 0.69925659577392596, 0.84552791093587165},
+       {0.88125003924611522, -0.2206986132597587, -0.41795991486497802}}};
+  for (const double gap : {1e-3, 1e-4, 1e-5, 1e-6}) {
+    // Through (-gap, 0, 0.5), on y = 0, and then (0, 0.6 gap, 0.45), on x = 0.
+    const glm::dvec3 p(-gap, 0.0, 0.5), q(0.0, 0.6 * gap, 0.45);
+    const glm::dvec3 d = glm::normalize(q - p);
+    rays.push_back({p - 3.0 * d, d});
+  }
+  for (const auto& [o, d] : rays) {
+    const double b = glm::dot(o, d), c = glm::dot(o, o) - 1.0, root = std::sqrt(b * b - c);
+    double want = kInfD;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double t = -o[axis] / d[axis];
+      if (t > -b - root && t < -b + root) want = std::min(want, t);
+    }
+    const auto hit = s.intersect(rayD(o, d));
+    ASSERT_TRUE(hit);
+    EXPECT_NEAR(hit->t, want, kContract) << "ray from " << o.x << ", " << o.y << ", " << o.z;
+  }
+}
+
 // Occlusion against the closest hit where g's noise region is wide: 1e143 z^7 + x^2 + y^2 +
 // z^2 = 1 is the plane z = 0 to within 1e-20 inside the unit circle, and a ray's expansion
 // about its point nearest the origin carries the z^7 term's size there (up to 1e143) in its

@@ -538,6 +538,24 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
   }
 }
 
+// A root of the noise rules that the polish confirmed on f: g's noise region about it may
+// hold earlier roots of f that g cannot tell apart (a cluster within its noise), so the ray
+// is restricted again about g's root and searched from before the region (searchAgain);
+// a root found there before the confirmed one replaces it, anything else keeps it (a new
+// expansion never drops a confirmed root: on Chmutov-40's ill-conditioned rays it found
+// none). Why: -1.8e70 x^3 y z (x + 5) + O(1e20) terms, a ray crossing y = 0 2.3e-5 before
+// the triple root at x = 0 (the ray passing that close to the z axis): g (expanded 0.2
+// away, its noise ~1e51 against |f| <= 2e50 between the two) reported one noise-level root,
+// the polish took it to x = 0, and the plane y = 0 was skipped (session 31: 1 of 20000
+// random rays; tests/stress_gallery_test.cpp, RootsCloserThanGsNoiseAreSearchedAgain).
+[[gnu::noinline, gnu::cold]] void searchBefore(const SurfaceData& data, const KernelRay& ray,
+                                               RayRoots& rr, double s) {
+  const RayRoots confirmed = rr;
+  searchAgain(data, ray, rr, s);
+  if (rr.count == 0 || !(rr.g.tShift + rr.roots[0] < confirmed.g.tShift + confirmed.roots[0]))
+    rr = confirmed;
+}
+
 // The first root on f (polish): confirmed, or with f not clearly non-zero there (within
 // 2^10 times what its evaluation and the point allow: a tangent or grazing point), it
 // stands, polished; with f clearly non-zero, and where `reexpand` (not for the self-root
@@ -545,8 +563,14 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // search goes on (searchAgain).
 void settleFirstRoot(const SurfaceData& data, const KernelRay& ray, RayRoots& rr, bool reexpand) {
   const double s = rr.roots[0];
-  if (polishFirst(data, ray, rr) && reexpand) [[unlikely]]
+  const bool atNoise = rr.firstAtNoise;
+  const bool off = polishFirst(data, ray, rr);
+  if (!reexpand) return;
+  if (off) [[unlikely]] {
     searchAgain(data, ray, rr, s);
+  } else if (atNoise) [[unlikely]] {
+    searchBefore(data, ray, rr, s);
+  }
 }
 
 // settleFirstRoot with the search again where it applies: it needs the solver's exact
