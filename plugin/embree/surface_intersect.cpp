@@ -545,9 +545,10 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // expansion never drops a confirmed root: on Chmutov-40's ill-conditioned rays it found
 // none). Why: -1.8e70 x^3 y z (x + 5) + O(1e20) terms, a ray crossing y = 0 2.3e-5 before
 // the triple root at x = 0 (the ray passing that close to the z axis): g (expanded 0.2
-// away, its noise ~1e51 against |f| <= 2e50 between the two) reported one noise-level root,
-// the polish took it to x = 0, and the plane y = 0 was skipped (session 31: 1 of 20000
-// random rays; tests/stress_gallery_test.cpp, RootsCloserThanGsNoiseAreSearchedAgain).
+// away, its noise ~1e51 against |f| <= 2e50 between the two, estimated) reported one
+// noise-level root, the polish took it to x = 0, and the plane y = 0 was skipped (session
+// 31: 1 of 20000 random rays; tests/stress_gallery_test.cpp,
+// RootsCloserThanGsNoiseAreSearchedAgain).
 // Measured (speed_report, one thread, alternating with the session's base build, Intel
 // host): gallery primary and shadow rays within noise (Barth sextic, 6 runs each: primary
 // 5.11-5.52 against 4.94-5.44 Mrays/s, shadow 3.92-4.22 against 3.75-4.18).
