@@ -414,6 +414,42 @@ TEST(StressRange, RootsCloserThanGsNoiseAreSearchedAgain) {
   }
 }
 
+// The same with the pair of simple roots x = +-1.8e-5 of -2.5e42 x^8 y + x^2 + y^2 + z^2 =
+// 29052 (where y < 0): g's noise region, ~u^(1/8) of the scale wide about the 8-fold x^8,
+// covers both, and the search again about its start still did from 3e-3 away; the hit was
+// the second (6.4e-5 late) on the campaign's ray below. Expected: the first, as found in
+// MPFR by bisection between the sign changes f shows at 1e-5 spacing.
+TEST(StressRange, APairWithinGsNoiseFromASearchAgain) {
+  const Polynomial f = parsePolynomial(
+      "-2.4629180355194158e+42*x^8*y - 9.7770202335114684e-74*x*y^3*z^4 + x^2 + y^2 + z^2"
+      " - 29051.963027366746");
+  OneSurface s(describe(f, 1.0));
+  const glm::dvec3 o(0x1.05f0af9aad463p+1, -0x1.47752c1996fadp+0, 0x1.c83a9a11937eap+0);
+  const glm::dvec3 d(-0x1.7abef99ba37acp-1, 0x1.ae4599e2e094fp-2, -0x1.0d184328bfa4bp-1);
+  auto fAt = [&](const Mp& t) {
+    const Mp x = Mp(o.x) + t * Mp(d.x), y = Mp(o.y) + t * Mp(d.y), z = Mp(o.z) + t * Mp(d.z);
+    const Mp x2 = x * x, x4 = x2 * x2;
+    return Mp(-2.4629180355194158e+42) * (x4 * x4) * y -
+           Mp(9.7770202335114684e-74) * x * (y * y * y) * (z * z * z * z) + x2 + y * y + z * z -
+           Mp(29051.963027366746);
+  };
+  // The first sign change of f on [2.76, 2.77] (the clip sphere's chord holds it), bisected.
+  Mp a(2.76), b(2.76);
+  const int positive = mpfr_sgn(fAt(a).get());
+  do {
+    a = b;
+    b = b + Mp(1e-5);
+  } while (mpfr_sgn(fAt(b).get()) == positive && b.toDouble() < 2.77);
+  ASSERT_NE(mpfr_sgn(fAt(b).get()), positive);
+  for (int k = 0; k < 120; ++k) {
+    const Mp m = (a + b) * Mp(0.5);
+    (mpfr_sgn(fAt(m).get()) == positive ? a : b) = m;
+  }
+  const auto hit = s.intersect(rayD(o, d));
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, a.toDouble(), kContract);
+}
+
 // Occlusion against the closest hit where g's noise region is wide: 1e143 z^7 + x^2 + y^2 +
 // z^2 = 1 is the plane z = 0 to within 1e-20 inside the unit circle, and a ray's expansion
 // about its point nearest the origin carries the z^7 term's size there (up to 1e143) in its

@@ -538,12 +538,17 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
   }
 }
 
-// A root of the noise rules that the polish confirmed on f: g's noise region about it may
-// hold earlier roots of f that g cannot tell apart (a cluster within its noise), so the ray
-// is restricted again about g's root and searched from before the region (searchAgain);
-// a root found there before the confirmed one replaces it, anything else keeps it (a new
-// expansion never drops a confirmed root: on Chmutov-40's ill-conditioned rays it found
-// none). Why: -1.8e70 x^3 y z (x + 5) + O(1e20) terms, a ray crossing y = 0 2.3e-5 before
+// A root of the noise rules that the polish confirmed on f (the first polish's, or the
+// search again's): g's noise region about it may hold earlier roots of f that g cannot tell
+// apart (a cluster within its noise), so the ray is restricted again about the root and
+// searched from before the region (searchAgain); a root found there before the confirmed
+// one replaces it (and is looked behind in turn if it came from the noise rules too, up to
+// kReexpansions times), anything else keeps it (a new expansion never drops a confirmed
+// root: on Chmutov-40's ill-conditioned rays it found none). A second case: on
+// -2.5e42 x^8 y + x^2 + y^2 + z^2 = 29052 (the planes x = +-1.8e-5 where y < 0) the search
+// again about a noise-level start 3e-3 before the pair, its g's noise region still
+// covering both, took the second (6.4e-5 late; session 31's campaign, 1 of ~12000 hits;
+// APairWithinGsNoiseFromASearchAgain). Why: -1.8e70 x^3 y z (x + 5) + O(1e20) terms, a ray crossing y = 0 2.3e-5 before
 // the triple root at x = 0 (the ray passing that close to the z axis): g (expanded 0.2
 // away, its noise ~1e51 against |f| <= 2e50 between the two, estimated) reported one
 // noise-level root, the polish took it to x = 0, and the plane y = 0 was skipped (session
@@ -553,11 +558,15 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // host): gallery primary and shadow rays within noise (Barth sextic, 6 runs each: primary
 // 5.11-5.52 against 4.94-5.44 Mrays/s, shadow 3.92-4.22 against 3.75-4.18).
 [[gnu::noinline, gnu::cold]] void searchBefore(const SurfaceData& data, const KernelRay& ray,
-                                               RayRoots& rr, double s) {
-  const RayRoots confirmed = rr;
-  searchAgain(data, ray, rr, s);
-  if (rr.count == 0 || !(rr.g.tShift + rr.roots[0] < confirmed.g.tShift + confirmed.roots[0]))
-    rr = confirmed;
+                                               RayRoots& rr) {
+  for (int k = 0; k < kReexpansions && rr.count == 1 && rr.firstAtNoise; ++k) {
+    const RayRoots confirmed = rr;
+    searchAgain(data, ray, rr, rr.roots[0]);
+    if (rr.count == 0 || !(rr.g.tShift + rr.roots[0] < confirmed.g.tShift + confirmed.roots[0])) {
+      rr = confirmed;
+      return;
+    }
+  }
 }
 
 // The first root on f (polish): confirmed, or with f not clearly non-zero there (within
@@ -567,14 +576,12 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // search goes on (searchAgain).
 void settleFirstRoot(const SurfaceData& data, const KernelRay& ray, RayRoots& rr, bool reexpand) {
   const double s = rr.roots[0];
-  const bool atNoise = rr.firstAtNoise;
   const bool off = polishFirst(data, ray, rr);
   if (!reexpand) return;
-  if (off) [[unlikely]] {
+  if (off) [[unlikely]]
     searchAgain(data, ray, rr, s);
-  } else if (atNoise) [[unlikely]] {
-    searchBefore(data, ray, rr, s);
-  }
+  if (rr.firstAtNoise) [[unlikely]]
+    searchBefore(data, ray, rr);
 }
 
 // settleFirstRoot with the search again where it applies: it needs the solver's exact
