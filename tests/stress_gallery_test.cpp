@@ -450,6 +450,55 @@ TEST(StressRange, APairWithinGsNoiseFromASearchAgain) {
   EXPECT_NEAR(hit->t, a.toDouble(), kContract);
 }
 
+// A ray from inside the clip region: the first root after tnear gets the first root's checks
+// on f. The search used to start at the region's start, so the record's first root (the
+// one settled on f, settleFirstRoot) lay behind the origin, and the hit came from the rest
+// of the list unchecked: on this random extreme surface of session 31's campaign (a 5-fold
+// x^5 factor among others), the ray from (-0.42, 0.42, -0.15) reported a root 6e-4 past
+// the plane x = 0, where f changes sign (33 of 13040 hits skipped an earlier root from
+// inside). Expected: the first sign change of f after tnear = 0, found in MPFR.
+TEST(StressRange, FromInsideTheRegionTheFirstRootAfterTnearIsChecked) {
+  const Polynomial f = parsePolynomial(
+      "-4.129135748737014e+86*x^9*z - 1999.0047518132255*x^7*z^3"
+      " - 4.1960530728285698e+76*x^4*y^5*z - 2.0645678743685069e+87*x^8*z"
+      " - 9995.0237590661272*x^6*z^3 - 2.098026536414285e+77*x^3*y^5*z"
+      " - 5.2831600420594192e+93*x^6*y*z - 2.6415800210297095e+94*x^5*y*z + x^3 + x*y^2"
+      " + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 5.6798426670032128e+18*x - 2.8399213335016063e+19");
+  OneSurface s(describe(f, 1.0));
+  const glm::dvec3 o(-0x1.aebc45c90e62fp-2, 0x1.af8227cfd0758p-2, -0x1.37813c28d2bdep-3);
+  const glm::dvec3 d(0x1.c0745b36cffaap-1, 0x1.0bd5bdbaf0333p-2, -0x1.9f344f20b29f2p-2);
+  auto fAt = [&](const Mp& t) {
+    const Mp p[3] = {Mp(o.x) + t * Mp(d.x), Mp(o.y) + t * Mp(d.y), Mp(o.z) + t * Mp(d.z)};
+    Mp sum(0.0);
+    for (int i = 0; i <= f.degree(); ++i)
+      for (int j = 0; i + j <= f.degree(); ++j)
+        for (int k = 0; i + j + k <= f.degree(); ++k) {
+          const double c = f.coeff(i, j, k);
+          if (c == 0.0) continue;
+          Mp term(c);
+          for (int e = 0; e < i; ++e) term = term * p[0];
+          for (int e = 0; e < j; ++e) term = term * p[1];
+          for (int e = 0; e < k; ++e) term = term * p[2];
+          sum = sum + term;
+        }
+    return sum;
+  };
+  Mp a(0.0), b(0.0);
+  const int first = mpfr_sgn(fAt(a).get());
+  do {
+    a = b;
+    b = b + Mp(1e-3);
+  } while (mpfr_sgn(fAt(b).get()) == first && b.toDouble() < 1.0);
+  ASSERT_NE(mpfr_sgn(fAt(b).get()), first);
+  for (int k = 0; k < 120; ++k) {
+    const Mp m = (a + b) * Mp(0.5);
+    (mpfr_sgn(fAt(m).get()) == first ? a : b) = m;
+  }
+  const auto hit = s.intersect(rayD(o, d));
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, a.toDouble(), kContract);
+}
+
 // Occlusion against the closest hit where g's noise region is wide: 1e143 z^7 + x^2 + y^2 +
 // z^2 = 1 is the plane z = 0 to within 1e-20 inside the unit circle, and a ray's expansion
 // about its point nearest the origin carries the z^7 term's size there (up to 1e143) in its

@@ -386,16 +386,27 @@ bool keepsDigits(const RayPolynomial& g, double r0, double r1) {
 // such a ray, every shadow or bounce ray leaving a surface, found those first and then
 // had to find them all; measured, shadow rays on the gallery surfaces took twice as
 // long). Its start is closed (regionRoots) except at the window, where a root within
-// noise is the origin's. Other rays search the whole region: an m-fold root's noise
-// region, u^(1/m) of the scale wide, may straddle tnear, and a span starting there
-// reported the root at tnear itself, which the ray excludes ((0.6 x + 0.8 y - 0.1)^6 = 0
-// 1e-3 beyond tnear was lost on 183 of 200 rays); the walk skips roots outside (tnear,
-// tfar).
+// noise is the origin's. Other rays search from the last point before tnear where g is
+// clear of its noise (or the region's start): not from tnear itself, since an m-fold
+// root's noise region, u^(1/m) of the scale wide, may straddle tnear, and a span starting
+// there reported the root at tnear itself, which the ray excludes ((0.6 x + 0.8 y - 0.1)^6
+// = 0 1e-3 beyond tnear was lost on 183 of 200 rays); the walk skips roots outside (tnear,
+// tfar). Not from the region's start either (until session 31): the first root was then
+// often one behind an origin inside the region, and the ray's hit a later one of the
+// complete list, without the checks on f that the first root gets (settleFirstRoot): in a
+// campaign of random extreme surfaces seen from inside the clip sphere, 33 of 13040 hits
+// skipped an earlier root of f (now none); and such rays took 1.5-5.5x as long on the
+// gallery's surfaces of degree 3-16 (docs/speed-details.md, session 31).
+double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign = true);
 void searchSpan(RayRoots& rr) {
   rr.slo = rr.r0 - rr.g.tShift;
   rr.shi = rr.r1 - rr.g.tShift;
   rr.closedLo = true;
-  if (!(rr.selfWindow > 0.0)) return;
+  if (!(rr.selfWindow > 0.0)) {
+    const double near = rr.tnear - rr.g.tShift;
+    if (near > rr.slo && near < rr.shi) rr.slo = clearBefore(rr.g, near, rr.slo, false);
+    return;
+  }
   // From an origin on the surface (tShift = 0): from tnear on, past the window if the
   // span starts inside it; a span starting before it (tnear < 0) keeps the roots behind
   // the origin, and the walk skips those within the window.
@@ -459,17 +470,17 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
 // walk's instructions 1.007-1.026x on gallery surfaces; timings docs/speed-details.md.
 constexpr int kReexpansions = 4;
 
-// The last point before s (towards slo) where g is clear of its noise bound with the sign
-// it has before its first root s, or slo. That sign is g's at slo where g is clear there
+// The last point before s (towards slo) where g is clear of its noise bound, with the sign
+// it has before its first root s where `keepSign` (searchAgain), or slo. That sign is g's at slo where g is clear there
 // (no root of g in [slo, s) changes it); elsewhere any clear point is taken. Why the sign:
 // the solver may place an odd multiple root anywhere in its noise region, also at its far
 // edge, where g just before s is clear already but past the root (a triple root of f,
 // the ray crossing the plane x = 0 of -1.8e70 x^3 y z (x + 5) + O(1e20) terms: the search
 // went on from 1.6e-10 past it and reported the next root, 0.32 further; session 31).
-double clearBefore(const RayPolynomial& g, double s, double slo) {
-  double boundLo;
-  const double gLo = g.evaluateWithBound(slo, boundLo);
-  const bool signKnown = std::abs(gLo) > boundLo;
+double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign) {
+  double boundLo = 0.0;
+  const double gLo = keepSign ? g.evaluateWithBound(slo, boundLo) : 0.0;
+  const bool signKnown = keepSign && std::abs(gLo) > boundLo;
   double step = std::max(0x1p-51 * std::abs(s), std::numeric_limits<double>::min());
   for (int i = 0; i < 2200; ++i, step *= 2.0) {  // (doubling from 2 ulp reaches any span)
     const double y = s - step;
