@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -414,6 +415,42 @@ TEST(StressRange, RootsCloserThanGsNoiseAreSearchedAgain) {
   }
 }
 
+// f at o + t d in MPFR (every term of f, each rounding 320 bits below f's scale).
+Mp valueAlongRay(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d, const Mp& t) {
+  const Mp p[3] = {Mp(o.x) + t * Mp(d.x), Mp(o.y) + t * Mp(d.y), Mp(o.z) + t * Mp(d.z)};
+  Mp sum(0.0);
+  for (int i = 0; i <= f.degree(); ++i)
+    for (int j = 0; i + j <= f.degree(); ++j)
+      for (int k = 0; i + j + k <= f.degree(); ++k) {
+        const double c = f.coeff(i, j, k);
+        if (c == 0.0) continue;
+        Mp term(c);
+        for (int e = 0; e < i; ++e) term = term * p[0];
+        for (int e = 0; e < j; ++e) term = term * p[1];
+        for (int e = 0; e < k; ++e) term = term * p[2];
+        sum = sum + term;
+      }
+  return sum;
+}
+
+// The first sign change of f along the ray after t0, stepping by `step` up to t1 (NaN if
+// none), bisected in MPFR.
+double firstSignChange(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d, double t0,
+                       double t1, double step) {
+  Mp a(t0), b(t0);
+  const int first = mpfr_sgn(valueAlongRay(f, o, d, a).get());
+  do {
+    a = b;
+    b = b + Mp(step);
+    if (b.toDouble() > t1) return std::numeric_limits<double>::quiet_NaN();
+  } while (mpfr_sgn(valueAlongRay(f, o, d, b).get()) == first);
+  for (int k = 0; k < 120; ++k) {
+    const Mp m = (a + b) * Mp(0.5);
+    (mpfr_sgn(valueAlongRay(f, o, d, m).get()) == first ? a : b) = m;
+  }
+  return a.toDouble();
+}
+
 // The same with the pair of simple roots x = +-1.8e-5 of -2.5e42 x^8 y + x^2 + y^2 + z^2 =
 // 29052 (where y < 0): g's noise region, ~u^(1/8) of the scale wide about the 8-fold x^8,
 // covers both, and the search again about its start still did from 3e-3 away; the hit was
@@ -426,28 +463,12 @@ TEST(StressRange, APairWithinGsNoiseFromASearchAgain) {
   OneSurface s(describe(f, 1.0));
   const glm::dvec3 o(0x1.05f0af9aad463p+1, -0x1.47752c1996fadp+0, 0x1.c83a9a11937eap+0);
   const glm::dvec3 d(-0x1.7abef99ba37acp-1, 0x1.ae4599e2e094fp-2, -0x1.0d184328bfa4bp-1);
-  auto fAt = [&](const Mp& t) {
-    const Mp x = Mp(o.x) + t * Mp(d.x), y = Mp(o.y) + t * Mp(d.y), z = Mp(o.z) + t * Mp(d.z);
-    const Mp x2 = x * x, x4 = x2 * x2;
-    return Mp(-2.4629180355194158e+42) * (x4 * x4) * y -
-           Mp(9.7770202335114684e-74) * x * (y * y * y) * (z * z * z * z) + x2 + y * y + z * z -
-           Mp(29051.963027366746);
-  };
-  // The first sign change of f on [2.76, 2.77] (the clip sphere's chord holds it), bisected.
-  Mp a(2.76), b(2.76);
-  const int positive = mpfr_sgn(fAt(a).get());
-  do {
-    a = b;
-    b = b + Mp(1e-5);
-  } while (mpfr_sgn(fAt(b).get()) == positive && b.toDouble() < 2.77);
-  ASSERT_NE(mpfr_sgn(fAt(b).get()), positive);
-  for (int k = 0; k < 120; ++k) {
-    const Mp m = (a + b) * Mp(0.5);
-    (mpfr_sgn(fAt(m).get()) == positive ? a : b) = m;
-  }
+  // The first sign change of f on [2.76, 2.77] (the clip sphere's chord holds it).
+  const double want = firstSignChange(f, o, d, 2.76, 2.77, 1e-5);
+  ASSERT_FALSE(std::isnan(want));
   const auto hit = s.intersect(rayD(o, d));
   ASSERT_TRUE(hit);
-  EXPECT_NEAR(hit->t, a.toDouble(), kContract);
+  EXPECT_NEAR(hit->t, want, kContract);
 }
 
 // A ray from inside the clip region: the first root after tnear gets the first root's checks
@@ -467,36 +488,37 @@ TEST(StressRange, FromInsideTheRegionTheFirstRootAfterTnearIsChecked) {
   OneSurface s(describe(f, 1.0));
   const glm::dvec3 o(-0x1.aebc45c90e62fp-2, 0x1.af8227cfd0758p-2, -0x1.37813c28d2bdep-3);
   const glm::dvec3 d(0x1.c0745b36cffaap-1, 0x1.0bd5bdbaf0333p-2, -0x1.9f344f20b29f2p-2);
-  auto fAt = [&](const Mp& t) {
-    const Mp p[3] = {Mp(o.x) + t * Mp(d.x), Mp(o.y) + t * Mp(d.y), Mp(o.z) + t * Mp(d.z)};
-    Mp sum(0.0);
-    for (int i = 0; i <= f.degree(); ++i)
-      for (int j = 0; i + j <= f.degree(); ++j)
-        for (int k = 0; i + j + k <= f.degree(); ++k) {
-          const double c = f.coeff(i, j, k);
-          if (c == 0.0) continue;
-          Mp term(c);
-          for (int e = 0; e < i; ++e) term = term * p[0];
-          for (int e = 0; e < j; ++e) term = term * p[1];
-          for (int e = 0; e < k; ++e) term = term * p[2];
-          sum = sum + term;
-        }
-    return sum;
-  };
-  Mp a(0.0), b(0.0);
-  const int first = mpfr_sgn(fAt(a).get());
-  do {
-    a = b;
-    b = b + Mp(1e-3);
-  } while (mpfr_sgn(fAt(b).get()) == first && b.toDouble() < 1.0);
-  ASSERT_NE(mpfr_sgn(fAt(b).get()), first);
-  for (int k = 0; k < 120; ++k) {
-    const Mp m = (a + b) * Mp(0.5);
-    (mpfr_sgn(fAt(m).get()) == first ? a : b) = m;
-  }
+  const double want = firstSignChange(f, o, d, 0.0, 1.0, 1e-3);
+  ASSERT_FALSE(std::isnan(want));
   const auto hit = s.intersect(rayD(o, d));
   ASSERT_TRUE(hit);
-  EXPECT_NEAR(hit->t, a.toDouble(), kContract);
+  EXPECT_NEAR(hit->t, want, kContract);
+}
+
+// Expansions enough for a near miss before the root: on this random surface (session 31's
+// campaign, a clip box) a ray first grazes x = 0, where the 6-fold x^6 factor leaves f
+// clearly positive, and then crosses z = 0, a 7-fold z^7 factor. Each expansion about the
+// near miss found it again a little closer until the fourth resolved it and took the next
+// root, which its g placed 7.3e-3 late, f clearly non-zero there; with 4 expansions that
+// point was the hit. Expected: the first sign change of f, found in MPFR.
+TEST(StressRange, ANearMissBeforeAManyFoldRoot) {
+  const Polynomial f = parsePolynomial(
+      "3.5013193819253508e-109*x^10*y*z^3 + 4.7530334152005122e+79*x^7*z^7"
+      " + 6.1759978107038355e+35*x^3*y^10*z - 1.818719061705971e-65*x^11*z^2"
+      " + 1.7506596909626752e-108*x^9*y*z^3 + 2.3765167076002558e+80*x^6*z^7"
+      " + 3.0879989053519176e+36*x^2*y^10*z - 9.0935953085298553e-65*x^10*z^2 + x^3 + x*y^2"
+      " + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 0.20104286065298307*x - 1.0052143032649155");
+  SurfaceDesc desc = describe(f, 1.0);
+  desc.clip = ClipBox{glm::dvec3(-0.7, -0.8, -0.6), glm::dvec3(0.75, 0.6, 0.7)};
+  OneSurface s(desc);
+  const glm::dvec3 o(0x1.80fdbf1abc4eep+0, 0x1.41434a87f0e67p+0, 0x1.22dbeae989fp+1);
+  const glm::dvec3 d(-0x1.34592e5ea7ef6p-1, -0x1.365cc33ae1193p-2, -0x1.7a21e2f776094p-1);
+  // The box's chord is [2.16, 3.66].
+  const double want = firstSignChange(f, o, d, 2.17, 3.65, 1e-3);
+  ASSERT_FALSE(std::isnan(want));
+  const auto hit = s.intersect(rayD(o, d));
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, want, kContract);
 }
 
 // Occlusion against the closest hit where g's noise region is wide: 1e143 z^7 + x^2 + y^2 +
