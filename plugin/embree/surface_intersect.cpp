@@ -569,7 +569,7 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // the triple root at x = 0 (the ray passing that close to the z axis): g (expanded 0.2
 // away, its noise ~1e51 against |f| <= 2e50 between the two, estimated) reported one
 // noise-level root, the polish took it to x = 0, and the plane y = 0 was skipped (session
-// 31: 1 of 20000 random rays; tests/stress_gallery_test.cpp,
+// 31: 1 of 20000 random rays; tests/stress_placement_test.cpp,
 // RootsCloserThanGsNoiseAreSearchedAgain).
 // Measured (speed_report, one thread, alternating with the session's base build, Intel
 // host): gallery primary and shadow rays within noise (Barth sextic, 6 runs each: primary
@@ -625,7 +625,7 @@ void settleFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // [a, b], the root is settled on f as the closest hit's is. Why: on 1e143 z^7 + x^2 + y^2 +
 // z^2 = 1 (the plane z = 0 to 1e-20, g's noise region about it 1e-3 wide) rays ending up
 // to 1e-4 before the closest hit were occluded, or rays ending just past it not: 43 of
-// 117 hits in tests/stress_gallery_test.cpp,
+// 117 hits in tests/stress_placement_test.cpp,
 // OcclusionAgreesWithTheClosestHitInAWideNoiseRegion (session 31; 9 with the first-order test of [a, b] alone, no evaluation at a and b).
 // Measured (speed_report, shadow 1T, 4 alternating runs against the base build): the
 // gallery's shadow rays 0.99-1.02x the time (its light lies outside the clip region).
