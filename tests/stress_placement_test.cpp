@@ -189,6 +189,17 @@ double firstSignChange(const Polynomial& f, const glm::dvec3& o, const glm::dvec
   return a.toDouble();
 }
 
+// The closest hit along o + t d against the first sign change of f on [t0, t1] (MPFR).
+void expectHitAtFirstSignChange(const SurfaceDesc& desc, const glm::dvec3& o, const glm::dvec3& d,
+                                double t0, double t1, double step) {
+  const double want = firstSignChange(desc.polynomial, o, d, t0, t1, step);
+  ASSERT_FALSE(std::isnan(want));
+  OneSurface s(desc);
+  const auto hit = s.intersect(rayD(o, d));
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, want, kContract);
+}
+
 // The same with the pair of simple roots x = +-1.8e-5 of -2.5e42 x^8 y + x^2 + y^2 + z^2 =
 // 29052 (where y < 0): g's noise region, ~u^(1/8) of the scale wide about the 8-fold x^8,
 // covers both, and the search again about its start still did from 3e-3 away; the hit was
@@ -198,15 +209,10 @@ TEST(StressPlacement, APairWithinGsNoiseFromASearchAgain) {
   const Polynomial f = parsePolynomial(
       "-2.4629180355194158e+42*x^8*y - 9.7770202335114684e-74*x*y^3*z^4 + x^2 + y^2 + z^2"
       " - 29051.963027366746");
-  OneSurface s(describe(f, 1.0));
   const glm::dvec3 o(0x1.05f0af9aad463p+1, -0x1.47752c1996fadp+0, 0x1.c83a9a11937eap+0);
   const glm::dvec3 d(-0x1.7abef99ba37acp-1, 0x1.ae4599e2e094fp-2, -0x1.0d184328bfa4bp-1);
-  // The first sign change of f on [2.76, 2.77] (the clip sphere's chord holds it).
-  const double want = firstSignChange(f, o, d, 2.76, 2.77, 1e-5);
-  ASSERT_FALSE(std::isnan(want));
-  const auto hit = s.intersect(rayD(o, d));
-  ASSERT_TRUE(hit);
-  EXPECT_NEAR(hit->t, want, kContract);
+  // (The clip sphere's chord holds [2.76, 2.77].)
+  expectHitAtFirstSignChange(describe(f, 1.0), o, d, 2.76, 2.77, 1e-5);
 }
 
 // A ray from inside the clip region: the first root after tnear gets the first root's checks
@@ -223,14 +229,9 @@ TEST(StressPlacement, FromInsideTheRegionTheFirstRootAfterTnearIsChecked) {
       " - 9995.0237590661272*x^6*z^3 - 2.098026536414285e+77*x^3*y^5*z"
       " - 5.2831600420594192e+93*x^6*y*z - 2.6415800210297095e+94*x^5*y*z + x^3 + x*y^2"
       " + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 5.6798426670032128e+18*x - 2.8399213335016063e+19");
-  OneSurface s(describe(f, 1.0));
   const glm::dvec3 o(-0x1.aebc45c90e62fp-2, 0x1.af8227cfd0758p-2, -0x1.37813c28d2bdep-3);
   const glm::dvec3 d(0x1.c0745b36cffaap-1, 0x1.0bd5bdbaf0333p-2, -0x1.9f344f20b29f2p-2);
-  const double want = firstSignChange(f, o, d, 0.0, 1.0, 1e-3);
-  ASSERT_FALSE(std::isnan(want));
-  const auto hit = s.intersect(rayD(o, d));
-  ASSERT_TRUE(hit);
-  EXPECT_NEAR(hit->t, want, kContract);
+  expectHitAtFirstSignChange(describe(f, 1.0), o, d, 0.0, 1.0, 1e-3);
 }
 
 // Expansions enough for a near miss before the root: on this random surface (session 31's
@@ -248,15 +249,10 @@ TEST(StressPlacement, ANearMissBeforeAManyFoldRoot) {
       " + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 0.20104286065298307*x - 1.0052143032649155");
   SurfaceDesc desc = describe(f, 1.0);
   desc.clip = ClipBox{glm::dvec3(-0.7, -0.8, -0.6), glm::dvec3(0.75, 0.6, 0.7)};
-  OneSurface s(desc);
   const glm::dvec3 o(0x1.80fdbf1abc4eep+0, 0x1.41434a87f0e67p+0, 0x1.22dbeae989fp+1);
   const glm::dvec3 d(-0x1.34592e5ea7ef6p-1, -0x1.365cc33ae1193p-2, -0x1.7a21e2f776094p-1);
-  // The box's chord is [2.16, 3.66].
-  const double want = firstSignChange(f, o, d, 2.17, 3.65, 1e-3);
-  ASSERT_FALSE(std::isnan(want));
-  const auto hit = s.intersect(rayD(o, d));
-  ASSERT_TRUE(hit);
-  EXPECT_NEAR(hit->t, want, kContract);
+  // (The box's chord is [2.16, 3.66].)
+  expectHitAtFirstSignChange(desc, o, d, 2.17, 3.65, 1e-3);
 }
 
 // Occlusion against the closest hit where g's noise region is wide: 1e143 z^7 + x^2 + y^2 +
