@@ -262,9 +262,9 @@ TEST(StressPlacement, ANearMissBeforeAManyFoldRoot) {
 // change may lie anywhere in that stretch. The closest hit places the root on f (and
 // searches again); before session 31 an occlusion query kept g's sign change, and rays
 // ending up to 1e-4 before the closest hit were occluded, or rays ending just past it not
-// (43 of the 117 rays that hit). Expected: occlusion and the closest hit agree on every ray ending just before or
-// just after that hit, each query on a fresh ray record (the adapter keeps one per thread
-// and ray: another ray in between replaces it).
+// (43 of the 117 rays that hit). Expected: occlusion and the closest hit agree on every
+// ray ending just before or just after that hit, each query on a fresh ray record (the
+// adapter keeps one per thread and ray: another ray in between replaces it).
 TEST(StressPlacement, OcclusionAgreesWithTheClosestHitInAWideNoiseRegion) {
   Polynomial f(-1.0);
   f.setCoeff(0, 0, 7, 1e143);

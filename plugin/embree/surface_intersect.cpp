@@ -476,13 +476,14 @@ void solveFirst(const SurfaceData& data, RayRoots& rr) {
 // finds the root). Only rays whose root f rejects take them.
 constexpr int kReexpansions = 8;
 
-// The last point before s (towards slo) where g is clear of its noise bound, with the sign
-// it has before its first root s where `keepSign` (searchAgain), or slo. That sign is g's at slo where g is clear there
-// (no root of g in [slo, s) changes it); elsewhere any clear point is taken. Why the sign:
-// the solver may place an odd multiple root anywhere in its noise region, also at its far
-// edge, where g just before s is clear already but past the root (a triple root of f,
-// the ray crossing the plane x = 0 of -1.8e70 x^3 y z (x + 5) + O(1e20) terms: the search
-// went on from 1.6e-10 past it and reported the next root, 0.32 further; session 31).
+// The last point before s (towards slo) where g is clear of its noise bound, or slo; with
+// `keepSign` (searchAgain), clear with the sign g has before its first root s: its sign at
+// slo where g is clear there (no root of g in [slo, s) changes it; elsewhere any clear
+// point is taken). Why the sign: the solver may place an odd multiple root anywhere in its
+// noise region, also at its far edge, where g just before s is clear already but past the
+// root (a triple root of f, the ray crossing the plane x = 0 of -1.8e70 x^3 y z (x + 5) +
+// O(1e20) terms: the search went on from 1.6e-10 past it and reported the next root, 0.32
+// further; session 31).
 double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign) {
   double boundLo = 0.0;
   const double gLo = keepSign ? g.evaluateWithBound(slo, boundLo) : 0.0;
@@ -561,16 +562,15 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // searched from before the region (searchAgain); a root found there before the confirmed
 // one replaces it (and is looked behind in turn if it came from the noise rules too, up to
 // kReexpansions times), anything else keeps it (a new expansion never drops a confirmed
-// root: on Chmutov-40's ill-conditioned rays it found none). A second case: on
-// -2.5e42 x^8 y + x^2 + y^2 + z^2 = 29052 (the planes x = +-1.8e-5 where y < 0) the search
-// again about a noise-level start 3e-3 before the pair, its g's noise region still
-// covering both, took the second (6.4e-5 late; session 31's campaign, 1 of ~12000 hits;
-// APairWithinGsNoiseFromASearchAgain). Why: -1.8e70 x^3 y z (x + 5) + O(1e20) terms, a ray crossing y = 0 2.3e-5 before
-// the triple root at x = 0 (the ray passing that close to the z axis): g (expanded 0.2
-// away, its noise ~1e51 against |f| <= 2e50 between the two, estimated) reported one
-// noise-level root, the polish took it to x = 0, and the plane y = 0 was skipped (session
-// 31: 1 of 20000 random rays; tests/stress_placement_test.cpp,
-// RootsCloserThanGsNoiseAreSearchedAgain).
+// root: on Chmutov-40's ill-conditioned rays it found none). Why (session 31's campaign,
+// tests/stress_placement_test.cpp): on -1.8e70 x^3 y z (x + 5) + O(1e20) terms a ray
+// crossing y = 0 2.3e-5 before the triple root at x = 0 (passing that close to the z axis)
+// had g, expanded 0.2 away (its noise ~1e51 against |f| <= 2e50 between the two,
+// estimated), report one noise-level root, the polish took it to x = 0, and y = 0 was
+// skipped (1 of 20000 random rays; RootsCloserThanGsNoiseAreSearchedAgain); on -2.5e42 x^8
+// y + x^2 + y^2 + z^2 = 29052 (the planes x = +-1.8e-5 where y < 0) the search again about
+// a noise-level start 3e-3 before the pair, its g's noise region still covering both, took
+// the second, 6.4e-5 late (1 of ~12000 hits; APairWithinGsNoiseFromASearchAgain).
 // Measured (speed_report, one thread, alternating with the session's base build, Intel
 // host): gallery primary and shadow rays within noise (Barth sextic, 6 runs each: primary
 // 5.11-5.52 against 4.94-5.44 Mrays/s, shadow 3.92-4.22 against 3.75-4.18).
@@ -590,7 +590,8 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // 2^10 times what its evaluation and the point allow: a tangent or grazing point), it
 // stands, polished; with f clearly non-zero, and where `reexpand` (not for the self-root
 // rule's deflated g, whose root at the origin a new expansion would bring back), the
-// search goes on (searchAgain).
+// search goes on (searchAgain); a root of the noise rules that stands is looked behind
+// (searchBefore).
 void settleFirstRoot(const SurfaceData& data, const KernelRay& ray, RayRoots& rr, bool reexpand) {
   const double s = rr.roots[0];
   const bool off = polishFirst(data, ray, rr);
@@ -626,7 +627,8 @@ void settleFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // z^2 = 1 (the plane z = 0 to 1e-20, g's noise region about it 1e-3 wide) rays ending up
 // to 1e-4 before the closest hit were occluded, or rays ending just past it not: 43 of
 // 117 hits in tests/stress_placement_test.cpp,
-// OcclusionAgreesWithTheClosestHitInAWideNoiseRegion (session 31; 9 with the first-order test of [a, b] alone, no evaluation at a and b).
+// OcclusionAgreesWithTheClosestHitInAWideNoiseRegion (session 31; 9 of them with the
+// first-order test of [a, b] alone, no evaluation at a and b).
 // Measured (speed_report, shadow 1T, 4 alternating runs against the base build): the
 // gallery's shadow rays 0.99-1.02x the time (its light lies outside the clip region).
 bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray) {
