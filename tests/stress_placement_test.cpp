@@ -72,6 +72,18 @@ TEST(StressPlacement, TermsAtTheCentreFarAboveThoseAtTheHits) {
   }
 }
 
+// The first crossing of the planes x = 0, y = 0, z = 0 inside the unit clip sphere along
+// o + t d (|d| = 1), or infinity.
+double firstPlaneCrossing(const glm::dvec3& o, const glm::dvec3& d) {
+  const double b = glm::dot(o, d), c = glm::dot(o, o) - 1.0, root = std::sqrt(b * b - c);
+  double first = kInfD;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double t = -o[axis] / d[axis];
+    if (t > -b - root && t < -b + root) first = std::min(first, t);
+  }
+  return first;
+}
+
 // An odd multiple root placed at the far edge of its noise region: -1.8e70 x^3 y z (x + 5)
 // plus O(1) .. O(1e20) terms (a random surface of session 31's campaign) has a triple root
 // where a ray crosses the plane x = 0. g's sign change there may come back anywhere in its
@@ -99,14 +111,7 @@ TEST(StressPlacement, TripleRootAtTheFarEdgeOfItsNoiseRegion) {
       o = 3.0 * glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
       d = glm::normalize(0.8 * glm::dvec3(u(rng), u(rng), u(rng)) - o);
     }
-    // The clip sphere's chord and the planes' crossings inside it.
-    const double b = glm::dot(o, d), c = glm::dot(o, o) - 1.0, root = std::sqrt(b * b - c);
-    const double t0 = -b - root, t1 = -b + root;
-    double want = kInfD;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double t = -o[axis] / d[axis];
-      if (t > t0 && t < t1) want = std::min(want, t);
-    }
+    const double want = firstPlaneCrossing(o, d);
     const auto hit = s.intersect(rayD(o, d));
     if (want == kInfD) {
       EXPECT_FALSE(hit) << "ray " << i;
@@ -141,12 +146,7 @@ TEST(StressPlacement, RootsCloserThanGsNoiseAreSearchedAgain) {
     rays.push_back({p - 3.0 * d, d});
   }
   for (const auto& [o, d] : rays) {
-    const double b = glm::dot(o, d), c = glm::dot(o, o) - 1.0, root = std::sqrt(b * b - c);
-    double want = kInfD;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double t = -o[axis] / d[axis];
-      if (t > -b - root && t < -b + root) want = std::min(want, t);
-    }
+    const double want = firstPlaneCrossing(o, d);
     const auto hit = s.intersect(rayD(o, d));
     ASSERT_TRUE(hit);
     EXPECT_NEAR(hit->t, want, kContract) << "ray from " << o.x << ", " << o.y << ", " << o.z;
