@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -234,6 +236,60 @@ TEST(StressPlacement, FromInsideTheRegionTheFirstRootAfterTnearIsChecked) {
   expectHitAtFirstSignChange(describe(f, 1.0), o, d, 0.0, 1.0, 1e-3);
 }
 
+// From inside the region where g cannot tell f's sign at the origin: on this random surface
+// of degree 34 (session 32's campaign at degree up to 40), g expanded about the point
+// nearest the origin is within its noise from the region's start to 0.25 past tnear = 0
+// (its terms ~1e85 there against f's ~1e44 at the origin), over f's root at 0.0896; the
+// first root came back behind the origin and the ray missed (31 of 13913 inside hits of
+// that campaign skipped an earlier root). Expected: the first sign change of f after tnear,
+// found in MPFR.
+TEST(StressPlacement, AWideNoiseRegionAtTheOrigin) {
+  const Polynomial f = parsePolynomial(
+      "1.7733017818171707e+85*x^33*y + 1.1624576052598281e+26*x^21*y^11*z^2"
+      " + 1.4329639989926442e+31*x^12*y^16*z^6 + 4.9094548810029562e-60*x^20*y^7*z^6 + x^2"
+      " + y^2 + z^2 - 1.1182335719572486e-18");
+  const glm::dvec3 o(-0x1.0ab0c50f612d3p-4, -0x1.b849b0ee0d826p-6, -0x1.234ea2e6ae583p-1);
+  const glm::dvec3 d(0x1.8452efee3093cp-1, -0x1.38a6aa628ca91p-4, 0x1.4b64898a970ep-1);
+  expectHitAtFirstSignChange(describe(f, 1.0), o, d, 0.0, 1.3, 1e-3);
+}
+
+// The same where the first root settles behind the origin only in the searches again: on
+// this random surface of degree 16 (session 32's campaign) g's first root lies just past
+// tnear = 0, f is clearly non-zero there, and eight expansions converge on a root of f
+// 3.7e-3 behind the origin; the hit was then the next root of the last g's list, 5e-4 past
+// f's first root after tnear, with f clearly non-zero there. Expected: the first sign
+// change of f after tnear, found in MPFR.
+TEST(StressPlacement, ARootThatSettlesBehindTheOrigin) {
+  const Polynomial f = parsePolynomial(
+      "-4.8618016760631057e+37*x^5*y^13*z - 1.323568107368334e+39*x^5*y^6*z^8"
+      " - 2.4309008380315528e+38*x^4*y^13*z - 6.6178405368416699e+39*x^4*y^6*z^8"
+      " - 1.8906695883608863e+146*x^6*y^8*z^2 + 5.8994418980669724e+66*x^3*y^5*z^8"
+      " - 9.4533479418044316e+146*x^5*y^8*z^2 + 2.9497209490334861e+67*x^2*y^5*z^8 + x^3"
+      " + x*y^2 + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 8569011977281.8916*x"
+      " - 42845059886409.461");
+  const glm::dvec3 o(-0x1.5f5a9dadb9e49p-3, 0x1.f6b2494641cp-10, -0x1.c38fc961181bfp-2);
+  const glm::dvec3 d(0x1.0b564539fdfbbp-1, 0x1.0c02c0f981352p-1, 0x1.58bd40f26b3d8p-1);
+  expectHitAtFirstSignChange(describe(f, 1.0), o, d, 0.0, 1.0, 1e-4);
+}
+
+// A cluster of roots of f inside the noise region of one sign change of g: on this random
+// surface of degree 30 (terms up to 2e142, session 32's campaign) f has three simple roots
+// within 1.4e-3 of each other along the ray from 3 radii; g, expanded 7e-3 past them in
+// the search again, is within its noise over all three and changes sign once, and the
+// polish took that to the third. Expected: the first, found in MPFR by bisection between
+// the sign changes f shows at 1e-5 spacing.
+TEST(StressPlacement, AClusterInsideASignChangesNoiseRegion) {
+  const Polynomial f = parsePolynomial(
+      "-2.4935714508083936e+124*x^16*y^6*z^8 - 1.2467857254041968e+125*x^15*y^6*z^8"
+      " + 2062535578.0245583*x^20*y^6*z^2 + 10312677890.122791*x^19*y^6*z^2"
+      " + 4.8875350406084581e+141*x^24*y^2 + 2.443767520304229e+142*x^23*y^2 + x^3 + x*y^2"
+      " + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 8.1314662677409668e-09*x - 4.0657331338704832e-08");
+  const glm::dvec3 o(-0x1.eee8a8d16a3cep+0, -0x1.1cfdb4f01cd5cp+1, -0x1.1ae94024feea8p-1);
+  const glm::dvec3 d(0x1.64f9dbb28e707p-1, 0x1.5982c62a5c31fp-1, 0x1.ef54147fd559p-3);
+  // (The clip sphere's chord holds [2.76, 2.78].)
+  expectHitAtFirstSignChange(describe(f, 1.0), o, d, 2.76, 2.78, 1e-5);
+}
+
 // Expansions enough for a near miss before the root: on this random surface (session 31's
 // campaign, a clip box) a ray first grazes x = 0, where the 6-fold x^6 factor leaves f
 // clearly positive, and then crosses z = 0, a 7-fold z^7 factor. Each expansion about the
@@ -307,12 +363,12 @@ TEST(StressPlacement, OcclusionAgreesWithTheClosestHitInAWideNoiseRegion) {
 // after the hit agreeing with the closest hit on the same ray (each query on a fresh ray
 // record). At the session's start 4-6 of ~12000 hits in the full campaign skipped a root,
 // ~2000 occlusion queries disagreed, and from inside 33 of 13040 hits skipped a root.
-TEST(StressPlacement, RandomExtremeSurfaces) {
-  std::mt19937_64 rng(3133);
+void expectRandomExtremeSurfaces(std::uint64_t seed, int surfaces, int degMin, int degMax,
+                                 int& hits) {
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0), u(-1.0, 1.0);
-  int hits = 0;
-  for (int k = 0; k < 60; ++k) {
-    const int deg = 2 + static_cast<int>(u01(rng) * 8);
+  for (int k = 0; k < surfaces; ++k) {
+    const int deg = degMin + static_cast<int>(u01(rng) * (degMax - degMin + 1));
     Polynomial f(-std::pow(10.0, 40 * u01(rng) - 20));
     f.setCoeff(2, 0, 0, 1.0);
     f.setCoeff(0, 2, 0, 1.0);
@@ -335,7 +391,9 @@ TEST(StressPlacement, RandomExtremeSurfaces) {
         const glm::dvec3 o = inside ? 0.6 * glm::dvec3(u(rng), u(rng), u(rng))
                                     : 3.0 * glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
         const glm::dvec3 d = glm::normalize(0.8 * glm::dvec3(u(rng), u(rng), u(rng)) - o);
-        const std::string what = g.toString() + ", ray " + std::to_string(i);
+        char hex[160];
+        std::snprintf(hex, sizeof hex, "%a %a %a, %a %a %a", o.x, o.y, o.z, d.x, d.y, d.z);
+        const std::string what = g.toString() + ", ray " + std::to_string(i) + " (" + hex + ")";
         otherRay();
         const auto hit = s.intersect(rayD(o, d), what);
         const double b = glm::dot(o, d), c = glm::dot(o, o) - 1.0;
@@ -366,7 +424,21 @@ TEST(StressPlacement, RandomExtremeSurfaces) {
       }
     }
   }
+}
+
+TEST(StressPlacement, RandomExtremeSurfaces) {
+  int hits = 0;
+  expectRandomExtremeSurfaces(3133, 60, 2, 9, hits);
   EXPECT_GT(hits, 800);
+}
+
+// The same at degree 20-39 (session 32's campaign, which found that session's cases above:
+// at its start 5 of 13110 hits from 3 radii and 31 of 13913 from inside skipped an earlier
+// root; with this seed a ray from inside then hit 1.05 past f's first sign change).
+TEST(StressPlacement, RandomExtremeSurfacesOfHighDegree) {
+  int hits = 0;
+  expectRandomExtremeSurfaces(5, 12, 20, 39, hits);
+  EXPECT_GT(hits, 380);
 }
 
 }  // namespace

@@ -574,9 +574,29 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // Measured (speed_report, one thread, alternating with the session's base build, Intel
 // host): gallery primary and shadow rays within noise (Barth sextic, 6 runs each: primary
 // 5.11-5.52 against 4.94-5.44 Mrays/s, shadow 3.92-4.22 against 3.75-4.18).
+//
+// The same for a sign change of g whose noise region reaches more than 2^-20 of the span
+// back from the root (wideNoiseBefore): the solver places an odd number of f's roots
+// within such a region as one sign change, anywhere in it, and the polish takes the one it
+// reaches. Why (session 32, the campaign at degree up to 40): on a degree-30 surface with
+// terms up to 2e142 three roots of f within 1.4e-3 of each other lay in the noise region
+// of a g expanded 7e-3 away, whose sign change the polish took to the third; expanded about
+// that root, g holds all three apart (AClusterInsideASignChangesNoiseRegion). Why 2^-20
+// (the walk's window): at 2^-30 the roots of Chmutov-16's rays from 3 radii often had noise
+// regions that wide, and its primary rays ran at 0.87x the rate (speed_report, one thread,
+// 5 alternating runs against the session's start); at 2^-20 0.99x, the other gallery
+// surfaces 0.97-0.99x (the one evaluation of g per hit; docs/speed-details.md).
+bool wideNoiseBefore(const RayRoots& rr) {
+  const double y = rr.roots[0] - 0x1p-20 * (rr.r1 - rr.r0);
+  double bound;
+  return y > rr.slo && !(std::abs(rr.g.evaluateWithBound(y, bound)) > bound);
+}
+bool mayHideRoots(const RayRoots& rr) {
+  return rr.count == 1 && (rr.firstAtNoise || wideNoiseBefore(rr));
+}
 [[gnu::noinline, gnu::cold]] void searchBefore(const SurfaceData& data, const KernelRay& ray,
                                                RayRoots& rr) {
-  for (int k = 0; k < kReexpansions && rr.count == 1 && rr.firstAtNoise; ++k) {
+  for (int k = 0; k < kReexpansions && mayHideRoots(rr); ++k) {
     const RayRoots confirmed = rr;
     searchAgain(data, ray, rr, rr.roots[0]);
     if (rr.count == 0 || !(rr.g.tShift + rr.roots[0] < confirmed.g.tShift + confirmed.roots[0])) {
@@ -598,7 +618,7 @@ void settleFirstRoot(const SurfaceData& data, const KernelRay& ray, RayRoots& rr
   if (!reexpand) return;
   if (off) [[unlikely]]
     searchAgain(data, ray, rr, s);
-  if (rr.firstAtNoise) [[unlikely]]
+  if (mayHideRoots(rr)) [[unlikely]]
     searchBefore(data, ray, rr);
 }
 
@@ -651,6 +671,43 @@ bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray) {
   return std::abs(ga) > boundA && std::abs(gb) > boundB && std::signbit(ga) != std::signbit(gb);
 }
 
+// A first root settled behind tnear (a ray from inside the clip region searches from the
+// last point before tnear where g is clear of its noise, searchSpan, so g's noise region
+// reached tnear): the walk would take the next roots from the rest of the list, which gets
+// no check on f, from a g that may not place them. The ray is restricted again about tnear
+// (a point of the region, so the expansion keeps f's digits there), searched from before
+// tnear and settled again (settleAfterTnear); occlusion settles a first root behind tnear
+// too (rayRoots), so both queries take the same path. Why (session 32): on -1.8e85 x^33 y +
+// x^2 + y^2 + z^2 = 1e-18 seen from inside the clip sphere, g about the point nearest the
+// origin was within its noise from the region's start to 0.25 past tnear = 0, over f's root
+// at 0.0896: the first root settled behind the origin and the ray missed (in a campaign of
+// random extreme surfaces of degree up to 40, 31 of 13913 hits from inside skipped an
+// earlier root; AWideNoiseRegionAtTheOrigin, ARootThatSettlesBehindTheOrigin). Only after
+// the first settling: expanded about tnear at once wherever g is within its noise there, a
+// g within its noise from just past tnear reported a point past f's root, and the searches
+// again about it and about tnear returned each other's answers (1 of 13048 such hits).
+bool firstBehindTnear(const RayRoots& rr) {
+  const double near = rr.tnear - rr.g.tShift;
+  return rr.count == 1 && rr.roots[0] < near && near < rr.shi && near != 0.0 &&
+         !(rr.selfWindow > 0.0);
+}
+[[gnu::noinline, gnu::cold]] void searchFromTnear(const SurfaceData& data, const KernelRay& ray,
+                                                  RayRoots& rr) {
+  restrictToRay(data.horner, ray.org, ray.dir, ray.tnear, rr.g);
+  rr.fromCache = false;
+  rr.firstPolished = false;
+  solveFirst(data, rr);
+  if (rr.count == 1) settleFirst(data, ray, rr);
+}
+
+// settleFirst, and the search from tnear where the root settled behind it: the same path for
+// occlusion, wherever it settles the root (rayRoots, walkRootsOf), as for the closest hit.
+void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
+  settleFirst(data, ray, rr);
+  if (firstBehindTnear(rr)) [[unlikely]]
+    searchFromTnear(data, ray, rr);
+}
+
 RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
                    double closest, bool occlusion) {
   RayRoots& rr = tlsRayRoots;
@@ -693,11 +750,14 @@ RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray, double r0, dou
   }
   // A closest hit needs its first root on f anyway (the hit's polish): done here, where a
   // root g placed wrongly can still be searched for again; an occlusion query only where
-  // the noise rules reported the root (a sign change of g proves one), or where g cannot
-  // tell on which side of tnear or tfar it lies (walkRootsOf, occlusionRootCertain). A cached
-  // root was confirmed above; a quadric's closed form is accurate to its conditioning.
-  if (rr.count == 1 && !rr.firstPolished && !data.quadric && (!occlusion || rr.firstAtNoise))
-    settleFirst(data, ray, rr);
+  // the noise rules reported the root (a sign change of g proves one), where it lies behind
+  // tnear (searchFromTnear), or where g cannot tell on which side of tnear or tfar it lies
+  // (walkRootsOf, occlusionRootCertain). A cached root was confirmed above; a quadric's
+  // closed form is accurate to its conditioning. A root settled behind tnear is searched
+  // for again from tnear (settleAfterTnear).
+  const bool settle = rr.count == 1 && !rr.firstPolished && !data.quadric &&
+                      (!occlusion || rr.firstAtNoise || firstBehindTnear(rr));
+  if (settle) settleAfterTnear(data, ray, rr);
   rr.org = ray.org;
   rr.dir = ray.dir;
   rr.orgRoundoff = ray.orgRoundoff;
@@ -1032,7 +1092,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     RayRoots& rr = current();
     if (occlusion && i == 0 && rr.count == 1 && !rr.firstPolished && !data.quadric &&
         !occlusionRootCertain(rr, ray)) [[unlikely]]
-      settleFirst(data, ray, rr);
+      settleAfterTnear(data, ray, rr);
     const double window = 0x1p-20 * (std::abs(rr.g.tShift) + std::abs(lo) + std::abs(hi));
     if (i >= rr.count) {
       if (rr.complete || !(rr.roots[rr.count - 1] < hi + window - rr.g.tShift)) break;
