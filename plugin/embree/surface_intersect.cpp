@@ -585,7 +585,9 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // (the walk's window): at 2^-30 the roots of Chmutov-16's rays from 3 radii often had noise
 // regions that wide, and its primary rays ran at 0.87x the rate (speed_report, one thread,
 // 5 alternating runs against the session's start); at 2^-20 0.99x, the other gallery
-// surfaces 0.97-0.99x (the one evaluation of g per hit; docs/speed-details.md).
+// surfaces 0.97-0.99x (the one evaluation of g per hit; docs/speed-details.md). Not seen
+// here: a noise region that a clear stretch before the root separates from it (the
+// solver's open case of session 32, docs/roots.md).
 bool wideNoiseBefore(const RayRoots& rr) {
   const double y = rr.roots[0] - 0x1p-20 * (rr.r1 - rr.r0);
   double bound;
