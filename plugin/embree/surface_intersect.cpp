@@ -596,16 +596,18 @@ bool wideNoiseBefore(const RayRoots& rr) {
 bool mayHideRoots(const RayRoots& rr) {
   return rr.count == 1 && (rr.firstAtNoise || wideNoiseBefore(rr));
 }
+// (Called where mayHideRoots(rr) holds: the first pass does not test it again.)
 [[gnu::noinline, gnu::cold]] void searchBefore(const SurfaceData& data, const KernelRay& ray,
                                                RayRoots& rr) {
-  for (int k = 0; k < kReexpansions && mayHideRoots(rr); ++k) {
+  int k = 0;
+  do {
     const RayRoots confirmed = rr;
     searchAgain(data, ray, rr, rr.roots[0]);
     if (rr.count == 0 || !(rr.g.tShift + rr.roots[0] < confirmed.g.tShift + confirmed.roots[0])) {
       rr = confirmed;
       return;
     }
-  }
+  } while (++k < kReexpansions && mayHideRoots(rr));
 }
 
 // The first root on f (polish): confirmed, or with f not clearly non-zero there (within
