@@ -122,6 +122,56 @@ TEST(RootsContract, AtNoiseTellsTheNoiseRulesRoots) {
   }
 }
 
+// RootOptions::noiseBefore through the public call: g = (s + 1/2)^3 + (s + 1/2)/100 -
+// 0.0956 (in power form below) is increasing with its one root near -0.05; with an error
+// bound 0.2 on the s coefficient its noise bound 0.2|s| covers |g| over a shelf about
+// -0.947 .. -0.477 (a function within those errors of g may have two roots there), then g
+// is clear up to the root's own noise region (tests/roots_scan_test.cpp has the regions).
+// With the query: atNoise, and a point before the clear stretch where |g| is within that
+// bound (checked here in long double, with 1 % to spare). With an error bound of 1e-12
+// the query changes nothing; a root whose own noise region is wider than 2^-20 of the
+// interval is reported with atNoise, unmoved. In double and in float.
+template <class T>
+void expectNoiseBefore() {
+  const std::vector<T> c{T(0.0344), T(0.76), T(1.5), T(1.0)};
+  const std::vector<T> wide{0, T(0.2), 0, 0}, narrow{0, T(1e-12), 0, 0};
+  RootOptions query;
+  query.noiseBefore = true;
+  auto gAt = [&](long double s) {
+    return ((static_cast<long double>(c[3]) * s + c[2]) * s + c[1]) * s + c[0];
+  };
+  T plain = 0, r = 0;
+  bool atNoise = false;
+  ASSERT_TRUE(solveFirstRoot(std::span<const T>(c), std::span<const T>(wide), T(-1), T(0.2), r,
+                             atNoise, query));
+  EXPECT_TRUE(atNoise);
+  EXPECT_GT(r, T(-1));
+  EXPECT_LT(r, T(-0.47));
+  EXPECT_LE(std::abs(gAt(r)), 0.2L * std::abs(static_cast<long double>(r)) * 1.01L) << r;
+
+  atNoise = true;
+  ASSERT_TRUE(solveFirstRoot(std::span<const T>(c), std::span<const T>(narrow), T(-1), T(0.2), r,
+                             atNoise, query));
+  EXPECT_FALSE(atNoise);
+  ASSERT_TRUE(solveFirstRoot(std::span<const T>(c), std::span<const T>(narrow), T(-1), T(0.2),
+                             plain, RootOptions{}));
+  EXPECT_EQ(r, plain);
+  EXPECT_NEAR(r, -0.05, 1e-3);
+
+  const std::vector<T> line{T(-0.25), T(1.0)}, lineErr{T(1e-3), 0};  // noise region 2e-3 wide
+  atNoise = false;
+  ASSERT_TRUE(solveFirstRoot(std::span<const T>(line), std::span<const T>(lineErr), T(0), T(1), r,
+                             atNoise, query));
+  EXPECT_TRUE(atNoise);
+  ASSERT_TRUE(solveFirstRoot(std::span<const T>(line), std::span<const T>(lineErr), T(0), T(1),
+                             plain, RootOptions{}));
+  EXPECT_EQ(r, plain);
+}
+TEST(RootsContract, NoiseBeforeReportsAStretchWithinNoise) {
+  expectNoiseBefore<double>();
+  expectNoiseBefore<float>();
+}
+
 // RootOptions::closedLo: the interval becomes [lo, hi]. A simple root exactly at lo and a
 // quadruple root within its noise region of lo (rounded coefficients: about u^(1/4) of
 // the scale) are reported with it and not without it, by every method; a root inside

@@ -290,6 +290,44 @@ TEST(StressPlacement, AClusterInsideASignChangesNoiseRegion) {
   expectHitAtFirstSignChange(describe(f, 1.0), o, d, 2.76, 2.78, 1e-5);
 }
 
+// A stretch within g's noise that a clear one separates from the root: on this random
+// surface of degree 40 (terms up to 1.7e136, a campaign of session 32) g expanded 4e-4
+// past f's roots is within its noise over [0.6908, 0.6935] along the ray from inside, where
+// f has two simple roots, clear with one sign on both sides of it, and changes sign at
+// 0.693634; the solver reported that sign change (no critical point inside: the tangent
+// rule does not look there), and the hit was f's third root, 1.7e-3 late. The solver's
+// noise-before query (roots_scan.h) reports the stretch. Expected: the first sign change of
+// f after tnear, found in MPFR.
+TEST(StressPlacement, ANoiseShelfBeforeARoot) {
+  const Polynomial f = parsePolynomial(
+      "-3.4873418898207291e+135*x^40 - 6.9506653451156794e+51*x^24*y^14*z^2"
+      " + 3.8895335411589669e+37*x^8*y^24*z^8 - 1.7436709449103646e+136*x^39"
+      " - 3.4753326725578396e+52*x^23*y^14*z^2 + 1.9447667705794835e+38*x^7*y^24*z^8 + x^3"
+      " + x*y^2 + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 0.25124055883997648*x - 1.2562027941998823");
+  const glm::dvec3 o(-0x1.4548b70e73543p-2, -0x1.e92386429aed1p-4, 0x1.c587eacaf1d05p-3);
+  const glm::dvec3 d(0x1.d5869bacfeceep-2, -0x1.6d6931845bd02p-2, 0x1.a0b6559c06fa6p-1);
+  expectHitAtFirstSignChange(describe(f, 1.0), o, d, 0.0, 0.8, 2e-4);
+}
+
+// Two expansions that report each other's centre: on this random surface of degree 39
+// (terms up to 8e126, session 32's campaign, a ray from inside) g expanded about 0.4387 is
+// within its noise up to its first root 0.4485, f clearly non-zero at both, and g expanded
+// about 0.4485 reports 0.4387 (within its noise from there); the searches again alternated
+// until the expansions ran out, and the hit was a point off f past f's pair of roots at
+// 0.4444 and 0.4497. The search now goes between them. Expected: the first sign change of
+// f after tnear, found in MPFR.
+TEST(StressPlacement, TwoExpansionsThatReportEachOther) {
+  const Polynomial f = parsePolynomial(
+      "4.5446343954815491e-45*x^20*y*z^19 + 1.6290012753563501e+126*x^2*y^38"
+      " + 2.2723171977407746e-44*x^19*y*z^19 + 5.0658484764019801e+56*x^4*y^34*z"
+      " + 8.1450063767817506e+126*x*y^38 + 2.5329242382009899e+57*x^3*y^34*z"
+      " - 3.3838643348745149e+59*x^8*y^9*z - 1.6919321674372574e+60*x^7*y^9*z + x^3 + x*y^2"
+      " + x*z^2 + 5*x^2 + 5*y^2 + 5*z^2 - 2.2093060768429578e-12*x - 1.1046530384214788e-11");
+  const glm::dvec3 o(-0x1.9630e324eb24ap-3, -0x1.32d57ef68481ep-2, 0x1.bed8dbb466c69p-2);
+  const glm::dvec3 d(-0x1.1c562765f3168p-3, 0x1.59300a7b0257p-1, -0x1.7365e7d02063cp-1);
+  expectHitAtFirstSignChange(describe(f, 1.0), o, d, 0.0, 0.5, 2e-4);
+}
+
 // Expansions enough for a near miss before the root: on this random surface (session 31's
 // campaign, a clip box) a ray first grazes x = 0, where the 6-fold x^6 factor leaves f
 // clearly positive, and then crosses z = 0, a 7-fold z^7 factor. Each expansion about the

@@ -61,6 +61,12 @@ struct RootOptions {
   // is about u^(1/m) of the scale wide, so without it a multiple root that close to lo
   // is lost (the plugin solves on the clip region's span with closedLo).
   bool closedLo = false;
+  // For solveFirstRoot with atNoise: atNoise is also set where g is within its noise bound
+  // somewhere before the root by more than 2^-20 of the interval (then the root returned
+  // may be that point: plugin/core/roots_scan.h, noiseBefore). The data of g cannot tell
+  // whether the exact function has roots there, so a caller that checks noise-rule roots on
+  // it should look there too (the Embree adapter does). Costs an evaluation of g a solve.
+  bool noiseBefore = false;
 };
 
 // c has degree+1 <= kMaxDegree+1 entries (more throws Error); c[degree] may be rounding

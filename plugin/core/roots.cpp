@@ -479,6 +479,7 @@ template <class T>
 bool firstRootOf(LocalPoly<T>& g, const Frame<T>& fr, T& root, const RootOptions& o,
                  bool* atNoise) {
   g.closedLo = o.closedLo;
+  if (atNoise && o.noiseBefore) g.window = T(0x1p-20) * (g.hi - g.lo);
   LocalRoot<T> r[1];
   if (solveLocal(g, Query::First, o, r, 1) == 0) return false;
   root = toCaller(fr, g, r[0]);

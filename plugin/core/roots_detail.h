@@ -46,6 +46,10 @@ struct LocalPoly {
   // Whether a root within noise of lo is reported (RootOptions::closedLo: lo is a
   // region's boundary) or taken as the caller's previous root (the default).
   bool closedLo = false;
+  // The noise-before query (RootOptions::noiseBefore, roots_scan.h): > 0, the stretch before
+  // a first root within which G may be within its noise unreported (2^-20 of the caller's
+  // interval); 0, no such query.
+  T window = 0;
   Coeffs<T> c;
   Coeffs<T> noise;
 };

@@ -31,9 +31,95 @@
 // looks for a clearly non-zero point of the other sign between the cluster and the
 // piece's clear end (clearCrossing); one found proves a root there (the bounds are
 // rigorous), which is reported as a simple root beside the cluster.
+//
+// The noise-before query (LocalPoly::window > 0, RootOptions::noiseBefore; Query::First):
+// the tangent rule looks at critical points, but a monotone piece can come within G's noise
+// bound away from its ends and its root too, on a shelf where G' is small but not zero and
+// the exact function (within the coefficients' errors of G) may cross zero twice. At degree
+// 40 with terms of 1e135 a piece from a clear end at 0.689 to its root at 0.693634 had G
+// within its noise over [0.6908, 0.6935], where the surface's f had two roots (session 32's
+// open case; the hit was f's third root). noiseBefore reports such a stretch (see there).
 #include "roots_detail.h"
 
 namespace algray::roots_detail {
+
+// The rest of noiseBefore past its first test, out of line (rare: where G at y = r - window
+// is within its noise or below the noise bound at the piece's clear end a). G(y) = f,
+// noise bound n.
+template <class T, class D>
+[[gnu::noinline, gnu::cold]] T noiseWalk(const LocalPoly<T>& g, D deg, T a, T fa, T na, T r, T y,
+                                         T f, T n, bool& noisy) {
+  const bool neg = signBit(fa);
+  auto clearAt = [&](T x) {  // G and its bound at x into f, n; whether clear of fa's sign
+    hornerNoise(g.c.data(), g.noise.data(), deg, x, f, n);
+    return std::abs(f) > n && signBit(f) == neg;
+  };
+  T c = y;  // the walk's target, clear of fa's sign
+  if (!(std::abs(f) > n && signBit(f) == neg)) {
+    // The root's own noise region reaches y: it is reported (noisy), and the walk goes to
+    // the last clear point before it (steps doubling back; one of the other sign proves a
+    // root there, which is reported).
+    noisy = true;
+    for (T step = 2 * g.window;; step *= 2) {
+      c = y - step;
+      if (!(c > a)) return r;  // within noise back to a: the caller looks behind it all
+      if (clearAt(c)) break;
+      if (std::abs(f) > n) return c;
+    }
+  }
+  T p = a, np = na, step = (c - a) / 2;
+  for (int it = 0; it < 64; ++it) {
+    const T q = std::min(p + step, c);
+    if (!(q > p)) break;
+    if (!clearAt(q)) {
+      noisy = true;
+      return q;
+    }
+    if (std::abs(f) > std::max(np, n)) {
+      if (q == c) return r;
+      p = q;
+      np = n;
+      step *= 2;
+    } else {
+      step /= 2;
+    }
+  }
+  noisy = true;  // not proved within the cap: the caller looks
+  return r;
+}
+
+// Whether G at y is within its noise bound or not of fa's sign (false for y <= a).
+template <class T, class D>
+bool noiseAt(const LocalPoly<T>& g, D deg, T fa, T y, T a) {
+  if (!(y > a)) return false;
+  T f, n;
+  hornerNoise(g.c.data(), g.noise.data(), deg, y, f, n);
+  return !(std::abs(f) > n) || signBit(f) != signBit(fa);
+}
+
+// Whether G, monotone on [a, r] with its root at r and clear of its noise at a (value fa,
+// noise bound na), comes within its noise bound in [a, r - window]. The proof: on [p, q]
+// inside the piece |G| >= |G(q)| (G moves towards 0 up to r) and the noise bound, a
+// polynomial in |v| with non-negative coefficients, is at most its larger end value, so
+// [p, q] is clear where |G(q)| > max(noise(p), noise(q)) with G(q) of G(a)'s sign. One
+// evaluation at y = r - window settles the common case, [a, y] at once; else a walk from a
+// (steps doubling after a proof, halving after a failure) proves [a, y] or meets a point
+// within noise. Within the window the root's own noise region is its accuracy, the
+// caller's to judge; where that region reaches past y, the walk proves the stretch before
+// it. Returns r with noisy = false (clear), r with noisy = true (the root's noise region
+// wider than the window, or not proved within the walk's cap), or a point within noise
+// before the root's own region with noisy = true (a root of the exact function may lie
+// before it: the caller looks there).
+template <class T, class D>
+T noiseBefore(const LocalPoly<T>& g, D deg, T a, T fa, T na, T r, bool& noisy) {
+  noisy = false;
+  const T y = r - g.window;
+  if (!(y > a)) return r;
+  T f, n;
+  hornerNoise(g.c.data(), g.noise.data(), deg, y, f, n);
+  if (std::abs(f) > std::max(na, n) && signBit(f) == signBit(fa)) return r;
+  return noiseWalk(g, deg, a, fa, na, r, y, f, n, noisy);
+}
 
 // clearCrossing of roots_detail.h on G.
 template <class T, class D>
@@ -48,6 +134,15 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
   auto emit = [&](T v, bool tangent) {
     if (count < maxOut) out[count++] = LocalRoot<T>{v, tangent};
     return q == Query::All && count < maxOut;  // keep going?
+  };
+  // The root of the monotone piece [a, b] whose end a is clear of noise (na: its bound),
+  // with the noise-before query where asked.
+  auto emitChecked = [&](T a, T fa, T na, T b, T fb) {
+    if (q == Query::Any) return emit(a + (b - a) / 2, false);
+    const T r = piece(a, b, fa, fb);
+    bool noisy = false;
+    const T v = g.window > 0 ? noiseBefore(g, deg, a, fa, na, r, noisy) : r;
+    return emit(v, noisy);
   };
 
   T xPrev = g.lo, fPrev, nPrev;
@@ -66,8 +161,7 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
     T m, fm;
     if (z && !inCluster && clearCrossing(g, deg, xPrev, fPrev, x, m, fm)) {
       // Into a cluster: the piece's root lies clearly before it, in (xPrev, m).
-      if (!emit(q == Query::Any ? xPrev + (m - xPrev) / 2 : piece(xPrev, m, fPrev, fm), false))
-        return count;
+      if (!emitChecked(xPrev, fPrev, nPrev, m, fm)) return count;
     }
     if (z) {
       if (!inCluster) {
@@ -89,15 +183,15 @@ int scanPieces(const LocalPoly<T>& g, D deg, const T* crit, int nCrit, Query q, 
         if ((!clusterAtLo || g.closedLo) && !emit(best, true)) return count;
         // Out of a cluster: the piece's root may lie clearly after it, in (m, x).
         if (clearCrossing(g, deg, x, f, xPrev, m, fm) &&
-            !emit(q == Query::Any ? m + (x - m) / 2 : piece(m, x, fm, f), false))
+            !emitChecked(m, fm, g.window > 0 ? hornerAbs(g.noise.data(), deg, m) : T(0), x, f))
           return count;
       } else if (!zPrev && signBit(f) != signBit(fPrev)) {
-        const T r = q == Query::Any ? xPrev + (x - xPrev) / 2 : piece(xPrev, x, fPrev, f);
-        if (!emit(r, false)) return count;
+        if (!emitChecked(xPrev, fPrev, nPrev, x, f)) return count;
       }
     }
     xPrev = x;
     fPrev = f;
+    nPrev = nx;
     zPrev = z;
   }
   if (inCluster && (!clusterAtLo || g.closedLo)) emit(best, true);

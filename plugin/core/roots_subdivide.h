@@ -671,6 +671,18 @@ int subdivide(SubdivideState<T>& st, D deg, const E* b, T u0, T u1, int depth, D
       // faster, session 8).
       const T fa = coeff<T>(b[0]), fb = coeff<T>(b[static_cast<int>(deg)]);
       out[0] = LocalRoot<T>{st.q == Query::Any ? va + (vb - va) / 2 : piece(va, vb, fa, fb), false};
+      // The noise-before query (roots_scan.h), on a monotone node with the node's noise
+      // bound (at its far end from 0) for G's at va. A node that is not monotone gets only
+      // the test at r - window: a shelf within noise would have to come within the noise
+      // bound between control points that all clear it by twice that bound.
+      if (g.window > 0 && st.q != Query::Any) {
+        bool noisy = false;
+        if (monotone(b, deg, st.err))
+          out[0].v = noiseBefore(g, deg, va, fa, noise, out[0].v, noisy);
+        else
+          noisy = noiseAt(g, deg, fa, out[0].v - g.window, va);
+        out[0].tangent = noisy;
+      }
       k = 1;
     } else {
       k = scanPieces(g, deg, static_cast<const T*>(nullptr), 0, st.q, piece, out, maxOut);

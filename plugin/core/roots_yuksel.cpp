@@ -425,6 +425,7 @@ int solveTop(const LocalPoly<T>& g, D deg, Query q, T tol, LocalRoot<T>* out, in
   work.n = g.n;
   work.lo = g.lo;
   work.hi = g.hi;
+  work.window = g.window;
   copyCoeffs(g.c.data(), n + 1, work.c.data());
   copyCoeffs(g.noise.data(), n + 1, work.noise.data());
   typename NodeElement<T, D>::type b[kMaxDegree + 1];

@@ -331,6 +331,15 @@ RootOptions regionRoots(RootOptions options, bool closedLo) {
   options.closedLo = closedLo;
   return options;
 }
+// The same for the first root, which also asks whether g is within its noise before it
+// (RootOptions::noiseBefore) where such a root will be looked behind (settleFirstRoot: the
+// solver's exact roots, not the self-root rule's deflated g).
+RootOptions regionRoots(const SurfaceOptions& opt, const RayRoots& rr) {
+  RootOptions roots = regionRoots(opt.roots, rr.closedLo);
+  roots.noiseBefore =
+      opt.roots.relTolerance == 0.0 && !opt.singlePrecision && !(rr.selfWindow > 0.0);
+  return roots;
+}
 
 // (The flag-and-out-parameter form of roots.h: an optional returned through this
 // function cost every ray a store-forwarding stall.)
@@ -435,7 +444,7 @@ void solveFirstInSpan(const SurfaceData& data, RayRoots& rr) {
                          ? solveFirstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
                                                    std::span<const double, 3>(rr.g.error.data(), 3),
                                                    rr.slo, rr.shi, s)
-                         : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt.roots, rr.closedLo),
+                         : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt, rr),
                                        opt.singlePrecision, s, rr.firstAtNoise);
   if (found) {
     rr.roots[0] = s;
@@ -529,6 +538,7 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // was clear of its noise, up to kReexpansions times.
 [[gnu::noinline, gnu::cold]] void searchAgain(const SurfaceData& data, const KernelRay& ray,
                                               RayRoots& rr, double s) {
+  double lastCentre = std::numeric_limits<double>::quiet_NaN();
   for (int k = 0; k < kReexpansions; ++k) {
     // [slo, from] is root-free by the old g's rigorous bounds; a root the new g finds
     // within its noise of `from` is a root there (closedLo: the new g's noise region of a
@@ -553,6 +563,14 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
     }
     s = rr.roots[0];
     if (!polishFirst(data, ray, rr)) return;
+    // Two expansions, each within its noise over the stretch between them, can report each
+    // other's centre, f clearly non-zero at both: the next one goes halfway between them.
+    // Why (session 33): on a degree-39 surface with terms up to 8e126, seen from inside,
+    // g about 0.4387 reported 0.4485 and g about 0.4485 reported 0.4387 until the
+    // expansions ran out, and the hit was a point off f past f's roots 0.4444 and 0.4497
+    // (TwoExpansionsThatReportEachOther; 1 of ~13000 hits of a degree-40 campaign).
+    if (std::abs(t - lastCentre) <= 0x1p-40 * std::abs(t)) s = (t + centre) / 2 - rr.g.tShift;
+    lastCentre = centre;
   }
 }
 
@@ -575,27 +593,24 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // host): gallery primary and shadow rays within noise (Barth sextic, 6 runs each: primary
 // 5.11-5.52 against 4.94-5.44 Mrays/s, shadow 3.92-4.22 against 3.75-4.18).
 //
-// The same for a sign change of g whose noise region reaches more than 2^-20 of the span
-// back from the root (wideNoiseBefore): the solver places an odd number of f's roots
-// within such a region as one sign change, anywhere in it, and the polish takes the one it
-// reaches. Why (session 32, the campaign at degree up to 40): on a degree-30 surface with
-// terms up to 2e142 three roots of f within 1.4e-3 of each other lay in the noise region
-// of a g expanded 7e-3 away, whose sign change the polish took to the third; expanded about
-// that root, g holds all three apart (AClusterInsideASignChangesNoiseRegion). Why 2^-20
-// (the walk's window): at 2^-30 the roots of Chmutov-16's rays from 3 radii often had noise
-// regions that wide, and its primary rays ran at 0.87x the rate (speed_report, one thread,
-// 5 alternating runs against the session's start); at 2^-20 0.99x, the other gallery
-// surfaces 0.97-0.99x (the one evaluation of g per hit; docs/speed-details.md). Not seen
-// here: a noise region that a clear stretch before the root separates from it (the
-// solver's open case of session 32, docs/roots.md).
-bool wideNoiseBefore(const RayRoots& rr) {
-  const double y = rr.roots[0] - 0x1p-20 * (rr.r1 - rr.r0);
-  double bound;
-  return y > rr.slo && !(std::abs(rr.g.evaluateWithBound(y, bound)) > bound);
-}
-bool mayHideRoots(const RayRoots& rr) {
-  return rr.count == 1 && (rr.firstAtNoise || wideNoiseBefore(rr));
-}
+// The same where g is within its noise bound more than 2^-20 of the search span before a
+// sign change (the solver's noise-before query, RootOptions::noiseBefore, which sets
+// atNoise then): g's data place an odd number of f's roots within such a region as one sign
+// change, anywhere in it, and the polish takes the one it reaches. Why (session 32, the
+// campaign at degree up to 40): on a degree-30 surface with terms up to 2e142 three roots of
+// f within 1.4e-3 of each other lay in the noise region of a g expanded 7e-3 away, whose
+// sign change the polish took to the third; expanded about that root, g holds all three
+// apart (AClusterInsideASignChangesNoiseRegion). Session 32 tested g at 2^-20 of the span
+// before the root here; session 33 moved the test into the solver, which also proves the
+// rest of the root's monotone piece clear and reports a stretch within noise that a clear
+// one separates from the root (degree 40, terms of 1e135: g within noise over [0.6908,
+// 0.6935], two roots of f there, the sign change at 0.693634; ANoiseShelfBeforeARoot).
+// Why 2^-20 (the walk's window): at 2^-30 the roots of Chmutov-16's rays from 3 radii
+// often had noise regions that wide, and its primary rays ran at 0.87x the rate
+// (speed_report, one thread, 5 alternating runs against session 32's start); at 2^-20
+// 0.99x, the other gallery surfaces 0.97-0.99x (the one evaluation of g per hit;
+// docs/speed-details.md).
+bool mayHideRoots(const RayRoots& rr) { return rr.count == 1 && rr.firstAtNoise; }
 // (Called where mayHideRoots(rr) holds: the first pass does not test it again.)
 [[gnu::noinline, gnu::cold]] void searchBefore(const SurfaceData& data, const KernelRay& ray,
                                                RayRoots& rr) {
