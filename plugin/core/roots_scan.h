@@ -50,12 +50,13 @@ template <class T, class D>
 [[gnu::noinline, gnu::cold]] T noiseWalk(const LocalPoly<T>& g, D deg, T a, T fa, T na, T r, T y,
                                          T f, T n, bool& noisy) {
   const bool neg = signBit(fa);
-  auto clearAt = [&](T x) {  // G and its bound at x into f, n; whether clear of fa's sign
+  auto clear = [&] { return std::abs(f) > n && signBit(f) == neg; };  // of fa's sign
+  auto clearAt = [&](T x) {  // G and its bound at x into f, n
     hornerNoise(g.c.data(), g.noise.data(), deg, x, f, n);
-    return std::abs(f) > n && signBit(f) == neg;
+    return clear();
   };
   T c = y;  // the walk's target, clear of fa's sign
-  if (!(std::abs(f) > n && signBit(f) == neg)) {
+  if (!clear()) {
     // The root's own noise region reaches y: it is reported (noisy), and the walk goes to
     // the last clear point before it (steps doubling back; one of the other sign proves a
     // root there, which is reported).

@@ -331,13 +331,17 @@ RootOptions regionRoots(RootOptions options, bool closedLo) {
   options.closedLo = closedLo;
   return options;
 }
+// Whether rr's roots are the solver's exact ones (no tolerance, not the float solver) on a
+// g that a new expansion may replace (not the self-root rule's deflated g): the roots that
+// settleFirst searches for again and looks behind.
+bool exactRoots(const SurfaceOptions& opt, const RayRoots& rr) {
+  return opt.roots.relTolerance == 0.0 && !opt.singlePrecision && !(rr.selfWindow > 0.0);
+}
 // The same for the first root, which also asks whether g is within its noise before it
-// (RootOptions::noiseBefore) where such a root will be looked behind (settleFirstRoot: the
-// solver's exact roots, not the self-root rule's deflated g).
+// (RootOptions::noiseBefore) where such a root will be looked behind (exactRoots).
 RootOptions regionRoots(const SurfaceOptions& opt, const RayRoots& rr) {
   RootOptions roots = regionRoots(opt.roots, rr.closedLo);
-  roots.noiseBefore =
-      opt.roots.relTolerance == 0.0 && !opt.singlePrecision && !(rr.selfWindow > 0.0);
+  roots.noiseBefore = exactRoots(opt, rr);
   return roots;
 }
 
@@ -608,8 +612,8 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // Why 2^-20 (the walk's window): at 2^-30 the roots of Chmutov-16's rays from 3 radii
 // often had noise regions that wide, and its primary rays ran at 0.87x the rate
 // (speed_report, one thread, 5 alternating runs against session 32's start); at 2^-20
-// 0.99x, the other gallery surfaces 0.97-0.99x (the one evaluation of g per hit;
-// docs/speed-details.md).
+// 0.99x, the other gallery surfaces 0.97-0.99x (then one evaluation of g per hit, since
+// session 33 one per solve; docs/speed-details.md).
 bool mayHideRoots(const RayRoots& rr) { return rr.count == 1 && rr.firstAtNoise; }
 // (Called where mayHideRoots(rr) holds: the first pass does not test it again.)
 [[gnu::noinline, gnu::cold]] void searchBefore(const SurfaceData& data, const KernelRay& ray,
@@ -648,9 +652,7 @@ void settleFirstRoot(const SurfaceData& data, const KernelRay& ray, RayRoots& rr
 // expansion's, whose root was confirmed on f already; and not the self-root rule's
 // deflated g, whose root at the origin a new expansion would bring back.
 void settleFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
-  const RootOptions& opt = data.desc.options.roots;
-  const bool exact = opt.relTolerance == 0.0 && !data.desc.options.singlePrecision;
-  settleFirstRoot(data, ray, rr, exact && !rr.fromCache && !(rr.selfWindow > 0.0));
+  settleFirstRoot(data, ray, rr, exactRoots(data.desc.options, rr) && !rr.fromCache);
 }
 
 // Whether an occlusion query can keep g's first root, a sign change, without placing it on
