@@ -1,5 +1,5 @@
 // The intersector's per-thread state and a host's threads: a thread's first ray must not
-// wait for a dlopen running on another thread (surface_intersect.cpp, threadOriginCache).
+// wait for a dlopen running on another thread (ray_roots.cpp, threadOriginCache).
 // A C++ thread_local with a destructor registers it through __cxa_thread_atexit, which
 // takes the dynamic loader's lock; algray-render loads OpenImageIO on a second thread while
 // it renders, and its render thread stood still for the whole load.

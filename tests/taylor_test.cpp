@@ -458,6 +458,20 @@ TEST(Taylor, EvaluateWithBoundCoversTheValue) {
       Mp r;
       for (int n = cs.f.degree(); n >= 0; --n) r = r * Mp(t) + ref[n];
       EXPECT_LE(std::abs((Mp(v) - r).toDouble()), bound) << cs.name;
+      // The form with the slope: the same value and bound, and g'(t) of g's own (double)
+      // coefficients within Horner's rounding of the derivative, gamma(2n) sum i |c_i| |t|^(i-1).
+      double bound2 = 0, slope = 0;
+      const double v2 = g.evaluateWithBound(t, bound2, slope);
+      EXPECT_EQ(v2, v);
+      EXPECT_EQ(bound2, bound);
+      Mp dr;
+      double mag = 0;
+      for (int n = g.degree; n >= 1; --n) {
+        dr = dr * Mp(t) + Mp(g.coeff[n]) * Mp(static_cast<double>(n));
+        mag = mag * std::abs(t) + n * std::abs(g.coeff[n]);
+      }
+      const double u2n = 2.0 * g.degree * 0x1p-53 / (1.0 - 2.0 * g.degree * 0x1p-53);
+      EXPECT_LE(std::abs((Mp(slope) - dr).toDouble()), 1.01 * u2n * mag) << cs.name;
     }
   }
 }

@@ -28,7 +28,7 @@
 // Occlusion writes tfar = -inf at the first accepted root and computes no normal.
 // Rays leaving the surface need no epsilon: a root at the ray origin (the origin lies
 // on the surface within the rounding of its evaluation and of its own coordinates) is
-// removed from the ray polynomial (see plugin/embree/surface_intersect.cpp).
+// removed from the ray polynomial (see plugin/embree/ray_roots.cpp).
 //
 // Double precision: Embree rays are float. A host that wants double-precision rays and
 // hits (algray-query, the accuracy benchmarks) passes an algray::IntersectContext to

@@ -92,7 +92,7 @@ inline std::optional<double> firstRoot(std::span<const double> c, std::span<cons
 // point, or an end within noise: g's data cannot tell it from a near miss) rather than
 // from a sign change of g, which proves a root within g's noise region about it. A caller
 // that can evaluate its function more accurately than g's error bound allows may check
-// such a root (the Embree adapter does: plugin/embree/surface_intersect.cpp).
+// such a root (the Embree adapter does: plugin/embree/ray_settle.cpp).
 bool solveFirstRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,
                     double& root, bool& atNoise, const RootOptions& options = {});
 bool hasRoot(std::span<const double> c, std::span<const double> err, double lo, double hi,

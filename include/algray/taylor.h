@@ -34,6 +34,8 @@ struct RayPolynomial {
   // rounding, Higham Eq. (5.3)).
   double evaluate(double s) const;
   double evaluateWithBound(double s, double& bound) const;
+  // The same, and g'(s) from the same Horner pass (unbounded: for step sizes).
+  double evaluateWithBound(double s, double& bound, double& slope) const;
 };
 
 // 1 / dd for dd = |d|^2 > 0, as closestParameter and the adapter's clip chord take it.

@@ -153,7 +153,12 @@ double RayPolynomial::evaluate(double s) const {
   return v;
 }
 
-double RayPolynomial::evaluateWithBound(double s, double& bound) const {
+namespace {
+
+// RayPolynomial::evaluateWithBound, with g'(s) from the same pass where kSlope (off the
+// value's dependency chain, but not free: the plain form skips it).
+template <bool kSlope>
+double evaluateRay(const RayPolynomial& g, double s, double& bound, double& slope) {
   // Horner's rounding, gamma_{2n} sum |c_i||s|^i (Higham Eq. (5.3)), plus the propagated
   // coefficient errors sum err_i |s|^i; the last factor covers rounding of the bound.
   // Underflow (see restrictToRay below): each step's product and sum may also err by an
@@ -163,15 +168,28 @@ double RayPolynomial::evaluateWithBound(double s, double& bound) const {
   // 1e-300 s at s = 1e-6 had the bound 0).
   double v = 0.0, mag = 0.0, err = 0.0, w = 0.0;
   const double as = std::abs(s), aw = std::max(1.0, as);
-  for (int i = degree; i >= 0; --i) {
-    v = v * s + coeff[i];
-    mag = mag * as + std::abs(coeff[i]);
-    err = err * as + error[i];
+  slope = 0.0;
+  for (int i = g.degree; i >= 0; --i) {
+    if constexpr (kSlope) slope = slope * s + v;
+    v = v * s + g.coeff[i];
+    mag = mag * as + std::abs(g.coeff[i]);
+    err = err * as + g.error[i];
     w = w * aw + 1.0;
   }
-  bound = (gamma(2 * degree + 1) * mag + err + 4.0 * std::numeric_limits<double>::min() * w) *
-          (1.0 + gamma(2 * degree + 2));
+  bound = (gamma(2 * g.degree + 1) * mag + err + 4.0 * std::numeric_limits<double>::min() * w) *
+          (1.0 + gamma(2 * g.degree + 2));
   return v;
+}
+
+}  // namespace
+
+double RayPolynomial::evaluateWithBound(double s, double& bound) const {
+  double slope;
+  return evaluateRay<false>(*this, s, bound, slope);
+}
+
+double RayPolynomial::evaluateWithBound(double s, double& bound, double& slope) const {
+  return evaluateRay<true>(*this, s, bound, slope);
 }
 
 double closestParameter(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& c) {

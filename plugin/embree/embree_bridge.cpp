@@ -2,7 +2,8 @@
 // N = 1, 4, 8, 16 (one lane at a time, honouring the valid mask; the quadric path's
 // packets through quadric_packet.cpp), the host filter calls,
 // the double-precision side channel (IntersectContext) and the exception barrier.
-// An Embree 4 port rewrites this file; surface_intersect.cpp stays.
+// An Embree 4 port rewrites this file; the kernel (surface_intersect.cpp, ray_roots.cpp,
+// ray_settle.cpp) stays.
 #include "surface_data.h"
 
 #include <glm/geometric.hpp>

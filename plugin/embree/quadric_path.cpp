@@ -229,7 +229,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   bool onSurface = false;
   if (!farOrigin) {
     at = evalQuadric<kDiagonal, kNonNegDiagonal, kNonNegCentred, kUnitA>(q, o);
-    // The self-root rule of originOnSurface (surface_intersect.cpp), on the closed-form
+    // The self-root rule of originOnSurface (ray_roots.cpp), on the closed-form
     // value. Most origins are far off the surface: the 1-norm of the gradient (>= its
     // length; widened by 2^-20 for the rounding of both) decides them without
     // safeLength. (Rounding is monotone, so the bound with the larger move decides

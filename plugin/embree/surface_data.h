@@ -1,7 +1,8 @@
 #pragma once
 // The adapter's private state of one surface geometry, and the Embree-free kernel that
 // walks the roots of one ray through one cell. Shared by surface_geometry.cpp (set-up),
-// surface_intersect.cpp (the kernel) and embree_bridge.cpp (the callback ABI).
+// the kernel (surface_intersect.cpp, ray_roots.cpp, ray_settle.cpp) and embree_bridge.cpp
+// (the callback ABI).
 #include "algray/embree.h"
 #include "algray/horner_form.h"
 #include "algray/taylor.h"
@@ -50,7 +51,7 @@ struct QuadricBox {
 };
 
 // A degree-2 surface as f(x) = x^T A x + b . x + c (A symmetric), for the quadric path of
-// surface_intersect.cpp: restriction, self-root test and normal in closed form.
+// the kernel (ray_roots.cpp): restriction, self-root test and normal in closed form.
 struct QuadricForm {
   glm::dmat3 a{0.0};
   glm::dvec3 b{0.0};
@@ -148,7 +149,7 @@ struct KernelRay {
   bool hasTraversalRay = false;
   // orgError lacks the float origin's term floatOriginError (the bridge's float rays into
   // the generic walk and the quadric path, which add it only where a test needs it,
-  // wholeOrgError; its square root cost every primary ray, see surface_intersect.cpp's
+  // wholeOrgError; its square root cost every primary ray, see ray_roots.cpp's
   // restrict).
   bool orgErrorDeferred = false;
   std::uint64_t trace = 0;  // the double channel's IntersectContext::trace (0: none)
@@ -501,7 +502,7 @@ inline bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const g
   return clipToBox(b.lo, b.hi, o, d, t0, t1);
 }
 
-// The self-root rule's division by s (surface_intersect.cpp): g(0) = 0 is removed from
+// The self-root rule's division by s (ray_roots.cpp): g(0) = 0 is removed from
 // g = sum c_i s^i (error bounds err_i), repeated while the new constant term is zero
 // within its bound (a ray tangent at its origin, or an origin at a singular point).
 template <class Array>

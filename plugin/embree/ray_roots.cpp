@@ -1,0 +1,508 @@
+// The kernel's per-ray record (ray_roots.h): g, the restriction of f to the ray over the
+// whole clip region, and its roots: steps 3 and 4 of the way of one ray in
+// ../shared/DESIGN.md (surface_intersect.cpp walks the roots through one cell):
+//   - g from the per-thread origin cache, about the origin itself (self-root rule), or
+//     about the point of the span closest to the object-space origin (re-centring; the
+//     quadric path: its closed form);
+//   - its first root in the search span, settled on f where the query needs it
+//     (ray_settle.cpp), and all of them only when a cell beyond it or a host filter asks.
+#include "ray_roots.h"
+
+#include "algray/roots.h"
+#include "algray/taylor.h"
+
+#include <pthread.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <new>
+#include <span>
+#include <type_traits>
+
+namespace algray {
+
+namespace {
+
+// ---- Per-thread origin cache ---------------------------------------------------------
+// Rays sharing an origin (a pinhole camera's primary rays) restrict f from one
+// OriginExpansion: one shift per origin, then O(#terms) per ray (taylor.h, path 1).
+// An expansion is built the second time an origin is seen in a row, so rays with
+// distinct origins (shadow and bounce rays) never pay for a shift they cannot reuse.
+// Keyed by the surface id (unique per process, never reused), not the pointer.
+//
+// From an origin a few clip radii away the expansion about o keeps fewer digits than the
+// re-centred one (|o|^m-sized terms cancel near the surface); its error bound says so, so
+// misses stay misses, but the tangent rule then reports near misses within that wider
+// bound (measured: 24 % of Chmutov-16's pixels from 3 radii). Every root the cache gives
+// is therefore confirmed on f itself (rayRoots below) and the ray falls back to the
+// re-centred restriction when it is not. An entry whose roots keep failing (more than a
+// quarter after 64 rays: the origin is too far for this degree) stops being used.
+struct CacheEntry {
+  std::uint64_t id = 0;
+  glm::dvec3 origin{0.0};
+  OriginExpansion expansion;
+  std::uint32_t uses = 0, failures = 0;
+};
+struct OriginCache {
+  std::array<CacheEntry, 4> entries;
+  unsigned next = 0;
+  std::uint64_t pendingId = 0;
+  glm::dvec3 pendingOrigin{0.0};
+};
+
+// The cache holds vectors, so a `thread_local OriginCache` would have a destructor, and
+// C++ registers such a destructor on a thread's first use through __cxa_thread_atexit,
+// which takes the dynamic loader's lock: the first ray of every thread then waited for
+// any dlopen running in the host at that moment (measured: algray-render's render thread
+// stood still for the whole 0.17 s load of OpenImageIO on its second thread, so the
+// render loop of a torus took 0.29 s instead of 0.11 s). A POSIX thread key frees the
+// cache at thread exit instead, without that lock; the thread_local is only a pointer
+// (trivially destructible: nothing registered).
+void freeOriginCache(void* p) { delete static_cast<OriginCache*>(p); }
+
+OriginCache& threadOriginCache() {
+  thread_local OriginCache* cache = nullptr;
+  if (cache) return *cache;
+  static const pthread_key_t key = [] {
+    pthread_key_t k{};
+    if (pthread_key_create(&k, &freeOriginCache) != 0) throw std::bad_alloc();
+    return k;
+  }();
+  auto owned = std::make_unique<OriginCache>();
+  if (pthread_setspecific(key, owned.get()) != 0) throw std::bad_alloc();
+  cache = owned.release();
+  return *cache;
+}
+
+CacheEntry* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
+  OriginCache& cache = threadOriginCache();
+  for (CacheEntry& e : cache.entries)
+    if (e.id == data.id && e.origin == o)
+      return (e.uses < 64 || 4 * e.failures <= e.uses) ? &e : nullptr;
+  if (cache.pendingId != data.id || cache.pendingOrigin != o) {
+    cache.pendingId = data.id;
+    cache.pendingOrigin = o;
+    return nullptr;
+  }
+  CacheEntry& e = cache.entries[cache.next++ % cache.entries.size()];
+  e.id = 0;  // invalid until the expansion is complete (it may throw bad_alloc)
+  e.expansion = OriginExpansion(data.desc.polynomial, o);
+  e.origin = o;
+  e.uses = e.failures = 0;
+  e.id = data.id;
+  return &e;
+}
+
+// ---- Self-root rule ------------------------------------------------------------------
+// A ray leaving the surface starts at a point p that is on the surface only up to
+// rounding: f(p) = O(u). Its polynomial g(s) = f(p + s d) then has a root at |s| tiny,
+// which an epsilon-free solver reports as a hit at the origin (shadow acne). When f(p)
+// is zero within the bound of its evaluation plus the effect of p's own uncertainty
+// (|grad f| times the coordinate rounding or the host's orgError, pbrt-v4 Sec. 6.8.6),
+// the origin is on the surface: expand about p itself (tShift = 0), set g(0) = 0 and
+// divide by s. The quotient has exactly the other intersections. Repeat while the new
+// constant term is zero within its bound: a ray tangent at its origin, or an origin at a
+// singular point (cone apex, Sarti's nodes) where the root at 0 is multiple.
+//
+// What the rule needs of f at the origin does not depend on the direction, so it is kept
+// per thread for the last origin: a camera's primary rays evaluate f at the eye once
+// instead of once per ray (for a surface the rays mostly miss, that evaluation was the
+// only one on their path).
+struct OriginValue {
+  std::uint64_t id = 0;
+  glm::dvec3 org{0.0};
+  double value = 0, valueError = 0;
+  double gradDotOrg = 0;  // |grad f| . |o|
+  glm::dvec3 gradient{0.0};
+  double gradLength = -1;  // ||grad f||, computed when a ray has an origin error (-1: not yet)
+};
+// Trivially destructible, so no destructor is registered (see threadOriginCache).
+static_assert(std::is_trivially_destructible_v<OriginValue>);
+thread_local OriginValue tlsOriginValue;
+
+// orgError: the ray's whole bound (with a deferred float term added).
+bool originOnSurface(const SurfaceData& data, const KernelRay& ray, double orgError) {
+  OriginValue& v = tlsOriginValue;
+  if (v.id != data.id || v.org != ray.org) {
+    v.id = 0;
+    const Polynomial::Evaluation e = data.horner.evaluate(ray.org);
+    v.value = e.value;
+    v.valueError = e.valueError;
+    v.gradDotOrg = glm::dot(absv(e.gradient), absv(ray.org));
+    v.gradient = e.gradient;
+    v.gradLength = -1;
+    v.org = ray.org;
+    v.id = data.id;
+  }
+  // A float ray's origin is exact (orgError = 0): no length, whose square root and
+  // divisions were the largest single cost of a shadow ray leaving a quadric.
+  double move = ray.orgRoundoff * v.gradDotOrg;
+  if (orgError != 0.0) {
+    if (v.gradLength < 0) v.gradLength = safeLength(v.gradient);
+    move += v.gradLength * orgError;
+  }
+  return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
+}
+
+// ---- Quadrics --------------------------------------------------------------------------
+// Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
+// no expansion, no cache and no polish (the stable quadratic formula is accurate to the
+// conditioning of g, and the normal is 2 A x + b at the hit).
+bool restrictQuadric(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                     RayPolynomial& g) {
+  QuadricRay q;
+  restrictQuadricRay(data, ray, r0, r1, q);
+  g.degree = q.degree;
+  g.tShift = q.tShift;
+  for (int i = 0; i < 3; ++i) {
+    g.coeff[i] = q.c[i];
+    g.error[i] = q.err[i];
+  }
+  return q.selfRoot;
+}
+
+// ---- Restriction, once per ray --------------------------------------------------------------
+// (The record it fills, RayRoots, is described in ray_roots.h.)
+// About the point of the span closest to the object-space origin, not to the clip centre:
+// f's coefficients are given about the origin, so the expansion's rounding grows with the
+// expansion point's distance from it; about an off-centre box's centre (-2.05, 0.24, -0.41)
+// Chmutov-16's hits were 2e-3 box radii off. For a clip region centred on the origin (the
+// gallery, every --clip-sphere) the two points are the same.
+// closest: that parameter, closestParameter(o, d, 0), when the walk has it from its clip
+// sphere (regionSpan), which holds it in [r0, r1] already (NaN: not). Taken from there,
+// the restriction no longer waits for the chord's square root, on which r0 and r1 and so
+// the clamp depend (measured at walkRootsOf, surface_intersect.cpp).
+void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d, double r0,
+                       double r1, RayPolynomial& g,
+                       double closest = std::numeric_limits<double>::quiet_NaN()) {
+  double tShift = 0.0;
+  if (data.desc.options.recentre)
+    tShift =
+        closest == closest ? closest : std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1);
+  restrictToRay(data.horner, o, d, tShift, g);
+}
+
+// From an origin outside the clip ball (no self-root rule): from the origin cache or
+// re-centred.
+CacheEntry* restrictOutside(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                            double closest, RayPolynomial& g) {
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  if (CacheEntry* entry = data.desc.options.originCache ? cachedExpansion(data, o) : nullptr) {
+    entry->expansion.restrict(d, g);
+    return entry;
+  }
+  restrictRecentred(data, o, d, r0, r1, g, closest);
+  return nullptr;
+}
+
+// Returns the cache entry when g came from it; selfWindow > 0 when the self-root rule
+// divided out the origin's root (selfRootWindow), else 0. orgError: the ray's whole bound
+// (ray.orgError, with a deferred float term added).
+CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double orgError, double r0,
+                          double r1, double closest, RayPolynomial& g, double& selfWindow) {
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  selfWindow = 0.0;
+  if (data.quadric) {
+    // (A quadric in cells: the quadric path's functions read the bound from the ray.)
+    KernelRay whole = ray;
+    whole.orgError = orgError;
+    whole.orgErrorDeferred = false;
+    if (restrictQuadric(data, whole, r0, r1, g)) selfWindow = selfRootWindow(whole);
+    return nullptr;
+  }
+  // Outside the clip ball (originOutsideClipBall, as the quadric path) the self-root rule
+  // has nothing to remove and testing it could only do harm: a far origin of a
+  // high-degree f is "on the surface within rounding" whenever f's expansion cancels more
+  // digits there than f(o) has (a random degree-16 surface seen from 3.5 radii), and the
+  // deflated polynomial, expanded about that far origin, lost the ray's real roots.
+  if (!originOutsideClipBall(data, o, orgError) && originOnSurface(data, ray, orgError)) {
+    restrictToRay(data.horner, o, d, 0.0, g);
+    if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
+    selfWindow = selfRootWindow(ray, orgError);
+    return nullptr;
+  }
+  return restrictOutside(data, ray, r0, r1, closest, g);
+}
+
+// Whether originOutsideClipBall holds without the deferred term (surelyOutsideClipBall).
+bool surelyOutsideClipBall(const SurfaceData& data, const KernelRay& ray) {
+  const glm::dvec3 oc = ray.org - data.centre;
+  return surelyOutsideClipBall(data, glm::dot(oc, oc), ray);
+}
+
+// restrictWhole, for a ray with a deferred orgError too: a camera's primary rays (origin
+// outside the clip ball) never need the term, other rays get it here (bit for bit the
+// bridge's, floatOriginError). Measured (speed_report, one thread, interleaved): computed
+// for every float ray in the bridge, its square root cost the Barth sextic's primary rays
+// 2-3 % (2.85 -> 2.92-2.94 Mrays/s deferred).
+CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                     double closest, RayPolynomial& g, double& selfWindow) {
+  if (!ray.orgErrorDeferred)
+    return restrictWhole(data, ray, ray.orgError, r0, r1, closest, g, selfWindow);
+  if (!data.quadric && surelyOutsideClipBall(data, ray)) {
+    selfWindow = 0.0;
+    return restrictOutside(data, ray, r0, r1, closest, g);
+  }
+  const double orgError = wholeOrgError(data, ray);
+  return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow);
+}
+
+// The solver's options for a clip-region span: its start is the region's boundary, not a
+// root the walk already has (the walk keeps its own list), so a root within noise of it
+// counts (RootOptions::closedLo; a multiple root's noise region there is u^(1/m) wide:
+// rays entering the clip ball 1e-4 to 1e-3 before the plane x^m = 0 missed it, 12 % at
+// m = 4 and all of them for m = 6 to 10). Degree 2 (the
+// quadratic fast path) stays open: a double root's noise region is far inside the 2^-20
+// by which the region is widened. After the self-root rule the span starts at the
+// self-root window instead (closedLo false: a root within noise of it is the origin's).
+RootOptions regionRoots(RootOptions options, bool closedLo) {
+  options.closedLo = closedLo;
+  return options;
+}
+// The same for the first root, which also asks whether g is within its noise before it
+// (RootOptions::noiseBefore) where such a root will be looked behind (exactRoots).
+RootOptions regionRoots(const SurfaceOptions& opt, const RayRoots& rr) {
+  RootOptions roots = regionRoots(opt.roots, rr.closedLo);
+  roots.noiseBefore = exactRoots(opt, rr);
+  return roots;
+}
+
+// (The flag-and-out-parameter form of roots.h: an optional returned through this
+// function cost every ray a store-forwarding stall.)
+bool firstRootOf(const RayPolynomial& g, double lo, double hi, const RootOptions& options,
+                 bool singlePrecision, double& root, bool& atNoise) {
+  const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
+  if (!singlePrecision) return solveFirstRoot(c, err, lo, hi, root, atNoise, options);
+  // The float solver, kept for comparison (SurfaceOptions::singlePrecision).
+  std::array<float, kMaxDegree + 1> cf{}, ef{};
+  for (int i = 0; i <= g.degree; ++i) {
+    cf[i] = static_cast<float>(g.coeff[i]);
+    ef[i] = static_cast<float>(g.error[i]);
+  }
+  float r;
+  if (!solveFirstRoot(std::span<const float>(cf.data(), g.degree + 1),
+                      std::span<const float>(ef.data(), g.degree + 1), static_cast<float>(lo),
+                      static_cast<float>(hi), r, atNoise, options))
+    return false;
+  root = r;
+  return true;
+}
+
+// Whether a cached expansion (tShift = 0) keeps at least 6 digits over the span: its
+// noise (coefficient error bound plus the rounding of evaluating it) at the span's ends
+// is below 1e-6 of the larger |g| there (measured from 3.2 radii, noise / |g|: Barth
+// sextic and Chmutov-8 1e-9 to 1e-6, Chmutov-16 1e-3 to 1). An expansion about a far eye cancels
+// terms of size sum|c_i| |t|^i down to f's values near the surface, and loses that many digits.
+// Confirming roots on f catches a spurious root but not a real one the expansion lost, and with few
+// digits left it can lose one: measured, 2 of 576 primary rays on Chmutov-16 from 3.2 radii (~m
+// log10 4 = 10 digits lost) hit a later root than the first. Those rays take the re-centred
+// restriction instead (and the entry counts them as failures, so a camera too far for this degree
+// stops using the cache).
+//
+// A local rule was measured against it (session 3): accept a cached root when its noise
+// region, 4 noise(s) / |g'(s)|, is below 1e-7 of the span. With the rigorous bound that
+// region is 1e-8 to 1e-5 of the span for the Barth sextic (20 % of its roots fell back,
+// 0.92x) and wider than 1e-4 for every root of Sarti's dodecic, Chmutov-12 and the Barth
+// decic from 3 radii: those degrees lose too many digits about a far eye for any rule to
+// keep the cache; what would is the expansion in higher precision.
+bool keepsDigits(const RayPolynomial& g, double r0, double r1) {
+  double noise = 0.0, value = 0.0;
+  for (const double t : {r0, r1}) {
+    double bound = 0.0;
+    const double v = g.evaluateWithBound(t, bound);
+    noise = std::max(noise, bound);
+    value = std::max(value, std::abs(v));
+  }
+  return noise <= 1e-6 * value;
+}
+
+// The span in s the roots are searched in: the region's span, and from an origin on the
+// surface only from tnear and past the self-root window (no work on the roots behind it:
+// such a ray, every shadow or bounce ray leaving a surface, found those first and then
+// had to find them all; measured, shadow rays on the gallery surfaces took twice as
+// long). Its start is closed (regionRoots) except at the window, where a root within
+// noise is the origin's. Other rays search from the last point before tnear where g is
+// clear of its noise (or the region's start): not from tnear itself, since an m-fold
+// root's noise region, u^(1/m) of the scale wide, may straddle tnear, and a span starting
+// there reported the root at tnear itself, which the ray excludes ((0.6 x + 0.8 y - 0.1)^6
+// = 0 1e-3 beyond tnear was lost on 183 of 200 rays); the walk skips roots outside (tnear,
+// tfar). Not from the region's start either (until session 31): the first root was then
+// often one behind an origin inside the region, and the ray's hit a later one of the
+// complete list, without the checks on f that the first root gets (settleFirstRoot): in a
+// campaign of random extreme surfaces seen from inside the clip sphere, 33 of 13040 hits
+// skipped an earlier root of f (now none); and such rays took 1.5-5.5x as long on the
+// gallery's surfaces of degree 3-16 (docs/speed-details.md, session 31).
+void searchSpan(RayRoots& rr) {
+  rr.slo = rr.r0 - rr.g.tShift;
+  rr.shi = rr.r1 - rr.g.tShift;
+  rr.closedLo = true;
+  if (!(rr.selfWindow > 0.0)) {
+    const double near = rr.tnear - rr.g.tShift;
+    if (near > rr.slo && near < rr.shi) rr.slo = clearBefore(rr.g, near, rr.slo, false);
+    return;
+  }
+  // From an origin on the surface (tShift = 0): from tnear on, past the window if the
+  // span starts inside it; a span starting before it (tnear < 0) keeps the roots behind
+  // the origin, and the walk skips those within the window.
+  rr.slo = std::max(rr.slo, rr.tnear);
+  if (rr.slo < rr.selfWindow && rr.slo > -rr.selfWindow) {
+    rr.slo = rr.selfWindow;
+    rr.closedLo = false;
+  }
+}
+
+}  // namespace
+
+// ---- Polish ----------------------------------------------------------------------------
+// Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
+// (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred
+// expansion lost. A step is kept only if the iterate stays inside the span, within
+// maxMove of where it started, and lowers |f| (so an ill-conditioned root never jumps to
+// a neighbour). Returns whether |f| ended within its bound: the root is confirmed on f.
+// `last`, if given, receives f at the final point (settleFirstRoot).
+bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
+            double maxMove, KernelHit& hit, Polynomial::Evaluation* last) {
+  double t = hit.t;
+  Polynomial::Evaluation e = f.evaluate(o + t * d);
+  for (int it = 0; it < 8 && std::abs(e.value) > e.valueError; ++it) {
+    const double slope = glm::dot(e.gradient, d);
+    if (!(std::abs(slope) > 0.0)) break;
+    const double tn = t - e.value / slope;
+    if (!(tn > lo && tn < hi && std::abs(tn - hit.t) <= maxMove)) break;
+    const Polynomial::Evaluation en = f.evaluate(o + tn * d);
+    if (!(std::abs(en.value) < std::abs(e.value))) break;
+    t = tn;
+    e = en;
+  }
+  hit.t = t;
+  hit.point = o + t * d;
+  hit.gradient = e.gradient;
+  if (last) *last = e;
+  return std::abs(e.value) <= e.valueError;
+}
+
+// ---- The first root, and all of them -------------------------------------------------------
+// The first root of rr.g in [rr.slo, rr.shi] (rr.count = 0 or 1).
+void solveFirstInSpan(const SurfaceData& data, RayRoots& rr) {
+  rr.count = 0;
+  rr.complete = true;
+  rr.firstPolished = false;
+  // A constant g has no isolated root: either no intersection or the whole line lies in
+  // the surface (a ruling), which has no first point to report.
+  if (rr.g.degree < 1) return;
+  const SurfaceOptions& opt = data.desc.options;
+  const bool quadratic = data.quadric && rr.g.degree == 2 && rr.g.coeff[2] != 0.0 &&
+                         !opt.singlePrecision && opt.roots.method == RootMethod::Auto &&
+                         opt.roots.relTolerance == 0.0;
+  double s;
+  rr.firstAtNoise = false;
+  const bool found = quadratic
+                         ? solveFirstRootQuadratic(std::span<const double, 3>(rr.g.coeff.data(), 3),
+                                                   std::span<const double, 3>(rr.g.error.data(), 3),
+                                                   rr.slo, rr.shi, s)
+                         : firstRootOf(rr.g, rr.slo, rr.shi, regionRoots(opt, rr),
+                                       opt.singlePrecision, s, rr.firstAtNoise);
+  if (found) {
+    rr.roots[0] = s;
+    rr.count = 1;
+    rr.complete = false;
+  }
+}
+
+// The first root of rr.g in the search span (rr.count = 0 or 1).
+void solveFirst(const SurfaceData& data, RayRoots& rr) {
+  searchSpan(rr);
+  solveFirstInSpan(data, rr);
+}
+
+constinit thread_local RayRoots tlsRayRoots;
+
+RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                         double closest, bool occlusion) {
+  RayRoots& rr = tlsRayRoots;
+  rr.id = 0;  // invalid until complete (restriction may throw)
+  rr.r0 = r0;
+  rr.r1 = r1;
+  rr.tnear = ray.tnear;
+  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow);
+  if (entry && !keepsDigits(rr.g, r0, r1)) {
+    ++entry->uses;
+    ++entry->failures;
+    restrictRecentred(data, ray.org, ray.dir, r0, r1, rr.g);
+    entry = nullptr;
+  }
+  rr.fromCache = entry != nullptr;
+  solveFirst(data, rr);
+  if (entry) {
+    // Confirm the cache's first root on f (see the origin cache); a miss needs no check:
+    // the expansion's error bound is wider, so it misses only where the re-centred
+    // restriction misses too.
+    ++entry->uses;
+    if (rr.count == 1) {
+      KernelHit hit;
+      hit.t = rr.g.tShift + rr.roots[0];
+      if (polish(data.horner, ray.org, ray.dir, r0, r1, 1e-4 * (r1 - r0), hit)) {
+        rr.roots[0] = hit.t - rr.g.tShift;
+        rr.firstPolished = true;
+        rr.firstGradient = hit.gradient;
+      } else {
+        ++entry->failures;
+        restrictRecentred(data, ray.org, ray.dir, r0, r1, rr.g);
+        rr.fromCache = false;
+        solveFirst(data, rr);
+      }
+    }
+  }
+  // A closest hit needs its first root on f anyway (the hit's polish): done here, where a
+  // root g placed wrongly can still be searched for again; an occlusion query only where
+  // the noise rules reported the root (a sign change of g proves one), where it lies behind
+  // tnear (searchFromTnear), or where g cannot tell on which side of tnear or tfar it lies
+  // (walkRootsOf, occlusionRootCertain). A cached root was confirmed above; a quadric's
+  // closed form is accurate to its conditioning. A root settled behind tnear is searched
+  // for again from tnear (settleAfterTnear).
+  const bool settle =
+      firstUnsettled(data, rr) && (!occlusion || rr.firstAtNoise || firstBehindTnear(rr));
+  if (settle) settleAfterTnear(data, ray, rr);
+  rr.org = ray.org;
+  rr.dir = ray.dir;
+  rr.orgRoundoff = ray.orgRoundoff;
+  rr.orgError = ray.orgError;
+  rr.orgErrorDeferred = ray.orgErrorDeferred;
+  rr.id = data.id;
+  return rr;
+}
+
+// All roots, keeping the first one's value (cells may already have judged it).
+void completeRoots(const SurfaceData& data, RayRoots& rr) {
+  if (rr.fromCache) {
+    // The later roots come from the re-centred restriction: the cache confirmed only the
+    // first one (a host filter would otherwise be offered unconfirmed roots).
+    const double tFirst = rr.g.tShift + rr.roots[0];
+    restrictRecentred(data, rr.org, rr.dir, rr.r0, rr.r1, rr.g);
+    rr.fromCache = false;
+    searchSpan(rr);
+    rr.roots[0] = tFirst - rr.g.tShift;
+  }
+  const RayPolynomial& g = rr.g;
+  const std::span<const double> c(g.coeff.data(), g.degree + 1), err(g.error.data(), g.degree + 1);
+  std::array<double, kMaxDegree> all{};
+  const int n =
+      allRoots(c, err, rr.slo, rr.shi, all, regionRoots(data.desc.options.roots, rr.closedLo));
+  const double first = rr.roots[0];
+  int closest = -1;
+  for (int i = 0; i < n; ++i)
+    if (closest < 0 || std::abs(all[i] - first) < std::abs(all[closest] - first)) closest = i;
+  rr.count = 0;
+  rr.roots[rr.count++] = first;
+  for (int i = closest + 1; i < n; ++i)
+    if (all[i] > first) rr.roots[rr.count++] = all[i];
+  rr.complete = true;
+}
+
+}  // namespace algray

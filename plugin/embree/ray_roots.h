@@ -1,0 +1,114 @@
+#pragma once
+// The kernel's per-ray record: g, the restriction of f to one ray over the whole clip
+// region, and g's roots there in order, shared by every cell the ray visits
+// (ray_roots.cpp: restriction, origin cache, self-root rule, the solver's calls), and the
+// checks that place g's first root on f itself (ray_settle.cpp). The walk through one
+// cell (surface_intersect.cpp) reads it. No Embree types, as in surface_data.h.
+#include "surface_data.h"
+
+#include "algray/horner_form.h"
+#include "algray/taylor.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <type_traits>
+
+namespace algray {
+
+// g(s) = f(o + (tShift + s) d) for the whole clip-region span [r0, r1], and its roots
+// there, shared by every cell the ray visits (the per-thread last ray): about the origin
+// when it lies on the surface (self-root rule), from a cached origin expansion, or about
+// the point of the span closest to the object-space origin. The roots are found lazily: the
+// first one (all a closest-hit query without a filter needs), then all of them when a
+// cell beyond the first root asks. Every cell sees the same root values, which is what
+// makes the walk's ownership rule exact.
+struct RayRoots {
+  std::uint64_t id = 0;
+  glm::dvec3 org{0.0}, dir{0.0};
+  double orgRoundoff = 0, orgError = 0;
+  bool orgErrorDeferred = false;
+  RayPolynomial g;
+  double r0 = 0, r1 = 0;    // the region span in t
+  double slo = 0, shi = 0;  // the same in s
+  double tnear = 0;         // the ray's (searchSpan, with selfWindow)
+  double selfWindow = 0;    // > 0: the self-root rule applied (selfRootWindow)
+  bool closedLo = true;     // slo is the region's start (regionRoots), not the window
+  std::array<double, kMaxDegree> roots{};  // in s, increasing
+  int count = 0;
+  bool complete = false;
+  bool fromCache = false;  // g came from the origin cache (fewer digits, ray_roots.cpp)
+  // The first root was confirmed (polished) on f: its gradient, so that the hit does not
+  // evaluate f again.
+  bool firstPolished = false;
+  glm::dvec3 firstGradient{0.0};
+  bool firstAtNoise = false;  // the first root came from the solver's noise rules (roots.h)
+};
+// Kept per thread without a registered destructor (see threadOriginCache).
+static_assert(std::is_trivially_destructible_v<RayRoots>);
+
+// Whether rr's first root is g's alone, not yet placed on f (a quadric's closed form
+// needs no placing; ray_settle.cpp places it).
+inline bool firstUnsettled(const SurfaceData& data, const RayRoots& rr) {
+  return rr.count == 1 && !rr.firstPolished && !data.quadric;
+}
+
+// ---- ray_roots.cpp -------------------------------------------------------------------------
+// The thread's record (constant-initialised: other files read it without a call through
+// a thread-local wrapper).
+extern constinit thread_local RayRoots tlsRayRoots;
+// The record for this ray, surface and clip-region span [r0, r1] (closest: the re-centring
+// point when the walk has it, else NaN), restricted and solved for its first root afresh,
+// the first root settled on f where the query needs it (a closest hit always, occlusion
+// where g alone cannot tell).
+RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
+                         double closest, bool occlusion);
+// The thread's record where it holds this ray already (every cell after the first, and the
+// walk after a host filter that traced no rays of its own), else deriveRayRoots. A closest
+// hit derives again a record an occlusion query of the same ray left with its first root
+// unsettled: its answer must not depend on what was asked before it (settled, that root
+// moved by up to 1e-8 radii on 1-2 % of the rays of random extreme surfaces, and
+// occlusion first, the closest hit kept g's placing; StressPlacement.
+// ClosestHitAfterOcclusionOfTheSameRay).
+[[gnu::always_inline]] inline RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray,
+                                                 double r0, double r1, double closest,
+                                                 bool occlusion) {
+  RayRoots& rr = tlsRayRoots;
+  if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir &&
+      rr.orgRoundoff == ray.orgRoundoff && rr.orgError == ray.orgError && rr.tnear == ray.tnear &&
+      rr.orgErrorDeferred == ray.orgErrorDeferred && (occlusion || !firstUnsettled(data, rr)))
+      [[likely]]
+    return rr;
+  return deriveRayRoots(data, ray, r0, r1, closest, occlusion);
+}
+// All roots of rr.g in its search span, keeping the first one's value.
+void completeRoots(const SurfaceData& data, RayRoots& rr);
+// Newton on f itself about hit.t within [lo, hi] and maxMove of the start; whether f ended
+// within its evaluation bound (confirmed). `last`, if given, receives f at the result.
+bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
+            double maxMove, KernelHit& hit, Polynomial::Evaluation* last = nullptr);
+// The first root of rr.g in [rr.slo, rr.shi] (rr.count = 0 or 1); solveFirst sets that
+// search span first.
+void solveFirstInSpan(const SurfaceData& data, RayRoots& rr);
+void solveFirst(const SurfaceData& data, RayRoots& rr);
+// Whether rr's roots are the solver's exact ones (no tolerance, not the float solver) on a
+// g that a new expansion may replace (not the self-root rule's deflated g): the roots that
+// settleFirst searches for again and looks behind (ray_settle.cpp), and for whose first
+// one the solver is asked whether g is within its noise before it (RootOptions::noiseBefore).
+inline bool exactRoots(const SurfaceOptions& opt, const RayRoots& rr) {
+  return opt.roots.relTolerance == 0.0 && !opt.singlePrecision && !(rr.selfWindow > 0.0);
+}
+
+// ---- ray_settle.cpp ------------------------------------------------------------------------
+// The last point before s (towards slo) where g is clear of its noise bound, or slo.
+double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign = true);
+// Whether occlusion can keep g's first root, a sign change, without placing it on f.
+bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray);
+// Whether the first root settled behind tnear, where the walk's later roots get no check.
+bool firstBehindTnear(const RayRoots& rr);
+// Places rr's first root on f (polish, search again, look behind), and from tnear again
+// where it settled behind it.
+void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr);
+
+}  // namespace algray

@@ -1,0 +1,291 @@
+// The kernel's checks of a ray's first root on f itself (ray_roots.h): g, one expansion
+// for the whole clip region, may place a root where f has none or miss roots of f inside
+// its noise, so the first root is polished on f, searched for again about a better point
+// where f rejects it, and looked behind where g's noise could hide earlier roots.
+#include "ray_roots.h"
+
+#include "algray/taylor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace algray {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// ---- Roots the expansion cannot place ------------------------------------------------------
+// One expansion serves the whole clip region, and its error bound is set by f's terms at
+// its centre. Where those terms are far larger than f's terms near the surface elsewhere
+// on the ray (a z^7 term of 1e143 beside O(1) ones: session 29's fuzz campaign), g's noise
+// bound covers f's values there and g's first root need not be f's: the solver reported a
+// point 1.8e-3 before a root whose condition allowed 1e-20, where f was -6e126, the size
+// of its largest term (a sign change of g, bracketed beyond its noise, placed by values
+// that were noise; on another ray the hit's polish stopped 7.8e-6 short, a Newton step
+// across the root raising |f|), and on a disc 4e-13 thick (1e100 z^8 + x^2 + y^2 = 1/4)
+// the start of the noise region, by the tangent rule, up to 3.9e-3 radii early. So the
+// first root is checked on f itself, which the hit's polish did anyway (settleFirstRoot),
+// and where f is clearly non-zero there the ray is restricted again about that point (up
+// to kReexpansions times), where the new g holds f's terms there. Occlusion queries,
+// which otherwise polish nothing, check roots of the noise rules (roots.h: solveFirstRoot's
+// atNoise) and sign changes that g cannot place on one side of tnear and tfar
+// (occlusionRootCertain, session 31).
+// Measured (session 29, callgrind, 1500 camera rays, the same answers bit for bit): the
+// walk's instructions 1.007-1.026x on gallery surfaces; timings docs/speed-details.md.
+// Why 8 (4 until session 31): a near miss of even multiplicity (a 6-fold x^6 factor whose
+// minimum along the ray stays clear of 0) took 4 expansions, each closer to it, before one
+// resolved it and found the next root, a 7-fold z^7 whose g placed it 7.3e-3 late with f
+// clearly non-zero there, and with no expansion left that point was the hit (1 of 9252
+// campaign hits on random surfaces of degree up to 14 in a clip box; the fifth expansion
+// finds the root). Only rays whose root f rejects take them.
+constexpr int kReexpansions = 8;
+
+}  // namespace
+
+// The last point before s (towards slo) where g is clear of its noise bound, or slo; with
+// `keepSign` (searchAgain), clear with the sign g has before its first root s: its sign at
+// slo where g is clear there (no root of g in [slo, s) changes it; elsewhere any clear
+// point is taken). Why the sign: the solver may place an odd multiple root anywhere in its
+// noise region, also at its far edge, where g just before s is clear already but past the
+// root (a triple root of f, the ray crossing the plane x = 0 of -1.8e70 x^3 y z (x + 5) +
+// O(1e20) terms: the search went on from 1.6e-10 past it and reported the next root, 0.32
+// further; session 31).
+double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign) {
+  double boundLo = 0.0;
+  const double gLo = keepSign ? g.evaluateWithBound(slo, boundLo) : 0.0;
+  const bool signKnown = keepSign && std::abs(gLo) > boundLo;
+  double step = std::max(0x1p-51 * std::abs(s), std::numeric_limits<double>::min());
+  for (int i = 0; i < 2200; ++i, step *= 2.0) {  // (doubling from 2 ulp reaches any span)
+    const double y = s - step;
+    if (!(y > slo)) break;
+    double bound;
+    const double v = g.evaluateWithBound(y, bound);
+    if (std::abs(v) > bound && (!signKnown || std::signbit(v) == std::signbit(gLo))) return y;
+  }
+  return slo;
+}
+
+namespace {
+
+// Whether f at the polished point x = o + t d is beyond 2^10 times what its evaluation and
+// the point's own rounding allow: x_i errs by up to u (|o_i| + |t d_i|) plus the origin's
+// error bound, which moves f by up to |grad f| times as much (from a far origin, 1e5
+// radii, that is what keeps f from its bound at every double t: the hits of a torus were
+// taken for noise and searched for again).
+bool clearlyOffSurface(const KernelRay& ray, const KernelHit& hit,
+                       const Polynomial::Evaluation& e) {
+  const glm::dvec3 spread = ray.orgRoundoff * (absv(ray.org) + std::abs(hit.t) * absv(ray.dir)) +
+                            glm::dvec3(ray.orgError);
+  return std::abs(e.value) > 0x1p10 * (e.valueError + glm::dot(absv(e.gradient), spread));
+}
+
+// Polishes rr's first root on f; returns whether f is clearly non-zero at the result.
+bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
+  KernelHit hit;
+  hit.t = rr.g.tShift + rr.roots[0];
+  Polynomial::Evaluation e;
+  const bool onF = polish(data.horner, ray.org, ray.dir, std::max(rr.r0, ray.tnear), rr.r1,
+                          1e-4 * (rr.r1 - rr.r0), hit, &e);
+  rr.roots[0] = hit.t - rr.g.tShift;
+  rr.firstPolished = true;
+  rr.firstGradient = hit.gradient;
+  return !onF && clearlyOffSurface(ray, hit, e);
+}
+
+// rr's first root, polished, is clearly off f: the ray is restricted again about the root
+// as g placed it, and the search goes on from the last point before it where the old g
+// was clear of its noise, up to kReexpansions times.
+[[gnu::noinline, gnu::cold]] void searchAgain(const SurfaceData& data, const KernelRay& ray,
+                                              RayRoots& rr, double s) {
+  double lastCentre = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k < kReexpansions; ++k) {
+    // [slo, from] is root-free by the old g's rigorous bounds; a root the new g finds
+    // within its noise of `from` is a root there (closedLo: the new g's noise region of a
+    // multiple root, u^(1/m) of its scale, may reach back past from).
+    const RayRoots before = rr;
+    const double from = rr.g.tShift + clearBefore(rr.g, s, rr.slo);
+    const double centre = rr.g.tShift + s;
+    restrictToRay(data.horner, ray.org, ray.dir, centre, rr.g);
+    rr.slo = from - centre;
+    rr.shi = rr.r1 - centre;
+    rr.closedLo = true;
+    solveFirstInSpan(data, rr);
+    // No root now: f has none in the span (the old g's bounds exclude [slo, from), the new
+    // g's [from, shi]); the hit was g's noise (Chmutov-16 seen from 3 radii: at the clip
+    // sphere, where f was 3e5 against an evaluation bound of 1e-7). A root that does not
+    // move is the old one.
+    if (rr.count == 0) return;
+    const double t = rr.g.tShift + rr.roots[0];
+    if (std::abs(t - (before.g.tShift + before.roots[0])) <= 0x1p-40 * std::abs(t)) {
+      rr = before;
+      return;
+    }
+    s = rr.roots[0];
+    if (!polishFirst(data, ray, rr)) return;
+    // Two expansions, each within its noise over the stretch between them, can report each
+    // other's centre, f clearly non-zero at both: the next one goes halfway between them.
+    // Why (session 33): on a degree-39 surface with terms up to 8e126, seen from inside,
+    // g about 0.4387 reported 0.4485 and g about 0.4485 reported 0.4387 until the
+    // expansions ran out, and the hit was a point off f past f's roots 0.4444 and 0.4497
+    // (TwoExpansionsThatReportEachOther; 1 of ~13000 hits of a degree-40 campaign).
+    if (std::abs(t - lastCentre) <= 0x1p-40 * std::abs(t)) s = (t + centre) / 2 - rr.g.tShift;
+    lastCentre = centre;
+  }
+}
+
+// A root of the noise rules that the polish confirmed on f (the first polish's, or the
+// search again's): g's noise region about it may hold earlier roots of f that g cannot tell
+// apart (a cluster within its noise), so the ray is restricted again about the root and
+// searched from before the region (searchAgain); a root found there before the confirmed
+// one replaces it (and is looked behind in turn if it came from the noise rules too, up to
+// kReexpansions times), anything else keeps it (a new expansion never drops a confirmed
+// root: on Chmutov-40's ill-conditioned rays it found none). Why (session 31's campaign,
+// tests/stress_placement_test.cpp): on -1.8e70 x^3 y z (x + 5) + O(1e20) terms a ray
+// crossing y = 0 2.3e-5 before the triple root at x = 0 (passing that close to the z axis)
+// had g, expanded 0.2 away (its noise ~1e51 against |f| <= 2e50 between the two,
+// estimated), report one noise-level root, the polish took it to x = 0, and y = 0 was
+// skipped (1 of 20000 random rays; RootsCloserThanGsNoiseAreSearchedAgain); on -2.5e42 x^8
+// y + x^2 + y^2 + z^2 = 29052 (the planes x = +-1.8e-5 where y < 0) the search again about
+// a noise-level start 3e-3 before the pair, its g's noise region still covering both, took
+// the second, 6.4e-5 late (1 of ~12000 hits; APairWithinGsNoiseFromASearchAgain).
+// Measured (speed_report, one thread, alternating with the session's base build, Intel
+// host): gallery primary and shadow rays within noise (Barth sextic, 6 runs each: primary
+// 5.11-5.52 against 4.94-5.44 Mrays/s, shadow 3.92-4.22 against 3.75-4.18).
+//
+// The same where g is within its noise bound more than 2^-20 of the search span before a
+// sign change (the solver's noise-before query, RootOptions::noiseBefore, which sets
+// atNoise then): g's data place an odd number of f's roots within such a region as one sign
+// change, anywhere in it, and the polish takes the one it reaches. Why (session 32, the
+// campaign at degree up to 40): on a degree-30 surface with terms up to 2e142 three roots of
+// f within 1.4e-3 of each other lay in the noise region of a g expanded 7e-3 away, whose
+// sign change the polish took to the third; expanded about that root, g holds all three
+// apart (AClusterInsideASignChangesNoiseRegion). Session 32 tested g at 2^-20 of the span
+// before the root here; session 33 moved the test into the solver, which also proves the
+// rest of the root's monotone piece clear and reports a stretch within noise that a clear
+// one separates from the root (degree 40, terms of 1e135: g within noise over [0.6908,
+// 0.6935], two roots of f there, the sign change at 0.693634; ANoiseShelfBeforeARoot).
+// Why 2^-20 (the walk's window): at 2^-30 the roots of Chmutov-16's rays from 3 radii
+// often had noise regions that wide, and its primary rays ran at 0.87x the rate
+// (speed_report, one thread, 5 alternating runs against session 32's start); at 2^-20
+// 0.99x, the other gallery surfaces 0.97-0.99x (then one evaluation of g per hit, since
+// session 33 one per solve; docs/speed-details.md).
+bool mayHideRoots(const RayRoots& rr) { return rr.count == 1 && rr.firstAtNoise; }
+// (Called where mayHideRoots(rr) holds: the first pass does not test it again.)
+[[gnu::noinline, gnu::cold]] void searchBefore(const SurfaceData& data, const KernelRay& ray,
+                                               RayRoots& rr) {
+  int k = 0;
+  do {
+    const RayRoots confirmed = rr;
+    searchAgain(data, ray, rr, rr.roots[0]);
+    if (rr.count == 0 || !(rr.g.tShift + rr.roots[0] < confirmed.g.tShift + confirmed.roots[0])) {
+      rr = confirmed;
+      return;
+    }
+  } while (++k < kReexpansions && mayHideRoots(rr));
+}
+
+// The first root on f (polish): confirmed, or with f not clearly non-zero there (within
+// 2^10 times what its evaluation and the point allow: a tangent or grazing point), it
+// stands, polished; with f clearly non-zero, and where `reexpand` (not for the self-root
+// rule's deflated g, whose root at the origin a new expansion would bring back), the
+// search goes on (searchAgain); a root of the noise rules that stands is looked behind
+// (searchBefore).
+void settleFirstRoot(const SurfaceData& data, const KernelRay& ray, RayRoots& rr, bool reexpand) {
+  const double s = rr.roots[0];
+  const bool off = polishFirst(data, ray, rr);
+  if (!reexpand) return;
+  if (off) [[unlikely]]
+    searchAgain(data, ray, rr, s);
+  if (mayHideRoots(rr)) [[unlikely]]
+    searchBefore(data, ray, rr);
+}
+
+// settleFirstRoot with the search again where it applies: it needs the solver's exact
+// first root (all before it is then clear of g's noise), not one with a tolerance or the
+// float solver's, whose roots may lie past f's (with them it took later roots, 0.7-0.96
+// radii off, in intersector_report's tol1e-03 and float-solver rows); not a cached
+// expansion's, whose root was confirmed on f already; and not the self-root rule's
+// deflated g, whose root at the origin a new expansion would bring back.
+void settleFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
+  settleFirstRoot(data, ray, rr, exactRoots(data.desc.options, rr) && !rr.fromCache);
+}
+
+}  // namespace
+
+// Whether an occlusion query can keep g's first root, a sign change, without placing it on
+// f (the closest hit does that anyway, settleFirst): f's root must be on the same side of
+// tnear and of tfar as g's. g's rigorous noise bound proves a root of f wherever g clears
+// it with opposite signs, so that holds where g does so at two points a < s < b with
+// neither tnear nor tfar in [a, b]: trivially when the whole search span lies in (tnear,
+// tfar) (the solver's own bracket lies in it), else at s -+ 4 |bound / g'(s)|, the
+// first-order reach of the noise bound (the factor covers the curvature and the solver's
+// error). Where g cannot show it there (a wide noise region, as where g's terms are far
+// larger than f's: the sign change placed anywhere inside it), or tnear or tfar lies in
+// [a, b], the root is settled on f as the closest hit's is. Why: on 1e143 z^7 + x^2 + y^2 +
+// z^2 = 1 (the plane z = 0 to 1e-20, g's noise region about it 1e-3 wide) rays ending up
+// to 1e-4 before the closest hit were occluded, or rays ending just past it not: 43 of
+// 117 hits in tests/stress_placement_test.cpp,
+// OcclusionAgreesWithTheClosestHitInAWideNoiseRegion (session 31; 9 of them with the
+// first-order test of [a, b] alone, no evaluation at a and b).
+// Measured (speed_report, shadow 1T, 4 alternating runs against the base build): the
+// gallery's shadow rays 0.99-1.02x the time (its light lies outside the clip region).
+bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray) {
+  const RayPolynomial& g = rr.g;
+  if (g.tShift + rr.slo > ray.tnear && g.tShift + rr.shi < ray.tfar) return true;
+  const double s = rr.roots[0];
+  double bound, slope;
+  g.evaluateWithBound(s, bound, slope);
+  const double h = std::max(4.0 * bound / std::abs(slope), 0x1p-50 * std::abs(s));
+  const double a = s - h, b = s + h;
+  const auto outside = [&](double t) { return t < g.tShift + a || t > g.tShift + b; };
+  if (!(h < kInf) || !outside(ray.tnear) || !outside(ray.tfar)) return false;
+  double boundA, boundB;
+  const double ga = g.evaluateWithBound(a, boundA), gb = g.evaluateWithBound(b, boundB);
+  return std::abs(ga) > boundA && std::abs(gb) > boundB && std::signbit(ga) != std::signbit(gb);
+}
+
+// A first root settled behind tnear (a ray from inside the clip region searches from the
+// last point before tnear where g is clear of its noise, searchSpan, so g's noise region
+// reached tnear): the walk would take the next roots from the rest of the list, which gets
+// no check on f, from a g that may not place them. The ray is restricted again about tnear
+// (a point of the region, so the expansion keeps f's digits there), searched from before
+// tnear and settled again (settleAfterTnear); occlusion settles a first root behind tnear
+// too (rayRoots), so both queries take the same path. Why (session 32): on -1.8e85 x^33 y +
+// x^2 + y^2 + z^2 = 1e-18 seen from inside the clip sphere, g about the point nearest the
+// origin was within its noise from the region's start to 0.25 past tnear = 0, over f's root
+// at 0.0896: the first root settled behind the origin and the ray missed (in a campaign of
+// random extreme surfaces of degree up to 40, 31 of 13913 hits from inside skipped an
+// earlier root; AWideNoiseRegionAtTheOrigin, ARootThatSettlesBehindTheOrigin). Only after
+// the first settling: expanded about tnear at once wherever g is within its noise there, a
+// g within its noise from just past tnear reported a point past f's root, and the searches
+// again about it and about tnear returned each other's answers (1 of 13048 such hits).
+bool firstBehindTnear(const RayRoots& rr) {
+  const double near = rr.tnear - rr.g.tShift;
+  return rr.count == 1 && rr.roots[0] < near && near < rr.shi && near != 0.0 &&
+         !(rr.selfWindow > 0.0);
+}
+
+namespace {
+
+[[gnu::noinline, gnu::cold]] void searchFromTnear(const SurfaceData& data, const KernelRay& ray,
+                                                  RayRoots& rr) {
+  restrictToRay(data.horner, ray.org, ray.dir, ray.tnear, rr.g);
+  rr.fromCache = false;
+  rr.firstPolished = false;
+  solveFirst(data, rr);
+  if (rr.count == 1) settleFirst(data, ray, rr);
+}
+
+}  // namespace
+
+// settleFirst, and the search from tnear where the root settled behind it: the same path for
+// occlusion, wherever it settles the root (rayRoots, walkRootsOf), as for the closest hit.
+void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
+  settleFirst(data, ray, rr);
+  if (firstBehindTnear(rr)) [[unlikely]]
+    searchFromTnear(data, ray, rr);
+}
+
+}  // namespace algray
