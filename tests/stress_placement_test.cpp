@@ -392,15 +392,8 @@ TEST(StressPlacement, OcclusionAgreesWithTheClosestHitInAWideNoiseRegion) {
   EXPECT_GT(hits, 100);
 }
 
-// A campaign in small (session 31's, which found the cases above): random surfaces x^2 + y^2 +
-// z^2 - c plus 1-4 terms of degree up to 9 with coefficients 1e-150 .. 1e150, and each
-// times (x + 5), seen from 3 radii and from inside the clip sphere. Expected, on every
-// ray: no sign change of f that its rigorous evaluation bound proves (|f| > 4 times the
-// bound at two of 3000 points with opposite signs) before the closest hit, or anywhere in
-// the span when there is none; and occlusion with tfar 1e-4 and 1e-9 relative before and
-// after the hit agreeing with the closest hit on the same ray (each query on a fresh ray
-// record). At the session's start 4-6 of ~12000 hits in the full campaign skipped a root,
-// ~2000 occlusion queries disagreed, and from inside 33 of 13040 hits skipped a root.
+// Session 31's random extreme surfaces: x^2 + y^2 + z^2 - c (c = 1e-20 .. 1e20) plus 1-4
+// terms of degree degMin..degMax with coefficients +-1e-150 .. 1e150.
 Polynomial randomExtremeSurface(std::mt19937_64& rng, int degMin, int degMax) {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const int deg = degMin + static_cast<int>(u01(rng) * (degMax - degMin + 1));
@@ -428,14 +421,18 @@ std::pair<glm::dvec3, glm::dvec3> randomCampaignRay(std::mt19937_64& rng, bool i
   return {o, d};
 }
 
-void expectRandomExtremeSurfaces(std::uint64_t seed, int surfaces, int degMin, int degMax,
-                                 int& hits) {
+// The campaign's rays: `surfaces` random extreme surfaces of degree degMin..degMax and each
+// times (x + 5), 24 rays each (from 3 radii and from inside, in turn); visit(s, g, o, d,
+// what, freshRecord) for each, where freshRecord() traces another ray first, so that the
+// next query on s derives its own record of the ray's roots.
+template <class Visit>
+void forEachCampaignRay(std::uint64_t seed, int surfaces, int degMin, int degMax, Visit visit) {
   std::mt19937_64 rng(seed);
   for (int k = 0; k < surfaces; ++k) {
     const Polynomial f = randomExtremeSurface(rng, degMin, degMax);
     for (const Polynomial& g : {f, f * (Polynomial::variable(0) + Polynomial(5.0))}) {
       OneSurface s(describe(g, 1.0));
-      const auto otherRay = [&] {
+      const auto freshRecord = [&] {
         s.intersect(rayD(glm::dvec3(0.1, 0.2, 3.0), glm::dvec3(0, 0, -1)));
       };
       for (int i = 0; i < 24; ++i) {
@@ -443,10 +440,31 @@ void expectRandomExtremeSurfaces(std::uint64_t seed, int surfaces, int degMin, i
         char hex[160];
         std::snprintf(hex, sizeof hex, "%a %a %a, %a %a %a", o.x, o.y, o.z, d.x, d.y, d.z);
         const std::string what = g.toString() + ", ray " + std::to_string(i) + " (" + hex + ")";
-        otherRay();
+        visit(s, g, o, d, what, freshRecord);
+      }
+    }
+  }
+}
+
+// A campaign in small (session 31's, which found the cases above): random surfaces x^2 + y^2 +
+// z^2 - c plus 1-4 terms of degree up to 9 with coefficients 1e-150 .. 1e150, and each
+// times (x + 5), seen from 3 radii and from inside the clip sphere. Expected, on every
+// ray: no sign change of f that its rigorous evaluation bound proves (|f| > 4 times the
+// bound at two of 3000 points with opposite signs) before the closest hit, or anywhere in
+// the span when there is none; and occlusion with tfar 1e-4 and 1e-9 relative before and
+// after the hit agreeing with the closest hit on the same ray (each query on a fresh ray
+// record). At the session's start 4-6 of ~12000 hits in the full campaign skipped a root,
+// ~2000 occlusion queries disagreed, and from inside 33 of 13040 hits skipped a root.
+void expectRandomExtremeSurfaces(std::uint64_t seed, int surfaces, int degMin, int degMax,
+                                 int& hits) {
+  forEachCampaignRay(
+      seed, surfaces, degMin, degMax,
+      [&](OneSurface& s, const Polynomial& g, const glm::dvec3& o, const glm::dvec3& d,
+          const std::string& what, const auto& freshRecord) {
+        freshRecord();
         const auto hit = s.intersect(rayD(o, d), what);
         const double b = glm::dot(o, d), c = glm::dot(o, o) - 1.0;
-        if (b * b - c <= 0.0) continue;
+        if (b * b - c <= 0.0) return;
         const double t0 = std::max(0.0, -b - std::sqrt(b * b - c));
         const double t1 = -b + std::sqrt(b * b - c);
         const double tEnd = hit ? hit->t : t1;
@@ -461,18 +479,16 @@ void expectRandomExtremeSurfaces(std::uint64_t seed, int surfaces, int degMin, i
               << what << ": f changes sign at " << t << ", before the hit at " << tEnd;
           sign = now;
         }
-        if (!hit) continue;
+        if (!hit) return;
         ++hits;
         for (const double rel : {-1e-4, -1e-9, 1e-9, 1e-4}) {
           const RayD ray = rayD(o, d, 0.0, hit->t * (1 + rel));
-          otherRay();
+          freshRecord();
           const bool occluded = s.occluded(ray);
-          otherRay();
+          freshRecord();
           EXPECT_EQ(occluded, s.intersect(ray).has_value()) << what << ", tfar " << rel;
         }
-      }
-    }
-  }
+      });
 }
 
 TEST(StressPlacement, RandomExtremeSurfaces) {
@@ -499,37 +515,27 @@ TEST(StressPlacement, RandomExtremeSurfacesOfHighDegree) {
 // occlusion on a fresh record. Before session 34, 55 of these 2880 closest hits moved,
 // some by 1.5e-8 radii.
 TEST(StressPlacement, ClosestHitAfterOcclusionOfTheSameRay) {
-  std::mt19937_64 rng(3133);
   int hits = 0;
-  for (int k = 0; k < 60; ++k) {
-    const Polynomial f = randomExtremeSurface(rng, 2, 9);
-    for (const Polynomial& g : {f, f * (Polynomial::variable(0) + Polynomial(5.0))}) {
-      OneSurface s(describe(g, 1.0));
-      const auto freshRecord = [&] {
-        s.intersect(rayD(glm::dvec3(0.1, 0.2, 3.0), glm::dvec3(0, 0, -1)));
-      };
-      for (int i = 0; i < 24; ++i) {
-        const auto [o, d] = randomCampaignRay(rng, i % 2 == 1);
-        const std::string what = g.toString() + ", ray " + std::to_string(i);
-        freshRecord();
-        const auto fresh = s.intersect(rayD(o, d));
-        freshRecord();
-        s.occluded(rayD(o, d, 0.0, fresh ? 2.0 * fresh->t : kInfD));
-        const auto after = s.intersect(rayD(o, d));
-        ASSERT_EQ(fresh.has_value(), after.has_value()) << what;
-        if (!fresh) continue;
-        ++hits;
-        EXPECT_EQ(after->t, fresh->t) << what;
-        for (const double rel : {-1e-4, -1e-9, 1e-9, 1e-4}) {
-          const RayD ray = rayD(o, d, 0.0, fresh->t * (1 + rel));
-          freshRecord();
-          const bool occludedFresh = s.occluded(ray);
-          s.intersect(rayD(o, d));
-          EXPECT_EQ(s.occluded(ray), occludedFresh) << what << ", tfar " << rel;
-        }
-      }
-    }
-  }
+  forEachCampaignRay(3133, 60, 2, 9,
+                     [&](OneSurface& s, const Polynomial&, const glm::dvec3& o, const glm::dvec3& d,
+                         const std::string& what, const auto& freshRecord) {
+                       freshRecord();
+                       const auto fresh = s.intersect(rayD(o, d));
+                       freshRecord();
+                       s.occluded(rayD(o, d, 0.0, fresh ? 2.0 * fresh->t : kInfD));
+                       const auto after = s.intersect(rayD(o, d));
+                       ASSERT_EQ(fresh.has_value(), after.has_value()) << what;
+                       if (!fresh) return;
+                       ++hits;
+                       EXPECT_EQ(after->t, fresh->t) << what;
+                       for (const double rel : {-1e-4, -1e-9, 1e-9, 1e-4}) {
+                         const RayD ray = rayD(o, d, 0.0, fresh->t * (1 + rel));
+                         freshRecord();
+                         const bool occludedFresh = s.occluded(ray);
+                         s.intersect(rayD(o, d));
+                         EXPECT_EQ(s.occluded(ray), occludedFresh) << what << ", tfar " << rel;
+                       }
+                     });
   EXPECT_GT(hits, 800);
 }
 
