@@ -66,11 +66,12 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
                          double closest, bool occlusion);
 // The thread's record where it holds this ray already (every cell after the first, and the
 // walk after a host filter that traced no rays of its own), else deriveRayRoots. A closest
-// hit derives again a record an occlusion query of the same ray left with its first root
-// unsettled: its answer must not depend on what was asked before it (settled, that root
-// moved by up to 1e-8 radii on 1-2 % of the rays of random extreme surfaces, and
-// occlusion first, the closest hit kept g's placing; StressPlacement.
-// ClosestHitAfterOcclusionOfTheSameRay).
+// hit derives again a record that an occlusion query of the same ray left with its first
+// root unsettled (afresh rather than settled in place, so that it is the fresh query's
+// answer by construction): a closest hit must not depend on what was asked before it. Why
+// (session 34): on session 31's random extreme surfaces settling moves the first root on
+// 1-2 % of the rays, by up to 1.5e-8 radii, and a closest hit after an occlusion query of
+// the same ray kept g's placing (StressPlacement.ClosestHitAfterOcclusionOfTheSameRay).
 [[gnu::always_inline]] inline RayRoots& rayRoots(const SurfaceData& data, const KernelRay& ray,
                                                  double r0, double r1, double closest,
                                                  bool occlusion) {
