@@ -45,7 +45,7 @@ struct RayRoots {
   glm::dvec3 firstGradient{0.0};
   bool firstAtNoise = false;  // the first root came from the solver's noise rules (roots.h)
 };
-// Kept per thread without a registered destructor (see threadOriginCache).
+// Kept per thread without a registered destructor (see threadOriginCache, ray_roots.cpp).
 static_assert(std::is_trivially_destructible_v<RayRoots>);
 
 // Whether rr's first root is g's alone, not yet placed on f (a quadric's closed form

@@ -16,10 +16,12 @@
 #include "algray/taylor.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 namespace algray {
 
@@ -46,7 +48,7 @@ struct OfferedTable {
   unsigned next = 0;
   unsigned last = 0;  // the entry found last: a ray's roots ask for the same one in a row
 };
-static_assert(std::is_trivially_destructible_v<OfferedTable>);  // see threadOriginCache
+static_assert(std::is_trivially_destructible_v<OfferedTable>);  // threadOriginCache, ray_roots.cpp
 thread_local OfferedTable tlsOffered;
 
 OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
