@@ -336,8 +336,11 @@ bool keepsDigits(const RayPolynomial& g, double r0, double r1) {
 // placed at or before tnear and is then not reported (by design, README). Session 34
 // measured a start at tnear itself (with closedLo) against this one, tnear 1-16 u^(1/m)
 // before the plane above: lost 0 against 4-51 of ~520 rays for m = 4-10, 83 against 20
-// for m = 3, the same 285 for m = 2, none by either at 16 u^(1/m); searching again from
-// tnear where the first root lies before it would lose the fewest (not tried).
+// for m = 3, the same 285 for m = 2, none by either at 16 u^(1/m). Also tried then: a
+// second search from tnear itself after searchFromTnear where the root still lay behind
+// it (4-51 -> 0-15 lost for m = 4-10), not kept: on random extreme surfaces it reported
+// roots past a sign change of f inside g's noise (3 campaign tests failed), since a span
+// starting within g's noise loses what the settling relies on, a clear start.
 // Not from the region's start either (until session 31): the first root was then
 // often one behind an origin inside the region, and the ray's hit a later one of the
 // complete list, without the checks on f that the first root gets (settleFirstRoot): in a
