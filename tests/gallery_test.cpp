@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -178,6 +179,32 @@ TEST(Gallery, NamesAreUniqueAndFindable) {
         "kummer-quartic", "barth-sextic", "heart", "chmutov-8", "chmutov-12", "chmutov-16",
         "endrass-octic", "sarti-dodecic"})
     EXPECT_NE(findGallerySurface(required), nullptr) << required;
+}
+
+// Names as people type them find the surface; names that are not in the gallery are
+// answered with the close ones (the renderer's messages), never with a far one.
+TEST(Gallery, NamesMatchAsTypedAndCloseOnesAreSuggested) {
+  const GallerySurface* barth = findGallerySurface("barth-sextic");
+  ASSERT_NE(barth, nullptr);
+  for (const char* typed : {"Barth-Sextic", "barth_sextic", "BARTH SEXTIC"})
+    EXPECT_EQ(findGallerySurface(typed), barth) << typed;
+  EXPECT_EQ(findGallerySurface("barth--sextic"), nullptr);
+  EXPECT_EQ(findGallerySurface(" barth-sextic"), nullptr);
+
+  using Names = std::vector<std::string_view>;
+  EXPECT_EQ(similarGallerySurfaces("barth"), (Names{"barth-sextic", "barth-decic"}));
+  EXPECT_EQ(similarGallerySurfaces("chmutov8"), (Names{"chmutov-8"}));
+  EXPECT_EQ(similarGallerySurfaces("Sarti"), (Names{"sarti-dodecic"}));
+  EXPECT_EQ(similarGallerySurfaces("tours"), (Names{"torus"}));
+  EXPECT_EQ(similarGallerySurfaces("sphere-of-doom"), (Names{"sphere"}));
+  EXPECT_TRUE(similarGallerySurfaces("x").empty());
+  EXPECT_TRUE(similarGallerySurfaces("x^2+y^2+z^2-1").empty());
+  EXPECT_TRUE(similarGallerySurfaces("dodecahedron").empty());
+  // Every name is in the list of names, once.
+  const std::string names = galleryNames();
+  for (const GallerySurface& s : gallery())
+    EXPECT_NE(names.find(std::string(s.name)), std::string::npos) << s.name;
+  EXPECT_EQ(std::count(names.begin(), names.end(), ','), std::ssize(gallery()) - 1);
 }
 
 // Polynomial vs. the defining formula at random points of the clip ball.

@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <set>
 #include <vector>
@@ -17,6 +18,25 @@
 namespace algray::render {
 
 namespace {
+
+// What to add to the parser's message when --surface was meant as a gallery name
+// ("barth_sextic", "Barth sextic" are found; "barth", "chmutov8" are not): the names close
+// to it, or for a single word of three letters or more, all of them.
+std::string galleryHint(const std::string& text) {
+  const std::vector<std::string_view> similar = similarGallerySurfaces(text);
+  if (similar.size() == 1)
+    return " (or did you mean the gallery surface '" + std::string(similar[0]) + "'?)";
+  if (!similar.empty()) {
+    std::string names;
+    for (std::string_view name : similar)
+      names += (names.empty() ? "'" : ", '") + std::string(name) + "'";
+    return " (or did you mean one of the gallery surfaces " + names + "?)";
+  }
+  const bool word = text.size() >= 3 && std::all_of(text.begin(), text.end(), [](unsigned char ch) {
+                      return std::isalnum(ch) || ch == '-' || ch == '_';
+                    });
+  return word ? " (nor is it a gallery surface: " + galleryNames() + ")" : "";
+}
 
 // A soft grey checkerboard, 8x8 squares, as a texture so the floor shows perspective.
 std::shared_ptr<const Texture> checkerTexture(glm::vec3 a, glm::vec3 b) {
@@ -148,17 +168,21 @@ SceneDesc quickScene(const QuickOptions& options) {
     // As a scene file's gallery entry: its parameters are built in, a --param is a mistake.
     if (!options.parameters.empty())
       throw ParameterError(options.parameters.begin()->first,
-                           "gallery surface '" + options.surface + "' takes no parameters");
+                           "gallery surface '" + std::string(g->name) + "' takes no parameters");
     s.polynomial = g->build();
     if (!options.clipRadius) r = g->clipRadius;
-    s.label = "gallery surface '" + options.surface + "'" +
+    s.label = "gallery surface '" + std::string(g->name) + "'" +
               (options.clipRadius ? " in --clip-sphere" : "");
-    scene.name = options.surface;
+    scene.name = g->name;
   } else {
     ParseOptions po;
     po.parameters = options.parameters;
     po.rejectUnusedParameters = true;
-    s.polynomial = parsePolynomial(options.surface, po);
+    try {
+      s.polynomial = parsePolynomial(options.surface, po);
+    } catch (const ParseError& e) {
+      throw ParseError(e.column(), e.message() + galleryHint(options.surface));
+    }
     if (!options.clipRadius) r = 2.0;
     // The library's refusals of the surface may be about the clip sphere's size: name it
     // when the user gave it.

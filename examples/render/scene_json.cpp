@@ -483,16 +483,19 @@ class Loader {
       std::string name = string(j["gallery"], p + "/gallery");
       const GallerySurface* g = findGallerySurface(name);
       if (!g) {
-        std::string known;
-        for (const GallerySurface& s : gallery())
-          known += (known.empty() ? "" : ", ") + std::string(s.name);
-        fail(p + "/gallery", "no gallery surface '" + name + "' (known: " + known + ")");
+        const std::vector<std::string_view> similar = similarGallerySurfaces(name);
+        std::string hint;
+        for (std::string_view s : similar)
+          hint += (hint.empty() ? "; did you mean '" : "' or '") + std::string(s);
+        if (!hint.empty()) hint += "'?";
+        fail(p + "/gallery",
+             "no gallery surface '" + name + "'" + hint + " (known: " + galleryNames() + ")");
       }
       if (j.contains("parameters")) fail(p + "/parameters", "gallery surfaces take no parameters");
       item.polynomial = g->build();
       item.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
       hasClip = true;
-      item.label = where(p) + ": gallery surface '" + name + "'";
+      item.label = where(p) + ": gallery surface '" + std::string(g->name) + "'";
     } else {
       ParseOptions options;
       options.rejectUnusedParameters = true;

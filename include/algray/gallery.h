@@ -8,7 +8,9 @@
 #include "algray/polynomial.h"
 
 #include <span>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace algray {
 
@@ -20,7 +22,14 @@ struct GallerySurface {
 };
 
 std::span<const GallerySurface> gallery();
-// nullptr if there is no such name.
+// nullptr if there is no such name. Names match as people type them: ASCII letters in
+// either case, and '_' or ' ' for '-' ("Barth_Sextic" finds "barth-sextic").
 const GallerySurface* findGallerySurface(std::string_view name);
+// For messages about a name that is not in the gallery: the gallery's names close to it
+// (one begins with the other, or at most a third of its letters edited), in gallery order;
+// empty if none is.
+std::vector<std::string_view> similarGallerySurfaces(std::string_view name);
+// Every name, comma-separated.
+std::string galleryNames();
 
 }  // namespace algray

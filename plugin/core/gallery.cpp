@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <string>
 #include <vector>
 
 namespace algray {
@@ -242,10 +244,70 @@ const std::array kGallery = {
 
 std::span<const GallerySurface> gallery() { return kGallery; }
 
+namespace {
+
+// A name as the gallery spells it: lower case, '-' between words.
+std::string canonicalName(std::string_view name) {
+  std::string out(name);
+  for (char& ch : out) {
+    if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
+    if (ch == '_' || ch == ' ') ch = '-';
+  }
+  return out;
+}
+
+// The edit distance of a and b counting insertions, deletions, substitutions and swaps of
+// neighbours ("tours" is one edit from "torus"): the optimal string alignment distance
+// (Damerau's operations on Wagner and Fischer's table).
+size_t editDistance(std::string_view a, std::string_view b) {
+  const size_t w = b.size() + 1;
+  std::vector<size_t> d((a.size() + 1) * w);
+  for (size_t i = 0; i <= a.size(); ++i) d[i * w] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i)
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t best = std::min({d[(i - 1) * w + j] + 1, d[i * w + j - 1] + 1,
+                              d[(i - 1) * w + j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        best = std::min(best, d[(i - 2) * w + j - 2] + 1);
+      d[i * w + j] = best;
+    }
+  return d[a.size() * w + b.size()];
+}
+
+}  // namespace
+
 const GallerySurface* findGallerySurface(std::string_view name) {
+  const std::string wanted = canonicalName(name);
   for (const GallerySurface& s : kGallery)
-    if (s.name == name) return &s;
+    if (s.name == wanted) return &s;
   return nullptr;
+}
+
+std::vector<std::string_view> similarGallerySurfaces(std::string_view name) {
+  const std::string wanted = canonicalName(name);
+  std::vector<std::string_view> out;
+  if (wanted.size() < 3) return out;  // "x", "a": an equation's name, not a surface's
+  // Names one begins with the other, and of the names at most a third of their letters
+  // away the closest ("chmutov8": chmutov-8, one edit, not chmutov-12, three).
+  size_t closest = std::numeric_limits<size_t>::max();
+  for (const GallerySurface& s : kGallery)
+    if (const size_t d = editDistance(wanted, s.name); 3 * d <= s.name.size())
+      closest = std::min(closest, d);
+  for (const GallerySurface& s : kGallery) {
+    const bool prefix = s.name.starts_with(wanted) || std::string_view(wanted).starts_with(s.name);
+    if (prefix || editDistance(wanted, s.name) == closest) out.push_back(s.name);
+  }
+  return out;
+}
+
+std::string galleryNames() {
+  std::string out;
+  for (const GallerySurface& s : kGallery) {
+    if (!out.empty()) out += ", ";
+    out += s.name;
+  }
+  return out;
 }
 
 }  // namespace algray

@@ -45,6 +45,41 @@ TEST(QuickScene, BadEquationThrowsParseError) {
   EXPECT_THROW(quickScene(q), ParseError);
 }
 
+// A gallery name as people type it renders that surface; one that is neither a gallery
+// name nor an equation keeps the parser's column and names the close gallery surfaces.
+TEST(QuickScene, GalleryNamesAsTypedAndSuggestions) {
+  QuickOptions q;
+  q.surface = "Barth_Sextic";
+  const SceneDesc s = quickScene(q);
+  EXPECT_EQ(s.name, "barth-sextic");
+  ASSERT_EQ(s.surfaces.size(), 1u);
+  EXPECT_EQ(s.surfaces[0].polynomial.degree(), 6);
+  auto message = [](const std::string& text) -> std::pair<int, std::string> {
+    QuickOptions bad;
+    bad.surface = text;
+    try {
+      quickScene(bad);
+    } catch (const ParseError& e) {
+      return {e.column(), e.message()};
+    }
+    return {0, "accepted"};
+  };
+  auto [column, text] = message("barth");
+  EXPECT_EQ(column, 1);
+  EXPECT_NE(text.find("unknown name 'barth'"), std::string::npos) << text;
+  EXPECT_NE(text.find("one of the gallery surfaces 'barth-sextic', 'barth-decic'?"),
+            std::string::npos)
+      << text;
+  std::tie(column, text) = message("chmutov8");
+  EXPECT_NE(text.find("the gallery surface 'chmutov-8'?"), std::string::npos) << text;
+  std::tie(column, text) = message("dodecahedron");
+  EXPECT_NE(text.find("nor is it a gallery surface: sphere, "), std::string::npos) << text;
+  // An equation's error gets no hint.
+  std::tie(column, text) = message("x^2 + * 3");
+  EXPECT_EQ(column, 7);
+  EXPECT_EQ(text.find("gallery"), std::string::npos) << text;
+}
+
 // --param values the surface never reads are refused by name: a parameter the equation
 // does not use, any parameter of a gallery surface (whose parameters are built in).
 TEST(QuickScene, RefusesParametersTheSurfaceDoesNotUse) {

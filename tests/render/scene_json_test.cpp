@@ -92,6 +92,12 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
   SceneError c = errorOf("{\"camera\": {\"postion\": [0, 0, 1]}}");
   EXPECT_EQ(c.column(), 24);
   EXPECT_NE(c.message().find("postion"), std::string::npos);
+  // An unknown gallery name: its value, the close names, every name.
+  SceneError g = errorOf("{\"surfaces\": [{\"gallery\": \"tours\"}]}");
+  EXPECT_EQ(g.column(), 27);
+  EXPECT_NE(g.message().find("no gallery surface 'tours'; did you mean 'torus'? (known: sphere, "),
+            std::string::npos)
+      << g.message();
   // No clip region for an equation.
   SceneError d = errorOf("{\"surfaces\": [{\"equation\": \"x^2 + y^2 - 1\"}]}");
   EXPECT_EQ(d.column(), 15);
