@@ -842,40 +842,118 @@ TEST_F(EmbreeHits, DirectionsAndOriginsNear1e308HitTheEntry) {
   }
 }
 
-// SurfaceOptions::uv off: every hit field as with the default except u = v = 0, for
-// single float rays, 8-ray packets (the quadric's SIMD lanes and the generic walk's lane
-// loop) and the double channel; and the default's u, v are not all zero (the test can fail).
-// A double surface, (x^2 + y^2 - 1/2)^2 = 0: its gradient 2 g grad g vanishes on it, so the
-// hit's gradient is zero or rounding noise. Ng must still be a usable direction (a host
-// normalises it): finite and non-zero in both channels, and where the gradient was
-// exactly zero, the reversed ray direction.
-TEST_F(EmbreeHits, ZeroGradientGivesAUsableNormal) {
-  SurfaceDesc desc;
-  desc.polynomial = parsePolynomial("(x^2 + y^2 - 0.5)^2");
-  desc.clip = ClipSphere{{0, 0, 0}, 1.5};
-  SurfaceGeometry g(device, desc);
-  Scene scene(device);
-  scene.attach(g.geometry());
-  scene.commit();
-  int hits = 0, facing = 0;
-  for (int k = 0; k < 48; ++k) {
-    // Oblique rays, and rays along x at y = 0.5, whose hits (-0.5, 0.5, z) have g = 0
-    // exactly (x^2 + y^2 = 0.5 in double) and so a gradient of exactly zero.
-    const bool exact = k >= 40;
-    const glm::dvec3 o(-3.0, exact ? 0.5 : 0.02 * k - 0.4, exact ? 0.125 * (k - 44) : 0.3);
-    const glm::dvec3 d = exact ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(1.0, 0.05, 0.01 * k);
-    const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
-    const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d)));
-    if (!hit.hit) continue;
-    ++hits;
-    EXPECT_TRUE(std::isfinite(hit.Ng.x) && std::isfinite(hit.Ng.y) && std::isfinite(hit.Ng.z)) << k;
-    EXPECT_GT(glm::length(hit.Ng), 0.0) << k;
-    if (hit.Ng == -d) ++facing;
-    ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << k;
-    EXPECT_GT(std::abs(rh.hit.Ng_x) + std::abs(rh.hit.Ng_y) + std::abs(rh.hit.Ng_z), 0.0f) << k;
+// On a multiple surface, f = h^k q, grad f vanishes with h, so grad f at the computed hit
+// (within ~u^(1/k) of the surface, on either side) is noise or points to the side rounding
+// put the hit on (hit_normal.cpp): the normal must be grad h's direction, facing the ray
+// for even k (f rises on both sides) and oriented as grad h for odd k, in both channels,
+// through the generic walk and the quadric path. Before hit_normal.cpp, rays from outside
+// got inward normals on a third of the double sphere's hits and noise directions on others.
+// (Rays along x at y = 0.5 meet the double cylinder at (-0.5, 0.5, z), where h = 0
+// exactly in double: a gradient of exactly zero, which was reported as -d.)
+TEST_F(EmbreeHits, MultipleSurfacesGetTheirOwnNormal) {
+  const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
+  const Polynomial sphere = x * x + y * y + z * z - one, cylinder = x * x + y * y - 0.5 * one;
+  const Polynomial plane = x + 0.5 * y - 0.2 * z - 0.1 * one;
+  struct Case {
+    const char* name;
+    Polynomial f;
+    int k;  // multiplicity of h
+    glm::dvec3 (*gradH)(const glm::dvec3&);
+  };
+  const Case cases[] = {
+      {"cylinder^2", cylinder * cylinder, 2,
+       [](const glm::dvec3& p) { return glm::dvec3(p.x, p.y, 0); }},
+      {"sphere^2 (x + 5)", sphere * sphere * (x + 5.0 * one), 2,
+       [](const glm::dvec3& p) { return p; }},
+      {"sphere^3", sphere * sphere * sphere, 3, [](const glm::dvec3& p) { return p; }},
+      {"plane^2 (quadric path)", plane * plane, 2,
+       [](const glm::dvec3&) { return glm::dvec3(1.0, 0.5, -0.2); }},
+  };
+  std::mt19937 random(3501);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto uni = [&] { return uniform(random); };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    SurfaceDesc desc;
+    desc.polynomial = c.f;
+    desc.clip = ClipSphere{{0, 0, 0}, 1.5};
+    SurfaceGeometry g(device, desc);
+    Scene scene(device);
+    scene.attach(g.geometry());
+    scene.commit();
+    int hits = 0;
+    for (int k = 0; k < 200; ++k) {
+      const bool exact = k >= 190;  // the double cylinder's rays with h = 0 exactly
+      glm::dvec3 o, d;
+      if (exact) {
+        o = glm::dvec3(-3.0, 0.5, 0.125 * (k - 195));
+        d = glm::dvec3(1.0, 0.0, 0.0);
+      } else {
+        glm::dvec3 dir(uni(), uni(), uni());
+        o = 3.0 * glm::normalize(dir);
+        d = glm::dvec3(uni(), uni(), uni()) - o;
+      }
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
+      const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d)));
+      if (!hit.hit || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      ++hits;
+      // Each channel against grad h at its own hit point.
+      const std::pair<double, glm::dvec3> channels[] = {
+          {hit.t, glm::dvec3(hit.Ng)},
+          {rh.ray.tfar, glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)}};
+      for (const auto& [t, ng] : channels) {
+        const glm::dvec3 n = glm::normalize(c.gradH(o + t * d));
+        const double cosine = glm::dot(glm::normalize(ng), n);
+        if (c.k % 2 == 0)
+          EXPECT_LT(glm::dot(ng, d), 0.0) << k;
+        else
+          EXPECT_GT(cosine, 0.0) << k;
+        // The point beside the hit moves the normal by up to 1e-5 radians (measured 4e-6;
+        // 3e-3 radians for the triple sphere, whose gradient clears its noise only ~1e-5
+        // from it, further on grazing rays: measured 1.5e-3).
+        const double angle = std::acos(std::min(1.0, std::abs(cosine)));
+        EXPECT_LT(angle, c.k == 3 ? 3e-3 : 1e-5)
+            << k << " normal " << ng.x << " " << ng.y << " " << ng.z;
+      }
+    }
+    EXPECT_GT(hits, 60);
   }
-  EXPECT_GT(hits, 20);
-  EXPECT_GT(facing, 0);  // the case the rule is for occurs
+}
+
+// Where no point beside the hit gives a normal, the hit still reports a usable one: a ray
+// touching a cone's apex from inside (f <= 0 on both sides, grad f = 0 at the apex and
+// facing away before it) gets the reversed ray direction, through the quadric path and the
+// generic walk; one reaching the apex from outside gets the gradient just before it,
+// facing the ray.
+TEST_F(EmbreeHits, ZeroGradientGivesAUsableNormal) {
+  const Polynomial x = X(), y = Y(), z = Z();
+  const Polynomial cone = x * x + y * y - z * z;
+  for (const Polynomial& f : {cone, cone * (x + Polynomial(5.0))}) {
+    SCOPED_TRACE(f.degree());
+    SurfaceDesc desc;
+    desc.polynomial = f;
+    desc.clip = ClipSphere{{0, 0, 0}, 5.0};
+    SurfaceGeometry g(device, desc);
+    Scene scene(device);
+    scene.attach(g.geometry());
+    scene.commit();
+    // From inside the cone through its apex: the hit is the apex, t = 1 exactly.
+    const glm::dvec3 o(1.0, 2.0, -3.0), d(-1.0, -2.0, 3.0);
+    const HitD inside = intersectD(scene, RayD{o, d, 0.0, 1e30});
+    ASSERT_TRUE(inside.hit);
+    EXPECT_EQ(inside.t, 1.0);
+    EXPECT_EQ(glm::dvec3(inside.Ng), glm::dvec3(glm::vec3(-d)));
+    const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d)));
+    ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+    EXPECT_EQ(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), glm::vec3(-d));
+    // From outside: grad f = 2 (x, y, -z) on the ray before the apex, (3, 0, 1) / sqrt(10).
+    const glm::dvec3 o2(3.0, 0.0, -1.0), d2(-3.0, 0.0, 1.0);
+    const HitD outside = intersectD(scene, RayD{o2, d2, 0.0, 1e30});
+    ASSERT_TRUE(outside.hit);
+    EXPECT_GT(glm::dot(glm::normalize(glm::dvec3(outside.Ng)),
+                       glm::dvec3(3.0, 0.0, 1.0) / std::sqrt(10.0)),
+              1.0 - 1e-12);
+  }
 }
 
 // u lies in [0, 1) also just below the seam (y -> 0-, x > 0), where the exact u is
@@ -923,6 +1001,9 @@ TEST_F(EmbreeHits, FloatUStaysBelowOneAtTheSeam) {
   }
 }
 
+// SurfaceOptions::uv off: every hit field as with the default except u = v = 0, for
+// single float rays, 8-ray packets (the quadric's SIMD lanes and the generic walk's lane
+// loop) and the double channel; and the default's u, v are not all zero (the test can fail).
 TEST_F(EmbreeHits, UvOffWritesZeroAndKeepsTheHit) {
   std::uniform_real_distribution<float> u(-1.3f, 1.3f);
   for (const bool quadric : {true, false}) {

@@ -581,7 +581,8 @@ template <bool kOcclusion, class LaneT>
         // (A packet lane may come with the normal of its first root.)
         bool givenNormal = false;
         if constexpr (std::is_same_v<LaneT, PacketLane>) givenNormal = h.t == L.nT;
-        if (!givenNormal) h.gradient = L.data->quadric->gradient(h.point);
+        if (!givenNormal)
+          h.gradient = hitGradient(*L.data, kr.dir, h.point, L.data->quadric->gradient(h.point));
         if (acceptIntersectionOf<std::is_same_v<LaneT, PacketLane>>(&L, h)) return;
       }
     }

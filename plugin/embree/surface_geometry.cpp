@@ -338,6 +338,20 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
     boxHi = b.hi;
   }
   data->selfRootRadius2 = (data->radius * (1.0 + 0x1p-9)) * (data->radius * (1.0 + 0x1p-9));
+  // ---- The gradient's noise (hit_normal.cpp) -----------------------------------------
+  // gradientNoise's weights, d sum |c| per degree d = 1..m, and the hits' slope test at
+  // the largest |p_i| in the clip ball (2^-20 over it for rounding). Where that overflows
+  // (degree 40 with a clip radius of 1e10) the test is off: every slope counts as clear.
+  const Polynomial& poly = data->desc.polynomial;
+  for (int d = 1; d <= poly.degree(); ++d) {
+    double sum = 0;
+    for (double c : poly.homogeneousPart(d)) sum += std::abs(c);
+    data->gradientWeights.push_back(d * sum);
+  }
+  data->gradientGamma = gamma(4 * std::max(poly.degree(), 0) + 8);
+  const glm::dvec3 farCorner = absv(data->centre) + glm::dvec3(data->radius * (1.0 + 0x1p-20));
+  const double slopeNoise = 0x1p10 * gradientNoise(*data, farCorner);
+  data->hitSlopeNoise = std::isfinite(slopeNoise) ? slopeNoise : 0.0;
   // (256 R)^2, exact scalings of R^2 (rounded once) within this range of R; else 0: the
   // walk's shortcut for deferred float origin errors is off (surelyOutsideClipBall).
   const bool normalRange = data->radius >= 0x1p-400 && data->radius <= 0x1p400;
