@@ -10,53 +10,116 @@
 //    and back materials, and rays from outside got inward normals on a third of its hits,
 //    noise directions on others ((0, -1, 0) for a hit at (0.58, -0.23, 0.79));
 //  * at a singular point of a simple surface (a cone's apex, Sarti's nodes), grad f = 0;
-//  * on a ray grazing a simple surface, whose gradient is clear: the one found beside the
-//    hit differs from it by about delta times the curvature (or is not found, below).
-// There the normal is grad f at the nearest point p - delta d/|d| before the hit, delta
-// from 2^-44 to 2^-10 clip radii by factors of 4, where grad f clears its noise 2^10-fold
-// (so that rounding moves its direction by at most ~2^-10 radians) and either
-//  * faces the ray, grad f . d < 0 clearly: an even root, f = h^2 q rising on both sides of
-//    the surface, so grad f points to the side the ray comes from, as a simple surface's
-//    normal does where the ray enters it; or
-//  * f has clearly opposite signs at p - delta d and p + delta d: an odd root (h^3: grad f
-//    keeps its orientation across the surface, and this is it).
-// A grazing ray on a simple surface from its negative side meets neither (f < 0 on both
-// sides, grad f facing away), and one touching a cone's apex from inside neither: the
-// gradient at the hit stays (zero there: the bridge then reports the reversed ray
-// direction). The search costs up to 36 evaluations of f, only on these hits (rendering
-// (x^2 + y^2 + z^2 - 1)^2 took 0.21 s instead of 0.11; every other surface pays the slope
-// test, measured in docs/speed-details.md, session 35). Measured accuracy: within 4e-6
-// radians of grad h on double surfaces, 1.5e-3 on the triple sphere, whose gradient clears
-// its noise only ~1e-5 from it (tests/embree_hits_test.cpp,
-// EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
+//  * on a ray grazing a simple surface (its gradient clear, its slope not).
+// Then (gradientBesideNoise): grad f at the hit is kept where it clears its own noise bound
+// at the hit (gradientNoise) 2^10-fold, so that rounding turns it by at most ~2^-10
+// radians, and either faces the ray (grad f . d < 0 clearly: right for an even root, where
+// f = h^2 q rises on both sides and the normal faces the side the ray comes from as a
+// simple surface's does where the ray enters it, and for an odd one crossing downwards) or
+// f is clearly negative just before the hit (an odd root crossing upwards). Otherwise the
+// normal is searched for before the hit, at p - delta d/|d| for delta from 2^-32 to 2^-6
+// clip radii by factors of 4 (searchBefore): the first gradient there that is clear and
+// faces the ray, or, once f is found to have opposite signs at p -+ delta d/|d| (an odd
+// root: h^3 keeps its gradient's orientation across the surface), the first clear one;
+// each combined with its mirror point after the hit (symmetric). A ray touching a cone's
+// apex from inside meets neither (f < 0 on both sides, grad f facing away): the gradient
+// at the hit stays (zero there: the bridge then reports the reversed ray direction).
+// Cost: up to ~40 evaluations of f, only on these hits (rendering (x^2 + y^2 + z^2 - 1)^2
+// took 0.17 s instead of 0.11); every other hit pays the slope test (docs/speed-details.md,
+// session 35). Accuracy against grad h in long double: within 6.3e-6 radians on random
+// double surfaces, 1.9e-2 on triple ones, whose roots are placed only within ~1e-4
+// (tests/stress_random_test.cpp, StressRandom.MultipleSurfacesGetTheirOwnNormal;
+// tests/embree_hits_test.cpp, EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
 #include "surface_data.h"
 
 #include <cmath>
 
 namespace algray {
 
+namespace {
+
+// A gradient is clear where it exceeds 2^10 times its noise (its direction then moved by
+// rounding by at most ~2^-10 radians), and faces the ray where grad f . u < 0 by as much.
+constexpr double kClear = 0x1p10;
+bool clearOf(const glm::dvec3& g, const glm::dvec3& noise) {
+  const glm::dvec3 a = absv(g);
+  return std::max({a.x, a.y, a.z}) > kClear * std::max({noise.x, noise.y, noise.z});
+}
+bool facingOf(const glm::dvec3& g, const glm::dvec3& noise, const glm::dvec3& u) {
+  return glm::dot(g, u) < -kClear * glm::dot(noise, absv(u));
+}
+// The distances looked at before (and after) the hit: 2^-32 to 2^-6 clip radii.
+constexpr int kRungs = 14;
+double rung(const SurfaceData& data, int k) { return std::ldexp(data.radius, -32 + 2 * k); }
+
+// grad f at p - delta u, combined with grad f at p + delta u where that is clear and
+// oriented as an even root (facing away: g- - g+) or an odd one (along g-: g- + g+) has
+// it: the difference of the two points' offsets cancels to first order, so the result is
+// grad f's direction at the hit to O(delta^2) (on the double surfaces of
+// StressRandom.MultipleSurfacesGetTheirOwnNormal with |grad h| > 1e-3: worst 6.3e-6
+// radians instead of 1.3e-4; no change on the triple ones).
+glm::dvec3 symmetric(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
+                     double delta, const glm::dvec3& gMinus, bool even) {
+  const glm::dvec3 q = point + delta * u;
+  const glm::dvec3 gPlus = data.horner.evaluate(q).gradient, noise = gradientNoise(data, q);
+  if (!clearOf(gPlus, noise)) return gMinus;
+  if (even) return facingOf(-gPlus, noise, u) ? gMinus - gPlus : gMinus;
+  return glm::dot(gMinus, gPlus) > 0 ? gMinus + gPlus : gMinus;
+}
+
+// Back from the hit along the ray: grad f at the first point where it is clear and faces
+// the ray (an even root, or an odd one crossing downwards), or, once f is found to change
+// sign across the hit (an odd root, whose gradient keeps its orientation across the
+// surface), at the first point where it is clear; else `fallback`. Each with its mirror
+// point after the hit (symmetric).
+glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
+                        const glm::dvec3& fallback) {
+  int clearRung = -1;
+  glm::dvec3 firstClear{0.0};
+  for (int k = 0; k < kRungs; ++k) {
+    const double delta = rung(data, k);
+    const Polynomial::Evaluation e = data.horner.evaluate(point - delta * u);
+    const glm::dvec3 noise = gradientNoise(data, point - delta * u);
+    if (clearOf(e.gradient, noise)) {
+      if (facingOf(e.gradient, noise, u)) return symmetric(data, u, point, delta, e.gradient, true);
+      if (clearRung < 0) {
+        firstClear = e.gradient;
+        clearRung = k;
+      }
+    }
+    if (clearRung < 0 || !(std::abs(e.value) > e.valueError)) continue;
+    const Polynomial::Evaluation after = data.horner.evaluate(point + delta * u);
+    if (std::abs(after.value) > after.valueError && (e.value < 0) != (after.value < 0))
+      return symmetric(data, u, point, rung(data, clearRung), firstClear, false);
+  }
+  return fallback;
+}
+
+}  // namespace
+
 glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
                                const glm::dvec3& point, const glm::dvec3& gradient) {
   const double length = glm::length(dir);
   if (!(length > 0.0) || !std::isfinite(length)) return gradient;
   const glm::dvec3 u = dir / length;
-  const double l1 = std::abs(u.x) + std::abs(u.y) + std::abs(u.z);
-  for (int k = 0; k <= 17; ++k) {
-    const double delta = std::ldexp(data.radius, -44 + 2 * k);
-    const glm::dvec3 before = point - delta * u;
-    const Polynomial::Evaluation e = data.horner.evaluate(before);
-    const double noise = gradientNoise(data, before);
-    const glm::dvec3 a = absv(e.gradient);
-    if (!(std::max({a.x, a.y, a.z}) > 0x1p10 * noise)) continue;
-    // ---- An even root: grad f faces the ray ----------------------------------------------
-    if (glm::dot(e.gradient, u) < -0x1p10 * noise * l1) return e.gradient;
-    // ---- An odd root: f changes sign across the hit --------------------------------------
-    if (!(std::abs(e.value) > e.valueError)) continue;
-    const Polynomial::Evaluation after = data.horner.evaluate(point + delta * u);
-    if (std::abs(after.value) > after.valueError && (e.value < 0) != (after.value < 0))
-      return e.gradient;
+  // ---- The gradient at the hit, where it is clear ----------------------------------------
+  // Facing the ray it is right for either parity. Not facing, it is an odd root's crossing
+  // upwards (f < 0 before the hit) or an even root's far side (f > 0 before it, and the hit
+  // past the surface): the first clear value of f before the hit tells. (The hit of a
+  // multiple root lies anywhere in its noise region: a triple root's up to 1e-4 before the
+  // crossing, where its gradient is clear and right, but f has the same sign a little
+  // after it.)
+  const glm::dvec3 noise = gradientNoise(data, point);
+  if (clearOf(gradient, noise)) {
+    if (facingOf(gradient, noise, u)) return gradient;
+    for (int k = 0; k < kRungs; ++k) {
+      const Polynomial::Evaluation e = data.horner.evaluate(point - rung(data, k) * u);
+      if (!(std::abs(e.value) > e.valueError)) continue;
+      return e.value < 0 ? gradient : searchBefore(data, u, point, gradient);
+    }
+    return gradient;
   }
-  return gradient;
+  return searchBefore(data, u, point, gradient);
 }
 
 }  // namespace algray

@@ -132,10 +132,9 @@ struct SurfaceData {
   // a centre and a radius rounded up.
   glm::dvec3 worldCentre{0.0};
   double worldRadius = 1.0;
-  // d |c| summed over the coefficients of each total degree d (index d - 1, d = 1..m), and
-  // gamma(4m + 8): gradientNoise's bound (hit_normal.cpp); 2^10 times that bound over the
-  // whole clip ball, the hits' slope test (slopeClear; 0: off).
-  std::vector<double> gradientWeights;
+  // The gradient's rounding noise (hit_normal.cpp): f with |coefficients| for gradientNoise,
+  // its factor gamma(4m + 8), and the hits' slope test (slopeClear; 0: off).
+  HornerForm absHorner;
   double gradientGamma = 0;
   double hitSlopeNoise = 0;
 };
@@ -205,28 +204,23 @@ struct KernelHit {
 
 // ---- The normal at a closest hit (hit_normal.cpp) ----------------------------------------
 // A bound of the rounding error of each component of grad f as HornerForm::evaluate (or
-// QuadricForm::gradient) computes it at p: gamma(4m + 8) sum_d d A_d R^(d-1), A_d the sum of
-// |c| over the coefficients of degree d and R = max |p_i|, which is at least sum |c| e_i
-// |p|^(e - e_i) over the monomials of any partial derivative (e_i <= d, |p_j| <= R), the sum
-// Horner's derivative recurrences err by a multiple of (Higham, "Accuracy and Stability of
-// Numerical Algorithms", 2nd ed., Sec. 5.1); the factor is generous for the nested scheme's
-// 2(i + j + k) + 4 operations per term. (A detector's bound: it only decides where the
-// normal is looked for beside the hit.)
-inline double gradientNoise(const SurfaceData& data, const glm::dvec3& p) {
-  const double r = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  const std::vector<double>& w = data.gradientWeights;
-  double s = 0;
-  for (size_t i = w.size(); i-- > 0;) s = s * r + w[i];
-  return data.gradientGamma * s;
+// QuadricForm::gradient) computes it at p: gamma(4m + 8) sum |c| e_i |p|^(e - e_i) over the
+// monomials c p^e, the gradient of f's |coefficients| at |p|. Horner's derivative
+// recurrences err by gamma(2n) times that sum in one variable (Higham, "Accuracy and
+// Stability of Numerical Algorithms", 2nd ed., Sec. 5.1); the nested scheme takes at most
+// 2(i + j + k) + 4 operations per term. (A detector's bound: it decides where the normal
+// is looked for beside the hit.)
+inline glm::dvec3 gradientNoise(const SurfaceData& data, const glm::dvec3& p) {
+  return data.gradientGamma * data.absHorner.evaluate(absv(p)).gradient;
 }
 // grad f at a hit found beside it where the hit's slope along the ray, grad f . d, is not
 // clear (hit_normal.cpp: a multiple surface h^k = 0, a singular point, a ray grazing the
 // surface); else `gradient` itself.
 glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
                                const glm::dvec3& point, const glm::dvec3& gradient);
-// Whether the slope grad f . d at a hit exceeds 2^10 times its noise, bounded by
-// gradientNoise over the whole clip ball (a constant per surface: measured, the bound at
-// the hit point itself cost the sphere's primary rays 5 %).
+// Whether the slope grad f . d at a hit exceeds 2^10 times its noise, bounded over the
+// whole clip ball (hitSlopeNoise, a constant per surface: measured, a bound at the hit
+// point itself cost the sphere's primary rays 5 %).
 inline bool slopeClear(const SurfaceData& data, const glm::dvec3& dir, const glm::dvec3& gradient) {
   const double l1 = std::abs(dir.x) + std::abs(dir.y) + std::abs(dir.z);
   return std::abs(glm::dot(gradient, dir)) > data.hitSlopeNoise * l1;

@@ -339,18 +339,32 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   }
   data->selfRootRadius2 = (data->radius * (1.0 + 0x1p-9)) * (data->radius * (1.0 + 0x1p-9));
   // ---- The gradient's noise (hit_normal.cpp) -----------------------------------------
-  // gradientNoise's weights, d sum |c| per degree d = 1..m, and the hits' slope test at
-  // the largest |p_i| in the clip ball (2^-20 over it for rounding). Where that overflows
-  // (degree 40 with a clip radius of 1e10) the test is off: every slope counts as clear.
+  // gradientNoise's |f| and factor; the hits' slope test, 2^10 times gradientNoise bounded
+  // over the clip ball: each |p_i| <= R = max |c_i| + r (2^-20 over it for rounding), so
+  // sum |c| e_i |p|^(e - e_i) <= sum_d d A_d R^(d - 1), A_d the sum of |c| of degree d. Where
+  // that overflows (degree 40 with a clip radius of 1e10) the test is off: every slope
+  // counts as clear.
   const Polynomial& poly = data->desc.polynomial;
-  for (int d = 1; d <= poly.degree(); ++d) {
+  const int degree = std::max(poly.degree(), 0);
+  Polynomial absPoly;
+  std::vector<double> weights;  // d A_d, d = 1..m
+  for (int d = 0; d <= degree; ++d) {
     double sum = 0;
-    for (double c : poly.homogeneousPart(d)) sum += std::abs(c);
-    data->gradientWeights.push_back(d * sum);
+    for (int i = d; i >= 0; --i)
+      for (int j = d - i; j >= 0; --j) {
+        const double c = std::abs(poly.coeff(i, j, d - i - j));
+        if (c != 0) absPoly.setCoeff(i, j, d - i - j, c);
+        sum += c;
+      }
+    if (d > 0) weights.push_back(d * sum);
   }
-  data->gradientGamma = gamma(4 * std::max(poly.degree(), 0) + 8);
+  data->absHorner = HornerForm(absPoly);
+  data->gradientGamma = gamma(4 * degree + 8);
   const glm::dvec3 farCorner = absv(data->centre) + glm::dvec3(data->radius * (1.0 + 0x1p-20));
-  const double slopeNoise = 0x1p10 * gradientNoise(*data, farCorner);
+  const double r = std::max({farCorner.x, farCorner.y, farCorner.z});
+  double bound = 0;
+  for (size_t i = weights.size(); i-- > 0;) bound = bound * r + weights[i];
+  const double slopeNoise = 0x1p10 * data->gradientGamma * bound;
   data->hitSlopeNoise = std::isfinite(slopeNoise) ? slopeNoise : 0.0;
   // (256 R)^2, exact scalings of R^2 (rounded once) within this range of R; else 0: the
   // walk's shortcut for deferred float origin errors is off (surelyOutsideClipBall).
