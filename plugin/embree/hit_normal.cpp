@@ -24,9 +24,9 @@
 // each combined with its mirror point after the hit (symmetric). A ray touching a cone's
 // apex from inside meets neither (f < 0 on both sides, grad f facing away): the gradient
 // at the hit stays (zero there: the bridge then reports the reversed ray direction).
-// Cost: up to ~40 evaluations of f, only on these hits (rendering (x^2 + y^2 + z^2 - 1)^2
-// took 0.17 s instead of 0.11); every other hit pays the slope test (docs/speed-details.md,
-// session 35). Accuracy against grad h in long double: within 6.3e-6 radians on random
+// Cost: up to ~40 evaluations of f, only on these hits, and mostly two (rendering
+// (x^2 + y^2 + z^2 - 1)^2 took 1.07-1.08 s instead of 1.05-1.07); every other hit pays the
+// slope test (docs/speed-details.md, session 35). Accuracy against grad h in long double: within 6.3e-6 radians on random
 // double surfaces, 1.9e-2 on triple ones, whose roots are placed only within ~1e-4
 // (tests/stress_random_test.cpp, StressRandom.MultipleSurfacesGetTheirOwnNormal;
 // tests/embree_hits_test.cpp, EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
