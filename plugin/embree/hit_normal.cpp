@@ -26,10 +26,11 @@
 // at the hit stays (zero there: the bridge then reports the reversed ray direction).
 // Cost: up to ~40 evaluations of f, only on these hits, and mostly two (rendering
 // (x^2 + y^2 + z^2 - 1)^2 took 1.07-1.08 s instead of 1.05-1.07); every other hit pays the
-// slope test (docs/speed-details.md, session 35). Accuracy against grad h in long double: within 6.3e-6 radians on random
-// double surfaces, 1.9e-2 on triple ones, whose roots are placed only within ~1e-4
-// (tests/stress_random_test.cpp, StressRandom.MultipleSurfacesGetTheirOwnNormal;
-// tests/embree_hits_test.cpp, EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
+// slope test (docs/speed-details.md, session 35). Accuracy against grad h in long double:
+// within 6.3e-6 radians on random double surfaces, 1.9e-2 on triple ones, whose roots are
+// placed only within ~1e-4 (tests/stress_random_test.cpp,
+// StressRandom.MultipleSurfacesGetTheirOwnNormal; tests/embree_hits_test.cpp,
+// EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
 #include "surface_data.h"
 
 #include <cmath>
@@ -78,8 +79,9 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
   glm::dvec3 firstClear{0.0};
   for (int k = 0; k < kRungs; ++k) {
     const double delta = rung(data, k);
-    const Polynomial::Evaluation e = data.horner.evaluate(point - delta * u);
-    const glm::dvec3 noise = gradientNoise(data, point - delta * u);
+    const glm::dvec3 before = point - delta * u;
+    const Polynomial::Evaluation e = data.horner.evaluate(before);
+    const glm::dvec3 noise = gradientNoise(data, before);
     if (clearOf(e.gradient, noise)) {
       if (facingOf(e.gradient, noise, u)) return symmetric(data, u, point, delta, e.gradient, true);
       if (clearRung < 0) {
