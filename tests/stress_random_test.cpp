@@ -308,11 +308,12 @@ TEST(StressRandom, QuadricsAgainstClosedForms) {
 // Random multiple surfaces, f = h^k q with h a plane, a quadric or their product, k = 2 or
 // 3 and q > 0 in the clip ball: grad f vanishes on h = 0, so the hit's normal comes from
 // beside it (hit_normal.cpp). Against grad h in long double at the hit point: within 2e-5
-// radians for k = 2 (measured 6.3e-6) and 3e-2 for k = 3 (measured 1.9e-2: a triple root
-// is placed only within ~1e-4 and its gradient clears its noise bound only that far from
-// it), facing the ray for k = 2 and oriented as grad h for k = 3. Before hit_normal.cpp
-// most of these normals were beyond the angles and a third had the wrong orientation (on
-// random cubics h of a scratch campaign: 70 % and 34 % of 16321 hits).
+// radians for k = 2 (measured 6.3e-6) and, for k = 3, 2e-2 where |grad h| > 0.05 (measured
+// 1.3e-2: a triple root is placed only within ~1e-4 and its gradient clears its noise
+// bound only that far from it) and 0.15 closer to h's singular curve (measured 0.092);
+// facing the ray for k = 2 and oriented as grad h for k = 3. Before hit_normal.cpp most of
+// these normals were beyond the angles and a third had the wrong orientation (on random
+// cubics h of a scratch campaign: 70 % and 34 % of 16321 hits).
 TEST(StressRandom, MultipleSurfacesGetTheirOwnNormal) {
   std::mt19937_64 rng(3502);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -361,13 +362,17 @@ TEST(StressRandom, MultipleSurfacesGetTheirOwnNormal) {
                           static_cast<double>(g[2]));
       // Near h's singular curve (P = Q = 0) the normal is ill-conditioned: it turns by about
       // |hess h| / |grad h| per unit of the hit's uncertainty, which is ~1e-4 on a triple
-      // root (measured there: up to 1.3 radians at |grad h| = 0.003, 0.24 at 0.01).
-      if (!(glm::length(gh) > 5e-2)) continue;
+      // root; there the bound is looser (measured: 0.092 radians at |grad h| < 0.05).
+      if (!(glm::length(gh) > 1e-3)) continue;
+      const bool wellConditioned = glm::length(gh) > 5e-2;
       ++hits;
       const double cosine = glm::dot(glm::normalize(hit->Ng), glm::normalize(gh));
       const double angle = std::acos(std::min(1.0, std::abs(cosine)));
       worst[k - 2] = std::max(worst[k - 2], angle);
-      EXPECT_LT(angle, k == 2 ? 2e-5 : 3e-2) << "surface " << surface << " ray " << r;
+      EXPECT_LT(angle, k == 2            ? 2e-5
+                       : wellConditioned ? 2e-2
+                                         : 0.15)
+          << "surface " << surface << " ray " << r;
       if (k == 2)
         EXPECT_LT(glm::dot(hit->Ng, d), 0.0) << "surface " << surface << " ray " << r;
       else

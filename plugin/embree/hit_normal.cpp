@@ -21,16 +21,17 @@
 // clip radii by factors of 4 (searchBefore): the first gradient there that is clear and
 // faces the ray, or, once f is found to have opposite signs at p -+ delta d/|d| (an odd
 // root: h^3 keeps its gradient's orientation across the surface), the first clear one;
-// each combined with its mirror point after the hit (symmetric). A ray touching a cone's
+// each combined with its mirror point after the hit (symmetric), unless it lies outside the
+// cone of directions the hit's own gradient and its noise bound allow. A ray touching a cone's
 // apex from inside meets neither (f < 0 on both sides, grad f facing away): the gradient
 // at the hit stays (zero there: the bridge then reports the reversed ray direction).
 // Cost: up to ~40 evaluations of f, only on these hits, and mostly two (rendering
 // (x^2 + y^2 + z^2 - 1)^2 took 1.07-1.08 s instead of 1.05-1.07); every other hit pays the
 // slope test (docs/speed-details.md, session 35). Accuracy against grad h in long double:
-// within 6.3e-6 radians on random double surfaces, 1.9e-2 on triple ones, whose roots are
-// placed only within ~1e-4 (tests/stress_random_test.cpp,
-// StressRandom.MultipleSurfacesGetTheirOwnNormal; tests/embree_hits_test.cpp,
-// EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
+// within 6.3e-6 radians on random double surfaces; on triple ones, whose roots are placed
+// only within ~1e-4, 1.3e-2 where |grad h| > 0.05 and 0.092 closer to h's singular curve
+// (tests/stress_random_test.cpp, StressRandom.MultipleSurfacesGetTheirOwnNormal;
+// tests/embree_hits_test.cpp, EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
 #include "surface_data.h"
 
 #include <cmath>
@@ -121,7 +122,17 @@ glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
     }
     return gradient;
   }
-  return searchBefore(data, u, point, gradient);
+  const glm::dvec3 found = searchBefore(data, u, point, gradient);
+  // ---- The hit's own gradient bounds the answer ------------------------------------------
+  // The exact grad f at the hit lies within `noise` of the computed one: where that cone is
+  // narrower than a right angle and the gradient found beside the hit lies outside it, the
+  // search went too far for the normal there (near a singular curve of h, where the normal
+  // turns within the search's distance): the hit's own gradient, oriented as the one found.
+  const double cone = glm::length(noise) / glm::length(gradient);
+  if (!(cone < 0.5)) return found;
+  const double cosine = glm::dot(found, gradient) / (glm::length(found) * glm::length(gradient));
+  if (std::abs(cosine) >= std::sqrt(1.0 - cone * cone)) return found;
+  return cosine < 0 ? -gradient : gradient;
 }
 
 }  // namespace algray
