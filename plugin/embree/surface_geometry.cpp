@@ -347,7 +347,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   const Polynomial& poly = data->desc.polynomial;
   const int degree = std::max(poly.degree(), 0);
   Polynomial absPoly;
-  std::vector<double> weights;  // d A_d, d = 1..m
+  std::vector<double> weights;  // d A_d, d = 1..degree
   for (int d = 0; d <= degree; ++d) {
     double sum = 0;
     for (int i = d; i >= 0; --i)
