@@ -275,10 +275,69 @@ TEST(Parser, RejectsWithColumnAndMessage) {
       {"x + 2e", 5, "malformed number '2e'"},
       {"x # y", 3, "unexpected character '#'"},
       {"x + [y]", 5, "unexpected character '['"},
-      {"x\xc2\xb2 + 1", 2, "unexpected character '\xc2\xb2'"},
+      {"x\xe2\x81\xbb\xc2\xb9 + 1", 2, "unexpected character '\xe2\x81\xbb'"},  // x⁻¹
       {"\xc3\xa9 \xc3\xa9 ?", 1, "unexpected character"},
   };
   for (const Rejection& r : cases) expectRejected(r);
+}
+
+// Equations copied from papers and web pages: superscript exponents, the minus sign U+2212,
+// dot and cross operators, the division sign, no-break and thin spaces, and the letter pi
+// read as the ASCII forms, bit for bit; errors still point at the character as written.
+TEST(Parser, TypographicFormsReadAsTheirSymbols) {
+  const std::pair<const char*, const char*> same[] = {
+      {"x²+y²+z²−1", "x^2+y^2+z^2-1"},
+      {"(x² + y² + z² + R² − r²)² = 4·R²·(x² + y²)", "(x^2+y^2+z^2+R^2-r^2)^2 = 4*R^2*(x^2+y^2)"},
+      {"x¹⁰ − y⁹ + z⁸·x⁷ − y⁶⋅z⁵ + x⁴∙y³ + z¹ − 2⁰", "x^10-y^9+z^8*x^7-y^6*z^5+x^4*y^3+z^1-2^0"},
+      {"(x+y)²⁰ × z", "(x+y)^20 * z"},
+      {"π·x² ÷ 3", "pi*x^2/3"},
+      {"x\u00A0+\u2009y\u202F−\u00A0z", "x + y - z"},
+      {"−x²", "-x^2"},
+      {"2²·x", "4*x"},
+  };
+  ParseOptions o;
+  o.parameters = {{"R", 1.0}, {"r", 0.4}};
+  for (const auto& [typographic, ascii] : same) {
+    SCOPED_TRACE(typographic);
+    EXPECT_EQ(parsePolynomial(typographic, o), parsePolynomial(ascii, o));
+  }
+  // Columns count characters as written (a superscript run is one '^' and its exponent).
+  const Rejection cases[] = {
+      {"x⁴¹", 2, "degree 41 exceeds the limit 40"},
+      {"(x²+y²)²¹ − 1", 8, "degree 42 exceeds the limit 40"},
+      {"x²²²²²²²²²²", 2, "superscript exponent '²²²²²²²²²²' is too large"},
+      {"2π", 2, "missing operator before 'π'"},
+      {"x² y²", 4, "missing operator before 'y'"},
+      {"²x", 1, "expected a number, a name or '('"},
+      {"x − q", 5, "unknown name 'q'"},
+  };
+  for (const Rejection& r : cases) expectRejected(r);
+  // π is built in: no parameter may take its name.
+  ParseOptions clash;
+  clash.parameters = {{"π", 3.0}};
+  EXPECT_THROW(parsePolynomial("x", clash), ParameterError);
+}
+
+// ParseError::unknownName names an undefined name a parameter could give, so that tools can
+// say how their users give one; not a glued product or an unknown function.
+TEST(Parser, UnknownNamesAreNamed) {
+  auto unknownName = [](const char* text, const ParseOptions& options = {}) {
+    try {
+      parsePolynomial(text, options);
+    } catch (const ParseError& e) {
+      return e.unknownName();
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_EQ(unknownName("x + q"), "q");
+  EXPECT_EQ(unknownName("x^2 + y^2 - radius^2"), "radius");
+  ParseOptions withB;
+  withB.parameters = {{"b", 1.0}};
+  EXPECT_EQ(unknownName("a*x + b", withB), "a");
+  EXPECT_EQ(unknownName("2*xy + 1"), "");
+  EXPECT_EQ(unknownName("foo(2)*x"), "");
+  EXPECT_EQ(unknownName("x^0.5"), "");
+  EXPECT_EQ(unknownName("x + 1"), "(accepted)");
 }
 
 // Leading zeros change neither the value nor whether a literal under- or overflows:

@@ -157,7 +157,10 @@ int run(int argc, char** argv) {
   } catch (const ParameterError& e) {
     throw UsageError("--param " + e.name() + ": " + e.message());
   } catch (const ParseError& e) {
-    throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() +
+    const std::string hint = e.unknownName().empty()
+                                 ? ""
+                                 : " (give it a value with --param " + e.unknownName() + "=VALUE)";
+    throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() + hint +
                      "\n  " + equation + "\n  " + std::string(std::max(0, e.column() - 1), ' ') +
                      "^");
   }

@@ -181,7 +181,10 @@ SceneDesc quickScene(const QuickOptions& options) {
     try {
       s.polynomial = parsePolynomial(options.surface, po);
     } catch (const ParseError& e) {
-      throw ParseError(e.column(), e.message() + galleryHint(options.surface));
+      std::string hint = galleryHint(options.surface);
+      if (hint.empty() && !e.unknownName().empty())
+        hint = " (give it a value with --param " + e.unknownName() + "=VALUE)";
+      throw ParseError(e.column(), e.message() + hint);
     }
     if (!options.clipRadius) r = 2.0;
     // The library's refusals of the surface may be about the clip sphere's size: name it

@@ -512,7 +512,12 @@ class Loader {
         fail(p + "/parameters/" + jsonPointerToken(e.name()), e.message());
       } catch (const ParseError& e) {
         // +1 for the opening quote; exact when the string has no escapes.
-        fail(p + "/equation", e.message(), e.column());
+        const std::string hint =
+            e.unknownName().empty()
+                ? ""
+                : " (give it a value in the surface's \"parameters\", e.g. {\"" + e.unknownName() +
+                      "\": 1})";
+        fail(p + "/equation", e.message() + hint, e.column());
       } catch (const std::exception& e) {
         fail(p + "/equation", e.what());
       }

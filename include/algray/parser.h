@@ -7,7 +7,9 @@
 //
 // Language: + - * / ^ (also **), parentheses, unary signs, an optional "lhs = rhs"
 // (= lhs - rhs); literals 2 .5 1. 1e-3; names x y z, pi e, options.parameters, and
-// sqrt sin cos tan exp log ln abs of constants. '^' is right-associative and binds
+// sqrt sin cos tan exp log ln abs of constants; the typographic forms x² (superscript
+// digits), − (U+2212), · ⋅ ∙ ×, ÷, π and no-break or thin spaces as the symbols they stand
+// for (docs/equations.md). '^' is right-associative and binds
 // tighter than a sign (-x^2 = -(x^2), 2^-1 = 0.5). A base containing x, y, z needs a
 // non-negative integer constant exponent; divisors and function arguments must be free of
 // x, y, z. The degree is checked before each product or power is expanded.
@@ -30,13 +32,18 @@ namespace algray {
 // A rejected equation: the 1-based column of the offending character and a message.
 class ParseError : public Error {
  public:
-  ParseError(int column, const std::string& message);
+  ParseError(int column, const std::string& message, const std::string& unknownName = {});
   int column() const { return column_; }
   const std::string& message() const { return message_; }  // without the location
+  // The name when the equation uses one that is neither built in nor a parameter (and
+  // could be one: not a glued product such as "xy"), else empty: most often a parameter
+  // the caller did not give, so a tool can say how its users give one.
+  const std::string& unknownName() const { return unknownName_; }
 
  private:
   int column_;
   std::string message_;
+  std::string unknownName_;
 };
 
 // A rejected entry of ParseOptions::parameters: a name that clashes with a built-in (x, y,

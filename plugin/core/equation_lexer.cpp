@@ -2,8 +2,10 @@
 
 #include "algray/parser.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <iterator>
 
 namespace algray::detail {
 
@@ -99,6 +101,42 @@ Token readNumber(std::string_view text, size_t start) {
   return t;
 }
 
+// Typographic forms of the language's symbols, as equations copied from papers and web
+// pages carry them (U+2212 for '-' is what most of them print): the minus sign, the dot
+// and cross operators for '*', the division sign, the no-break and thin spaces, and pi.
+struct Typographic {
+  std::string_view utf8;
+  TokenKind kind;  // End: a space
+};
+constexpr Typographic kTypographic[] = {
+    {"\u2212", TokenKind::Minus}, {"\u00B7", TokenKind::Star}, {"\u22C5", TokenKind::Star},
+    {"\u2219", TokenKind::Star},  {"\u00D7", TokenKind::Star}, {"\u00F7", TokenKind::Slash},
+    {kPiSign, TokenKind::Name},   {"\u00A0", TokenKind::End},  {"\u2009", TokenKind::End},
+    {"\u202F", TokenKind::End},
+};
+
+// The digit of a superscript digit at text[i] (U+2070, U+00B9, U+00B2, U+00B3,
+// U+2074..U+2079), or -1; its length in bytes in `length`.
+int superscriptDigit(std::string_view text, size_t i, int& length) {
+  const auto byte = [&](size_t k) {
+    return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u;
+  };
+  length = 2;
+  if (byte(i) == 0xC2) {
+    if (byte(i + 1) == 0xB9) return 1;
+    if (byte(i + 1) == 0xB2) return 2;
+    if (byte(i + 1) == 0xB3) return 3;
+    return -1;
+  }
+  length = 3;
+  if (byte(i) == 0xE2 && byte(i + 1) == 0x81) {
+    const unsigned c = byte(i + 2);
+    if (c == 0xB0) return 0;
+    if (c >= 0xB4 && c <= 0xB9) return static_cast<int>(c - 0xB0);
+  }
+  return -1;
+}
+
 }  // namespace
 
 int columnOf(std::string_view text, int offset) {
@@ -153,6 +191,30 @@ std::vector<Token> tokenize(std::string_view text) {
       single(TokenKind::RightParen);
     } else if (c == '=') {
       single(TokenKind::Equals);
+    } else if (int length = 0; superscriptDigit(text, i, length) >= 0) {
+      // x² is x^2: a run of superscript digits is a '^' and its exponent, both tokens
+      // spanning the run (messages show it as written).
+      size_t j = i;
+      double exponent = 0;
+      int digits = 0;
+      for (int d; (d = superscriptDigit(text, j, length)) >= 0; j += length, ++digits)
+        exponent = exponent * 10 + d;
+      if (digits > 9)
+        throw ParseError(
+            columnOf(text, at),
+            "superscript exponent '" + std::string(text.substr(i, j - i)) + "' is too large");
+      const int span = static_cast<int>(j - i);
+      tokens.push_back({TokenKind::Caret, at, span});
+      tokens.push_back({TokenKind::Number, at, span, exponent});
+      i = j;
+    } else if (const auto* typo = std::find_if(
+                   std::begin(kTypographic), std::end(kTypographic),
+                   [&](const Typographic& t) { return text.substr(i).starts_with(t.utf8); });
+               typo != std::end(kTypographic)) {
+      if (typo->kind == TokenKind::End)
+        i += typo->utf8.size();
+      else
+        single(typo->kind, static_cast<int>(typo->utf8.size()));
     } else {
       const int n = charLength(text, i);
       std::string shown(text.substr(i, n));

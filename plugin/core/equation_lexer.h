@@ -11,7 +11,7 @@ namespace algray::detail {
 
 enum class TokenKind {
   Number,  // 2, .5, 1e-3, 2.5E+4 (decimal, read with correct rounding)
-  Name,    // x, y, z, pi, e, sqrt, a parameter: [A-Za-z_][A-Za-z0-9_]*
+  Name,    // x, y, z, pi, e, sqrt, a parameter: [A-Za-z_][A-Za-z0-9_]*; or the sign kPiSign
   Plus,
   Minus,
   Star,
@@ -23,6 +23,12 @@ enum class TokenKind {
   End,  // one past the last token; its offset is the length of the text
 };
 
+// The Greek letter pi (U+03C0) in UTF-8, a Name token meaning the constant pi.
+inline constexpr std::string_view kPiSign = "\u03C0";
+
+// Typographic forms are read as the symbols they stand for: U+2212 as '-', U+00B7,
+// U+22C5, U+2219 and U+00D7 as '*', U+00F7 as '/', no-break and thin spaces as spaces,
+// and superscript digits as '^' and an exponent (x² = x^2).
 struct Token {
   TokenKind kind;
   int offset;  // byte offset of the first character

@@ -24,16 +24,18 @@
 
 namespace algray {
 
-ParseError::ParseError(int column, const std::string& message)
+ParseError::ParseError(int column, const std::string& message, const std::string& unknownName)
     : Error("column " + std::to_string(column) + ": " + message),
       column_(column),
-      message_(message) {}
+      message_(message),
+      unknownName_(unknownName) {}
 
 ParameterError::ParameterError(const std::string& name, const std::string& message)
     : Error("parameter '" + name + "': " + message), name_(name), message_(message) {}
 
 namespace {
 
+using detail::kPiSign;
 using detail::Token;
 using detail::TokenKind;
 using detail::TrackedValue;
@@ -280,7 +282,7 @@ class Parser {
       checkDegree(1, t);
       return TrackedValue::variable(name[0] - 'x');
     }
-    if (name == "pi") return TrackedValue::constant(std::numbers::pi);
+    if (name == "pi" || name == kPiSign) return TrackedValue::constant(std::numbers::pi);
     if (name == "e") return TrackedValue::constant(std::numbers::e);
     if (detail::isFunctionName(name)) return parseFunction(t, name);
     if (parameter != options_.parameters.end()) {
@@ -289,16 +291,16 @@ class Parser {
     }
     std::string message = "unknown name '" + std::string(name) + "'";
     if (peek().kind == TokenKind::LeftParen) {
-      message = "unknown function '" + std::string(name) +
-                "' (known: sqrt, sin, cos, tan, exp, log, ln, abs)";
+      fail(t, "unknown function '" + std::string(name) +
+                  "' (known: sqrt, sin, cos, tan, exp, log, ln, abs)");
     } else if (name.find_first_not_of("xyz0123456789") == std::string_view::npos) {
-      message += " (write products with '*' and powers with '^', e.g. x*y or x^2)";
+      fail(t, message + " (write products with '*' and powers with '^', e.g. x*y or x^2)");
     } else if (!options_.parameters.empty()) {
       message += " (parameters:";
       for (const auto& [key, value] : options_.parameters) message += " " + key;
       message += ")";
     }
-    fail(t, message);
+    throw ParseError(column(t), message, std::string(name));
   }
 
   TrackedValue parseFunction(const Token& t, std::string_view name) {
@@ -362,8 +364,8 @@ void checkParameters(const ParseOptions& options) {
     if (!isReferenceable(name))
       throw ParameterError(
           name, "is not a name an equation can use (a letter or _, then letters, digits or _)");
-    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" ||
-        detail::isFunctionName(name))
+    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == kPiSign ||
+        name == "e" || detail::isFunctionName(name))
       throw ParameterError(name, "clashes with the built-in name '" + name + "'");
     if (!std::isfinite(value))
       throw ParameterError(name, "is not finite (" + formatNumber(value) + ")");

@@ -668,7 +668,11 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {sphere + common(write("k.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,1e400\n")),
        "k.csv:2: column 'tfar' (field 8): '1e400' overflows"},
       {"--surface \"x^2+y^2+*z\" --clip-sphere 2 " + common(good), "column 9"},
-      {"--surface \"x^2+y^2+z^2-a\" --clip-sphere 2 " + common(good), "column"},
+      {"--surface \"x^2+y^2+z^2-a\" --clip-sphere 2 " + common(good),
+       "column 13: unknown name 'a' (give it a value with --param a=VALUE)"},
+      {"--surface \"x²+y²+z²−a\" --clip-sphere 2 " + common(good),
+       "column 10: unknown name 'a' (give it a value with --param a=VALUE)\n  x²+y²+z²−a\n"
+       "           ^\n"},
       {"--surface \"x^2-a\" --param a --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2-a\" --param a=zz --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2+y^2+z^2-1\" --param x=1 --clip-sphere 2 " + common(good),

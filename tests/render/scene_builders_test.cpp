@@ -74,10 +74,13 @@ TEST(QuickScene, GalleryNamesAsTypedAndSuggestions) {
   EXPECT_NE(text.find("the gallery surface 'chmutov-8'?"), std::string::npos) << text;
   std::tie(column, text) = message("dodecahedron");
   EXPECT_NE(text.find("nor is it a gallery surface: sphere, "), std::string::npos) << text;
-  // An equation's error gets no hint.
+  // An equation's error gets no gallery hint; an unknown name in it, how to give it a value.
   std::tie(column, text) = message("x^2 + * 3");
   EXPECT_EQ(column, 7);
   EXPECT_EQ(text.find("gallery"), std::string::npos) << text;
+  std::tie(column, text) = message("x²+y²+z²−a");
+  EXPECT_EQ(column, 10);
+  EXPECT_EQ(text, "unknown name 'a' (give it a value with --param a=VALUE)");
 }
 
 // --param values the surface never reads are refused by name: a parameter the equation

@@ -133,6 +133,16 @@ TEST(SceneJson, EquationErrorPointsIntoTheString) {
   SceneError e = errorOf(text);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(static_cast<size_t>(e.column()), text.find('@') + 1);
+  // An unknown name: where it is, and how a scene gives it a value.
+  text =
+      "{\"surfaces\": [{\"equation\": \"x^2 + y^2 - r^2\", \"clip\": {\"sphere\": {\"radius\": "
+      "1}}}]}";
+  e = errorOf(text);
+  EXPECT_EQ(static_cast<size_t>(e.column()), text.find("r^2") + 1);
+  EXPECT_NE(e.message().find("unknown name 'r' (give it a value in the surface's \"parameters\", "
+                             "e.g. {\"r\": 1})"),
+            std::string::npos)
+      << e.message();
 }
 
 TEST(SceneJson, MissingFileNamesTheFile) {
