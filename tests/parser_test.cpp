@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -495,6 +497,88 @@ TEST(Parser, NeverCrashesOnShortInputs) {
       }
   EXPECT_GT(accepted, 100);
   EXPECT_GT(rejected, 100);
+}
+
+// Every string of three items from a set of typographic forms, ASCII and broken UTF-8
+// sequences parses as its ASCII spelling does (the same polynomial, or an error for both),
+// and an error's column lies within the text's characters (or just past them). The ASCII
+// spelling is made here independently of the lexer: a run of superscript digits becomes '^'
+// and its digits (and a space), the other forms their symbols.
+TEST(Parser, TypographicFormsAsTheirAsciiSpelling) {
+  const std::vector<std::string> items = {"x",    "2",        "²",    "¹",        "⁰", "⁴", "−",
+                                          "·",    "×",        "÷",    "π",        "(", ")", "^",
+                                          "\xc2", "\xe2\x81", "\xe2", "\xc2\xa0", "⁻"};
+  const std::vector<std::pair<std::string, std::string>> ascii = {
+      {"−", "-"}, {"·", "*"}, {"×", "*"}, {"÷", "/"}, {"π", "pi"}, {"\xc2\xa0", " "}};
+  const std::vector<std::pair<std::string, char>> superscripts = {
+      {"²", '2'}, {"¹", '1'}, {"⁰", '0'}, {"⁴", '4'}};
+  // The ASCII spelling, or nullopt where the text holds a byte that has none.
+  auto spell = [&](const std::string& t) -> std::optional<std::string> {
+    std::string out;
+    bool inRun = false;
+    for (size_t i = 0; i < t.size();) {
+      bool matched = false;
+      for (const auto& [form, digit] : superscripts)
+        if (t.compare(i, form.size(), form) == 0) {
+          if (!inRun) out += '^';
+          out += digit;
+          inRun = matched = true;
+          i += form.size();
+          break;
+        }
+      if (matched) continue;
+      if (inRun) out += ' ';  // the run ends: "x²2" is x^2 2, not x^22
+      inRun = false;
+      for (const auto& [form, symbol] : ascii)
+        if (t.compare(i, form.size(), form) == 0) {
+          out += symbol;
+          matched = true;
+          i += form.size();
+          break;
+        }
+      if (matched) continue;
+      if (static_cast<unsigned char>(t[i]) >= 0x80) return std::nullopt;
+      out += t[i++];
+    }
+    return out;
+  };
+  int same = 0, bothRejected = 0;
+  for (const std::string& a : items)
+    for (const std::string& b : items)
+      for (const std::string& c : items) {
+        const std::string t = a + b + c;
+        SCOPED_TRACE(t);
+        std::optional<Polynomial> got;
+        try {
+          got = parsePolynomial(t);
+          EXPECT_TRUE(got->isFinite());
+        } catch (const ParseError& e) {
+          EXPECT_GE(e.column(), 1);
+          const auto characters = std::count_if(t.begin(), t.end(), [](char ch) {
+            return (static_cast<unsigned char>(ch) & 0xC0) != 0x80;  // not a continuation byte
+          });
+          EXPECT_LE(e.column(), characters + 1);
+        }
+        const std::optional<std::string> spelled = spell(t);
+        if (!spelled) {
+          EXPECT_FALSE(got.has_value());
+          continue;
+        }
+        std::optional<Polynomial> want;
+        try {
+          want = parsePolynomial(*spelled);
+        } catch (const ParseError&) {
+        }
+        ASSERT_EQ(got.has_value(), want.has_value()) << *spelled;
+        if (got) {
+          EXPECT_EQ(*got, *want) << *spelled;
+          ++same;
+        } else {
+          ++bothRejected;
+        }
+      }
+  EXPECT_GT(same, 100);
+  EXPECT_GT(bothRejected, 1000);
 }
 
 // Random token soup: every input is either accepted, with an expansion that agrees with
