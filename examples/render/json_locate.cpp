@@ -1,5 +1,6 @@
 #include "json_locate.h"
 
+#include <algorithm>
 #include <cctype>
 
 namespace algray::render {
@@ -233,6 +234,30 @@ size_t locateNumberLiteral(std::string_view text, std::string_view literal) {
     }
   }
   return std::string_view::npos;
+}
+
+size_t stringCharacterOffset(std::string_view text, size_t quote, int column) {
+  const auto continuation = [&](size_t k) {
+    return k < text.size() && (static_cast<unsigned char>(text[k]) & 0xC0) == 0x80;
+  };
+  const auto unicodeEscape = [&](size_t k) {
+    return k + 6 <= text.size() && text[k] == '\\' && text[k + 1] == 'u';
+  };
+  size_t i = quote + 1;
+  for (int c = 1; c < column && i < text.size() && text[i] != '"'; ++c) {
+    if (text[i] != '\\') {  // one character: its lead byte and continuation bytes
+      ++i;
+      while (continuation(i)) ++i;
+    } else if (unicodeEscape(i)) {  // \uXXXX, or a surrogate pair \uD8xx\uDCxx: one code point
+      const bool high = (text[i + 2] == 'd' || text[i + 2] == 'D') &&
+                        std::string_view("89abAB").find(text[i + 3]) != std::string_view::npos;
+      i += 6;
+      if (high && unicodeEscape(i)) i += 6;
+    } else {
+      i += 2;  // \n, \", ...
+    }
+  }
+  return std::min(i, text.size());
 }
 
 }  // namespace algray::render

@@ -33,6 +33,13 @@ struct DuplicateKey {
 std::map<std::string, size_t> locateJsonValues(std::string_view text,
                                                std::vector<DuplicateKey>* duplicates = nullptr);
 
+// Byte offset in `text` of the character at 1-based `column` (counted in code points, as
+// ParseError counts them) of the decoded value of the JSON string whose opening quote is at
+// byte `quote`: an error inside a decoded string (an equation's column) then points at the
+// same character in the file, escapes and multi-byte characters before it included. A
+// column past the string's end gives its closing quote.
+size_t stringCharacterOffset(std::string_view text, size_t quote, int column);
+
 // One reference token of a JSON pointer (RFC 6901: '~' -> "~0", '/' -> "~1"). The loader
 // and the scanner must build pointers the same way, or a key with '/' or '~' has no
 // location.

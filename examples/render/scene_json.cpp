@@ -134,13 +134,17 @@ class Loader {
 
  private:
   // ---- Errors with positions ---------------------------------------------------------
+  // stringColumn: the 1-based character of a string value (in code points, as ParseError's
+  // column) where the error lies; 0 for the value itself.
   [[noreturn]] void fail(const std::string& pointer, const std::string& message,
-                         int extraColumns = 0) const {
+                         int stringColumn = 0) const {
     auto it = offsets_.find(pointer);
     if (it == offsets_.end())
       throw SceneError(name_, 0, 0, (pointer.empty() ? "" : pointer + ": ") + message);
-    TextLocation loc = locateOffset(text_, it->second);
-    throw SceneError(name_, loc.line, loc.column + extraColumns, message);
+    const size_t at =
+        stringColumn > 0 ? stringCharacterOffset(text_, it->second, stringColumn) : it->second;
+    TextLocation loc = locateOffset(text_, at);
+    throw SceneError(name_, loc.line, loc.column, message);
   }
   // "file:line:column" of a value, for labels of items whose errors come later (Scene).
   std::string where(const std::string& pointer) const {
@@ -511,7 +515,7 @@ class Loader {
       } catch (const ParameterError& e) {
         fail(p + "/parameters/" + jsonPointerToken(e.name()), e.message());
       } catch (const ParseError& e) {
-        // +1 for the opening quote; exact when the string has no escapes.
+        // The column is the decoded string's: the same character in the file.
         const std::string hint =
             e.unknownName().empty()
                 ? ""

@@ -133,6 +133,21 @@ TEST(SceneJson, EquationErrorPointsIntoTheString) {
   SceneError e = errorOf(text);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(static_cast<size_t>(e.column()), text.find('@') + 1);
+  // Multi-byte characters and escapes before the error (the file's columns count bytes):
+  // the '@' itself, also behind a name with a multi-byte character earlier on the line; past
+  // the equation's end, its closing quote.
+  text =
+      "{\"surfaces\": [{\"name\": \"é\", \"equation\": \"x² + y\\u00b2 − \\t@\", "
+      "\"clip\": {\"sphere\": {\"radius\": 1}}}]}";
+  e = errorOf(text);
+  EXPECT_EQ(static_cast<size_t>(e.column()), text.find('@') + 1) << e.message();
+  EXPECT_NE(e.message().find("unexpected character '@'"), std::string::npos) << e.message();
+  text =
+      "{\"surfaces\": [{\"equation\": \"x² −\", \"clip\": {\"sphere\": {\"radius\": "
+      "1}}}]}";
+  e = errorOf(text);
+  EXPECT_EQ(static_cast<size_t>(e.column()), text.find("\", \"clip") + 1) << e.message();
+  EXPECT_NE(e.message().find("the equation ends after"), std::string::npos) << e.message();
   // An unknown name: where it is, and how a scene gives it a value.
   text =
       "{\"surfaces\": [{\"equation\": \"x^2 + y^2 - r^2\", \"clip\": {\"sphere\": {\"radius\": "
