@@ -277,7 +277,7 @@ TEST(Parser, RejectsWithColumnAndMessage) {
       {"x + 2e", 5, "malformed number '2e'"},
       {"x # y", 3, "unexpected character '#'"},
       {"x + [y]", 5, "unexpected character '['"},
-      {"x\xe2\x81\xbb\xc2\xb9 + 1", 2, "unexpected character '\xe2\x81\xbb'"},  // x⁻¹
+      {"x\xe2\x81\xbb + 1", 2, "unexpected character '\xe2\x81\xbb'"},  // x⁻ alone
       {"\xc3\xa9 \xc3\xa9 ?", 1, "unexpected character"},
   };
   for (const Rejection& r : cases) expectRejected(r);
@@ -296,6 +296,7 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"x\u00A0+\u2009y\u202F−\u00A0z", "x + y - z"},
       {"−x²", "-x^2"},
       {"2²·x", "4*x"},
+      {"2⁻¹·x + 10⁺²", "2^-1*x + 10^+2"},
   };
   ParseOptions o;
   o.parameters = {{"R", 1.0}, {"r", 0.4}};
@@ -312,6 +313,7 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"x² y²", 4, "missing operator before 'y'"},
       {"²x", 1, "expected a number, a name or '('"},
       {"x − q", 5, "unknown name 'q'"},
+      {"y + x⁻¹", 6, "exponent must be a non-negative integer (it is -1)"},
   };
   for (const Rejection& r : cases) expectRejected(r);
   // π is built in: no parameter may take its name.
@@ -502,16 +504,18 @@ TEST(Parser, NeverCrashesOnShortInputs) {
 // Every string of three items from a set of typographic forms, ASCII and broken UTF-8
 // sequences parses as its ASCII spelling does (the same polynomial, or an error for both),
 // and an error's column lies within the text's characters (or just past them). The ASCII
-// spelling is made here independently of the lexer: a run of superscript digits becomes '^'
-// and its digits (and a space), the other forms their symbols.
+// spelling is made here independently of the lexer: a run of superscript digits (after a
+// superscript sign) becomes '^', the sign and the digits (and a space), the other forms their
+// symbols.
 TEST(Parser, TypographicFormsAsTheirAsciiSpelling) {
   const std::vector<std::string> items = {"x",    "2",        "²",    "¹",        "⁰", "⁴", "−",
                                           "·",    "×",        "÷",    "π",        "(", ")", "^",
-                                          "\xc2", "\xe2\x81", "\xe2", "\xc2\xa0", "⁻"};
+                                          "\xc2", "\xe2\x81", "\xe2", "\xc2\xa0", "⁻", "⁺"};
   const std::vector<std::pair<std::string, std::string>> ascii = {
       {"−", "-"}, {"·", "*"}, {"×", "*"}, {"÷", "/"}, {"π", "pi"}, {"\xc2\xa0", " "}};
   const std::vector<std::pair<std::string, char>> superscripts = {
       {"²", '2'}, {"¹", '1'}, {"⁰", '0'}, {"⁴", '4'}};
+  const std::vector<std::pair<std::string, char>> signs = {{"⁻", '-'}, {"⁺", '+'}};
   // The ASCII spelling, or nullopt where the text holds a byte that has none.
   auto spell = [&](const std::string& t) -> std::optional<std::string> {
     std::string out;
@@ -529,6 +533,16 @@ TEST(Parser, TypographicFormsAsTheirAsciiSpelling) {
       if (matched) continue;
       if (inRun) out += ' ';  // the run ends: "x²2" is x^2 2, not x^22
       inRun = false;
+      // A superscript sign before a superscript digit opens a run: "x⁻²" is x^-2.
+      for (const auto& [sign, symbol] : signs)
+        for (const auto& [form, digit] : superscripts)
+          if (!matched && t.compare(i, sign.size(), sign) == 0 &&
+              t.compare(i + sign.size(), form.size(), form) == 0) {
+            out += std::string("^") + symbol;
+            inRun = matched = true;
+            i += sign.size();
+          }
+      if (matched) continue;
       for (const auto& [form, symbol] : ascii)
         if (t.compare(i, form.size(), form) == 0) {
           out += symbol;

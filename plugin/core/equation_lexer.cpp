@@ -137,6 +137,14 @@ int superscriptDigit(std::string_view text, size_t i, int& length) {
   return -1;
 }
 
+// 3 where text[i] is a superscript sign (U+207A, U+207B) that a superscript digit follows,
+// else 0: x⁻¹ is x^-1, which the parser then refuses as x^-1 (a constant's 2⁻¹ is 0.5).
+size_t superscriptSignLength(std::string_view text, size_t i) {
+  int length = 0;
+  const bool sign = text.substr(i).starts_with("\u207A") || text.substr(i).starts_with("\u207B");
+  return sign && superscriptDigit(text, i + 3, length) >= 0 ? 3 : 0;
+}
+
 }  // namespace
 
 int columnOf(std::string_view text, int offset) {
@@ -191,10 +199,12 @@ std::vector<Token> tokenize(std::string_view text) {
       single(TokenKind::RightParen);
     } else if (c == '=') {
       single(TokenKind::Equals);
-    } else if (int length = 0; superscriptDigit(text, i, length) >= 0) {
-      // x² is x^2: a run of superscript digits is a '^' and its exponent, both tokens
-      // spanning the run (messages show it as written).
-      size_t j = i;
+    } else if (int length = 0;
+               superscriptDigit(text, i + superscriptSignLength(text, i), length) >= 0) {
+      // x² is x^2: a run of superscript digits (after an optional superscript sign) is a
+      // '^' spanning the run, the sign, and the exponent (messages show them as written).
+      const size_t sign = superscriptSignLength(text, i);
+      size_t j = i + sign;
       double exponent = 0;
       int digits = 0;
       for (int d; (d = superscriptDigit(text, j, length)) >= 0; j += length, ++digits)
@@ -203,9 +213,12 @@ std::vector<Token> tokenize(std::string_view text) {
         throw ParseError(
             columnOf(text, at),
             "superscript exponent '" + std::string(text.substr(i, j - i)) + "' is too large");
-      const int span = static_cast<int>(j - i);
+      const int span = static_cast<int>(j - i), signSpan = static_cast<int>(sign);
       tokens.push_back({TokenKind::Caret, at, span});
-      tokens.push_back({TokenKind::Number, at, span, exponent});
+      if (sign > 0)
+        tokens.push_back(
+            {text[i + 2] == '\xBB' ? TokenKind::Minus : TokenKind::Plus, at, signSpan});
+      tokens.push_back({TokenKind::Number, at + signSpan, span - signSpan, exponent});
       i = j;
     } else if (const auto* typo = std::find_if(
                    std::begin(kTypographic), std::end(kTypographic),

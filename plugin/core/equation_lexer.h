@@ -28,7 +28,8 @@ inline constexpr std::string_view kPiSign = "\u03C0";
 
 // Typographic forms are read as the symbols they stand for: U+2212 as '-', U+00B7,
 // U+22C5, U+2219 and U+00D7 as '*', U+00F7 as '/', no-break and thin spaces as spaces,
-// and superscript digits as '^' and an exponent (x² = x^2).
+// and superscript digits as '^' and an exponent (x² = x^2), with an optional superscript
+// sign (2⁻¹ = 2^-1).
 struct Token {
   TokenKind kind;
   int offset;  // byte offset of the first character
