@@ -297,9 +297,10 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"−x²", "-x^2"},
       {"2²·x", "4*x"},
       {"2⁻¹·x + 10⁺²", "2^-1*x + 10^+2"},
+      {"𝑥² + 𝑦² + 𝑧² − 𝑟² + 𝜋·𝑎·𝑥", "x^2 + y^2 + z^2 - r^2 + pi*a*x"},
   };
   ParseOptions o;
-  o.parameters = {{"R", 1.0}, {"r", 0.4}};
+  o.parameters = {{"R", 1.0}, {"r", 0.4}, {"a", 2.0}};
   for (const auto& [typographic, ascii] : same) {
     SCOPED_TRACE(typographic);
     EXPECT_EQ(parsePolynomial(typographic, o), parsePolynomial(ascii, o));
@@ -314,11 +315,17 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"²x", 1, "expected a number, a name or '('"},
       {"x − q", 5, "unknown name 'q'"},
       {"y + x⁻¹", 6, "exponent must be a non-negative integer (it is -1)"},
+      {"𝑥𝑦 + 1", 2, "missing operator before '𝑦'"},
+      {"𝑥 + 𝑞", 5, "unknown name 'q'"},
+      {"x\u200B + 1", 2, "unexpected character '\u200B' (U+200B)"},
+      {"x + \xff", 5, "unexpected character '\\xFF'"},
   };
   for (const Rejection& r : cases) expectRejected(r);
-  // π is built in: no parameter may take its name.
+  // π is built in: no parameter may take its name; an italic letter names the plain one.
   ParseOptions clash;
   clash.parameters = {{"π", 3.0}};
+  EXPECT_THROW(parsePolynomial("x", clash), ParameterError);
+  clash.parameters = {{"𝑎", 3.0}};
   EXPECT_THROW(parsePolynomial("x", clash), ParameterError);
 }
 
@@ -342,6 +349,7 @@ TEST(Parser, UnknownNamesAreNamed) {
   EXPECT_EQ(unknownName("foo(2)*x"), "");
   EXPECT_EQ(unknownName("x^0.5"), "");
   EXPECT_EQ(unknownName("x + 1"), "(accepted)");
+  EXPECT_EQ(unknownName("𝑥 − 𝑞"), "q");
 }
 
 // Leading zeros change neither the value nor whether a literal under- or overflows:
@@ -510,9 +518,9 @@ TEST(Parser, NeverCrashesOnShortInputs) {
 TEST(Parser, TypographicFormsAsTheirAsciiSpelling) {
   const std::vector<std::string> items = {"x",    "2",        "²",    "¹",        "⁰", "⁴", "−",
                                           "·",    "×",        "÷",    "π",        "(", ")", "^",
-                                          "\xc2", "\xe2\x81", "\xe2", "\xc2\xa0", "⁻", "⁺"};
+                                          "\xc2", "\xe2\x81", "\xe2", "\xc2\xa0", "⁻", "⁺", "𝑥"};
   const std::vector<std::pair<std::string, std::string>> ascii = {
-      {"−", "-"}, {"·", "*"}, {"×", "*"}, {"÷", "/"}, {"π", "pi"}, {"\xc2\xa0", " "}};
+      {"−", "-"}, {"·", "*"}, {"×", "*"}, {"÷", "/"}, {"π", "pi"}, {"\xc2\xa0", " "}, {"𝑥", " x "}};
   const std::vector<std::pair<std::string, char>> superscripts = {
       {"²", '2'}, {"¹", '1'}, {"⁰", '0'}, {"⁴", '4'}};
   const std::vector<std::pair<std::string, char>> signs = {{"⁻", '-'}, {"⁺", '+'}};

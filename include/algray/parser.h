@@ -8,10 +8,10 @@
 // Language: + - * / ^ (also **), parentheses, unary signs, an optional "lhs = rhs"
 // (= lhs - rhs); literals 2 .5 1. 1e-3; names x y z, pi e, options.parameters, and
 // sqrt sin cos tan exp log ln abs of constants; the typographic forms x² (superscript
-// digits, 2⁻¹ with a sign), − (U+2212), · ⋅ ∙ ×, ÷, π and no-break or thin spaces as the
-// symbols they stand for (docs/equations.md). '^' is right-associative and binds tighter
-// than a sign (-x^2 = -(x^2), 2^-1 = 0.5). A base containing x, y, z needs a
-// non-negative integer constant exponent; divisors and function arguments must be free of
+// digits, 2⁻¹ with a sign), − (U+2212), · ⋅ ∙ ×, ÷, π, italic letters (𝑥) and no-break or
+// thin spaces as the symbols they stand for (docs/equations.md). '^' is right-associative
+// and binds tighter than a sign (-x^2 = -(x^2), 2^-1 = 0.5). A base containing x, y, z
+// needs a non-negative integer constant exponent; divisors and function arguments must be free of
 // x, y, z. The degree is checked before each product or power is expanded.
 //
 // Rounding junk is removed by a documented rule (plugin/core/tracked_value.h): every

@@ -137,6 +137,56 @@ int superscriptDigit(std::string_view text, size_t i, int& length) {
   return -1;
 }
 
+// The letter a mathematical italic small letter at text[i] stands for (U+1D44E..U+1D467, with
+// U+210E for h, the Planck constant sign Unicode puts in its place; U+1D70B for pi), or an
+// empty view; its length in bytes in `length`.
+std::string_view italicLetter(std::string_view text, size_t i, int& length) {
+  static constexpr std::string_view kLetters = "abcdefghijklmnopqrstuvwxyz";
+  const std::string_view rest = text.substr(i);
+  length = 3;
+  if (rest.starts_with("\u210E")) return "h";
+  length = 4;
+  if (rest.starts_with("\U0001D70B")) return "pi";
+  if (rest.size() < 4 || !rest.starts_with("\xF0\x9D\x91")) return {};
+  // U+1D44E..U+1D45F end in 0x8E..0x9F after F0 9D 91, U+1D460..U+1D467 in 0xA0..0xA7
+  // (U+1D455, the italic h's unassigned slot, included: nothing else is there).
+  const int last = static_cast<unsigned char>(rest[3]);
+  if (last < 0x8E || last > 0xA7) return {};
+  return kLetters.substr(static_cast<size_t>(last - 0x8E), 1);
+}
+
+// The character at text[i] for a message: quoted as written, with its code point where it
+// is not ASCII (an invisible U+FEFF or U+200B in a pasted equation shows as '' otherwise),
+// or as \xNN bytes where it is a control character or not valid UTF-8.
+std::string shownCharacter(std::string_view text, size_t i) {
+  const int n = charLength(text, i);
+  const auto byte = [&](int k) { return static_cast<unsigned char>(text[i + k]); };
+  // The code point of a well-formed sequence of n bytes (RFC 3629), else -1.
+  long code = -1;
+  if (n == 1 && byte(0) >= 0x20 && byte(0) != 0x7F && byte(0) < 0x80) {
+    code = byte(0);
+  } else if (n >= 2 && n <= 4 && byte(0) >= 0xC2 && byte(0) <= 0xF4) {
+    const int expected = byte(0) >= 0xF0 ? 4 : byte(0) >= 0xE0 ? 3 : 2;
+    code = byte(0) & (0x7F >> expected);
+    for (int k = 1; k < n; ++k) code = code << 6 | (byte(k) & 0x3F);
+    const long least = n == 2 ? 0x80 : n == 3 ? 0x800 : 0x10000;
+    if (n != expected || code < least || code > 0x10FFFF || (code >= 0xD800 && code < 0xE000))
+      code = -1;
+  }
+  char buf[16];
+  if (code < 0) {
+    std::string bytes;
+    for (int k = 0; k < n; ++k) {
+      std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(byte(k)));
+      bytes += buf;
+    }
+    return "'" + bytes + "'";
+  }
+  if (code < 0x80) return "'" + std::string(text.substr(i, 1)) + "'";
+  std::snprintf(buf, sizeof buf, "U+%04lX", static_cast<unsigned long>(code));
+  return "'" + std::string(text.substr(i, n)) + "' (" + buf + ")";
+}
+
 // 3 where text[i] is a superscript sign (U+207A, U+207B) that a superscript digit follows,
 // else 0: x⁻¹ is x^-1, which the parser then refuses as x^-1 (a constant's 2⁻¹ is 0.5).
 size_t superscriptSignLength(std::string_view text, size_t i) {
@@ -176,6 +226,9 @@ std::vector<Token> tokenize(std::string_view text) {
     if (isDigit(c) || (c == '.' && i + 1 < text.size() && isDigit(text[i + 1]))) {
       tokens.push_back(readNumber(text, i));
       i += tokens.back().length;
+    } else if (int italic = 0; !italicLetter(text, i, italic).empty()) {
+      tokens.push_back({TokenKind::Name, at, italic, 0.0, italicLetter(text, i, italic)});
+      i += italic;
     } else if (isNameStart(c)) {
       size_t j = i;
       while (j < text.size() && isNameChar(text[j])) ++j;
@@ -229,14 +282,6 @@ std::vector<Token> tokenize(std::string_view text) {
       else
         single(typo->kind, static_cast<int>(typo->utf8.size()));
     } else {
-      const int n = charLength(text, i);
-      std::string shown(text.substr(i, n));
-      if (n == 1 && (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)) {
-        char buf[16];
-        std::snprintf(buf, sizeof buf, "\\x%02X",
-                      static_cast<unsigned>(static_cast<unsigned char>(c)));
-        shown = buf;
-      }
       std::string hint;
       if (c == '[' || c == '{')
         hint = " (use '(' for grouping)";
@@ -244,7 +289,8 @@ std::vector<Token> tokenize(std::string_view text) {
         hint = " (use ')' for grouping)";
       else if (c == ',')
         hint = " (functions take one argument; write decimals with '.')";
-      throw ParseError(columnOf(text, at), "unexpected character '" + shown + "'" + hint);
+      throw ParseError(columnOf(text, at),
+                       "unexpected character " + shownCharacter(text, i) + hint);
     }
   }
   tokens.push_back({TokenKind::End, static_cast<int>(text.size()), 0});

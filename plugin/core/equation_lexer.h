@@ -26,7 +26,8 @@ enum class TokenKind {
 // The Greek letter pi (U+03C0) in UTF-8, a Name token meaning the constant pi.
 inline constexpr std::string_view kPiSign = "\u03C0";
 
-// Typographic forms are read as the symbols they stand for: U+2212 as '-', U+00B7,
+// Typographic forms are read as the symbols they stand for: mathematical italic letters
+// as the letters (Token::name), U+2212 as '-', U+00B7,
 // U+22C5, U+2219 and U+00D7 as '*', U+00F7 as '/', no-break and thin spaces as spaces,
 // and superscript digits as '^' and an exponent (x² = x^2), with an optional superscript
 // sign (2⁻¹ = 2^-1).
@@ -35,6 +36,9 @@ struct Token {
   int offset;  // byte offset of the first character
   int length;  // in bytes
   double number = 0.0;
+  // A Name token's spelling where the text writes it otherwise: the mathematical italic
+  // letters of pasted equations (U+1D44E..U+1D467, U+210E for h: 𝑥 is x, 𝜋 is pi).
+  std::string_view name = {};
 };
 
 // 1-based column of a byte offset (code points before it + 1).

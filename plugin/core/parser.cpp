@@ -86,7 +86,9 @@ class Parser {
   const Token& peek() const { return tokens_[pos_]; }
   const Token& next() { return tokens_[pos_++]; }
   int column(const Token& t) const { return detail::columnOf(text_, t.offset); }
-  std::string_view spelling(const Token& t) const { return text_.substr(t.offset, t.length); }
+  std::string_view spelling(const Token& t) const {
+    return t.name.empty() ? text_.substr(t.offset, t.length) : t.name;
+  }
 
   [[noreturn]] void fail(const Token& t, const std::string& message) const {
     throw ParseError(column(t), message);
@@ -344,12 +346,14 @@ class Parser {
       256;  // far beyond real equations; small stack frames even under ASan
 };
 
-// Whether an equation can refer to `name`: exactly one Name token of the lexer.
+// Whether an equation can refer to `name`: exactly one Name token of the lexer, spelled as
+// written (an italic 𝑎 in the equation is the parameter a).
 bool isReferenceable(std::string_view name) {
   try {
     const std::vector<Token> tokens = detail::tokenize(name);
     return tokens.size() == 2 && tokens[0].kind == detail::TokenKind::Name &&
-           tokens[0].offset == 0 && tokens[0].length == static_cast<int>(name.size());
+           tokens[0].offset == 0 && tokens[0].length == static_cast<int>(name.size()) &&
+           tokens[0].name.empty();
   } catch (const ParseError&) {
     return false;
   }
