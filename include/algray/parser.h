@@ -11,8 +11,8 @@
 // digits, 2⁻¹ with a sign), − (U+2212), · ⋅ ∙ ×, ÷, π, italic letters (𝑥) and no-break or
 // thin spaces as the symbols they stand for (docs/equations.md). '^' is right-associative
 // and binds tighter than a sign (-x^2 = -(x^2), 2^-1 = 0.5). A base containing x, y, z
-// needs a non-negative integer constant exponent; divisors and function arguments must be free of
-// x, y, z. The degree is checked before each product or power is expanded.
+// needs a non-negative integer constant exponent; divisors and function arguments must be
+// free of x, y, z. The degree is checked before each product or power is expanded.
 //
 // Rounding junk is removed by a documented rule (plugin/core/tracked_value.h): every
 // coefficient carries a running error bound gamma_k * M (Higham ch. 3), and after each
