@@ -83,8 +83,9 @@ int main(int argc, char** argv) {
   app.add_option(
       "--aov", aovList,
       "extra EXR channels, any of depth,normal,albedo,id (only those listed are written)");
-  auto* surfaceOpt =
-      app.add_option("--surface", surface, "quick mode: an equation or a gallery name");
+  auto* surfaceOpt = app.add_option(
+      "--surface", surface,
+      "quick mode: an equation (x^2+y^2+z^2-1, or as typeset: x²+y²+z²−1) or a gallery name");
   // The quick-mode options mean nothing to a scene file: given without --surface they were
   // ignored, even when invalid (--clip-sphere -5 with a .jsurf file rendered with exit 0).
   app.add_option("--param", params, "quick mode: equation parameter NAME=VALUE (repeatable)")
