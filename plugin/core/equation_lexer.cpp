@@ -103,7 +103,7 @@ Token readNumber(std::string_view text, size_t start) {
 
 // Typographic forms of the language's symbols, as equations copied from papers and web
 // pages carry them (U+2212 for '-' is what most of them print): the minus sign, the dot
-// and cross operators for '*', the division sign, the no-break and thin spaces, and pi.
+// and cross operators for '*', the division sign, the no-break and thin spaces.
 struct Typographic {
   std::string_view utf8;
   TokenKind kind;  // End: a space
@@ -111,8 +111,7 @@ struct Typographic {
 constexpr Typographic kTypographic[] = {
     {"\u2212", TokenKind::Minus}, {"\u00B7", TokenKind::Star}, {"\u22C5", TokenKind::Star},
     {"\u2219", TokenKind::Star},  {"\u00D7", TokenKind::Star}, {"\u00F7", TokenKind::Slash},
-    {kPiSign, TokenKind::Name},   {"\u00A0", TokenKind::End},  {"\u2009", TokenKind::End},
-    {"\u202F", TokenKind::End},
+    {"\u00A0", TokenKind::End},   {"\u2009", TokenKind::End},  {"\u202F", TokenKind::End},
 };
 
 // The digit of a superscript digit at text[i] (U+2070, U+00B9, U+00B2, U+00B3,
@@ -136,23 +135,37 @@ int superscriptDigit(std::string_view text, size_t i, int& length) {
   }
   return -1;
 }
+bool startsSuperscriptDigit(std::string_view text, size_t i) {
+  int length = 0;
+  return superscriptDigit(text, i, length) >= 0;
+}
 
-// The letter a mathematical italic small letter at text[i] stands for (U+1D44E..U+1D467, with
-// U+210E for h, the Planck constant sign Unicode puts in its place; U+1D70B for pi), or an
-// empty view; its length in bytes in `length`.
-std::string_view italicLetter(std::string_view text, size_t i, int& length) {
+// 3 where text[i] is a superscript sign (U+207A, U+207B) that a superscript digit follows,
+// else 0: x⁻¹ is x^-1, which the parser then refuses as x^-1 (a constant's 2⁻¹ is 0.5).
+size_t superscriptSignLength(std::string_view text, size_t i) {
+  const bool sign = text.substr(i).starts_with("\u207A") || text.substr(i).starts_with("\u207B");
+  return sign && startsSuperscriptDigit(text, i + 3) ? 3 : 0;
+}
+
+// A name written as a typographic letter: the Greek pi (U+03C0, and its italic U+1D70B) and
+// the mathematical italic small letters of word processors' equations (U+1D44E..U+1D467, with
+// U+210E for h, the Planck constant sign Unicode puts in its place).
+struct LetterForm {
+  std::string_view name;  // empty: none at text[i]
+  int length = 0;         // in bytes
+};
+LetterForm letterForm(std::string_view text, size_t i) {
   static constexpr std::string_view kLetters = "abcdefghijklmnopqrstuvwxyz";
   const std::string_view rest = text.substr(i);
-  length = 3;
-  if (rest.starts_with("\u210E")) return "h";
-  length = 4;
-  if (rest.starts_with("\U0001D70B")) return "pi";
+  if (rest.starts_with("\u03C0")) return {"pi", 2};
+  if (rest.starts_with("\u210E")) return {"h", 3};
+  if (rest.starts_with("\U0001D70B")) return {"pi", 4};
   if (rest.size() < 4 || !rest.starts_with("\xF0\x9D\x91")) return {};
   // U+1D44E..U+1D45F end in 0x8E..0x9F after F0 9D 91, U+1D460..U+1D467 in 0xA0..0xA7
   // (U+1D455, the italic h's unassigned slot, included: nothing else is there).
   const int last = static_cast<unsigned char>(rest[3]);
   if (last < 0x8E || last > 0xA7) return {};
-  return kLetters.substr(static_cast<size_t>(last - 0x8E), 1);
+  return {kLetters.substr(static_cast<size_t>(last - 0x8E), 1), 4};
 }
 
 // The character at text[i] for a message: quoted as written, with its code point where it
@@ -187,14 +200,6 @@ std::string shownCharacter(std::string_view text, size_t i) {
   return "'" + std::string(text.substr(i, n)) + "' (" + buf + ")";
 }
 
-// 3 where text[i] is a superscript sign (U+207A, U+207B) that a superscript digit follows,
-// else 0: x⁻¹ is x^-1, which the parser then refuses as x^-1 (a constant's 2⁻¹ is 0.5).
-size_t superscriptSignLength(std::string_view text, size_t i) {
-  int length = 0;
-  const bool sign = text.substr(i).starts_with("\u207A") || text.substr(i).starts_with("\u207B");
-  return sign && superscriptDigit(text, i + 3, length) >= 0 ? 3 : 0;
-}
-
 }  // namespace
 
 int columnOf(std::string_view text, int offset) {
@@ -226,9 +231,6 @@ std::vector<Token> tokenize(std::string_view text) {
     if (isDigit(c) || (c == '.' && i + 1 < text.size() && isDigit(text[i + 1]))) {
       tokens.push_back(readNumber(text, i));
       i += tokens.back().length;
-    } else if (int italic = 0; !italicLetter(text, i, italic).empty()) {
-      tokens.push_back({TokenKind::Name, at, italic, 0.0, italicLetter(text, i, italic)});
-      i += italic;
     } else if (isNameStart(c)) {
       size_t j = i;
       while (j < text.size() && isNameChar(text[j])) ++j;
@@ -252,14 +254,16 @@ std::vector<Token> tokenize(std::string_view text) {
       single(TokenKind::RightParen);
     } else if (c == '=') {
       single(TokenKind::Equals);
-    } else if (int length = 0;
-               superscriptDigit(text, i + superscriptSignLength(text, i), length) >= 0) {
+    } else if (const LetterForm letter = letterForm(text, i); !letter.name.empty()) {
+      tokens.push_back({TokenKind::Name, at, letter.length, 0.0, letter.name});
+      i += letter.length;
+    } else if (const size_t sign = superscriptSignLength(text, i);
+               startsSuperscriptDigit(text, i + sign)) {
       // x² is x^2: a run of superscript digits (after an optional superscript sign) is a
       // '^' spanning the run, the sign, and the exponent (messages show them as written).
-      const size_t sign = superscriptSignLength(text, i);
       size_t j = i + sign;
       double exponent = 0;
-      int digits = 0;
+      int digits = 0, length = 0;
       for (int d; (d = superscriptDigit(text, j, length)) >= 0; j += length, ++digits)
         exponent = exponent * 10 + d;
       if (digits > 9)

@@ -11,7 +11,7 @@ namespace algray::detail {
 
 enum class TokenKind {
   Number,  // 2, .5, 1e-3, 2.5E+4 (decimal, read with correct rounding)
-  Name,    // x, y, z, pi, e, sqrt, a parameter: [A-Za-z_][A-Za-z0-9_]*; or the sign kPiSign
+  Name,    // x, y, z, pi, e, sqrt, a parameter: [A-Za-z_][A-Za-z0-9_]*; or a letter form
   Plus,
   Minus,
   Star,
@@ -23,9 +23,6 @@ enum class TokenKind {
   End,  // one past the last token; its offset is the length of the text
 };
 
-// The Greek letter pi (U+03C0) in UTF-8, a Name token meaning the constant pi.
-inline constexpr std::string_view kPiSign = "\u03C0";
-
 // Typographic forms are read as the symbols they stand for: mathematical italic letters
 // as the letters (Token::name), U+2212 as '-', U+00B7,
 // U+22C5, U+2219 and U+00D7 as '*', U+00F7 as '/', no-break and thin spaces as spaces,
@@ -36,8 +33,8 @@ struct Token {
   int offset;  // byte offset of the first character
   int length;  // in bytes
   double number = 0.0;
-  // A Name token's spelling where the text writes it otherwise: the mathematical italic
-  // letters of pasted equations (U+1D44E..U+1D467, U+210E for h: 𝑥 is x, 𝜋 is pi).
+  // A Name token's spelling where the text writes it otherwise: π is pi, and the
+  // mathematical italic letters of pasted equations are the letters (𝑥 is x, 𝜋 is pi).
   std::string_view name = {};
 };
 

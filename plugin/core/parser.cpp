@@ -35,7 +35,6 @@ ParameterError::ParameterError(const std::string& name, const std::string& messa
 
 namespace {
 
-using detail::kPiSign;
 using detail::Token;
 using detail::TokenKind;
 using detail::TrackedValue;
@@ -284,7 +283,7 @@ class Parser {
       checkDegree(1, t);
       return TrackedValue::variable(name[0] - 'x');
     }
-    if (name == "pi" || name == kPiSign) return TrackedValue::constant(std::numbers::pi);
+    if (name == "pi") return TrackedValue::constant(std::numbers::pi);
     if (name == "e") return TrackedValue::constant(std::numbers::e);
     if (detail::isFunctionName(name)) return parseFunction(t, name);
     if (parameter != options_.parameters.end()) {
@@ -347,7 +346,7 @@ class Parser {
 };
 
 // Whether an equation can refer to `name`: exactly one Name token of the lexer, spelled as
-// written (an italic 𝑎 in the equation is the parameter a).
+// written (an italic 𝑎 or π in the equation is the name a or pi).
 bool isReferenceable(std::string_view name) {
   try {
     const std::vector<Token> tokens = detail::tokenize(name);
@@ -368,8 +367,8 @@ void checkParameters(const ParseOptions& options) {
     if (!isReferenceable(name))
       throw ParameterError(
           name, "is not a name an equation can use (a letter or _, then letters, digits or _)");
-    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == kPiSign ||
-        name == "e" || detail::isFunctionName(name))
+    if (name == "x" || name == "y" || name == "z" || name == "pi" || name == "e" ||
+        detail::isFunctionName(name))
       throw ParameterError(name, "clashes with the built-in name '" + name + "'");
     if (!std::isfinite(value))
       throw ParameterError(name, "is not finite (" + formatNumber(value) + ")");
