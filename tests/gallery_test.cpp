@@ -200,6 +200,11 @@ TEST(Gallery, NamesMatchAsTypedAndCloseOnesAreSuggested) {
   EXPECT_TRUE(similarGallerySurfaces("x").empty());
   EXPECT_TRUE(similarGallerySurfaces("x^2+y^2+z^2-1").empty());
   EXPECT_TRUE(similarGallerySurfaces("dodecahedron").empty());
+  // The same as words for the tools' messages.
+  EXPECT_EQ(similarGallerySurfacesText("barth"),
+            "one of the gallery surfaces 'barth-sextic', 'barth-decic'");
+  EXPECT_EQ(similarGallerySurfacesText("chmutov8"), "the gallery surface 'chmutov-8'");
+  EXPECT_EQ(similarGallerySurfacesText("dodecahedron"), "");
   // Every name is in the list of names, once.
   const std::string names = galleryNames();
   for (const GallerySurface& s : gallery())

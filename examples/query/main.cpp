@@ -2,12 +2,14 @@
 // Embree scene holding the algray geometry (rtcIntersect1), and write the hits as CSV.
 //
 //   algray-query --surface "x^2+y^2+z^2-1" --clip-sphere 1.5 --rays in.csv --out out.csv
+//   algray-query --surface barth-sextic --rays in.csv --out out.csv   (a gallery name)
 //
 // Exit codes: 0 success, 2 bad flags, equation or input rows (message on stderr with
 // the line or column), 1 anything else (I/O, Embree).
 #include "ray_csv.h"
 
 #include "algray/embree.h"
+#include "algray/gallery.h"
 #include "algray/parser.h"
 
 #include <tbb/global_control.h>
@@ -109,7 +111,9 @@ int run(int argc, char** argv) {
   std::vector<double> clipSphere;
   bool useFloat = false;
   int threads = 0;
-  app.add_option("--surface", equation, "equation f(x,y,z) = 0, e.g. \"x^2+y^2+z^2-1\"")
+  app.add_option("--surface", equation,
+                 "equation f(x,y,z) = 0, e.g. \"x^2+y^2+z^2-1\", or a gallery name (its clip "
+                 "sphere unless --clip-sphere or --clip-box is given)")
       ->required();
   app.add_option("--param", params, "NAME=VALUE for a parameter of the equation (repeatable)");
   auto* sphereOpt =
@@ -135,9 +139,6 @@ int run(int argc, char** argv) {
               << "run with --help for usage\n";
     return 2;
   }
-  if (clipSphere.empty() && clipBox.empty())
-    throw UsageError("one of --clip-sphere R or --clip-box X0,Y0,Z0,X1,Y1,Z1 is required");
-
   // ---- Surface ------------------------------------------------------------------------
   ParseOptions parseOptions;
   parseOptions.rejectUnusedParameters = true;
@@ -152,17 +153,31 @@ int run(int argc, char** argv) {
       throw UsageError("--param " + name + ": given more than once");
   }
   SurfaceDesc desc;
-  try {
-    desc.polynomial = parsePolynomial(equation, parseOptions);
-  } catch (const ParameterError& e) {
-    throw UsageError("--param " + e.name() + ": " + e.message());
-  } catch (const ParseError& e) {
-    const std::string hint = e.unknownName().empty()
-                                 ? ""
-                                 : " (give it a value with --param " + e.unknownName() + "=VALUE)";
-    throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() + hint +
-                     "\n  " + equation + "\n  " + std::string(std::max(0, e.column() - 1), ' ') +
-                     "^");
+  if (const GallerySurface* g = findGallerySurface(equation)) {
+    // As in algray-render: a gallery surface's parameters are built in.
+    if (!parseOptions.parameters.empty())
+      throw UsageError("--param " + parseOptions.parameters.begin()->first +
+                       ": the gallery surface '" + std::string(g->name) + "' takes no parameters");
+    desc.polynomial = g->build();
+    if (clipSphere.empty() && clipBox.empty()) clipSphere = {g->clipRadius};
+  } else {
+    try {
+      desc.polynomial = parsePolynomial(equation, parseOptions);
+    } catch (const ParameterError& e) {
+      throw UsageError("--param " + e.name() + ": " + e.message());
+    } catch (const ParseError& e) {
+      // A name close to a gallery surface's was most likely meant as one ("barth_sextc").
+      std::string hint = similarGallerySurfacesText(equation);
+      if (!hint.empty())
+        hint = " (or did you mean " + hint + "?)";
+      else if (!e.unknownName().empty())
+        hint = " (give it a value with --param " + e.unknownName() + "=VALUE)";
+      throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() +
+                       hint + "\n  " + equation + "\n  " +
+                       std::string(std::max(0, e.column() - 1), ' ') + "^");
+    }
+    if (clipSphere.empty() && clipBox.empty())
+      throw UsageError("one of --clip-sphere R or --clip-box X0,Y0,Z0,X1,Y1,Z1 is required");
   }
   desc.clip = parseClip(clipSphere, clipBox);
 

@@ -23,15 +23,8 @@ namespace {
 // ("barth_sextic", "Barth sextic" are found; "barth", "chmutov8" are not): the names close
 // to it, or for a single word of three letters or more, all of them.
 std::string galleryHint(const std::string& text) {
-  const std::vector<std::string_view> similar = similarGallerySurfaces(text);
-  if (similar.size() == 1)
-    return " (or did you mean the gallery surface '" + std::string(similar[0]) + "'?)";
-  if (!similar.empty()) {
-    std::string names;
-    for (std::string_view name : similar)
-      names += (names.empty() ? "'" : ", '") + std::string(name) + "'";
-    return " (or did you mean one of the gallery surfaces " + names + "?)";
-  }
+  const std::string similar = similarGallerySurfacesText(text);
+  if (!similar.empty()) return " (or did you mean " + similar + "?)";
   const bool word = text.size() >= 3 && std::all_of(text.begin(), text.end(), [](unsigned char ch) {
                       return std::isalnum(ch) || ch == '-' || ch == '_';
                     });

@@ -29,6 +29,9 @@ const GallerySurface* findGallerySurface(std::string_view name);
 // (one begins with the other, or at most a third of its letters edited), in gallery order;
 // empty if none is.
 std::vector<std::string_view> similarGallerySurfaces(std::string_view name);
+// The same as words for a message, or empty: "the gallery surface 'chmutov-8'", "one of the
+// gallery surfaces 'barth-sextic', 'barth-decic'".
+std::string similarGallerySurfacesText(std::string_view name);
 // Every name, comma-separated.
 std::string galleryNames();
 

@@ -301,6 +301,15 @@ std::vector<std::string_view> similarGallerySurfaces(std::string_view name) {
   return out;
 }
 
+std::string similarGallerySurfacesText(std::string_view name) {
+  const std::vector<std::string_view> similar = similarGallerySurfaces(name);
+  if (similar.empty()) return {};
+  std::string out = similar.size() == 1 ? "the gallery surface " : "one of the gallery surfaces ";
+  for (size_t i = 0; i < similar.size(); ++i)
+    out += (i == 0 ? "'" : ", '") + std::string(similar[i]) + "'";
+  return out;
+}
+
 std::string galleryNames() {
   std::string out;
   for (const GallerySurface& s : kGallery) {

@@ -2,6 +2,8 @@
 // against closed forms, and every kind of bad input against exit code 2.
 #include "ray_csv.h"
 
+#include "algray/gallery.h"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -627,6 +629,44 @@ TEST_F(QueryTool, OriginErrorsFromTheColumnStopSelfHitsOfFarRays) {
   EXPECT_GT(selfHits(without), 0);
 }
 
+// A gallery name as --surface traces that surface in its own clip sphere (or the one given):
+// the same hits, bit for bit, as its polynomial written out with that sphere.
+TEST_F(QueryTool, GalleryNamesTraceTheGallerySurface) {
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  std::mt19937_64 rng(36);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  char buf[256];
+  for (int i = 0; i < 200; ++i) {
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,4,%.17g,%.17g,-1,0,inf\n", 2 * u(rng), 2 * u(rng),
+                  0.3 * u(rng), 0.3 * u(rng));
+    csv += buf;
+  }
+  const fs::path rays = write("rays.csv", csv);
+  for (const char* name : {"barth-sextic", "Chmutov_8", "torus"}) {
+    SCOPED_TRACE(name);
+    const algray::GallerySurface* g = algray::findGallerySurface(name);
+    ASSERT_NE(g, nullptr);
+    const RunResult byName = run(std::string("--surface ") + name + " " + common(rays));
+    ASSERT_EQ(byName.exitCode, 0) << byName.err;
+    std::snprintf(buf, sizeof buf, " --clip-sphere %.17g ", g->clipRadius);
+    const RunResult written =
+        run("--surface \"" + g->build().toString() + "\"" + buf + common(rays));
+    ASSERT_EQ(written.exitCode, 0) << written.err;
+    ASSERT_EQ(byName.rows.size(), 200u);
+    int hits = 0;
+    for (size_t i = 0; i < byName.rows.size(); ++i) {
+      EXPECT_EQ(byName.rows[i], written.rows[i]) << "ray " << i;
+      hits += byName.rows[i][0] != 0.0;
+    }
+    EXPECT_GT(hits, 20);
+    // A smaller clip sphere given on the command line is the one traced.
+    const RunResult clipped =
+        run(std::string("--surface ") + name + " --clip-sphere 0.01 " + common(rays));
+    ASSERT_EQ(clipped.exitCode, 0) << clipped.err;
+    for (const auto& row : clipped.rows) EXPECT_EQ(row[0], 0.0);
+  }
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
@@ -670,6 +710,11 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2+y^2+*z\" --clip-sphere 2 " + common(good), "column 9"},
       {"--surface \"x^2+y^2+z^2-a\" --clip-sphere 2 " + common(good),
        "column 13: unknown name 'a' (give it a value with --param a=VALUE)"},
+      {"--surface barth " + common(good),
+       "column 1: unknown name 'barth' (or did you mean one of the gallery surfaces "
+       "'barth-sextic', 'barth-decic'?)"},
+      {"--surface torus --param a=1 " + common(good),
+       "algray-query: --param a: the gallery surface 'torus' takes no parameters\n"},
       {"--surface \"x²+y²+z²−a\" --clip-sphere 2 " + common(good),
        "column 10: unknown name 'a' (give it a value with --param a=VALUE)\n  x²+y²+z²−a\n"
        "           ^\n"},
