@@ -92,17 +92,6 @@ void rejectEveryOther(const RTCFilterFunctionNArguments* args) {
 }
 }  // namespace
 
-// The fields of two float hit records a host reads, bit for bit.
-void expectSameFloatHit(const RTCRayHit& a, const RTCRayHit& b) {
-  EXPECT_EQ(a.hit.geomID, b.hit.geomID);
-  EXPECT_EQ(a.ray.tfar, b.ray.tfar);
-  EXPECT_EQ(a.hit.Ng_x, b.hit.Ng_x);
-  EXPECT_EQ(a.hit.Ng_y, b.hit.Ng_y);
-  EXPECT_EQ(a.hit.Ng_z, b.hit.Ng_z);
-  EXPECT_EQ(a.hit.u, b.hit.u);
-  EXPECT_EQ(a.hit.v, b.hit.v);
-}
-
 TEST_F(EmbreeQuadric, CallbacksMatchGenericWalk) {
   // The dedicated quadric callbacks (quadric_path.cpp) against the generic walk of the
   // same closed-form restriction (SurfaceOptions::quadricCallbacks = false): the same

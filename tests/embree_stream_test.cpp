@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <bit>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -66,16 +65,7 @@ std::vector<RTCRayHit> streamRays(int count, std::uint64_t seed) {
 
 void expectSameHit(const RTCRayHit& got, const RTCRayHit& want, int i) {
   SCOPED_TRACE(testing::Message() << "ray " << i);
-  EXPECT_EQ(got.hit.geomID, want.hit.geomID);
-  EXPECT_EQ(std::bit_cast<std::uint32_t>(got.ray.tfar), std::bit_cast<std::uint32_t>(want.ray.tfar))
-      << got.ray.tfar << " vs " << want.ray.tfar;
-  if (want.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
-  EXPECT_EQ(got.hit.primID, want.hit.primID);
-  EXPECT_EQ(got.hit.Ng_x, want.hit.Ng_x);
-  EXPECT_EQ(got.hit.Ng_y, want.hit.Ng_y);
-  EXPECT_EQ(got.hit.Ng_z, want.hit.Ng_z);
-  EXPECT_EQ(got.hit.u, want.hit.u);
-  EXPECT_EQ(got.hit.v, want.hit.v);
+  expectSameFloatHit(got, want);
 }
 
 class EmbreeStream : public testing::TestWithParam<RTCIntersectContextFlags> {

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <vector>
@@ -117,6 +119,20 @@ inline HitD intersectD(RTCScene scene, const RayD& ray, RTCRayHit* out = nullptr
   rtcIntersect1(scene, &context.base, &rh);
   if (out) *out = rh;
   return hit;
+}
+
+// The fields of two float hit records a host reads, bit for bit (tfar's bits: a -0 or a NaN
+// differs too).
+inline void expectSameFloatHit(const RTCRayHit& a, const RTCRayHit& b) {
+  EXPECT_EQ(a.hit.geomID, b.hit.geomID);
+  EXPECT_EQ(std::bit_cast<std::uint32_t>(a.ray.tfar), std::bit_cast<std::uint32_t>(b.ray.tfar))
+      << a.ray.tfar << " vs " << b.ray.tfar;
+  EXPECT_EQ(a.hit.primID, b.hit.primID);
+  EXPECT_EQ(a.hit.Ng_x, b.hit.Ng_x);
+  EXPECT_EQ(a.hit.Ng_y, b.hit.Ng_y);
+  EXPECT_EQ(a.hit.Ng_z, b.hit.Ng_z);
+  EXPECT_EQ(a.hit.u, b.hit.u);
+  EXPECT_EQ(a.hit.v, b.hit.v);
 }
 
 inline glm::vec3 hitNormal(const RTCRayHit& rh) {
