@@ -11,8 +11,8 @@ TextLocation locateOffset(std::string_view text, size_t offset) {
     if (text[i] == '\n') {
       ++loc.line;
       loc.column = 1;
-    } else {
-      ++loc.column;
+    } else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) {
+      ++loc.column;  // a character's first byte: columns count characters, as editors do
     }
   }
   return loc;

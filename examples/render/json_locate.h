@@ -12,7 +12,8 @@
 namespace algray::render {
 
 struct TextLocation {
-  int line = 1, column = 1;  // 1-based; column counts bytes
+  int line = 1, column = 1;  // 1-based; column counts characters (UTF-8 code points), as
+                             // the equation parser's columns and editors do
 };
 
 // Byte offset -> line and column.

@@ -5,9 +5,10 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -133,20 +134,25 @@ TEST(SceneJson, EquationErrorPointsIntoTheString) {
   SceneError e = errorOf(text);
   EXPECT_EQ(e.line(), 1);
   EXPECT_EQ(static_cast<size_t>(e.column()), text.find('@') + 1);
-  // Multi-byte characters and escapes before the error (the file's columns count bytes):
-  // the '@' itself, also behind a name with a multi-byte character earlier on the line; past
-  // the equation's end, its closing quote.
+  // Multi-byte characters and escapes before the error (the file's columns count
+  // characters): the '@' itself, also behind a name with a multi-byte character earlier on
+  // the line; past the equation's end, its closing quote.
+  auto characterColumn = [](const std::string& t, size_t byte) {
+    return 1 + std::count_if(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(byte),
+                             [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; });
+  };
   text =
       "{\"surfaces\": [{\"name\": \"é\", \"equation\": \"x² + y\\u00b2 − \\t@\", "
       "\"clip\": {\"sphere\": {\"radius\": 1}}}]}";
   e = errorOf(text);
-  EXPECT_EQ(static_cast<size_t>(e.column()), text.find('@') + 1) << e.message();
+  EXPECT_EQ(e.column(), characterColumn(text, text.find('@'))) << e.message();
+  EXPECT_EQ(e.column(), 59);  // counted by hand
   EXPECT_NE(e.message().find("unexpected character '@'"), std::string::npos) << e.message();
   text =
       "{\"surfaces\": [{\"equation\": \"x² −\", \"clip\": {\"sphere\": {\"radius\": "
       "1}}}]}";
   e = errorOf(text);
-  EXPECT_EQ(static_cast<size_t>(e.column()), text.find("\", \"clip") + 1) << e.message();
+  EXPECT_EQ(e.column(), characterColumn(text, text.find("\", \"clip"))) << e.message();
   EXPECT_NE(e.message().find("the equation ends after"), std::string::npos) << e.message();
   // An unknown name: where it is, and how a scene gives it a value.
   text =
