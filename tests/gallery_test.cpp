@@ -150,6 +150,18 @@ const std::map<std::string, Reference>& references() {
                                              return chebyshevT(n, x) + chebyshevT(n, y) +
                                                     chebyshevT(n, z) + 1;
                                            }};
+    // Togliatti: the quintic factor as the product of its five planes (gallery.cpp), not
+    // as the expanded quartic the gallery writes.
+    m["togliatti-quintic"] = {5, [](LD x, LD y, LD z) {
+                                const LD s5 = std::sqrt(5.0L), a = std::sqrt(5 - s5);
+                                LD planes = 1024;
+                                for (int k = 0; k < 5; ++k) {
+                                  const LD t = 2 * std::numbers::pi_v<LD> * k / 5;
+                                  planes *= x * std::cos(t) + y * std::sin(t) - 1;
+                                }
+                                const LD q = 4 * (x * x + y * y - z * z) + 1 + 3 * s5;
+                                return planes - 5 * a * (2 * z - a) * q * q;
+                              }};
     m["endrass-octic"] = {8, [s2](LD x, LD y, LD z) {
                             const LD r = x * x + y * y, z2 = z * z;
                             const LD lhs = 64 * (x * x - 1) * (y * y - 1) *
@@ -176,8 +188,8 @@ TEST(Gallery, NamesAreUniqueAndFindable) {
   EXPECT_EQ(findGallerySurface("no-such-surface"), nullptr);
   for (const char* required :
        {"sphere", "ellipsoid", "torus", "clebsch-cubic", "cayley-cubic", "roman-surface",
-        "kummer-quartic", "barth-sextic", "heart", "chmutov-8", "chmutov-12", "chmutov-16",
-        "endrass-octic", "sarti-dodecic"})
+        "kummer-quartic", "togliatti-quintic", "barth-sextic", "heart", "chmutov-8", "chmutov-12",
+        "chmutov-16", "endrass-octic", "sarti-dodecic"})
     EXPECT_NE(findGallerySurface(required), nullptr) << required;
 }
 
@@ -301,6 +313,28 @@ TEST(Gallery, KnownPointsAndNodes) {
       p[axis] = sign;
       expectNode(barth, p);
     }
+  // Togliatti: where two of the pentagon's planes x cos t_k + y sin t_k = 1 meet (its five
+  // vertices and the five points of its star) P vanishes to second order, and so does f
+  // where that vertical line meets the quadric Q = 4 (x^2 + y^2 - z^2) + 1 + 3 sqrt5 = 0:
+  // 20 nodes, at z = +-sqrt(x^2 + y^2 + (1 + 3 sqrt5) / 4).
+  {
+    const Polynomial togliatti = get("togliatti-quintic");
+    int nodes = 0;
+    for (int i = 0; i < 5; ++i)
+      for (int j = i + 1; j < 5; ++j) {
+        const LD ti = 2 * std::numbers::pi_v<LD> * i / 5, tj = 2 * std::numbers::pi_v<LD> * j / 5;
+        // x cos ti + y sin ti = 1 = x cos tj + y sin tj (Cramer's rule).
+        const LD det = std::sin(tj - ti);
+        const LD x = (std::sin(tj) - std::sin(ti)) / det, y = (std::cos(ti) - std::cos(tj)) / det;
+        const LD z = std::sqrt(x * x + y * y + (1 + 3 * std::sqrt(5.0L)) / 4);
+        for (const LD sz : {-z, z}) {
+          expectNode(togliatti, glm::dvec3(static_cast<double>(x), static_cast<double>(y),
+                                           static_cast<double>(sz)));
+          ++nodes;
+        }
+      }
+    EXPECT_EQ(nodes, 20);
+  }
   // Chmutov: x, y, z critical points of T_n (cos(k pi/n)) with T values -1, -1, +1.
   for (int n : {8, 12, 16}) {
     const Polynomial f = get(("chmutov-" + std::to_string(n)).c_str());

@@ -2,9 +2,9 @@
 // Named classic algebraic surfaces with sensible clip radii, written from their
 // definitions (references in plugin/core/gallery.cpp); used by tests, the renderer and the
 // benchmarks. Names: sphere, ellipsoid, torus, clebsch-cubic, cayley-cubic, roman-surface,
-// kummer-quartic, barth-sextic, barth-decic, heart, chmutov-8, chmutov-12, chmutov-16,
-// endrass-octic, sarti-dodecic. Higher degrees for stress tests are easy to build from
-// these (e.g. products of spheres, Polynomial::pow).
+// kummer-quartic, togliatti-quintic, barth-sextic, barth-decic, heart, chmutov-8,
+// chmutov-12, chmutov-16, endrass-octic, sarti-dodecic. Higher degrees for stress tests
+// are easy to build from these (e.g. products of spheres, Polynomial::pow).
 #include "algray/polynomial.h"
 
 #include <span>

@@ -54,7 +54,8 @@ EQUATIONS += [
     "-x^2-y^2-z^2+1", "x^2+y^2-1", "(x^2+y^2+z^2)^2-x*y*z-0.1",
     "x\u00b2+y\u00b2+z\u00b2\u22121", "\u03c0\u00b7x\u2074 \u2212 2\u207b\u00b9\u00d7y\u00b2 + z\u00b3",
 ]
-GALLERY = ["torus", "barth-sextic", "chmutov-8", "kummer-quartic", "sarti-dodecic"]
+GALLERY = ["torus", "barth-sextic", "chmutov-8", "kummer-quartic", "togliatti-quintic",
+           "sarti-dodecic"]
 SCENES = [os.path.join(REPO, "examples/scenes", f) for f in
           ("gallery-row.json", "equation-glass.json", "surfer-look.json")]
 SCENE_OBJS = [json.load(open(f)) for f in SCENES]
