@@ -3,6 +3,8 @@
 
 #include "json_locate.h"
 
+#include "algray/gallery.h"
+
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -185,6 +187,21 @@ TEST(SceneJson, ExampleScenesLoad) {
     ++count;
   }
   EXPECT_GE(count, 3);
+}
+
+// examples/scenes/gallery-grid.json (the README's picture of the gallery) holds every
+// gallery surface once, in the order of algray::gallery(): a surface added to the gallery
+// must be added to the picture too.
+TEST(SceneJson, GalleryGridHoldsEveryGallerySurface) {
+  const SceneDesc scene = loadSceneFile(std::filesystem::path(ALGRAY_SOURCE_DIR) / "examples" /
+                                        "scenes" / "gallery-grid.json");
+  const auto all = gallery();
+  ASSERT_EQ(scene.surfaces.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const std::string& label = scene.surfaces[i].label;
+    EXPECT_NE(label.find("gallery surface '" + std::string(all[i].name) + "'"), std::string::npos)
+        << label;
+  }
 }
 
 // Where `needle` starts in `text`, as the 1-based column of a one-line scene.
