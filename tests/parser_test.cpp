@@ -272,8 +272,14 @@ TEST(Parser, RejectsWithColumnAndMessage) {
       {"x =", 3, "missing right-hand side"},
       {"x = 1 = 2", 7, "only one '='"},
       {"x y", 3, "missing operator before 'y'"},
-      {"2x + 1", 1, "malformed number '2x'"},
-      {"1.2.3", 1, "malformed number '1.2.3'"},
+      {"2x + 1", 1, "malformed number '2x' (write a product with '*': 2*x)"},
+      {"z - 3y^2", 5, "malformed number '3y' (write a product with '*': 3*y)"},
+      {"1.2.3", 1, "malformed number '1.2.3' (a number has one decimal point"},
+      {"x - 1e0.5", 5, "malformed number '1e0.5' (a number has one decimal point"},
+      {"X^2 + y", 1, "unknown name 'X' (the coordinates are x, y, z, in lower case)"},
+      {"x^2 == 1", 6, "'==' is written '=' here"},
+      {"x = = 1", 5, "expected a number, a name or '(' but found '='"},
+      {"x^2 + y^2 <= 1", 11, "unexpected character '<' (a surface is an equation"},
       {"x + 2e", 5, "malformed number '2e'"},
       {"x # y", 3, "unexpected character '#'"},
       {"x + [y]", 5, "unexpected character '['"},
@@ -348,6 +354,11 @@ TEST(Parser, UnknownNamesAreNamed) {
   EXPECT_EQ(unknownName("2*xy + 1"), "");
   EXPECT_EQ(unknownName("foo(2)*x"), "");
   EXPECT_EQ(unknownName("x^0.5"), "");
+  // A coordinate in upper case is taken for a typo where no parameter is given at all.
+  EXPECT_EQ(unknownName("X + Y"), "");
+  ParseOptions withX;
+  withX.parameters = {{"X", 1.0}};
+  EXPECT_EQ(unknownName("X*x + Y", withX), "Y");
   EXPECT_EQ(unknownName("x + 1"), "(accepted)");
   EXPECT_EQ(unknownName("𝑥 − 𝑞"), "q");
 }

@@ -78,9 +78,16 @@ Token readNumber(std::string_view text, size_t start) {
   if (i < text.size() && (isNameChar(text[i]) || text[i] == '.')) {
     size_t j = i;
     while (j < text.size() && (isNameChar(text[j]) || text[j] == '.')) ++j;
-    throw ParseError(columnOf(text, static_cast<int>(start)),
-                     "malformed number '" + std::string(text.substr(start, j - start)) +
-                         "' (write a product with '*', e.g. 2*x)");
+    // The hint names the user's own product ("3y" -> 3*y) where a name follows the number;
+    // a point after the number ("1.2.3", "1e0.5") is no product.
+    const std::string_view number = text.substr(start, i - start), rest = text.substr(i, j - i);
+    const std::string hint =
+        text[i] == '.'
+            ? " (a number has one decimal point and an integer exponent)"
+            : " (write a product with '*': " + std::string(number) + "*" + std::string(rest) + ")";
+    throw ParseError(
+        columnOf(text, static_cast<int>(start)),
+        "malformed number '" + std::string(text.substr(start, j - start)) + "'" + hint);
   }
   Token t{TokenKind::Number, static_cast<int>(start), static_cast<int>(i - start)};
   const char* first = text.data() + start;
@@ -293,6 +300,8 @@ std::vector<Token> tokenize(std::string_view text) {
         hint = " (use ')' for grouping)";
       else if (c == ',')
         hint = " (functions take one argument; write decimals with '.')";
+      else if (c == '<' || c == '>')
+        hint = " (a surface is an equation, f = 0 or lhs = rhs, not an inequality)";
       throw ParseError(columnOf(text, at),
                        "unexpected character " + shownCharacter(text, i) + hint);
     }

@@ -253,6 +253,12 @@ class Parser {
         if (pos_ >= 2 && tokens_[pos_ - 2].kind == TokenKind::LeftParen)
           fail(t, "empty parentheses");
         [[fallthrough]];
+      case TokenKind::Equals:
+        if (t.kind == TokenKind::Equals && pos_ >= 2 &&
+            tokens_[pos_ - 2].kind == TokenKind::Equals &&
+            tokens_[pos_ - 2].offset + tokens_[pos_ - 2].length == t.offset)
+          fail(t, "'==' is written '=' here (one '=' between the two sides)");
+        [[fallthrough]];
       default:
         fail(t, "expected a number, a name or '(' but found " + detail::describe(text_, t));
     }
@@ -296,6 +302,9 @@ class Parser {
                   "' (known: sqrt, sin, cos, tan, exp, log, ln, abs)");
     } else if (name.find_first_not_of("xyz0123456789") == std::string_view::npos) {
       fail(t, message + " (write products with '*' and powers with '^', e.g. x*y or x^2)");
+    } else if (options_.parameters.empty() &&
+               name.find_first_not_of("XYZ") == std::string_view::npos) {
+      fail(t, message + " (the coordinates are x, y, z, in lower case)");
     } else if (!options_.parameters.empty()) {
       message += " (parameters:";
       for (const auto& [key, value] : options_.parameters) message += " " + key;
