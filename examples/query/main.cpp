@@ -257,6 +257,9 @@ int run(int argc, char** argv) {
       throw UsageError(std::string("--surface, ") +
                        (clipSphere.empty() ? "--clip-box" : "--clip-sphere") + ": " + e.what());
     }
+    if (surface->primitiveCount() == 0)
+      std::cerr << "algray-query: warning: no point of the surface lies in the clip region "
+                   "(every ray misses)\n";
     RTCScene scene = rtcNewScene(device);
     const unsigned geomID = rtcAttachGeometry(scene, surface->geometry());
     rtcCommitScene(scene);

@@ -135,6 +135,7 @@ void Scene::build() {
     } catch (const std::exception& e) {
       throw std::runtime_error(item.label + ": " + e.what());
     }
+    if (g->surface->primitiveCount() == 0) emptySurfaces_.push_back(item.label);
     unsigned id = rtcAttachGeometry(scene_, g->surface->geometry());
     if (geoms_.size() <= id) geoms_.resize(id + 1);
     geoms_[id] = std::move(g);

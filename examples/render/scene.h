@@ -9,6 +9,7 @@
 #include <atomic>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace algray::render {
@@ -73,6 +74,10 @@ class Scene {
   // Same for a ray that escaped to the environment.
   double environmentPdf() const;
   double sceneRadius() const { return radius_; }
+  // The labels of the algebraic surfaces with no point in their clip region (the plugin's
+  // range bounds proved every cell empty: SurfaceGeometry::primitiveCount() is 0), so
+  // that a tool can say why they are not in the picture.
+  const std::vector<std::string>& emptySurfaces() const { return emptySurfaces_; }
 
  private:
   struct Geom;
@@ -88,6 +93,7 @@ class Scene {
   int envLight_ = -1;
   std::shared_ptr<const Texture> envImage_;
   double radius_ = 1.0;
+  std::vector<std::string> emptySurfaces_;
 };
 
 }  // namespace algray::render

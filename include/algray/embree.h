@@ -118,6 +118,8 @@ class SurfaceGeometry {
   SurfaceGeometry& operator=(const SurfaceGeometry&) = delete;
 
   RTCGeometry geometry() const;
+  // The Embree primitives (cells.h: boxes of the clip region the surface may cross); 0 when
+  // the range bounds prove that no point of the surface lies in the clip region.
   unsigned primitiveCount() const;
   // The description as given to the constructor (a moved-from geometry's is empty).
   const SurfaceDesc& desc() const;

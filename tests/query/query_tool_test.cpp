@@ -667,6 +667,24 @@ TEST_F(QueryTool, GalleryNamesTraceTheGallerySurface) {
   }
 }
 
+// A surface with no point in the clip region is traced (every ray misses, exit code 0) with
+// a warning; one the clip region holds gets none.
+TEST_F(QueryTool, ASurfaceOutsideTheClipRegionIsNamed) {
+  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-30,0,0,1,0,inf\n");
+  const std::string warning = "warning: no point of the surface lies in the clip region";
+  const RunResult outside = run("--surface \"x^2+y^2+z^2-100\" --clip-sphere 2 " + common(rays));
+  EXPECT_EQ(outside.exitCode, 0) << outside.err;
+  EXPECT_NE(outside.err.find(warning), std::string::npos) << outside.err;
+  ASSERT_EQ(outside.rows.size(), 1u);
+  EXPECT_EQ(outside.rows[0][0], 0.0);
+  const RunResult inside = run("--surface \"x^2+y^2+z^2-100\" --clip-sphere 20 " + common(rays));
+  EXPECT_EQ(inside.exitCode, 0) << inside.err;
+  EXPECT_EQ(inside.err.find(warning), std::string::npos) << inside.err;
+  ASSERT_EQ(inside.rows.size(), 1u);
+  EXPECT_EQ(inside.rows[0][0], 1.0);
+  EXPECT_EQ(inside.rows[0][1], 20.0);  // the sphere of radius 10 from z = -30
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");

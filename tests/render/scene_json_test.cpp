@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace algray::render {
@@ -552,6 +553,38 @@ TEST(RenderProgram, SurfaceBuildErrorsHaveTheSurfacesLocation) {
         << surface << ": " << out;
     std::filesystem::remove(file);
   }
+}
+
+// A surface with no point in its clip region renders (exit code 0) with a warning naming it:
+// quick mode's default clip sphere (radius 2) misses a sphere of radius 10, a larger one
+// holds it; a scene file's surface is named by its position.
+TEST(RenderProgram, SurfacesOutsideTheirClipRegionAreNamed) {
+  const std::string warning = "no point of the surface lies in its clip region";
+  const std::string image = (std::filesystem::temp_directory_path() / "algray_empty.png").string();
+  const std::string small = " --width 8 --height 8 --spp 1 -q -o " + image;
+  auto [code, out] = runRender("--surface \"x^2+y^2+z^2-100\"" + small);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("warning: --surface: " + warning), std::string::npos) << out;
+  EXPECT_NE(out.find("a larger --clip-sphere"), std::string::npos) << out;
+  std::tie(code, out) = runRender("--surface \"x^2+y^2+z^2-100\" --clip-sphere 20" + small);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_EQ(out.find(warning), std::string::npos) << out;
+  std::tie(code, out) = runRender("--surface \"(x^2+y^2+z^2)^2+1\"" + small);
+  EXPECT_NE(out.find(warning), std::string::npos) << out;  // no real point at all
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "algray_empty_surface.json";
+  std::ofstream(file)
+      << "{\"surfaces\": [\n  {\"equation\": \"x^2+y^2+z^2-1\", \"clip\": {\"sphere\": "
+         "{\"radius\": 2}}},\n  {\"equation\": \"x^2+y^2+z^2-100\", \"clip\": "
+         "{\"sphere\": {\"radius\": 2}}}]}\n";
+  std::tie(code, out) = runRender(file.string() + small);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find(file.string() + ":3:3: surface x^2+y^2+z^2-100: " + warning),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(out.find(":2:3:"), std::string::npos) << out;  // the first surface is drawn
+  std::filesystem::remove(file);
+  std::filesystem::remove(image);
 }
 
 TEST(RenderProgram, DirectoryAsSceneFileIsAnError) {
