@@ -36,8 +36,9 @@
 // the hit's offset from the surface (h there is 1e-14..1e-5), but the distance at which
 // grad f, which vanishes like h^2, first clears 2^10 times its noise bound: 2^-12..2^-8 clip
 // radii, where near h's singular curve (h = P Q, |grad h| < 0.05) the mirror point's gradient
-// already points the other way (the other sheet), so the one-sided gradient stays, off by
-// that distance times the normal's turning rate. Measured and not kept: each side divided by
+// already points the other way (by the look of it, the other sheet of h = P Q), so the
+// one-sided gradient stays, off by that distance times the normal's turning rate.
+// Measured and not kept: each side divided by
 // its slope along the ray (g+- / |g+- . u|, which removes the weights h^(k-1) of the two
 // sides): the worst angles the same to three digits (1927 of the 3685 mirrored pairs moved).
 #include "surface_data.h"
