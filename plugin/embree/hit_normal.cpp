@@ -38,9 +38,9 @@
 // radii, where near h's singular curve (h = P Q, |grad h| < 0.05) the mirror point's gradient
 // already points the other way (by the look of it, the other sheet of h = P Q), so the
 // one-sided gradient stays, off by that distance times the normal's turning rate.
-// Measured and not kept: each side divided by
-// its slope along the ray (g+- / |g+- . u|, which removes the weights h^(k-1) of the two
-// sides): the worst angles the same to three digits (1927 of the 3685 mirrored pairs moved).
+// Measured and not kept: each side divided by its slope along the ray (g+- / |g+- . u|,
+// which removes the weights h^(k-1) of the two sides): the worst angles the same to three
+// digits (1927 of the 3685 mirrored pairs moved).
 #include "surface_data.h"
 
 #include <cmath>
