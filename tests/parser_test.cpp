@@ -274,6 +274,8 @@ TEST(Parser, RejectsWithColumnAndMessage) {
       {"x y", 3, "missing operator before 'y'"},
       {"2x + 1", 1, "malformed number '2x' (write a product with '*': 2*x)"},
       {"z - 3y^2", 5, "malformed number '3y' (write a product with '*': 3*y)"},
+      {"2xz + 1", 1, "malformed number '2xz' (write a product with '*': 2*x*z)"},
+      {"2pi*x", 1, "malformed number '2pi' (write a product with '*': 2*pi)"},
       {"1.2.3", 1, "malformed number '1.2.3' (a number has one decimal point"},
       {"x - 1e0.5", 5, "malformed number '1e0.5' (a number has one decimal point"},
       {"X^2 + y", 1, "unknown name 'X' (the coordinates are x, y, z, in lower case)"},

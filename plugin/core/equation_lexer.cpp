@@ -78,13 +78,17 @@ Token readNumber(std::string_view text, size_t start) {
   if (i < text.size() && (isNameChar(text[i]) || text[i] == '.')) {
     size_t j = i;
     while (j < text.size() && (isNameChar(text[j]) || text[j] == '.')) ++j;
-    // The hint names the user's own product ("3y" -> 3*y) where a name follows the number;
-    // a point after the number ("1.2.3", "1e0.5") is no product.
-    const std::string_view number = text.substr(start, i - start), rest = text.substr(i, j - i);
-    const std::string hint =
-        text[i] == '.'
-            ? " (a number has one decimal point and an integer exponent)"
-            : " (write a product with '*': " + std::string(number) + "*" + std::string(rest) + ")";
+    // The hint names the user's own product ("3y" -> 3*y, "2xz" -> 2*x*z) where a name
+    // follows the number; a point after the number ("1.2.3", "1e0.5") is no product.
+    const std::string_view rest = text.substr(i, j - i);
+    std::string product(text.substr(start, i - start));
+    if (rest.find_first_not_of("xyz") == std::string_view::npos)
+      for (const char c : rest) product += {'*', c};
+    else
+      product += "*" + std::string(rest);
+    const std::string hint = text[i] == '.'
+                                 ? " (a number has one decimal point and an integer exponent)"
+                                 : " (write a product with '*': " + product + ")";
     throw ParseError(
         columnOf(text, static_cast<int>(start)),
         "malformed number '" + std::string(text.substr(start, j - start)) + "'" + hint);
