@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <new>
@@ -53,6 +54,19 @@ bool endsWith(const std::string& s, const std::string& suffix) {
                       return std::tolower(static_cast<unsigned char>(a)) ==
                              std::tolower(static_cast<unsigned char>(b));
                     });
+}
+
+// For a scene argument that names no file: how to say what it looks like it means, a gallery
+// surface or an equation (`algray-render "x^2+y^2+z^2-1"` was "cannot open the scene file"
+// and nothing more); empty when it looks like neither.
+std::string sceneArgumentHint(const std::string& input) {
+  std::error_code ec;
+  if (std::filesystem::exists(input, ec)) return "";
+  if (algray::findGallerySurface(input))
+    return " (a gallery surface is rendered with --surface: algray-render --surface " + input + ")";
+  if (input.find_first_of("^*=+(") != std::string::npos)
+    return " (an equation is rendered with --surface: algray-render --surface \"" + input + "\")";
+  return "";
 }
 
 }  // namespace
@@ -175,6 +189,8 @@ int main(int argc, char** argv) {
     } else if (endsWith(input, ".jsurf")) {
       desc = jsurfScene(input);
     } else {
+      if (const std::string hint = sceneArgumentHint(input); !hint.empty())
+        throw SceneError(input, 0, 0, "no such scene file" + hint);
       desc = loadSceneFile(input);
     }
   } catch (const SceneError& e) {

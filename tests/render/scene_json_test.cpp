@@ -587,6 +587,24 @@ TEST(RenderProgram, SurfacesOutsideTheirClipRegionAreNamed) {
   std::filesystem::remove(image);
 }
 
+// An equation or a gallery name given where the scene file goes gets the command that
+// renders it; a missing file that looks like neither is just missing.
+TEST(RenderProgram, EquationsAndGalleryNamesInPlaceOfASceneFileGetTheCommand) {
+  auto [code, out] = runRender("\"x^2+y^2+z^2-1\" -q -o /dev/null");
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("x^2+y^2+z^2-1: no such scene file (an equation is rendered with --surface: "
+                     "algray-render --surface \"x^2+y^2+z^2-1\")"),
+            std::string::npos)
+      << out;
+  std::tie(code, out) = runRender("Barth_Sextic -q -o /dev/null");
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("algray-render --surface Barth_Sextic"), std::string::npos) << out;
+  std::tie(code, out) = runRender("no_such_scene.json -q -o /dev/null");
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("no_such_scene.json: cannot open the scene file"), std::string::npos) << out;
+  EXPECT_EQ(out.find("--surface"), std::string::npos) << out;
+}
+
 TEST(RenderProgram, DirectoryAsSceneFileIsAnError) {
   const std::string dir = std::filesystem::temp_directory_path().string();
   auto [code, out] = runRender(dir + " -q -o /dev/null");
