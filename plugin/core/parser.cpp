@@ -253,13 +253,11 @@ class Parser {
         if (pos_ >= 2 && tokens_[pos_ - 2].kind == TokenKind::LeftParen)
           fail(t, "empty parentheses");
         [[fallthrough]];
-      case TokenKind::Equals:
+      default:
         if (t.kind == TokenKind::Equals && pos_ >= 2 &&
             tokens_[pos_ - 2].kind == TokenKind::Equals &&
             tokens_[pos_ - 2].offset + tokens_[pos_ - 2].length == t.offset)
           fail(t, "'==' is written '=' here (one '=' between the two sides)");
-        [[fallthrough]];
-      default:
         fail(t, "expected a number, a name or '(' but found " + detail::describe(text_, t));
     }
   }
