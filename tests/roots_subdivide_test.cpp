@@ -1,5 +1,5 @@
 // The subdivision's Bernstein coefficients against exact references (plugin/core/
-// roots_subdivide.h, a private header): the conversion from 0 of solveTop's start at 0
+// roots_bernstein_nodes.h, a private header): the conversion from 0 of solveTop's start at 0
 // (bernsteinFromZero) with its rounding bounds, on both sides of 0, for the plain nodes
 // (one uniform bound, degrees up to 12) and the paired ones (a bound per coefficient).
 // Reference: b_i = sum_{j <= i} C(i, j) / C(n, j) c_j h^j on the node from 0 to h > 0

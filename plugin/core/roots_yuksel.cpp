@@ -319,8 +319,8 @@ int solveDirect(const LocalPoly<T>& g, D deg, int order, Query q, T tol, LocalRo
 // where the exclusion test proves no derivative but the constant one root-free, i.e. on
 // long spans: whole rays of degree 30 19762 -> 10396, 40 32895 -> 24443; cells (nearly
 // always settled by the test) 3320 -> 3273 and 5266 -> 5366.
-// Session 10, with the per-coefficient Bernstein bounds of roots_subdivide.h: above degree
-// 20 a long interval (as defined below) now subdivides without the test, a short one keeps
+// Session 10, with the per-coefficient Bernstein bounds of roots_bernstein_nodes.h: above
+// degree 20 a long interval (as defined below) now subdivides without the test, a short one keeps
 // that rule (roots_report, 200 problems a degree, the rules side by side, two runs, ns):
 // whole rays of degree 30 8470 -> 3284 and 8404 -> 3291 (Sturm 3624-3726: from 0.44x to
 // 1.1x of its speed), 40 33016 -> 9821 and 19246 -> 9847 (0.18-0.29x -> 0.55x of Sturm);
