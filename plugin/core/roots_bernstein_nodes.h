@@ -161,6 +161,32 @@ inline void scaledToBernstein(const E* a, D deg, T w, E* b) {
   pascalPasses(b, deg);
 }
 
+// The bounds (*) of freshly converted coefficients b, at the depth cap, for a node whose
+// terms' majorant is |C| at `reach` (|lo| + w from lo, |h| from 0). For pairs: beta_i (the
+// second lane) -> gamma(4n + 6 + 3D) beta_i, two more roundings than (*) for the node
+// tests' own subtractions, times 1 + 2 gamma(4n + 4 + 2D) for the rounding of beta itself
+// (computed in the conversion and the splits from non-negative terms); returns 0. For
+// plain T: the uniform bound E = gamma(4n + 4 + 3D) A(1), where A(1) = sum_j (shift of |C|
+// by |lo|)_j w^j is |C| evaluated at |lo| + w: one Horner pass instead of a second shift,
+// rounded up (reach by 2u, the Horner sum of non-negative terms, at most 2n roundings
+// each, by gamma(2n + 2)).
+template <class T, class E, class D>
+T boundsAtDepthCap(const LocalPoly<T>& g, D deg, E* b, T reach) {
+  const int n = deg;
+  constexpr int kD = kSubdivideDepth<T>;
+  if constexpr (!std::is_same_v<E, T>) {
+    const T scale = gammaT<T>(4 * n + 6 + 3 * kD) * (1 + 2 * gammaT<T>(4 * n + 4 + 2 * kD));
+    for (int j = 0; j <= n; ++j) b[j][1] *= scale;
+    return T(0);
+  } else {
+    const T x = reach * (1 + 2 * kUnit<T>);
+    T sumA = 0;
+    for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
+    sumA *= 1 + gammaT<T>(2 * n + 2);
+    return gammaT<T>(4 * n + 4 + 3 * kD) * sumA;
+  }
+}
+
 // Measured and not kept (session 10): the conversion by Horner's rule in the Bernstein
 // basis (Farouki and Rajan 1988; roots_bernstein.cpp's), whose intermediates stay below
 // sum |C_j| M^j, M = max(|lo|, |hi|), where the Taylor shift's reach sum |C_j| (|lo| +
@@ -193,25 +219,7 @@ T toBernsteinWithBound(const LocalPoly<T>& g, D deg, E* b) {
   // The scaling by w^j and the division share one loop (as two, the second re-read what
   // the first had just stored, in pairs once vectorised: the stall of plugin/CMakeLists.txt).
   scaledToBernstein(a, deg, w, b);
-  constexpr int kD = kSubdivideDepth<T>;
-  if constexpr (kPairs) {
-    // beta_i -> the bound (*) at the depth cap: gamma(4n + 6 + 3D), two more roundings
-    // than (*) for the node tests' own subtractions, times 1 + 2 gamma(4n + 4 + 2D) for
-    // the rounding of beta itself (computed above and in the splits from non-negative
-    // terms).
-    const T scale = gammaT<T>(4 * n + 6 + 3 * kD) * (1 + 2 * gammaT<T>(4 * n + 4 + 2 * kD));
-    for (int j = 0; j <= n; ++j) b[j][1] *= scale;
-    return T(0);
-  } else {
-    // A(1) = sum_j (shift of |C| by |lo|)_j w^j is |C| evaluated at |lo| + w: one Horner
-    // pass instead of a second shift. Rounded up: |lo| + w by 2u, the Horner sum of
-    // non-negative terms (at most 2n roundings each) by gamma(2n + 2).
-    const T x = (std::abs(lo) + w) * (1 + 2 * kUnit<T>);
-    T sumA = 0;
-    for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
-    sumA *= 1 + gammaT<T>(2 * n + 2);
-    return gammaT<T>(4 * n + 4 + 3 * kD) * sumA;
-  }
+  return boundsAtDepthCap(g, deg, b, std::abs(lo) + w);
 }
 
 // Bernstein coefficients of G on the node between 0 and h (h of either sign; b_0 at the
@@ -244,18 +252,7 @@ T bernsteinFromZero(const LocalPoly<T>& g, D deg, T h, E* b) {
   pascalPasses(b, deg);
   if (left)
     for (int i = 0, j = n; i < j; ++i, --j) std::swap(b[i], b[j]);
-  constexpr int kD = kSubdivideDepth<T>;
-  if constexpr (kPairs) {
-    const T scale = gammaT<T>(4 * n + 6 + 3 * kD) * (1 + 2 * gammaT<T>(4 * n + 4 + 2 * kD));
-    for (int j = 0; j <= n; ++j) b[j][1] *= scale;
-    return T(0);
-  } else {
-    const T x = w * (1 + 2 * kUnit<T>);
-    T sumA = 0;
-    for (int j = n; j >= 0; --j) sumA = sumA * x + std::abs(g.c[j]);
-    sumA *= 1 + gammaT<T>(2 * n + 2);
-    return gammaT<T>(4 * n + 4 + 3 * kD) * sumA;
-  }
+  return boundsAtDepthCap(g, deg, b, w);
 }
 
 // de Casteljau at the dyadic ratio t: left into l, right into r (may alias b).
