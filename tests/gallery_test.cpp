@@ -89,6 +89,16 @@ LD sartiReference(const Quat& p) {
   return sartiS(p) - lambda * std::pow(dot(p, p), 6);
 }
 
+// The real root of 7 a^3 + 7 a + 1 (increasing, so one root; it lies in (-1, 0)).
+LD labsAlpha() {
+  LD lo = -1, hi = 0;
+  for (int i = 0; i < 80; ++i) {
+    const LD mid = (lo + hi) / 2;
+    (7 * mid * mid * mid + 7 * mid + 1 < 0 ? lo : hi) = mid;
+  }
+  return (lo + hi) / 2;
+}
+
 struct Reference {
   int degree;
   Formula f;
@@ -162,6 +172,22 @@ const std::map<std::string, Reference>& references() {
                                 const LD q = 4 * (x * x + y * y - z * z) + 1 + 3 * s5;
                                 return planes - 5 * a * (2 * z - a) * q * q;
                               }};
+    // Labs: P as 64 times the product of its seven planes, not as the gallery expands it,
+    // and alpha by bisection instead of Cardano's formula.
+    m["labs-septic"] = {
+        7, [](LD x, LD y, LD z) {
+          const LD alpha = labsAlpha(), a2 = alpha * alpha;
+          LD planes = 64;
+          for (int k = 0; k < 7; ++k) {
+            const LD t = 2 * std::numbers::pi_v<LD> * k / 7;
+            planes *= x * std::cos(t) + y * std::sin(t) - z;
+          }
+          const LD cubic =
+              (z + 1) * (x * x + y * y) + (-12 * a2 / 7 - 384 * alpha / 49 - 8 / 7.0L) * z * z * z +
+              (-32 * a2 / 7 + 24 * alpha / 49 - 4) * z * z + (-4 * a2 + 24 * alpha / 49 - 4) * z +
+              (-8 * a2 / 7 + 8 * alpha / 49 - 8 / 7.0L);
+          return planes - (z + 49 * a2 - 7 * alpha + 50) * cubic * cubic;
+        }};
     m["endrass-octic"] = {8, [s2](LD x, LD y, LD z) {
                             const LD r = x * x + y * y, z2 = z * z;
                             const LD lhs = 64 * (x * x - 1) * (y * y - 1) *
@@ -188,8 +214,8 @@ TEST(Gallery, NamesAreUniqueAndFindable) {
   EXPECT_EQ(findGallerySurface("no-such-surface"), nullptr);
   for (const char* required :
        {"sphere", "ellipsoid", "torus", "clebsch-cubic", "cayley-cubic", "roman-surface",
-        "kummer-quartic", "togliatti-quintic", "barth-sextic", "heart", "chmutov-8", "chmutov-12",
-        "chmutov-16", "endrass-octic", "sarti-dodecic"})
+        "kummer-quartic", "togliatti-quintic", "barth-sextic", "labs-septic", "heart", "chmutov-8",
+        "chmutov-12", "chmutov-16", "endrass-octic", "sarti-dodecic"})
     EXPECT_NE(findGallerySurface(required), nullptr) << required;
 }
 
@@ -281,6 +307,19 @@ void expectNode(const Polynomial& f, const glm::dvec3& p, bool gradientToo = tru
   }
 }
 
+// The Hessian of f at p by central differences of its gradient (the step balances the
+// difference's truncation, h^2, against the gradient's rounding over 2h).
+glm::dmat3 hessian(const Polynomial& f, const glm::dvec3& p) {
+  const double h = 1e-5 * (1 + glm::length(p));
+  glm::dmat3 m(0.0);
+  for (int j = 0; j < 3; ++j) {
+    glm::dvec3 e(0.0);
+    e[j] = h;
+    m[j] = (f.evaluateWithBound(p + e).gradient - f.evaluateWithBound(p - e).gradient) / (2 * h);
+  }
+  return m;
+}
+
 TEST(Gallery, KnownPointsAndNodes) {
   const auto get = [](const char* name) { return findGallerySurface(name)->build(); };
   // Parametrised points (not nodes).
@@ -334,6 +373,50 @@ TEST(Gallery, KnownPointsAndNodes) {
         }
       }
     EXPECT_EQ(nodes, 20);
+  }
+  // Labs: the 15 nodes of the plane section y = 0 (Labs' Lemma 1: one on the axis, and 14
+  // whose orbits under the rotations by 2 pi / 7 about z hold 7 nodes each), to ten digits
+  // from a numerical search (Newton on grad f = 0 from 20000 starts, numpy, on the published
+  // formula); each of the 99 points is refined by Newton on grad f (finite-difference
+  // Hessian) and must be a node: f and grad f vanish, the Hessian is regular (an ordinary
+  // double point, not a worse singularity), and the 99 are distinct.
+  {
+    const Polynomial labs = get("labs-septic");
+    const std::array<std::array<double, 2>, 15> section = {{{-0.5911059785, -0.3685485494},
+                                                            {0.5314295817, -0.4788015086},
+                                                            {0.4208060111, -0.5872953525},
+                                                            {-0.4982280014, -0.5597540786},
+                                                            {0.8310694179, -0.1849303431},
+                                                            {0.6611765936, -0.5956995270},
+                                                            {0.0, -1.0},
+                                                            {-1.1880339894, -0.7407270767},
+                                                            {-1.5126248182, 0.3365906873},
+                                                            {2.9939465328, 0.8307574877},
+                                                            {2.7990961367, 1.7452078957},
+                                                            {4.2641226661, -0.9488565582},
+                                                            {-4.0087586090, 3.6117667057},
+                                                            {5.4724979246, -2.1943012974},
+                                                            {11.7503205633, 10.5241032145}}};
+    std::vector<glm::dvec3> nodes;
+    for (const auto& [sx, sz] : section)
+      for (int k = 0; k < (sx == 0.0 ? 1 : 7); ++k) {
+        const double t = 2 * std::numbers::pi * k / 7;
+        const glm::dvec3 start(sx * std::cos(t), sx * std::sin(t), sz);
+        glm::dvec3 p = start;
+        for (int it = 0; it < 8; ++it)
+          p -= glm::inverse(hessian(labs, p)) * labs.evaluateWithBound(p).gradient;
+        EXPECT_LT(glm::length(p - start), 1e-8 * (1 + glm::length(start)));
+        expectNode(labs, p);
+        const glm::dmat3 h = hessian(labs, p);
+        const double scale = glm::length(h[0]) * glm::length(h[1]) * glm::length(h[2]);
+        EXPECT_GT(std::abs(glm::determinant(h)), 1e-6 * scale) << p.x << " " << p.y << " " << p.z;
+        for (const glm::dvec3& q : nodes) EXPECT_GT(glm::length(p - q), 1e-3);
+        nodes.push_back(p);
+      }
+    EXPECT_EQ(nodes.size(), 99u);
+    EXPECT_EQ(std::count_if(nodes.begin(), nodes.end(),
+                            [](const glm::dvec3& p) { return glm::length(p) < 3.5; }),
+              71);
   }
   // Chmutov: x, y, z critical points of T_n (cos(k pi/n)) with T values -1, -1, +1.
   for (int n : {8, 12, 16}) {

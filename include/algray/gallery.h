@@ -2,8 +2,8 @@
 // Named classic algebraic surfaces with sensible clip radii, written from their
 // definitions (references in plugin/core/gallery.cpp); used by tests, the renderer and the
 // benchmarks. Names: sphere, ellipsoid, torus, clebsch-cubic, cayley-cubic, roman-surface,
-// kummer-quartic, togliatti-quintic, barth-sextic, barth-decic, heart, chmutov-8,
-// chmutov-12, chmutov-16, endrass-octic, sarti-dodecic. Higher degrees for stress tests
+// kummer-quartic, togliatti-quintic, barth-sextic, labs-septic, barth-decic, heart,
+// chmutov-8, chmutov-12, chmutov-16, endrass-octic, sarti-dodecic. Higher degrees for stress tests
 // are easy to build from these (e.g. products of spheres, Polynomial::pow).
 #include "algray/polynomial.h"
 

@@ -116,6 +116,45 @@ Polynomial barthSextic() {
          (1.0 + 2.0 * kPhi) * (r2() - c(1.0)).pow(2);
 }
 
+// Labs' septic (O. Labs, "A septic with 99 real nodes", Rend. Sem. Mat. Univ. Padova 116
+// (2006) 299-313; arXiv math.AG/0409348), 99 real nodes, the most known for degree 7 (the
+// bound is 104), with the dihedral symmetry D7 about the z axis:
+//   P - (z + a5 w) ((z + w)(x^2 + y^2) + a1 z^3 + a2 z^2 w + a3 z w^2 + a4 w^3)^2,
+//   P = x (x^6 - 21 x^4 y^2 + 35 x^2 y^4 - 7 y^6)
+//       + 7 z ((x^2 + y^2)^3 - 8 z^2 (x^2 + y^2)^2 + 16 z^4 (x^2 + y^2)) - 64 z^7,
+// where P = Re (x + iy)^7 - r^7 T7(z / r) (r^2 = x^2 + y^2) is 64 times the product of the
+// seven planes x cos t + y sin t = z, t = 2 pi k / 7 (the identity
+// prod_k (cos s - cos(t + 2 pi k / n)) = 2^(1-n) (cos ns - cos nt); tests/gallery_test.cpp
+// compares against the product), and with alpha the real root of 7 a^3 + 7 a + 1 = 0:
+//   a1 = -12/7 alpha^2 - 384/49 alpha - 8/7,  a2 = -32/7 alpha^2 + 24/49 alpha - 4,
+//   a3 = -4 alpha^2 + 24/49 alpha - 4,  a4 = -8/7 alpha^2 + 8/49 alpha - 8/7,
+//   a5 = 49 alpha^2 - 7 alpha + 50.
+// Checked before it went in: Newton on grad f = 0 from 20000 starts (numpy) finds 99
+// points where f vanishes too, all in the chart w = 1: the 15 nodes of the plane section
+// y = 0 (one on the axis, at (0, 0, -1)) and the orbits of the 14 others under D7 (Labs'
+// count, 1 + 14 * 7). 71 of them lie within the clip radius 3.5; the last orbit is 15.8 out.
+Polynomial labsSeptic() {
+  const Polynomial &x = X(), &y = Y(), &z = Z();
+  // alpha^3 + alpha + 1/7 = 0 has one real root (Cardano), refined by one Newton step on
+  // 7 a^3 + 7 a + 1 (the two cube roots cancel in part).
+  const double q = 1.0 / 7.0, d = std::sqrt(q * q / 4.0 + 1.0 / 27.0);
+  double alpha = std::cbrt(-q / 2.0 + d) + std::cbrt(-q / 2.0 - d);
+  alpha -= (7.0 * alpha * alpha * alpha + 7.0 * alpha + 1.0) / (21.0 * alpha * alpha + 7.0);
+  const double a2 = alpha * alpha;
+  const double a[6] = {0.0,
+                       -12.0 / 7.0 * a2 - 384.0 / 49.0 * alpha - 8.0 / 7.0,
+                       -32.0 / 7.0 * a2 + 24.0 / 49.0 * alpha - 4.0,
+                       -4.0 * a2 + 24.0 / 49.0 * alpha - 4.0,
+                       -8.0 / 7.0 * a2 + 8.0 / 49.0 * alpha - 8.0 / 7.0,
+                       49.0 * a2 - 7.0 * alpha + 50.0};
+  const Polynomial rho2 = x * x + y * y, z2 = z * z;
+  const Polynomial p =
+      x * (x.pow(6) - 21.0 * x.pow(4) * y * y + 35.0 * x * x * y.pow(4) - 7.0 * y.pow(6)) +
+      7.0 * z * (rho2.pow(3) - 8.0 * z2 * rho2.pow(2) + 16.0 * z2.pow(2) * rho2) - 64.0 * z.pow(7);
+  const Polynomial cubic = (z + c(1.0)) * rho2 + a[1] * z.pow(3) + a[2] * z2 + a[3] * z + c(a[4]);
+  return p - (z + c(a[5])) * cubic.pow(2);
+}
+
 // Barth's decic (same paper), 345 nodes:
 // 8 (x^2 - phi^4 y^2)(y^2 - phi^4 z^2)(z^2 - phi^4 x^2)(x^4+y^4+z^4 - 2x^2y^2 - 2y^2z^2 - 2z^2x^2)
 //   + (3 + 5 phi)(x^2+y^2+z^2 - w^2)^2 (x^2+y^2+z^2 - (2 - phi) w^2)^2 w^2.
@@ -249,6 +288,9 @@ const std::array kGallery = {
     GallerySurface{"togliatti-quintic", "Togliatti's quintic, 31 nodes (26 affine; Barth's form)",
                    5.0, &togliattiQuintic},
     GallerySurface{"barth-sextic", "Barth's sextic, 65 nodes (Barth 1996)", 2.0, &barthSextic},
+    GallerySurface{"labs-septic",
+                   "Labs' septic, 99 real nodes (71 within the clip sphere; Labs 2006)", 3.5,
+                   &labsSeptic},
     GallerySurface{"barth-decic", "Barth's decic, 345 nodes (Barth 1996)", 2.2, &barthDecic},
     GallerySurface{"heart", "Taubin's heart (x^2+9/4y^2+z^2-1)^3 = x^2z^3 + 9/80y^2z^3", 1.5,
                    &heart},
