@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <span>
 
 #include "core_isa.h"
@@ -428,6 +429,70 @@ __attribute__((noinline)) Polynomial::Evaluation HornerForm::evaluateReduced(
   e.magnitude = reducedMagFactor_ * n.fa;
   e.valueError = reducedErrorFactor_ * e.magnitude;
   return e;
+}
+
+// ---- Compensated value ----------------------------------------------------------------
+namespace {
+
+// a + b = s + err exactly (Knuth's TwoSum).
+inline double twoSum(double a, double b, double& err) {
+  const double s = a + b, bb = s - a;
+  err = (a - (s - bb)) + (b - bb);
+  return s;
+}
+
+// a b = p + err exactly, without FMA (Dekker's TwoProduct with Veltkamp's split: the core
+// is built without contraction, so the same bits on every host), valid for |a|, |b| below
+// 2^995 (the split's 2^27 + 1 times them stays finite) and products above the underflow
+// range (below it err loses bits; the compensation then only helps less).
+inline double twoProduct(double a, double b, double& err) {
+  constexpr double kSplit = 134217729.0;  // 2^27 + 1
+  const double ca = kSplit * a, ah = ca - (ca - a), al = a - ah;
+  const double cb = kSplit * b, bh = cb - (cb - b), bl = b - bh;
+  const double p = a * b;
+  err = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
+  return p;
+}
+
+// One compensated Horner step: (v, e) <- (v x + c, e x + (pi + sigma + ec)), where v x =
+// prod + pi and prod + c = v' + sigma exactly, and ec is c's own error term (the inner
+// level's): the running value plus its first-order correction (Graillat et al., Alg. 3.2).
+inline void compensatedStep(double& v, double& e, double x, double c, double ec) {
+  double pi, sigma;
+  const double prod = twoProduct(v, x, pi);
+  v = twoSum(prod, c, sigma);
+  e = e * x + (pi + sigma + ec);
+}
+
+}  // namespace
+
+double HornerForm::valueCompensated(const glm::dvec3& p) const {
+  // The box of evaluate(), one row at a time: z-rows (k descending), folded into their
+  // x-block by y (j descending), the blocks by x (i descending); each level carries the
+  // error terms of the one inside it.
+  constexpr double kRange = 0x1p995;
+  if (!(std::abs(p.x) < kRange && std::abs(p.y) < kRange && std::abs(p.z) < kRange))
+    return std::numeric_limits<double>::quiet_NaN();
+  const std::span<const std::uint8_t> rows = groups_.blockRows;
+  std::size_t s = 0, r = 0;
+  double vx = 0, ex = 0;
+  bool inRange = true;
+  for (const std::uint8_t blockRowCount : rows) {
+    double vy = 0, ey = 0;
+    for (int jr = 0; jr < blockRowCount; ++jr, ++r) {
+      double vz = 0, ez = 0;
+      for (int k = 0; k < rowLength_[r]; ++k, ++s) {
+        compensatedStep(vz, ez, p.z, slots_[s].c, 0.0);
+        inRange &= std::abs(vz) < kRange;
+      }
+      compensatedStep(vy, ey, p.y, vz, ez);
+      inRange &= std::abs(vy) < kRange;
+    }
+    compensatedStep(vx, ex, p.x, vy, ey);
+    inRange &= std::abs(vx) < kRange;
+  }
+  const double value = vx + ex;
+  return inRange && std::isfinite(value) ? value : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace algray

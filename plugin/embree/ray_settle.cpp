@@ -87,7 +87,7 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
   hit.t = rr.g.tShift + rr.roots[0];
   Polynomial::Evaluation e;
   const bool onF = polish(data.horner, ray.org, ray.dir, std::max(rr.r0, ray.tnear), rr.r1,
-                          1e-4 * (rr.r1 - rr.r0), hit, &e);
+                          rr.r1 - rr.r0, hit, &e);
   rr.roots[0] = hit.t - rr.g.tShift;
   rr.firstPolished = true;
   rr.firstGradient = hit.gradient;

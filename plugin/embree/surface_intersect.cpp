@@ -377,7 +377,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     else if (data.quadric)
       hit.gradient = occlusion ? glm::dvec3(0.0) : data.quadric->gradient(hit.point);
     else if (!occlusion)
-      polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), 1e-4 * (r1 - r0), hit);
+      polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), r1 - r0, hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
     if (!occlusion) hit.gradient = hitGradient(data, d, hit.point, hit.gradient);
     if (ray.trace != 0) {
