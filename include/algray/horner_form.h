@@ -51,9 +51,9 @@ class HornerForm {
   // arithmetic, the same on every host): |result - f(p)| <= 2u |f(p)| + gamma(2m+6)^2 E(p),
   // E = sum |c| |x|^i |y|^j |z|^k (Graillat, Langlois and Louvet, "Compensated Horner
   // Scheme", 2005, Thm. 3.1, with the nesting's extra steps; tests/horner_form_test.cpp), so
-  // near a root it is exact to the square of evaluate()'s relative bound. About twelve
-  // times evaluate()'s arithmetic: for a last Newton step where evaluate()'s bound is what
-  // limits a root (the adapter's polish). Non-finite or beyond 2^995 in any partial value
+  // near a root it is exact to the square of evaluate()'s relative bound. About 27 flops
+  // per stored coefficient against evaluate()'s 6, value only: for a last Newton step where
+  // evaluate()'s bound is what limits a root (the adapter's polish). Non-finite or beyond 2^995 in any partial value
   // (the splitting constant's range): NaN.
   double valueCompensated(const glm::dvec3& p) const;
   // The axes a in which every monomial's exponent is even and some is not 0 (bit a set):
