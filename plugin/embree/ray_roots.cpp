@@ -390,26 +390,42 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
     t = tn;
     e = en;
   }
-  // ---- A last step on the compensated value, where f's rounding limits the root --------
+  // ---- Last steps on the compensated value, where f's rounding limits the root ---------
   // The loop stops where |f| is within evaluate()'s bound, which places t only within
   // valueError / |slope| of the root: up to ~2m times the root's conditioning u E / |slope|
   // (Chmutov-20 from 1.5 clip radii: 9.6e-10 radii where the conditioning allowed 5.6e-11;
   // accuracy_report, session 38). Where that window is wider than 2^-35 of the region's span
-  // (5.8e-11 clip radii on a chord through the centre, a sixteenth of the accuracy target;
-  // the gallery's primary rays up to degree 12 within 0.5 % of their time, Chmutov-16 3 %)
-  // and narrow enough for a simple, clear root
-  // (below 2^-20 of it), one Newton step on f's compensated value (exact to the square of
-  // evaluate()'s relative bound; the slope's own rounding only scales a step of the
-  // window's size) puts t within the root's conditioning. Kept only if it stays within
-  // twice the window. (Below 2^-35 too, every Chmutov-16 hit took it: 15 % of its primary
-  // rays' time for errors already 15 times below the target.)
+  // (5.8e-11 clip radii on a chord through the centre, a sixteenth of the accuracy target)
+  // and below 2^-10 of it, Newton steps on f's compensated value (exact to the square of
+  // evaluate()'s relative bound; the slope's own rounding only scales steps of the window's
+  // size) put t within the root's conditioning, each kept only if it stays within twice the
+  // window. In a narrow window (below 2^-20 of the span) one step is all: it leaves the
+  // curvature's share of the window's square. In a wider one (a product of 20 spheres,
+  // degree 40: ~8e4 times the conditioning, 1.4e-5 clip radii, where one step leaves ~1e-7)
+  // they go on while each cuts |f| sixteenfold, as Newton does near a simple root and not
+  // near a multiple one (a double root's f falls fourfold a step), down to 2^-20 of the
+  // window. (Below 2^-35 too, every Chmutov-16 hit took a step: 15 % of its primary rays'
+  // time for errors already 15 times below the target; verifying each step there cost 5 %.)
   const double slope = glm::dot(e.gradient, d);
   const double window = e.valueError / std::abs(slope);
-  if (window > 0x1p-35 * regionSpan && window <= 0x1p-20 * regionSpan) [[unlikely]] {
-    const double step = f.valueCompensated(o + t * d) / slope;
-    const double tn = t - step;
-    if (std::abs(step) <= 2.0 * window && tn > lo && tn < hi && std::abs(tn - hit.t) <= maxMove)
+  if (window > 0x1p-35 * regionSpan && window <= 0x1p-10 * regionSpan) [[unlikely]] {
+    const bool narrow = window <= 0x1p-20 * regionSpan;
+    double fc = f.valueCompensated(o + t * d);
+    for (int it = 0; it < 4; ++it) {
+      const double step = fc / slope;
+      const double tn = t - step;
+      if (!(std::abs(step) > 0x1p-20 * window && std::abs(step) <= 2.0 * window && tn > lo &&
+            tn < hi && std::abs(tn - hit.t) <= maxMove))
+        break;
+      if (narrow) {
+        t = tn;
+        break;
+      }
+      const double fn = f.valueCompensated(o + tn * d);
+      if (!(16.0 * std::abs(fn) <= std::abs(fc))) break;
       t = tn;
+      fc = fn;
+    }
   }
   hit.t = t;
   hit.point = o + t * d;

@@ -73,12 +73,23 @@ namespace {
 // the point's own rounding allow: x_i errs by up to u (|o_i| + |t d_i|) plus the origin's
 // error bound, which moves f by up to |grad f| times as much (from a far origin, 1e5
 // radii, that is what keeps f from its bound at every double t: the hits of a torus were
-// taken for noise and searched for again).
-bool clearlyOffSurface(const KernelRay& ray, const KernelHit& hit,
+// taken for noise and searched for again). Where f is beyond its bound but within 2^10 of
+// it, f's compensated value decides with its own bound, 2u|f| + gamma(2m+6)^2 E
+// (horner_form.h), in place of evaluate()'s gamma(2m+3) E: at degree 40 that bound is
+// 8e4 times a root's conditioning, and on a product of 20 spheres g's noise region
+// reported first roots up to 0.005 clip radii before the true one (accuracy_report,
+// session 38), where f was 290 times its bound and the polish's steps too long to reach
+// it.
+bool clearlyOffSurface(const HornerForm& f, const KernelRay& ray, const KernelHit& hit,
                        const Polynomial::Evaluation& e) {
   const glm::dvec3 spread = ray.orgRoundoff * (absv(ray.org) + std::abs(hit.t) * absv(ray.dir)) +
                             glm::dvec3(ray.orgError);
-  return std::abs(e.value) > 0x1p10 * (e.valueError + glm::dot(absv(e.gradient), spread));
+  const double moved = glm::dot(absv(e.gradient), spread);
+  if (std::abs(e.value) > 0x1p10 * (e.valueError + moved)) return true;
+  if (!(std::abs(e.value) > e.valueError)) return false;
+  const double fc = f.valueCompensated(hit.point);
+  const double g = gamma(2 * f.degree() + 6);
+  return std::abs(fc) > 0x1p10 * (2.0 * kUnitRoundoff * std::abs(fc) + g * g * e.magnitude + moved);
 }
 
 // Polishes rr's first root on f; returns whether f is clearly non-zero at the result.
@@ -91,7 +102,7 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
   rr.roots[0] = hit.t - rr.g.tShift;
   rr.firstPolished = true;
   rr.firstGradient = hit.gradient;
-  return !onF && clearlyOffSurface(ray, hit, e);
+  return !onF && clearlyOffSurface(data.horner, ray, hit, e);
 }
 
 // rr's first root, polished, is clearly off f: the ray is restricted again about the root
