@@ -25,6 +25,7 @@
 #include <glm/vec3.hpp>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -52,10 +53,16 @@ class HornerForm {
   // E = sum |c| |x|^i |y|^j |z|^k (Graillat, Langlois and Louvet, "Compensated Horner
   // Scheme", 2005, Thm. 3.1, with the nesting's extra steps; tests/horner_form_test.cpp), so
   // near a root it is exact to the square of evaluate()'s relative bound. About 27 flops
-  // per stored coefficient against evaluate()'s 6, value only: for a last Newton step where
-  // evaluate()'s bound is what limits a root (the adapter's polish). Non-finite or beyond 2^995 in any partial value
-  // (the splitting constant's range): NaN.
+  // per stored coefficient against evaluate()'s 6, value only: for where evaluate()'s bound
+  // is what limits a root (the adapter's polish and its settling of a first root).
+  // Non-finite or beyond 2^995 in any partial value (the splitting constant's range): NaN.
   double valueCompensated(const glm::dvec3& p) const;
+  // That bound for a compensated value v at a point where evaluate() gave the magnitude E
+  // (an upper bound of it on even axes, which only widens the bound).
+  double compensatedBound(double v, double magnitude) const {
+    const double g = gamma(2 * degree_ + 6);
+    return 2.0 * kUnitRoundoff * std::abs(v) + g * g * magnitude;
+  }
   // The axes a in which every monomial's exponent is even and some is not 0 (bit a set):
   // f(x, y, z) = F(x^2, y, z) etc., which evaluate() runs on a box of F (horner_form.cpp).
   unsigned evenAxes() const { return evenAxes_; }

@@ -373,8 +373,9 @@ void searchSpan(RayRoots& rr) {
 // (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred
 // expansion lost. A step is kept only if the iterate stays inside the span, within 1e-4 of
 // the region's span (maxMove) of where it started, and lowers |f| (so an ill-conditioned
-// root never jumps to a neighbour). Returns whether |f| ended within its bound: the root is confirmed on f.
-// `last`, if given, receives f at the final point (settleFirstRoot).
+// root never jumps to a neighbour); then last steps on f's compensated value (below).
+// Returns whether |f| ended within its bound (evaluate()'s, at the last double step): the
+// root is confirmed on f. `last`, if given, receives f at that step (settleFirstRoot).
 bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
             double regionSpan, KernelHit& hit, Polynomial::Evaluation* last) {
   const double maxMove = 1e-4 * regionSpan;
