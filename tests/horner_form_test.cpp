@@ -609,7 +609,9 @@ TEST(HornerFormEvenAxes, RangeEndsAndNeighbours) {
     Polynomial f = evenPolynomial(rng, mask, m, std::max(-300.0, scale - decades), scale);
     if (m > 20) {  // sparse at high degree (the MPFR reference sums every monomial)
       Polynomial sparse;
-      for (int n = 0; n <= m; ++n)
+      // Up to f's own degree, not m: f has no monomial of an odd degree m when every axis
+      // is even, and its coefficients end at its degree.
+      for (int n = 0; n <= f.degree(); ++n)
         forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
           if (f.coeffs()[idx] != 0.0 && (n <= 2 || u(rng) < 0.1))
             sparse.setCoeff(i, j, k, f.coeffs()[idx]);
