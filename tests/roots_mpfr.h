@@ -103,7 +103,15 @@ inline int signAt(const std::vector<double>& c, const Mp& x) {
 struct RefRoot {
   double value;         // rounded to double
   double conditioning;  // sum |c_i| |r|^i / |g'(r)|
+  double rest = 0;      // the root minus value, rounded: value + rest is the root to ~2^-100
 };
+
+// |answer - root| against the root itself, not its rounding to double: a double answer
+// next to `value` may be the nearer one to the root, and `value`'s own half ulp is not the
+// answer's error (answer - value is exact where they are within a factor 2, Sterbenz).
+inline double rootError(double answer, const RefRoot& r) {
+  return std::abs((answer - r.value) - r.rest);
+}
 
 inline std::optional<RefRoot> refine(const std::vector<double>& c, double start) {
   Mp x(start), f, df, step;
@@ -147,7 +155,10 @@ inline std::optional<RefRoot> refine(const std::vector<double>& c, double start)
   evaluate(c, x, f, df);
   mpfr_abs(df.get(), df.get(), MPFR_RNDN);
   mpfr_div(sum.get(), sum.get(), df.get(), MPFR_RNDN);
-  return RefRoot{x.toDouble(), sum.toDouble()};
+  const double value = x.toDouble();
+  Mp rest;
+  mpfr_sub_d(rest.get(), x.get(), value, MPFR_RNDN);
+  return RefRoot{value, sum.toDouble(), rest.toDouble()};
 }
 
 // All certified real roots in (lo, hi) reached by Newton from the given starts, sorted,
