@@ -273,7 +273,10 @@ TEST(Gallery, MatchesTheDefiningFormula) {
 }
 
 // The surface has points inside the clip ball: some radial segment from the centre to
-// the clip sphere changes sign (a crossing), for a good share of directions.
+// the clip sphere changes sign (a crossing), for a good share of directions. (Shares over
+// 20000 directions, session 39: 0.24 for Barth's decic, the least, 0.29 for his sextic,
+// 0.40 and above for the others; so at least an eighth of these 200: a fifth, the bound
+// before, failed on one draw of the directions in ten for the decic.)
 TEST(Gallery, ClipRadiusFramesTheSurface) {
   std::mt19937_64 rng(9);
   std::normal_distribution<double> g;
@@ -293,7 +296,7 @@ TEST(Gallery, ClipRadiusFramesTheSurface) {
       }
       crossing += crossed;
     }
-    EXPECT_GE(crossing, rays / 5) << "the surface barely meets the clip ball";
+    EXPECT_GE(crossing, rays / 8) << "the surface barely meets the clip ball";
   }
 }
 
