@@ -70,11 +70,10 @@ struct Problem {
   std::vector<double> c;
   std::vector<float> cf;
   double lo, hi;
-  bool hasRoot;   // reference, double coefficients
-  double root;    // first reference root (double polynomial)
-  double cond;    // its conditioning
-  bool hasRootF;  // the same for the float-rounded polynomial
-  double rootF, condF;
+  bool hasRoot;       // reference, double coefficients
+  test::RefRoot ref;  // first reference root (double polynomial), its conditioning
+  bool hasRootF;      // the same for the float-rounded polynomial
+  test::RefRoot refF;
   bool floatScored;  // the float reference is well separated (the float rows' problems)
   bool nearPair;     // a complex pair a +- b i with b < 0.01 and a in (lo, hi)
 };
@@ -116,15 +115,14 @@ bool applies(const Method& m, int degree) {
 // First certified root of c in (lo, hi) from the given starts; false when there is none
 // or when it is not well separated.
 bool reference(const std::vector<double>& c, const std::vector<double>& starts, double lo,
-               double hi, double u, bool& has, double& root, double& cond) {
+               double hi, double u, bool& has, test::RefRoot& root) {
   const auto ref = test::refineAll(c, starts, lo, hi);
   has = !ref.empty();
   if (!has) return true;
   double sep = std::min(ref[0].value - lo, hi - ref[0].value);
   if (ref.size() > 1) sep = std::min(sep, ref[1].value - ref[0].value);
-  root = ref[0].value;
-  cond = ref[0].conditioning;
-  return 1e6 * u * cond < sep;
+  root = ref[0];
+  return 1e6 * u * root.conditioning < sep;
 }
 
 // How many problems the generator drew and how many were kept, each with how many of them
@@ -157,13 +155,13 @@ std::vector<Problem> makeProblems(int degree, int count, bool cell, std::mt19937
     for (auto [a, b] : pairs)
       if (b < 0.05) starts.push_back(a);  // only near pairs can turn real by rounding
     const std::vector<double> cfd(p.cf.begin(), p.cf.end());
-    if (!reference(p.c, starts, p.lo, p.hi, 0x1p-53, p.hasRoot, p.root, p.cond)) continue;
+    if (!reference(p.c, starts, p.lo, p.hi, 0x1p-53, p.hasRoot, p.ref)) continue;
     // The float rows are scored only where the float-rounded polynomial's first root is
     // well separated at float's u; that filter must not choose the problems of the double
     // rows: at u = 2^-24 it rejects nearly every problem with a root (1e6 u cond is 0.06
     // cond), and until session 23 it left the double rows 9 % problems with a root at
     // degree 6 instead of the shape's ~60 % (the report then measured mostly misses).
-    p.floatScored = reference(cfd, starts, p.lo, p.hi, 0x1p-24, p.hasRootF, p.rootF, p.condF);
+    p.floatScored = reference(cfd, starts, p.lo, p.hi, 0x1p-24, p.hasRootF, p.refF);
     out.push_back(std::move(p));
     ++counts.kept;
     counts.keptWithRoot += withRoot;
@@ -239,7 +237,8 @@ void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& 
     if (isFloat && !p.floatScored) continue;
     ++row.problems;
     const bool has = isFloat ? p.hasRootF : p.hasRoot;
-    const double ref = isFloat ? p.rootF : p.root, cond = isFloat ? p.condF : p.cond;
+    const test::RefRoot& ref = isFloat ? p.refF : p.ref;
+    const double cond = ref.conditioning;
     const bool got = answers[i] >= 0;
     if (any) {
       row.missed += has && !got;
@@ -254,10 +253,10 @@ void score(Row& row, const std::vector<Problem>& ps, const std::vector<double>& 
       ++row.missed;
       continue;
     }
-    const double err = std::abs(answers[i] - ref);
+    const double err = test::rootError(answers[i], ref);  // against the root, not its rounding
     // Beyond 1e3 u cond the answer is another root (or none of them): count, not average.
     if (err > 1e3 * u * cond + 1e-12 * (p.hi - p.lo)) {
-      if (answers[i] > ref)
+      if (answers[i] > ref.value)
         ++row.missed;
       else
         unexpected(p, answers[i]);
