@@ -103,7 +103,7 @@ inline int signAt(const std::vector<double>& c, const Mp& x) {
 struct RefRoot {
   double value;         // rounded to double
   double conditioning;  // sum |c_i| |r|^i / |g'(r)|
-  double rest = 0;      // the root minus value, rounded: value + rest is the root to ~2^-100
+  double rest = 0;      // the root minus value, rounded: value + rest is it to ~2^-106
 };
 
 // |answer - root| against the root itself, not its rounding to double: a double answer

@@ -39,12 +39,11 @@
 // tests/embree_hits_test.cpp, EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
 // Measured and not kept (session 39): grad f and its bound by a compensated scheme, so
 // that it clears at the hit itself: normals up to 90 degrees off (1.49 radians at the 99th
-// percentile of 36798 double-surface hits of 12 seeds). The
-// stored coefficients of h^k q are rounded (here its expansion's products): f is h^k q plus
-// a perturbation of ~u E, so at the hit, the bottom of a valley of depth ~u E, the exact
-// grad f of the stored f is that perturbation's, along the valley. What hides the normal
-// is the coefficients' own error, which evaluate()'s bound has the size of, not the
-// evaluation's.
+// percentile of 36798 double-surface hits of 12 seeds). The stored coefficients of h^k q
+// are rounded (here its expansion's products): f is h^k q plus a perturbation of ~u E, so
+// at the hit, the bottom of a valley of depth ~u E, the exact grad f of the stored f is
+// that perturbation's, along the valley. What hides the normal is the coefficients' own
+// error, which evaluate()'s bound has the size of, not the evaluation's.
 // Where those triple-surface figures come from (session 37, that test's worst 25 hits): not
 // the hit's offset from the surface (h there is 1e-14..1e-5), but the distance at which
 // grad f, which vanishes like h^2, first clears 2^10 times its noise bound: 2^-12..2^-8 clip
