@@ -267,9 +267,14 @@ TEST(RootsComparison, EndRulesSturmBernstein) {
     // Walks over random problems (well-separated simple roots): the same count as
     // allRoots, each root once, each as close to the MPFR reference as the solver's own
     // accuracy allows (interval-relative for Bernstein, see BernsteinRelativeToInterval).
+    // Once, that is, up to that accuracy: a walk of theirs can return a root a second time
+    // within 1e-12 past the first answer (Bernstein, a root of cond 127 answered 2e-15
+    // early, again 3.3e-13 later; Sturm, cond 1.1, again 24 ulps later: its count within
+    // the root's noise region), seen on two other draws of this seed (session 39); such a
+    // repeat counts as one root here and is printed.
     std::mt19937_64 rng(2718);
     std::uniform_real_distribution<double> uni(0, 1);
-    int walked = 0;
+    int walked = 0, repeats = 0;
     for (int deg = 2; deg <= 12; ++deg) {
       for (int trial = 0; trial < 12; ++trial) {
         std::vector<double> roots;
@@ -284,7 +289,12 @@ TEST(RootsComparison, EndRulesSturmBernstein) {
         for (size_t i = 0; i < ref.size(); ++i) separated &= wellConditioned(ref, i, p.lo, p.hi);
         if (!separated) continue;
         const auto all = solveAll(p, m);
-        const std::vector<double> walk = walkRoots(p.c, {}, p.lo, p.hi, deg + 2, o);
+        std::vector<double> walk;
+        for (const double r : walkRoots(p.c, {}, p.lo, p.hi, deg + 2, o)) {
+          const bool repeat = !walk.empty() && r - walk.back() <= 1e-12;
+          repeats += repeat;
+          if (!repeat) walk.push_back(r);
+        }
         EXPECT_EQ(walk.size(), ref.size()) << deg << " " << trial;
         if (walk.size() != ref.size()) continue;
         EXPECT_EQ(all.size(), ref.size()) << deg << " " << trial;
@@ -294,6 +304,8 @@ TEST(RootsComparison, EndRulesSturmBernstein) {
       }
     }
     EXPECT_GT(walked, 80);
+    std::printf("method %d: %d walks, %d roots returned twice\n", static_cast<int>(m), walked,
+                repeats);
   }
 }
 
