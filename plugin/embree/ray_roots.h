@@ -86,9 +86,9 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
 // All roots of rr.g in its search span, keeping the first one's value.
 void completeRoots(const SurfaceData& data, RayRoots& rr);
 // Newton on f itself about hit.t within [lo, hi] and 1e-4 of the clip region's span
-// regionSpan (r1 - r0) of the start, and a last step on f's compensated value where f's
-// rounding would leave t more than 2^-35 of that span from the root; whether f ended within
-// its evaluation bound (confirmed). `last`, if given, receives f at the result.
+// regionSpan (r1 - r0) of the start, then last steps on f's compensated value where f's
+// rounding would leave t between 2^-35 and 2^-10 of that span from the root; whether f
+// ended within its evaluation bound (confirmed). `last`, if given, receives f at the result.
 bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
             double regionSpan, KernelHit& hit, Polynomial::Evaluation* last = nullptr);
 // The first root of rr.g in [rr.slo, rr.shi] (rr.count = 0 or 1); solveFirst sets that

@@ -267,12 +267,12 @@ int main(int argc, char** argv) {
     // Degree 40: the product of 20 spheres of radii 0.3 ... 1 (session 38: its first roots
     // were up to 0.005 R off before settling judged f by its compensated value). None of
     // its rays is well-conditioned by the figure's limit; the clean column shows them.
+    const Polynomial x = Polynomial::variable(0), y = Polynomial::variable(1),
+                     z = Polynomial::variable(2), radius2 = x * x + y * y + z * z;
     Polynomial spheres(1.0);
     for (int k = 0; k < 20; ++k) {
       const double r = 0.3 + 0.7 * k / 19;
-      const Polynomial x = Polynomial::variable(0), y = Polynomial::variable(1),
-                       z = Polynomial::variable(2);
-      spheres = spheres * (x * x + y * y + z * z - Polynomial(r * r));
+      spheres = spheres * (radius2 - Polynomial(r * r));
     }
     surfaces.push_back({"spheres-40 (report)", spheres, 1.2});
   }
