@@ -2,8 +2,9 @@
 # The two commands of the README:
 #   bash scripts/algray.sh render   install what is missing, build, render the default scene
 #   bash scripts/algray.sh test     install what is missing, build, run every test
-#                                   (Release, then ASan+UBSan, then the installed-package
-#                                   example examples/minimal against a temporary prefix)
+#                                   (Release, ASan+UBSan, -march=native, Clang, then the
+#                                   installed-package example examples/minimal against a
+#                                   temporary prefix)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -14,6 +15,8 @@ packages=(cmake ninja-build g++ pkg-config libembree-dev libopenimageio-dev open
           libglm-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev libmpfr-dev
           libgmp-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev python3
           python3-matplotlib povray clang-format)
+# The test command also builds with Clang (a second compiler's warnings and code).
+if [[ ${1:-} == test ]]; then packages+=(clang-14); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -57,6 +60,12 @@ case "${1:-}" in
     configure_and_build build-native -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-march=native \
       -DALGRAY_BUILD_BENCHMARKS=OFF
     ctest --test-dir build-native --output-on-failure -j "$jobs"
+    # Clang 14 (benchmarks included, so that they build there too): the same warnings as
+    # errors, and the same bits (the bit-identity tests compare the ISAs' kernels, which
+    # Clang compiles per function as GCC does, plugin/core/isa_target.h).
+    configure_and_build build-clang -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang-14 \
+      -DCMAKE_CXX_COMPILER=clang++-14
+    ctest --test-dir build-clang --output-on-failure -j "$jobs"
     # The installed package: find_package(algray) from examples/minimal.
     if [[ -f examples/minimal/CMakeLists.txt ]]; then
       prefix=$(mktemp -d)

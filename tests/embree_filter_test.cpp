@@ -322,7 +322,9 @@ TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
     HitD hits[2];
     IntersectContext contexts[2];
     for (int k = 0; k < 2; ++k)
-      std::thread([&, k] { initIntersectContext(&contexts[k], &ray, &hits[k], scene); }).join();
+      std::thread([&, k, r = &ray] {
+        initIntersectContext(&contexts[k], r, &hits[k], scene);
+      }).join();
     for (int k = 0; k < 2; ++k) {
       RTCRayHit rh = makeRayHit(contexts[k]);
       rtcIntersect1(scene, &contexts[k].base, &rh);

@@ -17,8 +17,6 @@
 namespace algray::test {
 namespace {
 
-constexpr float kInfF = std::numeric_limits<float>::infinity();
-
 // First root of |o + t d|^2 = r^2 with t > tnear, in long double (closed form, stable
 // variant of the quadratic formula, Press et al., "Numerical Recipes", Sec. 5.6).
 std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long double r,

@@ -7,7 +7,7 @@
 // derived for exactly these roundings), only more lanes per instruction.
 //
 // The default build targets baseline x86-64, so the AVX2 code is compiled per function
-// (#pragma GCC target) and chosen at run time, once per process: AVX2 where the CPU has
+// (ALGRAY_TARGET_BEGIN, isa_target.h) and chosen at run time, once per process: AVX2 where the CPU has
 // it, unless ALGRAY_CORE_ISA=sse2 (the tests run both, tests/CMakeLists.txt).
 #include <atomic>
 
@@ -15,9 +15,9 @@ namespace algray::core_isa {
 
 enum class Isa : signed char { kSse2 = 0, kAvx2 = 1 };
 
-// Whether the AVX2 kernels exist in this build: x86-64 with GCC (they are compiled under
-// #pragma GCC target, which Clang does not take).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// Whether the AVX2 kernels exist in this build: x86-64 with GCC or Clang (the compilers
+// isa_target.h serves).
+#if defined(__x86_64__) && defined(__GNUC__)
 #define ALGRAY_CORE_AVX2 1
 #else
 #define ALGRAY_CORE_AVX2 0

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "core_isa.h"
+#include "isa_target.h"
 #include "ray_horner.h"
 
 namespace algray {
@@ -88,8 +89,7 @@ inline void zRows(const GroupSlot* s, const std::uint16_t* lane,
 // multiply-adds (latency-bound), so two chains interleave; the longer group's first
 // slots run alone. (GroupSlot is 32-byte aligned: a slot's c and absC loads never
 // straddle a cache line.)
-#pragma GCC push_options
-#pragma GCC target("avx2")
+ALGRAY_TARGET_BEGIN("avx2")
 typedef double V4 __attribute__((vector_size(32)));
 
 template <class GroupSlot>
@@ -143,7 +143,7 @@ __attribute__((noinline)) void zRowsAvx2(const GroupSlot* s, const std::uint16_t
     storeRows(lane, q, qz, qa, rq, rqz, rqa);
   }
 }
-#pragma GCC pop_options
+ALGRAY_TARGET_END
 #endif
 
 // The nested scheme over a box in row groups (HornerForm::evaluate, which explains it) at

@@ -101,7 +101,8 @@ template <class T, int... Ns>
 int derivRootsSmall(int n, const T* p, T lo, T hi, T tol, T* out, int mono,
                     std::integer_sequence<int, Ns...>) {
   int k = 0;
-  ((n == Ns + 1 ? (k = derivRoots<T, Ns + 1>(p, lo, hi, tol, out, mono), true) : false) || ...);
+  static_cast<void>((
+      (n == Ns + 1 ? (k = derivRoots<T, Ns + 1>(p, lo, hi, tol, out, mono), true) : false) || ...));
   return k;
 }
 
@@ -459,7 +460,9 @@ template <class T, int... Ns>
 int solveTopSmall(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int maxOut,
                   std::integer_sequence<int, Ns...>) {
   int k = 0;
-  ((g.n == Ns + 1 ? (k = solveTop(g, Deg<Ns + 1>{}, q, tol, out, maxOut), true) : false) || ...);
+  static_cast<void>(
+      ((g.n == Ns + 1 ? (k = solveTop(g, Deg<Ns + 1>{}, q, tol, out, maxOut), true) : false) ||
+       ...));
   return k;
 }
 

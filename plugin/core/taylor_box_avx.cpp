@@ -16,10 +16,10 @@
 #include <utility>
 
 #include "algray/taylor.h"
+#include "isa_target.h"
 #include "ray_horner.h"
 
-#pragma GCC push_options
-#pragma GCC target("avx2")
+ALGRAY_TARGET_BEGIN("avx2")
 
 namespace algray {
 
@@ -36,6 +36,6 @@ void restrictToRayAvx2(const HornerForm& f, const glm::dvec3& o, const glm::dvec
 
 }  // namespace algray
 
-#pragma GCC pop_options
+ALGRAY_TARGET_END
 
 #endif  // ALGRAY_CORE_AVX2

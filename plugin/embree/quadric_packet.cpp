@@ -14,6 +14,7 @@
 // leaving from the surface twice, a root needing the library's fallback, rays the tight
 // box does not cover, non-finite input - is marked kScalar, and the bridge runs that
 // lane's scalar quadricLane.
+#include "../core/isa_target.h"
 #include "surface_data.h"
 
 #include <cmath>
@@ -61,8 +62,7 @@ inline VI signMask(VD a) {
 }  // namespace sse2
 
 // ---- AVX2: four lanes per register, when the CPU has it (checked at run time) ---------------
-#pragma GCC push_options
-#pragma GCC target("avx2")
+ALGRAY_TARGET_BEGIN("avx2")
 namespace avx2 {
 constexpr unsigned kW = 4;
 typedef double VD __attribute__((vector_size(32)));
@@ -81,14 +81,13 @@ inline VI signMask(VD a) {
 }
 #include "quadric_packet_group.inc"
 }  // namespace avx2
-#pragma GCC pop_options
+ALGRAY_TARGET_END
 
 // ---- AVX-512 (F and DQ): eight lanes per register, for packets of five or more lanes -------
 // An 8-ray packet in one group instead of two: the sphere's 8-ray shadow packets 1.09x as
 // fast as with AVX2, primary packets within noise (three interleaved runs of 512 x 512
 // rays, ALGRAY_PACKET_ISA=avx2 against the default). AVX-512 implies no FMA either.
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512dq")
+ALGRAY_TARGET_BEGIN("avx512f,avx512dq")
 namespace avx512 {
 constexpr unsigned kW = 8;
 typedef double VD __attribute__((vector_size(64)));
@@ -108,7 +107,7 @@ inline unsigned laneBits(VI m) { return static_cast<unsigned>(_mm512_movepi64_ma
 inline VI signMask(VD a) { return (VI)_mm512_mask_srai_epi64((__m512i)a, 0xff, (__m512i)a, 63); }
 #include "quadric_packet_group.inc"
 }  // namespace avx512
-#pragma GCC pop_options
+ALGRAY_TARGET_END
 
 // The widest lanes the CPU has. ALGRAY_PACKET_ISA=sse2 or avx2 keeps narrower ones on a
 // wider machine: the tests run each (tests/CMakeLists.txt), and speed runs can compare.

@@ -165,8 +165,9 @@ template <int... Ns>
 FloorAnswer floorSolve(int n, const double* c, double lo, double hi, double& root,
                        std::integer_sequence<int, Ns...>) {
   FloorAnswer a = FloorAnswer::kNone;
-  ((n == Ns + kMinDegree ? (a = Floor<Ns + kMinDegree>::solve(c, lo, hi, root), true) : false) ||
-   ...);
+  static_cast<void>((
+      (n == Ns + kMinDegree ? (a = Floor<Ns + kMinDegree>::solve(c, lo, hi, root), true) : false) ||
+      ...));
   return a;
 }
 
