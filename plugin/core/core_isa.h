@@ -7,8 +7,8 @@
 // derived for exactly these roundings), only more lanes per instruction.
 //
 // The default build targets baseline x86-64, so the AVX2 code is compiled per function
-// (ALGRAY_TARGET_BEGIN, isa_target.h) and chosen at run time, once per process: AVX2 where the CPU has
-// it, unless ALGRAY_CORE_ISA=sse2 (the tests run both, tests/CMakeLists.txt).
+// (ALGRAY_TARGET_BEGIN, isa_target.h) and chosen at run time, once per process: AVX2 where
+// the CPU has it, unless ALGRAY_CORE_ISA=sse2 (the tests run both, tests/CMakeLists.txt).
 #include <atomic>
 
 namespace algray::core_isa {
