@@ -63,8 +63,7 @@ case "${1:-}" in
     # Clang 14 (benchmarks included, so that they build there too): the same warnings as
     # errors, and the same bits (the bit-identity tests compare the ISAs' kernels, which
     # Clang compiles per function as GCC does, plugin/core/isa_target.h).
-    configure_and_build build-clang -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang-14 \
-      -DCMAKE_CXX_COMPILER=clang++-14
+    configure_and_build build-clang -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14
     ctest --test-dir build-clang --output-on-failure -j "$jobs"
     # The installed package: find_package(algray) from examples/minimal.
     if [[ -f examples/minimal/CMakeLists.txt ]]; then
