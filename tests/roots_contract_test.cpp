@@ -594,7 +594,10 @@ TEST(RootsContract, HugeIntervalsKeepTheRootsNearTheOrigin) {
 // c_n|, ~rho^n for roots of size rho) did not bring them back: s^40 - 2^40 on (0, 1e13]
 // gave 44762 instead of 2, degree 30-40 polynomials with roots near 1 lost them all from
 // hi ~ 1e10 on. Fujiwara's bound (within 2n of the largest root) fits the frame to the
-// roots. Against certified MPFR roots, every root within the accuracy bound.
+// roots. Against certified MPFR roots: every well-conditioned root within the accuracy
+// bound, every answer a root or within noise, none twice. (Not a count of roots: on one
+// draw of the seeds, session 41, three roots of degree 40 of conditioning ~1e13, 0.12
+// apart, lie in one stretch where g is within its noise bound, one root to the solver.)
 TEST(RootsContract, HighDegreesOnHugeIntervals) {
   std::vector<double> power(41, 0.0);
   power[0] = -0x1p40;
@@ -621,17 +624,23 @@ TEST(RootsContract, HighDegreesOnHugeIntervals) {
         ASSERT_FALSE(ref.empty());
         std::vector<double> out(c.size());
         out.resize(allRoots(c, {}, -hi, hi, out, o));
-        ASSERT_EQ(out.size(), ref.size())
-            << "method " << static_cast<int>(m) << " polynomial " << pi << " hi " << hi;
-        for (std::size_t i = 0; i < ref.size(); ++i)
-          EXPECT_LE(rootError(out[i], ref[i]), accuracyBound(ref[i]))
-              << pi << " " << hi << " root " << i;
+        SCOPED_TRACE("method " + std::to_string(static_cast<int>(m)) + " polynomial " +
+                     std::to_string(pi) + " hi " + std::to_string(hi));
+        checkAccuracy(ref, out, -hi, hi, nullptr);
+        for (std::size_t i = 0; i < out.size(); ++i) {
+          EXPECT_TRUE(rootOrWithinNoise(c, out[i]));
+          if (i > 0) {
+            EXPECT_TRUE(clearBetween(c, out[i - 1], out[i])) << "reported again: " << out[i];
+          }
+        }
         const auto first = firstRoot(c, {}, 0.0, hi, o);
         const auto positive = std::find_if(ref.begin(), ref.end(),
                                            [](const test::RefRoot& r) { return r.value > 0; });
-        ASSERT_EQ(first.has_value(), positive != ref.end()) << pi << " " << hi;
-        if (first) {
-          EXPECT_LE(rootError(*first, *positive), accuracyBound(*positive)) << pi << " " << hi;
+        ASSERT_EQ(first.has_value(), positive != ref.end());
+        if (first && wellConditioned(ref, positive - ref.begin(), -hi, hi)) {
+          EXPECT_LE(rootError(*first, *positive), accuracyBound(*positive));
+        } else if (first) {
+          EXPECT_TRUE(rootOrWithinNoise(c, *first));
         }
       }
     }

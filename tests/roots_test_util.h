@@ -85,6 +85,37 @@ inline long double acceptedBound(const std::vector<double>& p, long double ruleB
   return ruleBound * (4 * n + 1) / (2 * n + 1);
 }
 
+// Whether x lies in a long stretch where g is within the noise rule's accepted bound: at 16
+// points over 2^-20 of the interval on one side of x, inside [lo, hi]. There the data
+// cannot tell a root from a near miss, any point may be answered or none (roots.h), and
+// the path a query takes (its lo) decides which.
+inline bool inLongNoiseStretch(const std::vector<double>& p, double x, double lo, double hi) {
+  const double reach = 0x1p-20 * (hi - lo);
+  for (const double side : {-1.0, 1.0}) {
+    bool within = true;
+    for (int k = 1; k <= 16 && within; ++k) {
+      const double s = x + side * reach * k / 16;
+      long double ruleBound;
+      const long double g = evalLong(p, s, ruleBound);
+      within = s >= lo && s <= hi && std::fabs(g) <= acceptedBound(p, ruleBound);
+    }
+    if (within) return true;
+  }
+  return false;
+}
+
+// Whether g clears its noise somewhere strictly between a and b (64 points): the exact |g|
+// above 2 B - A (B the rule's bound, A acceptedBound's), which it is wherever the computed
+// |g| clears B. If not, a and b lie in one stretch within noise: one root to the solver.
+inline bool clearBetween(const std::vector<double>& p, double a, double b) {
+  for (int k = 1; k < 64; ++k) {
+    long double ruleBound;
+    const long double g = evalLong(p, a + (b - a) * k / 64, ruleBound);
+    if (std::fabs(g) > 2 * ruleBound - acceptedBound(p, ruleBound)) return true;
+  }
+  return false;
+}
+
 inline double accuracyBound(const RefRoot& r) { return kAccuracyUlps * kU * r.conditioning; }
 
 // Whether an answer r is a root: g changes sign across r +- 1e-9, or |g(r)| is within the
@@ -170,8 +201,31 @@ inline void checkProblem(const Problem& p, Tally* tally = nullptr,
   const std::vector<double> walk = walkRoots(p.c, {}, p.lo, p.hi, n + 2, opt);
   // A different lo gives a different bracket, so a root may land on a neighbouring
   // double: the walk must find the same roots, each as accurate as (1) requires.
-  EXPECT_EQ(walk.size(), all.size());
   checkAccuracy(ref, walk, p.lo, p.hi, nullptr);
+  for (size_t i = 1; i < walk.size(); ++i) {
+    EXPECT_LT(walk[i - 1], walk[i]);
+    EXPECT_TRUE(clearBetween(p.c, walk[i - 1], walk[i])) << "root reported again: " << walk[i];
+  }
+  if (walk.size() != all.size()) {
+    // The lists may differ only by answers inside a long stretch within noise. Seen on
+    // one draw of the seeds (session 39): a degree-40 g within noise over most of
+    // (r1, hi], whose walk from its root r1 answers hi and allRoots nothing past r1.
+    auto matched = [&](double x, const std::vector<double>& other) {
+      return std::any_of(other.begin(), other.end(), [&](double y) {
+        return x == y || !clearBetween(p.c, std::min(x, y), std::max(x, y));
+      });
+    };
+    for (const double x : walk) {
+      if (!matched(x, all)) {
+        EXPECT_TRUE(inLongNoiseStretch(p.c, x, p.lo, p.hi)) << "walk answer " << x;
+      }
+    }
+    for (const double x : all) {
+      if (!matched(x, walk)) {
+        EXPECT_TRUE(inLongNoiseStretch(p.c, x, p.lo, p.hi)) << "allRoots answer " << x;
+      }
+    }
+  }
 
   // (5) The other methods find the first well-conditioned root to the same accuracy
   // (in the suites that check Auto; a pinned method gets (1)-(4) only: Sturm misses
