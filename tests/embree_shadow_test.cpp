@@ -6,6 +6,8 @@
 
 #include "algray/gallery.h"
 
+#include "support/reference.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -22,7 +24,10 @@ struct Counts {
 
 // A hit closer than this (relative to the clip radius) to the ray's origin counts as the
 // origin found again: orders of magnitude below any feature of the gallery surfaces and
-// far above the rounding of the hit points.
+// far above the rounding of the hit points. Unless the ray from the exact surface point
+// meets the surface there too (genuineReentry, MPFR): a direction within ~1e-6 rad of the
+// tangent plane re-enters a curved surface that close (one draw of the seeds, session 41:
+// 6.9e-7 rad on the Barth sextic, f clear of its noise between, re-entry at 3.3e-7 R).
 constexpr double kSelfDistance = 1e-6;
 
 class EmbreeShadow : public ::testing::TestWithParam<std::string_view> {};
@@ -31,8 +36,9 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
   const GallerySurface* g = findGallerySurface(GetParam());
   ASSERT_NE(g, nullptr);
   Device device;
+  const Polynomial f = g->build();
   SurfaceDesc desc;
-  desc.polynomial = g->build();
+  desc.polynomial = f;
   desc.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
   SurfaceGeometry surface(device, desc);
   Scene scene(device);
@@ -67,7 +73,7 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
         if (h.hit) {
           const double dist = h.t * glm::length(dir) / R;
           dbl.closest = std::min(dbl.closest, dist);
-          if (dist < kSelfDistance) ++dbl.selfHits;
+          if (dist < kSelfDistance && !genuineReentry(f, p, dir, h.t)) ++dbl.selfHits;
         }
         // Occlusion takes the same path.
         RTCRay shadow = makeRayHit(ray).ray;
@@ -75,7 +81,9 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
         HitD occ;
         initIntersectContext(&ctx, &ray, &occ);
         rtcOccluded1(scene, &ctx.base, &shadow);
-        if (occ.hit && occ.t * glm::length(dir) / R < kSelfDistance) ++dbl.selfHits;
+        if (occ.hit && occ.t * glm::length(dir) / R < kSelfDistance &&
+            !genuineReentry(f, p, dir, occ.t))
+          ++dbl.selfHits;
       }
       // ---- Float channel: the host's float hit point, tnear = 0 ------------------------
       if (fhit.hit.geomID == id) {
@@ -87,7 +95,9 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
         if (s.hit.geomID == id) {
           const double dist = s.ray.tfar / R;
           flt.closest = std::min(flt.closest, dist);
-          if (dist < kSelfDistance) ++flt.selfHits;
+          if (dist < kSelfDistance &&
+              !genuineReentry(f, glm::dvec3(p), glm::dvec3(glm::vec3(dir)), s.ray.tfar))
+            ++flt.selfHits;
         }
       }
     }

@@ -34,8 +34,9 @@
 // noise-level end is moved inwards past its noise region first, roots_scan.h), report
 // even-multiplicity roots only where they isolate them, and are accurate only relative to
 // the interval (Bernstein) or for roots not far below its length (Sturm, whose counts such
-// roots can also spoil for the others, roots_sturm.cpp); a walk with them can return a
-// root a second time within that accuracy past the first answer.
+// roots can also spoil for the others, and which above degree 20 can lose roots of
+// conditioning 1e8 and more, roots_sturm.cpp); a walk with them can return a root a second
+// time within that accuracy past the first answer.
 #include "algray/polynomial.h"  // kMaxDegree, Error
 
 #include <optional>

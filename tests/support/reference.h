@@ -21,7 +21,8 @@
 //      perturbation turns into a hit), not within kEndMargin R of a span end. A miss is
 //      well-conditioned when no extremum or span end is that close to 0.
 //
-// Used by tests/stress_test.cpp and tests/bench/intersector_report.cpp.
+// Used by tests/stress_test.cpp and tests/bench/intersector_report.cpp; genuineReentry
+// (below) by tests/embree_shadow_test.cpp and tests/bench/accuracy_report.cpp.
 #include "algray/polynomial.h"
 
 #include <mpfr.h>
@@ -360,6 +361,38 @@ inline RayRef referenceFirstHit(const Polynomial& f, const glm::dvec3& o, const 
   }
   ref.wellConditioned = ok && !nearZero(v0, zero);
   return ref;
+}
+
+// Does the ray from the surface point nearest p (one Newton step from p along grad f, in
+// MPFR) meet the surface within a factor 8 of t? The hit point p is only known within its
+// rounding bound; a leaving ray at a grazing angle can re-enter a curved surface within
+// 1e-6 R (at t ~ 2 angle / curvature), and whether the ray from the rounded p does so
+// depends on the side p was rounded to, not on the plugin.
+inline bool genuineReentry(const Polynomial& f, const glm::dvec3& p, const glm::dvec3& d,
+                           double t) {
+  MpNum P[3], axis[3], grad[3], norm2, step, tmp;
+  for (int i = 0; i < 3; ++i) mpfr_set_d(P[i].get(), p[i], MPFR_RNDN);
+  MpNum value;
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) mpfr_set_d(axis[k].get(), i == k ? 1.0 : 0.0, MPFR_RNDN);
+    const MpPoly h = restrictMp(f, P, axis);  // f(p + s e_i)
+    if (h.size() < 2) return false;
+    mpfr_set(value.get(), h[0].get(), MPFR_RNDN);
+    mpfr_set(grad[i].get(), h[1].get(), MPFR_RNDN);
+    mpfr_sqr(tmp.get(), grad[i].get(), MPFR_RNDN);
+    mpfr_add(norm2.get(), norm2.get(), tmp.get(), MPFR_RNDN);
+  }
+  if (norm2.sign() == 0) return false;
+  mpfr_div(step.get(), value.get(), norm2.get(), MPFR_RNDN);
+  MpNum start[3], span[3];
+  for (int i = 0; i < 3; ++i) {  // p* - (step) grad f, then the piece [t / 8, 8 t] of the ray
+    mpfr_mul(tmp.get(), step.get(), grad[i].get(), MPFR_RNDN);
+    mpfr_sub(start[i].get(), P[i].get(), tmp.get(), MPFR_RNDN);
+    mpfr_set_d(tmp.get(), d[i] * (t / 8), MPFR_RNDN);
+    mpfr_add(start[i].get(), start[i].get(), tmp.get(), MPFR_RNDN);
+    mpfr_set_d(span[i].get(), d[i] * (8 * t - t / 8), MPFR_RNDN);
+  }
+  return !isolateUnit(restrictMp(f, start, span)).roots.empty();
 }
 
 }  // namespace algray::test
