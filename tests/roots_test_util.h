@@ -119,7 +119,7 @@ inline bool clearBetween(const std::vector<double>& p, double a, double b) {
 // The tests' accuracy bound: 4 u cond(r), the target, or where it is farther the
 // farther of the two doubles around the root (a faithful rounding): an answer is a double,
 // and where 4 u cond is below an ulp the double next to the root can be beyond it (one draw
-// of RootsSpreadOverMoreBinadesThanOneFrame's seeds, session 41: a degree-40 root with
+// of RootsSpreadOverMoreBinadesThanOneFrame's seeds, session 41: a degree-30 root with
 // 4 u cond = 0.87 ulp, 0.07 ulp from a double, was walked to the other neighbour, 0.93 ulp
 // away). The tallies the suites print still measure in u cond.
 inline double accuracyBound(const RefRoot& r) {
