@@ -370,7 +370,7 @@ TEST(StressPlacement, OcclusionAgreesWithTheClosestHitInAWideNoiseRegion) {
   std::mt19937_64 rng(31);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int hits = 0;
-  for (int i = 0; i < 200; ++i) {
+  for (int i = 0; i < 300; ++i) {  // ~175 hit (200 rays gave 99 on a draw of the seed)
     const glm::dvec3 o = 3.0 * glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
     const glm::dvec3 d = glm::normalize(0.8 * glm::dvec3(u(rng), u(rng), u(rng)) - o);
     const auto hit = s.intersect(rayD(o, d));
