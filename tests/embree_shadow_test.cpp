@@ -51,6 +51,10 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   auto randomUnit = [&] { return glm::normalize(glm::dvec3(n(rng), n(rng), n(rng))); };
   Counts dbl, flt;
+  // A hit at t along d from p is the origin found again (see kSelfDistance).
+  const auto selfHit = [&](const glm::dvec3& p, const glm::dvec3& d, double t) {
+    return t * glm::length(d) / R < kSelfDistance && !genuineReentry(f, p, d, t);
+  };
   for (int i = 0; i < 150; ++i) {
     // ---- Primary ray from a camera 3 clip radii away ---------------------------------
     const glm::dvec3 cam = 3.0 * R * randomUnit();
@@ -73,7 +77,7 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
         if (h.hit) {
           const double dist = h.t * glm::length(dir) / R;
           dbl.closest = std::min(dbl.closest, dist);
-          if (dist < kSelfDistance && !genuineReentry(f, p, dir, h.t)) ++dbl.selfHits;
+          if (selfHit(p, dir, h.t)) ++dbl.selfHits;
         }
         // Occlusion takes the same path.
         RTCRay shadow = makeRayHit(ray).ray;
@@ -81,9 +85,7 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
         HitD occ;
         initIntersectContext(&ctx, &ray, &occ);
         rtcOccluded1(scene, &ctx.base, &shadow);
-        if (occ.hit && occ.t * glm::length(dir) / R < kSelfDistance &&
-            !genuineReentry(f, p, dir, occ.t))
-          ++dbl.selfHits;
+        if (occ.hit && selfHit(p, dir, occ.t)) ++dbl.selfHits;
       }
       // ---- Float channel: the host's float hit point, tnear = 0 ------------------------
       if (fhit.hit.geomID == id) {
@@ -95,9 +97,7 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
         if (s.hit.geomID == id) {
           const double dist = s.ray.tfar / R;
           flt.closest = std::min(flt.closest, dist);
-          if (dist < kSelfDistance &&
-              !genuineReentry(f, glm::dvec3(p), glm::dvec3(glm::vec3(dir)), s.ray.tfar))
-            ++flt.selfHits;
+          if (selfHit(glm::dvec3(p), glm::dvec3(glm::vec3(dir)), s.ray.tfar)) ++flt.selfHits;
         }
       }
     }
