@@ -26,6 +26,10 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
+
+#include <unistd.h>
 
 namespace {
 
@@ -34,6 +38,18 @@ using namespace algray;
 // Bad input from the user: exit code 2.
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+// A file removed when it goes out of scope, unless its path was cleared (kept).
+struct TemporaryFile {
+  explicit TemporaryFile(std::string p) : path(std::move(p)) {}
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+  ~TemporaryFile() {
+    std::error_code ec;
+    if (!path.empty()) std::filesystem::remove(path, ec);
+  }
+  std::string path;
 };
 
 double parseNumber(const std::string& text, const std::string& what) {
@@ -238,8 +254,15 @@ int run(int argc, char** argv) {
                        ": the direction is so short that t at the clip region would overflow "
                        "double (scale it up)");
 
-  // The output is opened before tracing: a path that cannot be written is bad input.
-  std::ofstream out(outPath);
+  // The output goes to a temporary file beside it, opened before tracing (a path that
+  // cannot be written is bad input), and replaces OUT only once every hit is written: an
+  // error later on (a surface the plugin refuses, a full disk) left OUT truncated, which
+  // with --out naming the rays file lost the input. (A name of this process's own, as
+  // algray-render's images.)
+  if (std::filesystem::is_directory(outPath, ec))
+    throw UsageError("--out: '" + outPath + "' is a directory");
+  TemporaryFile tmp(outPath + ".algray-" + std::to_string(getpid()) + ".tmp");
+  std::ofstream out(tmp.path);
   if (!out) throw UsageError("--out: cannot write '" + outPath + "'");
 
   // ---- Scene -------------------------------------------------------------------------------
@@ -284,6 +307,9 @@ int run(int argc, char** argv) {
   query::writeHits(out, hits);
   out.close();
   if (!out) throw std::runtime_error("--out: error writing '" + outPath + "'");
+  std::filesystem::rename(tmp.path, outPath, ec);
+  if (ec) throw std::runtime_error("--out: cannot replace '" + outPath + "': " + ec.message());
+  tmp.path.clear();  // renamed: nothing to remove
   const double rate = seconds > 0 ? static_cast<double>(rays.size()) / seconds : 0.0;
   std::fprintf(stderr, "%.0f rays/s\n", rate);
   return 0;

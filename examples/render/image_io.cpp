@@ -190,8 +190,9 @@ void writeImage(const Image& image, const std::string& path, const RenderSetting
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) {
+    const std::string why = ec.message();  // (remove() below clears ec: "Success" was shown)
     fs::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot rename the temporary file: " + ec.message());
+    throw std::runtime_error(path + ": cannot rename the temporary file: " + why);
   }
 }
 

@@ -219,6 +219,10 @@ int main(int argc, char** argv) {
 
   if (!exportPov.empty()) {
     try {
+      // The scene is built as for a render, only to be checked: the plugin's refusals (a
+      // zero or constant polynomial, a clip region beyond its range) exported a file that
+      // POV-Ray cannot parse, with exit code 0.
+      { const Scene checked(desc); }
       const std::string text = povrayScene(desc, sturm);
       // A file that cannot be written (missing directory, a directory, a full disk) was
       // reported as success with exit code 0.
@@ -248,6 +252,12 @@ int main(int argc, char** argv) {
   // probe has a name of its own ("OUT.tmp" removed a user's file of that name) and is
   // created only if absent.
   {
+    // (The probe is made beside the name, so a directory named by -o passed it.)
+    std::error_code ec;
+    if (std::filesystem::is_directory(output, ec)) {
+      std::fprintf(stderr, "algray-render: -o %s: is a directory\n", output.c_str());
+      return 2;
+    }
     const std::string probe = output + ".algray-probe-" + std::to_string(getpid());
     std::FILE* f = std::fopen(probe.c_str(), "wbx");
     if (!f && errno != EEXIST) {

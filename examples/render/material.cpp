@@ -71,6 +71,12 @@ glm::dvec3 Texture::average() const {
   return sum / static_cast<double>(texels_.size());
 }
 
+glm::dvec3 Texture::maximum() const {
+  glm::dvec3 m(0.0);
+  for (const glm::vec3& t : texels_) m = glm::max(m, glm::dvec3(t));
+  return m;
+}
+
 // ---- Microfacet helpers (GGX) ---------------------------------------------------------
 
 namespace {

@@ -32,6 +32,8 @@ class Texture {
   glm::dvec3 lookup(glm::dvec2 uv) const;
   // Average colour; used as the albedo AOV and by tests.
   glm::dvec3 average() const;
+  // The largest texel value of each channel (a colour times the texture stays below it).
+  glm::dvec3 maximum() const;
 
  private:
   int width_, height_;

@@ -37,8 +37,13 @@ using nlohmann::json;
 // errors point into the text.
 class Loader {
  public:
+  // A UTF-8 byte-order mark (editors on Windows write one) is not part of the text: nlohmann
+  // skips it, so the position scanner must too, or it saw no values at all and duplicate
+  // keys, underflowing literals and every error's line and column went unchecked.
   Loader(std::string_view text, std::string name, std::filesystem::path baseDir)
-      : text_(text), name_(std::move(name)), baseDir_(std::move(baseDir)) {}
+      : text_(text.starts_with("\xEF\xBB\xBF") ? text.substr(3) : text),
+        name_(std::move(name)),
+        baseDir_(std::move(baseDir)) {}
 
   SceneDesc load() {
     // A scene nests 4 levels deep; 64 leaves room for any hand-written "description".
@@ -381,6 +386,9 @@ class Loader {
       } catch (const std::exception& e) {
         fail(p + "/texture", e.what());
       }
+      // Each factor within float's range, their product need not be (inf pixels, exit 0).
+      if (!isFloatColor(m.color * m.texture->maximum()))
+        fail(p + "/texture", "colour times the texture's largest texel is beyond 3.4e38");
     }
     return m;
   }
@@ -402,11 +410,14 @@ class Loader {
         j.contains("color") ? color(j["color"], p + "/color") : glm::dvec3(1.0);
     if (j.contains("image")) {
       scene.environment.image = path(j["image"], p + "/image");
+      std::shared_ptr<const Texture> image;
       try {
-        Texture::load(scene.environment.image);  // fail here, with a position
+        image = Texture::load(scene.environment.image);  // fail here, with a position
       } catch (const std::exception& e) {
         fail(p + "/image", e.what());
       }
+      if (!isFloatColor(scene.environment.color * image->maximum()))
+        fail(p + "/image", "colour times the image's largest texel is beyond 3.4e38");
     }
     if (j.contains("rotation")) scene.environment.rotation = number(j["rotation"], p + "/rotation");
   }

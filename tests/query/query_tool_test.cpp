@@ -685,6 +685,38 @@ TEST_F(QueryTool, ASurfaceOutsideTheClipRegionIsNamed) {
   EXPECT_EQ(inside.rows[0][1], 20.0);  // the sphere of radius 10 from z = -30
 }
 
+// OUT is replaced only once every hit is written: a surface the plugin refuses (after the
+// rays were read and OUT opened) left OUT empty, and with --out naming the rays file the
+// input was lost. The temporary file is removed.
+TEST_F(QueryTool, AFailedRunLeavesTheOutputFileAsItWas) {
+  const std::string raysText = "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n";
+  const fs::path rays = write("rays.csv", raysText);
+  auto contents = [](const fs::path& p) {
+    std::ifstream f(p);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  const std::string sameFile = "--rays " + rays.string() + " --out " + rays.string();
+  for (const std::string& refused : {std::string("--surface x --clip-sphere 1e300 "),
+                                     std::string("--surface 1 --clip-sphere 2 ")}) {
+    const RunResult r = run(refused + sameFile);
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_EQ(contents(rays), raysText) << refused;
+  }
+  // A successful run replaces it.
+  const RunResult ok = run("--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 " + sameFile);
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+  EXPECT_EQ(contents(rays).rfind("hit,t,nx,ny,nz\n1,4,", 0), 0u) << contents(rays);
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+  // A directory as OUT is named before any tracing.
+  write("rays.csv", raysText);
+  fs::create_directories(dir / "outdir");
+  const RunResult d = run("--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 --rays " + rays.string() +
+                          " --out " + (dir / "outdir").string());
+  EXPECT_EQ(d.exitCode, 2);
+  EXPECT_NE(d.err.find("is a directory"), std::string::npos) << d.err;
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");

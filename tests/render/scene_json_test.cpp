@@ -443,6 +443,36 @@ TEST(SceneJson, ImagesWithNonFiniteOrNegativeValuesAreErrors) {
   std::filesystem::remove(file);
 }
 
+// A colour and an image each within float's range whose product is not rendered inf
+// pixels with exit code 0; the product is refused at the image, below it accepted.
+TEST(SceneJson, ColourTimesImageBeyondFloatIsAnError) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "algray_bright_texels.exr";
+  std::vector<float> pixels(2 * 2 * 3, 1.0f);
+  pixels[3 * 2] = 1e38f;  // texel (0, 1), red
+  auto out = OIIO::ImageOutput::create(file.string());
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  ASSERT_TRUE(out->close());
+  for (const double colour : {3.0, 4.0}) {  // 3e38 fits a float (3.4e38), 4e38 does not
+    const std::string c = std::to_string(colour);
+    for (const std::string& text :
+         {R"({"environment": {"color": )" + c + R"(, "image": ")" + file.string() + R"("}})",
+          R"({"materials": {"m": {"color": )" + c + R"(, "texture": ")" + file.string() +
+              R"("}}})"}) {
+      SceneError e = errorOf(text);
+      if (colour == 3.0) {
+        EXPECT_NE(e.message().find("no error"), std::string::npos) << e.what();
+      } else {
+        EXPECT_EQ(e.column(), columnOf(text, "\"/")) << e.what();
+        EXPECT_NE(e.message().find("beyond 3.4e38"), std::string::npos) << e.what();
+      }
+    }
+  }
+  std::filesystem::remove(file);
+}
+
 // nlohmann keeps the last of repeated keys; the loader refuses them.
 TEST(SceneJson, DuplicateKeysAreErrors) {
   SceneError e = errorOf("{\"camera\": {\"fov\": 30,\n  \"fov\": 40}}");
@@ -453,6 +483,32 @@ TEST(SceneJson, DuplicateKeysAreErrors) {
   EXPECT_NO_THROW(loadSceneText(
       R"({"render": {"width": 8}, "camera": {"fov": 30}, "description": "width"})", "t.json", "."));
   EXPECT_EQ(errorOf(R"({"render": {"width": 8, "w\u0069dth": 9}})").column(), 25);
+}
+
+// A UTF-8 byte-order mark before the text: nlohmann skips it, and so must the position
+// scanner, or the checks that need positions (duplicate keys, literals that underflow,
+// every error's line and column) saw an empty table and let the file through.
+TEST(SceneJson, ByteOrderMarkKeepsEveryCheck) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string dup = "{\"camera\": {\"fov\": 30,\n  \"fov\": 40}}";
+  const std::string under =
+      "{\"surfaces\": [{\"equation\": \"x^2+y^2+z^2-a\",\n"
+      "  \"parameters\": {\"a\": 1e-400}, \"clip\": {\"sphere\": {\"radius\": 2}}}]}";
+  const std::string fov = "{\"camera\":\n {\"fov\": 200}}";
+  for (const std::string& text : {dup, under, fov}) {
+    const SceneError plain = errorOf(text), marked = errorOf(bom + text);
+    EXPECT_EQ(plain.message().find("no error"), std::string::npos);
+    EXPECT_GT(plain.line(), 0) << plain.what();
+    EXPECT_EQ(marked.line(), plain.line()) << marked.what();
+    EXPECT_EQ(marked.column(), plain.column()) << marked.what();
+    EXPECT_EQ(marked.message(), plain.message());
+  }
+  EXPECT_NE(errorOf(bom + under).message().find("underflows to 0"), std::string::npos);
+  EXPECT_NE(errorOf(bom + dup).message().find("duplicate key 'fov'"), std::string::npos);
+  const SceneDesc a = loadSceneText("{\"render\": {\"spp\": 3}}", "t.json", ".");
+  const SceneDesc b = loadSceneText(bom + "{\"render\": {\"spp\": 3}}", "t.json", ".");
+  EXPECT_EQ(a.settings.spp, 3);
+  EXPECT_EQ(b.settings.spp, 3);
 }
 
 // 100000 nested '[' (or objects) overflowed the stack in nlohmann's parser and value
@@ -656,6 +712,12 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       {"--surface '' --param a=1", "--surface:1:1: empty equation"},
       {"--surface sphere --export-pov ''", "--export-pov: the file name is empty"},
       {"--surface sphere --export-pov /nonexistent/dir/a.pov", "cannot write there"},
+      // Surfaces the plugin refuses were exported (exit code 0) as files POV-Ray cannot
+      // parse: the export builds the scene first. And an -o that is a directory is named
+      // before the render (it was "cannot rename the temporary file: Success" after it).
+      {"--surface 0 --export-pov algray_test_zero.pov", "the polynomial is zero"},
+      {"--surface 2 --export-pov algray_test_const.pov", "is a non-zero constant"},
+      {"--surface sphere -o .", "-o .: is a directory"},
       {"--surface sphere --seed -1", "--seed"},
       {"--surface sphere --seed 1073741825", "--seed"},
       {"--surface sphere --aov depth -o algray_aov.png",
