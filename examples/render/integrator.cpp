@@ -1,5 +1,6 @@
 #include "integrator.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -11,7 +12,8 @@ namespace algray::render {
 namespace {
 
 // Shadow rays stop short of the sampled light point by this fraction of the distance,
-// so that they do not report the emitter itself (pbrt-v4's ShadowEpsilon).
+// so that they do not report the emitter itself (pbrt-v4's ShadowEpsilon); on an emitter
+// by no more than 1e-3 of its triangle's size (see shadowed).
 constexpr double kShadowEpsilon = 1e-4;
 
 struct Shading {
@@ -45,11 +47,23 @@ void fillAov(SampleAov& aov, const Hit& hit, const Shading& sh, const Material& 
   aov.id = hit.geomID + 1.0;
 }
 
+// A sample of an emitter's far side must be blocked by its near side: stopping 1e-4 of
+// the distance short, a sphere light smaller than that (radius 1e-4 at distance 3) let every
+// far-side sample through and shone twice as bright as the point light of its power. The
+// gap is therefore at most 1e-3 of the sampled triangle's size, and at least 2^-20 of the
+// coordinates, well above the error of Embree's float triangles (~1e-7 of them), so that
+// the ray does not find the sampled triangle itself.
 bool shadowed(const Scene& scene, const Hit& hit, const LightSample& ls, RayCounter& counter) {
   glm::dvec3 org = scene.spawnOrigin(hit, ls.wi);
-  double tfar = std::isfinite(ls.distance) ? ls.distance * (1.0 - kShadowEpsilon)
-                                           : std::numeric_limits<double>::infinity();
-  return scene.occluded(org, ls.wi, 0.0, tfar, counter);
+  if (!std::isfinite(ls.distance))
+    return scene.occluded(org, ls.wi, 0.0, std::numeric_limits<double>::infinity(), counter);
+  double gap = kShadowEpsilon * ls.distance;
+  if (ls.extent > 0) {
+    const glm::dvec3 a = glm::abs(org), b = glm::abs(org + ls.distance * ls.wi);
+    const double coordinates = std::max({a.x, a.y, a.z, b.x, b.y, b.z});
+    gap = std::max(std::min(gap, 1e-3 * ls.extent), 0x1p-20 * coordinates);
+  }
+  return scene.occluded(org, ls.wi, 0.0, std::max(ls.distance - gap, 0.0), counter);
 }
 
 // Light sample contribution f * L * |cos| / pdf, MIS-weighted against BSDF sampling.

@@ -371,6 +371,7 @@ std::optional<LightSample> Scene::sampleLight(int index, const glm::dvec3& p, gl
       if (!(cosL > 0)) return std::nullopt;
       s.radiance = light.emission;  // two-sided emitter
       s.pdf = select * d2 / (cosL * light.area);
+      s.extent = std::sqrt(nlLen);  // ~ the triangle's edge
       return s;
     }
     case Light::Type::Environment: {

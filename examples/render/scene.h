@@ -38,6 +38,7 @@ struct LightSample {
   double pdf = 0;            // solid-angle pdf; 1 for delta lights
   bool delta = false;        // point or directional: no MIS
   bool isSurface = false;    // sample lies on geometry that is an algebraic surface
+  double extent = 0;         // an emitter's size there (its triangle's); 0 for none
 };
 
 class Scene {

@@ -12,6 +12,8 @@
 
 #include <algray/gallery.h>
 
+#include "mesh.h"
+
 #include <cmath>
 
 namespace algray::render {
@@ -102,6 +104,50 @@ TEST(WhiteFurnace, GreyConvexSurfaceReflectsAlbedoTimesEnvironment) {
 // A textured material on an algebraic surface reads the surface's u, v (the plugin's
 // spherical parametrisation about the clip centre: u = atan2(y, x) / 2pi, v = acos(z / r)
 // / pi); an untextured one asks the plugin for none (SurfaceOptions::uv off: 0, 0).
+// A sphere light of radius r and radiance L lights a distant point as a point light of
+// intensity pi r^2 L does. Light sampling picks points of its whole (two-sided) surface;
+// those on the far side must be blocked by the near side, which shadow rays stopping 1e-4
+// of the distance short did not reach once r was below that: a sphere light of radius 1e-4
+// at distance 3 shone twice as bright (measured 1.97x).
+TEST(LightSampling, SmallSphereLightsMatchAPointLight) {
+  auto scene = [](double radius) {
+    SceneDesc s;
+    s.settings.width = 32;
+    s.settings.height = 24;
+    s.settings.spp = 16;
+    s.settings.integrator = IntegratorType::Direct;
+    s.camera.position = {0, -6, 2};
+    s.camera.lookAt = {0, 0, 0};
+    s.camera.fovY = 20;
+    s.environment.color = glm::dvec3(0.0);
+    s.addMaterial(Material{});
+    addSurface(s, "sphere");
+    if (radius > 0) {
+      Material light;
+      light.type = MaterialType::Emissive;
+      light.emission = glm::dvec3(1.0 / (radius * radius));
+      MeshItem item;
+      item.label = "light";
+      item.mesh = makeIcosphere(3);
+      item.transform =
+          glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 3)), glm::dvec3(radius));
+      item.material = s.addMaterial(light);
+      s.meshes.push_back(std::move(item));
+    } else {
+      s.pointLights.push_back(PointLight{{0, 0, 3}, glm::dvec3(M_PI)});
+    }
+    return s;
+  };
+  const auto [point, n] = meanOverHits(scene(0.0));
+  ASSERT_GT(n, 50);
+  ASSERT_GT(point.x, 0.0);
+  for (const double radius : {1e-2, 1e-3, 1e-4, 1e-5}) {
+    // The icosphere's area is 0.4 % below the sphere's (its power likewise).
+    const double ratio = meanOverHits(scene(radius)).first.x / point.x;
+    EXPECT_NEAR(ratio, 1.0, 0.08) << "radius " << radius;
+  }
+}
+
 TEST(SurfaceTexture, UvComeFromTheSurfaceOnlyWhenTextured) {
   for (const bool textured : {true, false}) {
     SceneDesc s;
