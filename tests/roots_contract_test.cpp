@@ -865,6 +865,54 @@ TEST(RootsContract, RootsWhoseValuesBetweenThemUnderflow) {
   }
 }
 
+// Roots below the normal range (session 42's audit): g = -m 2^-1074 + b s (- a s^2, whose
+// other root b / a > 2 lies beyond the interval) on (0, 1] and its mirror on (-1, 0], with m an
+// integer and the root m / b 2^-1074 (in units of 2^-1074; the quadratic's differs from it
+// by ~1e-320 relative) not on the grid. Every method must report it within one unit of
+// the grid, once: in allRoots, as the first root, by hasRoot, and a walk from it must not
+// find it again. Before: the frame cut a wide interval to a root bound that, rounded to the
+// subnormal grid, lay below the root (no root at all, every method), and a walk from the
+// answer (the double below the root) found the same root one unit on.
+TEST(RootsContract, SubnormalRootsAreFoundOnce) {
+  std::mt19937 rng(4203);
+  std::uniform_real_distribution<double> slope(0.5, 8.0), curve(0.5, 3.0);
+  std::uniform_int_distribution<int> units(20, 4000);
+  const double unit = std::numeric_limits<double>::denorm_min();
+  int checked = 0;
+  for (int k = 0; k < 200; ++k) {
+    const int m = units(rng);
+    const double b = slope(rng), a = b / (1.5 + curve(rng));  // the other root, b / a > 2
+    const bool quadratic = k % 2 == 1, mirrored = k % 4 >= 2;
+    const double reference = (mirrored ? -1 : 1) * m / b;  // the root in units of 2^-1074
+    std::vector<double> c{-m * unit, b};
+    if (quadratic) c.push_back(-a);
+    if (mirrored)  // g(-s): the root -m / b units on (-1, 0]
+      for (size_t j = 1; j < c.size(); j += 2) c[j] = -c[j];
+    const double lo = mirrored ? -1.0 : 0.0, hi = mirrored ? 0.0 : 1.0;
+    for (const RootMethod method : {RootMethod::Auto, RootMethod::Yuksel, RootMethod::Sturm,
+                                    RootMethod::Bernstein, RootMethod::ClosedForm}) {
+      RootOptions o;
+      o.method = method;
+      const std::string what = "k " + std::to_string(k) + " method " +
+                               std::to_string(static_cast<int>(method)) + " root " +
+                               std::to_string(reference) + " units";
+      std::vector<double> out(4);
+      out.resize(allRoots(c, {}, lo, hi, out, o));
+      ASSERT_EQ(out.size(), 1u) << what;
+      EXPECT_LE(std::abs(out[0] / unit - reference), 1.0) << what;
+      const std::optional<double> first = firstRoot(c, {}, lo, hi, o);
+      ASSERT_TRUE(first.has_value()) << what;
+      EXPECT_LE(std::abs(*first / unit - reference), 1.0) << what;
+      EXPECT_TRUE(hasRoot(c, {}, lo, hi, o)) << what;
+      if (!mirrored) {  // the walk from the root (a mirrored one's next query: (r, 0])
+        EXPECT_FALSE(firstRoot(c, {}, *first, hi, o).has_value()) << what;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 1000);
+}
+
 // Exact zeros at the bottom at every degree: g = s^k q with a k-fold root at 0 (k = 1..3)
 // and ray-shaped q (random real roots, complex pairs, any scale), on intervals around 0,
 // from 0 and beside it. Each problem gets checkProblem (MPFR references of the rounded

@@ -25,6 +25,9 @@
 //  * Range: where g's terms over the interval span more binades than one frame holds
 //    (roots near 1 and 1e8 at degree 40), the interval is solved in pieces by magnitude,
 //    each in its own frame (roots.cpp, rangeSplit), so no root is lost below the range.
+//    Roots below T's normal range (subnormal) are found to T's absolute grid there (one
+//    unit of 2^-1074 in double), and the noise at lo includes that grid, so a walk from such
+//    an answer does not find its root again.
 //  * Accuracy: a simple root to within a few u cond(r), cond(r) = sum|c_i||r|^i / |g'(r)|
 //    (measured worst case 1.22 u cond against the exact root over 781 roots in
 //    tests/roots_test.cpp, which prints it, 1.42-2.17 with six other draws of its seeds;

@@ -79,8 +79,10 @@ int exponentOf(T x) {
 // frame cut to it fits the roots: s^40 - 2^40 on (0, 1e13] was cut to Cauchy's 1e12, where
 // the constant still left the normal range, and the root 2 came back as 44762 (see
 // toLocalSized). In log2 (the ratios overflow), then 1 + 2^-20 for that arithmetic's
-// rounding. False when there is no bound (no non-zero lower coefficient, a noise-level
-// leading one, or beyond T's range).
+// rounding, and upwards on the subnormal grid, where rounding is absolute: a degree-1
+// bound is the root itself, and -1000 2^-1074 + 3 s on (0, 1] was cut to 333 2^-1074, below
+// its root 333.33 2^-1074, which no query then found. False when there is no bound (no
+// non-zero lower coefficient, a noise-level leading one, or beyond T's range).
 template <class T>
 bool noisyRootBound(const T* c, int n, std::span<const T> err, T& bound) {
   const T gEval = gammaT<T>(2 * n + 1);
@@ -97,9 +99,11 @@ bool noisyRootBound(const T* c, int n, std::span<const T> err, T& bound) {
     maxLog =
         std::max(maxLog, (std::log2(a) - halved - std::log2(static_cast<double>(lead))) / (n - j));
   }
-  const double b = std::exp2(maxLog + 1) * (1 + 0x1p-20);
+  const double b =
+      std::exp2(maxLog + 1) * (1 + 0x1p-20) + 4 * std::numeric_limits<double>::denorm_min();
   if (!(b > 0 && b <= static_cast<double>(std::numeric_limits<T>::max()))) return false;
   bound = static_cast<T>(b);
+  if (static_cast<double>(bound) < b) bound = std::nextafter(bound, std::numeric_limits<T>::max());
   return bound > 0;
 }
 
@@ -230,6 +234,24 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
     }
   }
   fr.clamped = belowRange;  // the callers check whether that is harmless (rangeSplit)
+
+  // ---- The caller's grid, where it is coarser than the frame's ------------------------
+  // An answer v goes back as v 2^e rounded to T, whose grid below the normal range is
+  // absolute (T's smallest subnormal, 2^-1074 in double): a frame that low steps by
+  // 2^-1074-e in v, which near v = 0 can be far more than its own u |v|. |G'| <= sum_j j
+  // |C_j| over |v| <= 1, so G at the answer the caller gets is off by up to that step times
+  // it, which joins the noise bound: then from the answer a walk's next query sees it
+  // within noise at its lo (the root 72.2 2^-1074 of -354 2^-1074 + 4.9 s - 2.46 s^2 came
+  // back as 72 2^-1074, and from there as 73 2^-1074: one root twice). Only for frames whose
+  // step is a normal number (e <= -52 in double, from intervals below 2^-52): elsewhere it
+  // is below the smallest normal number, where G's own noise bound is far larger unless G
+  // is that small, and the subnormal arithmetic is slow.
+  constexpr int kSubnormalStep = Limits::min_exponent - Limits::digits;  // log2 denorm_min
+  if (e <= kSubnormalStep - (Limits::min_exponent - 1)) [[unlikely]] {
+    T slope = 0;
+    for (int j = 1; j <= n; ++j) slope += T(j) * std::abs(g.c[j]);
+    g.noise[0] += scale2(Limits::denorm_min(), -e) * slope;
+  }
 
   // ---- Drop leading coefficients that are noise -------------------------------------
   // On [-1, 1], |C_n v^n| <= |C_n| |v|^k for k < n, so a leading coefficient with
