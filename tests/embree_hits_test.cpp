@@ -866,6 +866,12 @@ TEST_F(EmbreeHits, MultipleSurfacesGetTheirOwnNormal) {
       {"sphere^3", sphere * sphere * sphere, 3, [](const glm::dvec3& p) { return p; }},
       {"plane^2 (quadric path)", plane * plane, 2,
        [](const glm::dvec3&) { return glm::dvec3(1.0, 0.5, -0.2); }},
+      // Even roots of f <= 0 face the ray too (they kept a noise-oriented gradient, half
+      // of them facing away, some 70 degrees off).
+      {"-(cylinder^2)", -1.0 * (cylinder * cylinder), 2,
+       [](const glm::dvec3& p) { return glm::dvec3(p.x, p.y, 0); }},
+      {"sphere^2 (x - 5)", sphere * sphere * (x - 5.0 * one), 2,
+       [](const glm::dvec3& p) { return p; }},
   };
   std::mt19937 random(3501);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -917,11 +923,119 @@ TEST_F(EmbreeHits, MultipleSurfacesGetTheirOwnNormal) {
   }
 }
 
-// Where no point beside the hit gives a normal, the hit still reports a usable one: a ray
-// touching a cone's apex from inside (f <= 0 on both sides, grad f = 0 at the apex and
-// facing away before it) gets the reversed ray direction, through the quadric path and the
-// generic walk; one reaching the apex from outside gets the gradient just before it,
-// facing the ray.
+// A ray touching a simple surface (a double root of g, its slope along the ray zero) gets
+// the surface's gradient at the point it touches, oriented as grad f: before, the normal
+// search for multiple surfaces took the gradients just before and after such a hit, both on
+// the same side, for a double surface's two sides, and their difference lay along the ray
+// (a sphere's normal was the ray's direction, a torus's top 63 degrees off). Reference: the
+// touching point and its gradient in closed form. Both channels; the sphere takes the
+// quadric path, the torus the generic walk.
+TEST_F(EmbreeHits, RaysTouchingASimpleSurfaceGetItsGradient) {
+  const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
+  const Polynomial sphere = x * x + y * y + z * z - one;
+  const double R = 1.0, r = 0.5;
+  const Polynomial s2 = x * x + y * y + z * z + (R * R - r * r) * one;
+  const Polynomial torus = s2 * s2 - 4.0 * R * R * (x * x + y * y);
+  std::mt19937 random(4201);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0), angle(0.0, 2.0 * M_PI);
+  for (const bool isTorus : {false, true}) {
+    SCOPED_TRACE(isTorus ? "torus" : "sphere");
+    SurfaceDesc desc;
+    desc.polynomial = isTorus ? torus : sphere;
+    desc.clip = ClipSphere{{0, 0, 0}, 1.6};
+    SurfaceGeometry g(device, desc);
+    Scene scene(device);
+    scene.attach(g.geometry());
+    scene.commit();
+    int checked = 0;
+    for (int k = 0; k < 300; ++k) {
+      // The touching point p, its normal n and a direction along the tangent plane.
+      glm::dvec3 p, n, d;
+      if (!isTorus) {
+        n = glm::normalize(glm::dvec3(uniform(random), uniform(random), uniform(random)));
+        p = n;
+        const glm::dvec3 a = glm::normalize(glm::cross(n, glm::dvec3(0.3, -0.5, 0.8)));
+        const double phi = angle(random);
+        d = std::cos(phi) * a + std::sin(phi) * glm::cross(n, a);
+      } else if (k % 2 == 0) {  // the top circle, along it: the line stays above the tube
+        const double phi = angle(random);
+        p = glm::dvec3(R * std::cos(phi), R * std::sin(phi), r);
+        n = glm::dvec3(0, 0, 1);
+        d = glm::dvec3(-std::sin(phi), std::cos(phi), 0);
+      } else {  // the outer equator, vertically
+        const double phi = angle(random);
+        n = glm::dvec3(std::cos(phi), std::sin(phi), 0);
+        p = (R + r) * n;
+        d = glm::dvec3(0, 0, 1);
+      }
+      const glm::dvec3 o = p - 3.0 * d;
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
+      const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d)));
+      // A touching ray may miss by the tangent rule's trade-off (a near miss within noise
+      // is a hit, a touch can round to a miss); every hit must have the normal.
+      const std::pair<bool, glm::dvec3> channels[] = {
+          {hit.hit, glm::dvec3(hit.Ng)},
+          {rh.hit.geomID != RTC_INVALID_GEOMETRY_ID,
+           glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)}};
+      for (const auto& [found, ng] : channels) {
+        if (!found) continue;
+        ++checked;
+        const double cosine = glm::dot(glm::normalize(ng), n);
+        // Measured: within 2e-8 radians (double channel) and 3e-4 (the float ray, whose
+        // own rounding moves it off the touching point by ~1e-7).
+        EXPECT_GT(cosine, std::cos(1e-3)) << k << " normal " << ng.x << " " << ng.y << " " << ng.z;
+      }
+    }
+    EXPECT_GT(checked, 300);
+  }
+}
+
+// A double surface seen from far away: the hit point o + t d is rounded by ~u |o|, 2e-10
+// radii from 1e6 radii, to either side of the surface, where grad f = 2 h grad h is clear
+// of its evaluation noise and on the far side points away from the ray; the double
+// channel reported it (80 of 400 rays from 1e6 radii faced away, 193 of 400 from 1e8).
+// The slope test now counts the point's own rounding (hitPointError). Reference: the
+// sphere's radial direction at the exact hit, facing the ray.
+TEST_F(EmbreeHits, DoubleSurfacesFaceTheRayFromFarAway) {
+  const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
+  const Polynomial sphere = x * x + y * y + z * z - one;
+  SurfaceDesc desc;
+  desc.polynomial = sphere * sphere;
+  desc.clip = ClipSphere{{0, 0, 0}, 1.5};
+  SurfaceGeometry g(device, desc);
+  Scene scene(device);
+  scene.attach(g.geometry());
+  scene.commit();
+  std::mt19937 random(4202);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto unit = [&] {
+    return glm::normalize(glm::dvec3(uniform(random), uniform(random), uniform(random)));
+  };
+  for (const double distance : {1e4, 1e6, 1e8}) {
+    SCOPED_TRACE(distance);
+    int hits = 0;
+    for (int k = 0; k < 200; ++k) {
+      const glm::dvec3 o = distance * unit();
+      glm::dvec3 target = unit();
+      if (glm::dot(target, o) < 0) target = -target;  // on the side facing the origin
+      const glm::dvec3 d = target - o;                // |d| ~ distance, as a caller's may be
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
+      if (!hit.hit) continue;
+      ++hits;
+      const glm::dvec3 ng(hit.Ng);
+      EXPECT_LT(glm::dot(ng, d), 0.0) << k << " normal " << ng.x << " " << ng.y << " " << ng.z;
+      const double cosine = std::abs(glm::dot(glm::normalize(ng), glm::normalize(o + hit.t * d)));
+      EXPECT_GT(cosine, std::cos(1e-4)) << k;
+    }
+    EXPECT_GT(hits, 190);
+  }
+}
+
+// Where grad f vanishes at the hit the normal comes from beside it: a ray touching a cone's
+// apex from inside (f <= 0 on both sides, as along an even root of f <= 0) gets grad(-f)
+// just before the apex, facing the ray (until session 42 the reversed ray direction, the
+// answer where nothing is found), through the quadric path and the generic walk; one
+// reaching the apex from outside gets the gradient just before it, facing the ray.
 TEST_F(EmbreeHits, ZeroGradientGivesAUsableNormal) {
   const Polynomial x = X(), y = Y(), z = Z();
   const Polynomial cone = x * x + y * y - z * z;
@@ -939,10 +1053,13 @@ TEST_F(EmbreeHits, ZeroGradientGivesAUsableNormal) {
     const HitD inside = intersectD(scene, RayD{o, d, 0.0, 1e30});
     ASSERT_TRUE(inside.hit);
     EXPECT_EQ(inside.t, 1.0);
-    EXPECT_EQ(glm::dvec3(inside.Ng), glm::dvec3(glm::vec3(-d)));
+    // grad(-f) = 2 (-x, -y, z) at the apex - delta d / |d| = delta (1, 2, -3) / sqrt(14).
+    const glm::dvec3 expected = -glm::dvec3(1.0, 2.0, 3.0) / std::sqrt(14.0);
+    EXPECT_GT(glm::dot(glm::normalize(glm::dvec3(inside.Ng)), expected), 1.0 - 1e-12);
     const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d)));
     ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
-    EXPECT_EQ(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), glm::vec3(-d));
+    EXPECT_GT(glm::dot(glm::normalize(glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)), expected),
+              1.0 - 1e-12);
     // From outside: grad f = 2 (x, y, -z) on the ray before the apex, (3, 0, 1) / sqrt(10).
     const glm::dvec3 o2(3.0, 0.0, -1.0), d2(-3.0, 0.0, 1.0);
     const HitD outside = intersectD(scene, RayD{o2, d2, 0.0, 1e30});

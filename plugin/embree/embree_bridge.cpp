@@ -555,7 +555,8 @@ template <bool kOcclusion, class LaneT>
         bool givenNormal = false;
         if constexpr (std::is_same_v<LaneT, PacketLane>) givenNormal = h.t == L.nT;
         if (!givenNormal)
-          h.gradient = hitGradient(*L.data, kr.dir, h.point, L.data->quadric->gradient(h.point));
+          h.gradient = hitGradient(*L.data, kr.dir, h.point, L.data->quadric->gradient(h.point),
+                                   hitPointError(kr.org, kr.dir, h.t));
         if (acceptIntersectionOf<std::is_same_v<LaneT, PacketLane>>(&L, h)) return;
       }
     }

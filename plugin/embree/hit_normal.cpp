@@ -76,25 +76,38 @@ constexpr int kRungs = 14;
 double rung(const SurfaceData& data, int k) { return std::ldexp(data.radius, -32 + 2 * k); }
 
 // grad f at p - delta u, combined with grad f at p + delta u where that is clear and
-// oriented as an even root (facing away: g- - g+) or an odd one (along g-: g- + g+) has
-// it: the difference of the two points' offsets cancels to first order, so the result is
+// oriented as an even root (facing away: g- - g+, or g- + g+ on a grazed simple surface)
+// or an odd one (along g-: g- + g+) has it: the difference of the two points' offsets cancels to first order, so the result is
 // grad f's direction at the hit to O(delta^2) (on the double surfaces of
 // StressRandom.MultipleSurfacesGetTheirOwnNormal with |grad h| > 1e-3, its own seed: worst
 // 6.3e-6 radians instead of 1.3e-4; no change on the triple ones).
+// `sign` -1 takes grad(-f) after the hit (gMinus is then -grad f before it): an even root
+// of f <= 0, such as -h^2, is one of -f >= 0.
 glm::dvec3 symmetric(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
-                     double delta, const glm::dvec3& gMinus, bool even) {
+                     double delta, const glm::dvec3& gMinus, bool even, double sign = 1) {
   const glm::dvec3 q = point + delta * u;
-  const glm::dvec3 gPlus = data.horner.evaluate(q).gradient, noise = gradientNoise(data, q);
+  const glm::dvec3 gPlus = sign * data.horner.evaluate(q).gradient, noise = gradientNoise(data, q);
   if (!clearOf(gPlus, noise)) return gMinus;
-  if (even) return facingOf(-gPlus, noise, u) ? gMinus - gPlus : gMinus;
+  // Even: g+ faces away. Pointing against g- (h changes sign across the hit, grad f with
+  // it) the two are a multiple surface's sides; along it, a ray grazing a simple surface
+  // past the point where it touches, whose normal is their mean (their difference is along
+  // the ray: a sphere's normal was the ray's direction).
+  if (even) {
+    if (!facingOf(-gPlus, noise, u)) return gMinus;
+    return glm::dot(gMinus, gPlus) < 0 ? gMinus - gPlus : gMinus + gPlus;
+  }
   return glm::dot(gMinus, gPlus) > 0 ? gMinus + gPlus : gMinus;
 }
 
 // Back from the hit along the ray: grad f at the first point where it is clear and faces
 // the ray (an even root, or an odd one crossing downwards), or, once f is found to change
 // sign across the hit (an odd root, whose gradient keeps its orientation across the
-// surface), at the first point where it is clear; else `fallback`. Each with its mirror
-// point after the hit (symmetric).
+// surface), at the first point where it is clear; once f is found negative on both sides
+// (an even root of f <= 0: -h^2, h^2 q with q < 0, whose gradient before the hit faces
+// away), grad(-f) at the first clear one, facing the ray as every even root's; else
+// `fallback`. Each with its mirror point after the
+// hit (symmetric). (Before the last rule such roots kept a noise-oriented gradient: half
+// of the hits on 0 = (x^2 + y^2 + z^2 - 1)^2 faced away, some 70 degrees off.)
 glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
                         const glm::dvec3& fallback) {
   int clearRung = -1;
@@ -113,34 +126,55 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
     }
     if (clearRung < 0 || !(std::abs(e.value) > e.valueError)) continue;
     const Polynomial::Evaluation after = data.horner.evaluate(point + delta * u);
-    if (std::abs(after.value) > after.valueError && (e.value < 0) != (after.value < 0))
+    if (!(std::abs(after.value) > after.valueError)) continue;
+    if ((e.value < 0) != (after.value < 0))
       return symmetric(data, u, point, rung(data, clearRung), firstClear, false);
+    if (e.value < 0) return symmetric(data, u, point, rung(data, clearRung), -firstClear, true, -1);
   }
   return fallback;
+}
+
+// The sign of the first value of f clear of its noise along p + delta u, delta = side
+// times the rungs: -1, 1, or 0 where none is.
+int firstClearSign(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
+                   double side) {
+  for (int k = 0; k < kRungs; ++k) {
+    const Polynomial::Evaluation e = data.horner.evaluate(point + side * rung(data, k) * u);
+    if (std::abs(e.value) > e.valueError) return e.value < 0 ? -1 : 1;
+  }
+  return 0;
 }
 
 }  // namespace
 
 glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
-                               const glm::dvec3& point, const glm::dvec3& gradient) {
+                               const glm::dvec3& point, const glm::dvec3& gradient,
+                               double pointError) {
   const double length = glm::length(dir);
   if (!(length > 0.0) || !std::isfinite(length)) return gradient;
   const glm::dvec3 u = dir / length;
   // ---- The gradient at the hit, where it is clear ----------------------------------------
-  // Facing the ray it is right for either parity. Not facing, it is an odd root's crossing
-  // upwards (f < 0 before the hit) or an even root's far side (f > 0 before it, and the hit
-  // past the surface): the first clear value of f before the hit tells. (The hit of a
-  // multiple root lies anywhere in its noise region: a triple root's up to 1e-4 before the
-  // crossing, where its gradient is clear and right, but f has the same sign a little
-  // after it.)
-  const glm::dvec3 noise = gradientNoise(data, point);
+  // Its noise: the evaluation's, and how far the point's own rounding can move it (a hit
+  // from far away, hitPointError).
+  // Facing the ray it is right for either parity. Across the ray within its noise it is a
+  // ray grazing a simple surface, whose normal it is (before, the search below took the
+  // gradients before and after such a hit, on the same side of the surface, for an even
+  // root's and returned their difference, along the ray: a sphere touched by a ray got the
+  // ray's direction as its normal, a torus's top 63 degrees off). Facing away, it is an odd
+  // root's crossing upwards (f < 0 before the hit, > 0 after it) or an even root's far side
+  // (f > 0 on both sides, the hit past the surface; or f < 0 on both, the near side of an
+  // even root of f <= 0): the first clear values of f before and after the hit tell. (The
+  // hit of a multiple root lies anywhere in its noise region: a triple root's up to 1e-4
+  // before the crossing, where its gradient is clear and right, and f within noise up to
+  // the crossing: the first clear value after the hit lies beyond it.)
+  const glm::dvec3 noise =
+      gradientNoise(data, point) + glm::dvec3(data.hitPointNoise * 0x1p-10 * pointError);
   if (clearOf(gradient, noise)) {
     if (facingOf(gradient, noise, u)) return gradient;
-    for (int k = 0; k < kRungs; ++k) {
-      const Polynomial::Evaluation e = data.horner.evaluate(point - rung(data, k) * u);
-      if (!(std::abs(e.value) > e.valueError)) continue;
-      return e.value < 0 ? gradient : searchBefore(data, u, point, gradient);
-    }
+    if (!facingOf(-gradient, noise, u)) return gradient;
+    const int before = firstClearSign(data, u, point, -1);
+    if (before > 0 || (before < 0 && firstClearSign(data, u, point, 1) < 0))
+      return searchBefore(data, u, point, gradient);
     return gradient;
   }
   const glm::dvec3 found = searchBefore(data, u, point, gradient);

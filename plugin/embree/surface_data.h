@@ -137,6 +137,7 @@ struct SurfaceData {
   HornerForm absHorner;
   double gradientGamma = 0;
   double hitSlopeNoise = 0;
+  double hitPointNoise = 0;  // 2^10 times a bound of |hess f| (row sums) over the clip ball
 };
 
 // A ray in the surface's object space.
@@ -217,21 +218,35 @@ inline glm::dvec3 gradientNoise(const SurfaceData& data, const glm::dvec3& p) {
 // clear (hit_normal.cpp: a multiple surface h^k = 0, a singular point, a ray grazing the
 // surface); else `gradient` itself.
 glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
-                               const glm::dvec3& point, const glm::dvec3& gradient);
+                               const glm::dvec3& point, const glm::dvec3& gradient,
+                               double pointError);
+// A bound of the rounding of a hit point o + t d as computed (per component, max norm):
+// gamma(2) (|o| + |t d|). From far away it dwarfs the gradient's own noise: a point of a
+// double surface 1e6 radii along a ray lands up to 2e-10 radii to either side of it, where
+// grad f = 2 h q grad h is clear of its noise and points away from the ray on the far side.
+inline double hitPointError(const glm::dvec3& org, const glm::dvec3& dir, double t) {
+  const glm::dvec3 o = absv(org), d = absv(dir);
+  return gamma(2) * (std::max({o.x, o.y, o.z}) + std::abs(t) * std::max({d.x, d.y, d.z}));
+}
 // Whether the slope grad f . d at a hit exceeds 2^10 times its noise, bounded over the
 // whole clip ball (hitSlopeNoise, a constant per surface: measured, a bound at the hit
-// point itself cost the sphere's primary rays 5 %).
-inline bool slopeClear(const SurfaceData& data, const glm::dvec3& dir, const glm::dvec3& gradient) {
+// point itself cost the sphere's primary rays 5 %), plus what the point's own rounding
+// `pointError` can move it by (hitPointNoise; below the first term for rays from within a
+// few radii, 2^10 (4m + 8) / m times smaller at u R).
+inline bool slopeClear(const SurfaceData& data, const glm::dvec3& dir, const glm::dvec3& gradient,
+                       double pointError) {
   const double l1 = std::abs(dir.x) + std::abs(dir.y) + std::abs(dir.z);
-  return std::abs(glm::dot(gradient, dir)) > data.hitSlopeNoise * l1;
+  return std::abs(glm::dot(gradient, dir)) >
+         (data.hitSlopeNoise + data.hitPointNoise * pointError) * l1;
 }
 // The gradient a closest hit reports as its normal (object space): `gradient`, computed at
 // the hit, where the slope is clear (every ordinary hit), else gradientBesideNoise.
 inline glm::dvec3 hitGradient(const SurfaceData& data, const glm::dvec3& dir,
-                              const glm::dvec3& point, const glm::dvec3& gradient) {
-  if (slopeClear(data, dir, gradient)) [[likely]]
+                              const glm::dvec3& point, const glm::dvec3& gradient,
+                              double pointError) {
+  if (slopeClear(data, dir, gradient, pointError)) [[likely]]
     return gradient;
-  return gradientBesideNoise(data, dir, point, gradient);
+  return gradientBesideNoise(data, dir, point, gradient, pointError);
 }
 
 // Returns true to accept the candidate (stop), false to ask for the next root.

@@ -347,7 +347,8 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   const Polynomial& poly = data->desc.polynomial;
   const int degree = std::max(poly.degree(), 0);
   Polynomial absPoly;
-  std::vector<double> weights;  // d A_d, d = 1..degree
+  std::vector<double> weights;         // d A_d, d = 1..degree
+  std::vector<double> hessianWeights;  // d (d - 1) A_d, d = 2..degree
   for (int d = 0; d <= degree; ++d) {
     double sum = 0;
     for (int i = d; i >= 0; --i)
@@ -357,6 +358,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
         sum += c;
       }
     if (d > 0) weights.push_back(d * sum);
+    if (d > 1) hessianWeights.push_back(d * (d - 1.0) * sum);
   }
   data->absHorner = HornerForm(absPoly);
   data->gradientGamma = gamma(4 * degree + 8);
@@ -366,6 +368,13 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   for (size_t i = weights.size(); i-- > 0;) bound = bound * r + weights[i];
   const double slopeNoise = 0x1p10 * data->gradientGamma * bound;
   data->hitSlopeNoise = std::isfinite(slopeNoise) ? slopeNoise : 0.0;
+  // How far grad f moves when the point moves: sum_j |d_i d_j f| <= sum_d d (d - 1) A_d
+  // R^(d - 2) over the clip ball (each monomial's second derivatives summed over j are at
+  // most e_i (|e| - 1) of it over R^2), times 2^10 as the slope's own noise (hitPointNoise).
+  double hessian = 0;
+  for (size_t i = hessianWeights.size(); i-- > 0;) hessian = hessian * r + hessianWeights[i];
+  const double pointNoise = 0x1p10 * (1.0 + 0x1p-20) * hessian;
+  data->hitPointNoise = std::isfinite(pointNoise) ? pointNoise : 0.0;
   // (256 R)^2, exact scalings of R^2 (rounded once) within this range of R; else 0: the
   // walk's shortcut for deferred float origin errors is off (surelyOutsideClipBall).
   const bool normalRange = data->radius >= 0x1p-400 && data->radius <= 0x1p400;

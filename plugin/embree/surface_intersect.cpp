@@ -379,7 +379,8 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), r1 - r0, hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
-    if (!occlusion) hit.gradient = hitGradient(data, d, hit.point, hit.gradient);
+    if (!occlusion)
+      hit.gradient = hitGradient(data, d, hit.point, hit.gradient, hitPointError(o, d, hit.t));
     if (ray.trace != 0) {
       OfferedRoots& seen = offeredRoots(data, ray);
       seen.offered |= bit;
