@@ -943,10 +943,7 @@ TEST_F(EmbreeHits, RaysTouchingASimpleSurfaceGetItsGradient) {
     SurfaceDesc desc;
     desc.polynomial = isTorus ? torus : sphere;
     desc.clip = ClipSphere{{0, 0, 0}, 1.6};
-    SurfaceGeometry g(device, desc);
-    Scene scene(device);
-    scene.attach(g.geometry());
-    scene.commit();
+    const SurfaceScene scene(device, desc);
     int checked = 0;
     for (int k = 0; k < 300; ++k) {
       // The touching point p, its normal n and a direction along the tangent plane.
@@ -1002,10 +999,7 @@ TEST_F(EmbreeHits, DoubleSurfacesFaceTheRayFromFarAway) {
   SurfaceDesc desc;
   desc.polynomial = sphere * sphere;
   desc.clip = ClipSphere{{0, 0, 0}, 1.5};
-  SurfaceGeometry g(device, desc);
-  Scene scene(device);
-  scene.attach(g.geometry());
-  scene.commit();
+  const SurfaceScene scene(device, desc);
   std::mt19937 random(4202);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   auto unit = [&] {
