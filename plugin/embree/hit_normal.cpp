@@ -15,16 +15,22 @@
 // at the hit (gradientNoise) 2^10-fold, so that rounding turns it by at most ~2^-10
 // radians, and either faces the ray (grad f . d < 0 clearly: right for an even root, where
 // f = h^2 q rises on both sides and the normal faces the side the ray comes from as a
-// simple surface's does where the ray enters it, and for an odd one crossing downwards) or
-// f is clearly negative just before the hit (an odd root crossing upwards). Otherwise the
+// simple surface's does where the ray enters it, and for an odd one crossing downwards),
+// or lies across the ray (a ray touching a simple surface), or f is clearly negative just
+// before the hit and positive after it (an odd root crossing upwards). Otherwise the
 // normal is searched for before the hit, at p - delta d/|d| for delta from 2^-32 to 2^-6
 // clip radii by factors of 4 (searchBefore): the first gradient there that is clear and
 // faces the ray, or, once f is found to have opposite signs at p -+ delta d/|d| (an odd
-// root: h^3 keeps its gradient's orientation across the surface), the first clear one;
-// each combined with its mirror point after the hit (symmetric), unless it lies outside the
-// cone of directions the hit's own gradient and its noise bound allow. A ray touching a cone's
-// apex from inside meets neither (f < 0 on both sides, grad f facing away): the gradient
-// at the hit stays (zero there: the bridge then reports the reversed ray direction).
+// root: h^3 keeps its gradient's orientation across the surface), the first clear one, or,
+// where f is negative on both sides (an even root of f <= 0), grad(-f) at the first clear
+// one; each combined with its mirror point after the hit (symmetric), unless it lies
+// outside the cone of directions the hit's own gradient and its noise bound allow. (A ray
+// touching a cone's apex from inside is such an even root along the ray: grad(-f) just
+// before the apex, facing the ray.) Where nothing is found and the gradient at the hit is
+// zero, the bridge reports the reversed ray direction.
+// The gradient's noise at the hit includes what the hit point's own rounding moves it by
+// (hitPointError, surface_data.h): from 1e6 radii a double surface's hit lands 2e-10 radii
+// to either side of it, where its gradient is clear of the evaluation's noise.
 // Cost: up to ~40 evaluations of f, only on these hits, and mostly two (rendering
 // (x^2 + y^2 + z^2 - 1)^2 took 1.07-1.08 s instead of 1.05-1.07); every other hit pays the
 // slope test (docs/speed-details.md, session 35). Accuracy against grad h in long double
@@ -77,10 +83,10 @@ double rung(const SurfaceData& data, int k) { return std::ldexp(data.radius, -32
 
 // grad f at p - delta u, combined with grad f at p + delta u where that is clear and
 // oriented as an even root (facing away: g- - g+, or g- + g+ on a grazed simple surface)
-// or an odd one (along g-: g- + g+) has it: the difference of the two points' offsets cancels to first order, so the result is
-// grad f's direction at the hit to O(delta^2) (on the double surfaces of
-// StressRandom.MultipleSurfacesGetTheirOwnNormal with |grad h| > 1e-3, its own seed: worst
-// 6.3e-6 radians instead of 1.3e-4; no change on the triple ones).
+// or an odd one (along g-: g- + g+) has it: the difference of the two points' offsets
+// cancels to first order, so the result is grad f's direction at the hit to O(delta^2) (on
+// the double surfaces of StressRandom.MultipleSurfacesGetTheirOwnNormal with |grad h| >
+// 1e-3, its own seed: worst 6.3e-6 radians instead of 1.3e-4; no change on the triple ones).
 // `sign` -1 takes grad(-f) after the hit (gMinus is then -grad f before it): an even root
 // of f <= 0, such as -h^2, is one of -f >= 0.
 glm::dvec3 symmetric(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
@@ -105,9 +111,9 @@ glm::dvec3 symmetric(const SurfaceData& data, const glm::dvec3& u, const glm::dv
 // surface), at the first point where it is clear; once f is found negative on both sides
 // (an even root of f <= 0: -h^2, h^2 q with q < 0, whose gradient before the hit faces
 // away), grad(-f) at the first clear one, facing the ray as every even root's; else
-// `fallback`. Each with its mirror point after the
-// hit (symmetric). (Before the last rule such roots kept a noise-oriented gradient: half
-// of the hits on 0 = (x^2 + y^2 + z^2 - 1)^2 faced away, some 70 degrees off.)
+// `fallback`. Each with its mirror point after the hit (symmetric). (Before the last rule
+// such roots kept a noise-oriented gradient: half of the hits on 0 = (x^2 + y^2 + z^2 -
+// 1)^2 faced away, some 70 degrees off.)
 glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
                         const glm::dvec3& fallback) {
   int clearRung = -1;
@@ -156,22 +162,26 @@ glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
   // ---- The gradient at the hit, where it is clear ----------------------------------------
   // Its noise: the evaluation's, and how far the point's own rounding can move it (a hit
   // from far away, hitPointError).
-  // Facing the ray it is right for either parity. Across the ray within its noise it is a
-  // ray grazing a simple surface, whose normal it is (before, the search below took the
+  // Facing the ray it is right for either parity. Across the ray (to 2^-20 radians) it is a
+  // ray touching a simple surface, whose normal it is (before, the search below took the
   // gradients before and after such a hit, on the same side of the surface, for an even
   // root's and returned their difference, along the ray: a sphere touched by a ray got the
-  // ray's direction as its normal, a torus's top 63 degrees off). Facing away, it is an odd
-  // root's crossing upwards (f < 0 before the hit, > 0 after it) or an even root's far side
-  // (f > 0 on both sides, the hit past the surface; or f < 0 on both, the near side of an
-  // even root of f <= 0): the first clear values of f before and after the hit tell. (The
-  // hit of a multiple root lies anywhere in its noise region: a triple root's up to 1e-4
-  // before the crossing, where its gradient is clear and right, and f within noise up to
-  // the crossing: the first clear value after the hit lies beyond it.)
+  // ray's direction as its normal, a torus's top 63 degrees off; a touching hit farther
+  // from the point it touches goes to the search, whose mirrored pair then averages). Not
+  // every gradient within noise of across the ray: a double surface's, just clear at a hit
+  // past it, can be that at a shallow angle, and must be turned to face the ray.
+  // Facing away, it is an odd root's crossing upwards (f < 0 before the hit, > 0 after it)
+  // or an even root's far side (f > 0 on both sides, the hit past the surface; or f < 0 on
+  // both, the near side of an even root of f <= 0): the first clear values of f before and
+  // after the hit tell. (The hit of a multiple root lies anywhere in its noise region: a
+  // triple root's up to 1e-4 before the crossing, where its gradient is clear and right,
+  // and f within noise up to the crossing: the first clear value after the hit lies beyond
+  // it.)
   const glm::dvec3 noise =
       gradientNoise(data, point) + glm::dvec3(data.hitPointNoise * 0x1p-10 * pointError);
   if (clearOf(gradient, noise)) {
     if (facingOf(gradient, noise, u)) return gradient;
-    if (!facingOf(-gradient, noise, u)) return gradient;
+    if (std::abs(glm::dot(gradient, u)) <= 0x1p-20 * glm::length(gradient)) return gradient;
     const int before = firstClearSign(data, u, point, -1);
     if (before > 0 || (before < 0 && firstClearSign(data, u, point, 1) < 0))
       return searchBefore(data, u, point, gradient);
