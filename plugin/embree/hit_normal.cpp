@@ -118,6 +118,7 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
                         const glm::dvec3& fallback) {
   int clearRung = -1;
   glm::dvec3 firstClear{0.0};
+  bool negativeBoth = false;
   for (int k = 0; k < kRungs; ++k) {
     const double delta = rung(data, k);
     const glm::dvec3 before = point - delta * u;
@@ -135,8 +136,12 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
     if (!(std::abs(after.value) > after.valueError)) continue;
     if ((e.value < 0) != (after.value < 0))
       return symmetric(data, u, point, rung(data, clearRung), firstClear, false);
-    if (e.value < 0) return symmetric(data, u, point, rung(data, clearRung), -firstClear, true, -1);
+    negativeBoth |= e.value < 0;
   }
+  // Negative on both sides and no sign change out to 2^-6 clip radii. (Not decided at the
+  // first rung with both clear: an odd root's hit lies anywhere in its noise region, up to
+  // ~1e-4 radii before the crossing, and f can be clearly negative between the two.)
+  if (negativeBoth) return symmetric(data, u, point, rung(data, clearRung), -firstClear, true, -1);
   return fallback;
 }
 
@@ -149,6 +154,15 @@ int firstClearSign(const SurfaceData& data, const glm::dvec3& u, const glm::dvec
     if (std::abs(e.value) > e.valueError) return e.value < 0 ? -1 : 1;
   }
   return 0;
+}
+
+// Whether f is clearly positive at some p + delta u of the rungs after the hit.
+bool positiveAfter(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point) {
+  for (int k = 0; k < kRungs; ++k) {
+    const Polynomial::Evaluation e = data.horner.evaluate(point + rung(data, k) * u);
+    if (e.value > e.valueError) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -172,18 +186,18 @@ glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
   // past it, can be that at a shallow angle, and must be turned to face the ray.
   // Facing away, it is an odd root's crossing upwards (f < 0 before the hit, > 0 after it)
   // or an even root's far side (f > 0 on both sides, the hit past the surface; or f < 0 on
-  // both, the near side of an even root of f <= 0): the first clear values of f before and
-  // after the hit tell. (The hit of a multiple root lies anywhere in its noise region: a
-  // triple root's up to 1e-4 before the crossing, where its gradient is clear and right,
-  // and f within noise up to the crossing: the first clear value after the hit lies beyond
-  // it.)
+  // both, the near side of an even root of f <= 0): the first clear value of f before the
+  // hit, and whether f is clearly positive anywhere after it out to 2^-6 clip radii, tell.
+  // (The hit of a multiple root lies anywhere in its noise region: a triple root's up to
+  // 1e-4 before the crossing, where its gradient is clear and right, and f can be clearly
+  // negative between the hit and the crossing.)
   const glm::dvec3 noise =
       gradientNoise(data, point) + glm::dvec3(data.hitPointNoise * 0x1p-10 * pointError);
   if (clearOf(gradient, noise)) {
     if (facingOf(gradient, noise, u)) return gradient;
     if (std::abs(glm::dot(gradient, u)) <= 0x1p-20 * glm::length(gradient)) return gradient;
     const int before = firstClearSign(data, u, point, -1);
-    if (before > 0 || (before < 0 && firstClearSign(data, u, point, 1) < 0))
+    if (before > 0 || (before < 0 && !positiveAfter(data, u, point)))
       return searchBefore(data, u, point, gradient);
     return gradient;
   }
