@@ -376,6 +376,41 @@ TEST(Parser, LeadingZerosDoNotTurnAnUnderflowIntoAnOverflow) {
   expectRejected({("x + " + zeros + "1e309").c_str(), 5, "is too large for double"});
 }
 
+// Values near the largest double are values: their error bounds (tracked_value.h) can
+// overflow first (the power rule's bound is ~1000 times 2^1016, a sum's adds both sides'),
+// and 2^1016, 10^306, exp(709) or 1.5e308 - 1e308 were refused as "not finite". The
+// reference is the same double arithmetic in C++ (libm's pow and exp, as the parser's).
+TEST(Parser, ValuesNearTheLargestDoubleAreAccepted) {
+  const Polynomial x = parsePolynomial("x"), y = parsePolynomial("y");
+  const volatile double a = 1.5e308, b = 1e308;  // (volatile: computed at run time, in double)
+  const struct {
+    const char* text;
+    Polynomial expected;
+  } cases[] = {
+      {"2^1016", Polynomial(std::ldexp(1.0, 1016))},
+      {"10^306", Polynomial(std::pow(10.0, 306.0))},
+      {"exp(709)", Polynomial(std::exp(709.0))},
+      {"exp(709)*1e-300*x", std::exp(709.0) * 1e-300 * x},
+      {"1.5e308 - 1e308", Polynomial(a - b)},
+      {"(1.7e308)^1", Polynomial(1.7e308)},
+      {"2^1023*x", std::ldexp(1.0, 1023) * x},
+      {"1.5e308*x - 1e308*x", (a - b) * x},
+      {"1e308*x - 1e308*x + y", y},
+  };
+  for (const auto& c : cases) {
+    Polynomial p;
+    ASSERT_NO_THROW(p = parsePolynomial(c.text)) << c.text;
+    EXPECT_EQ(p.degree(), c.expected.degree()) << c.text;
+    for (int i = 0; i <= 1; ++i)
+      for (int j = 0; j <= 1 - i; ++j)
+        for (int k = 0; k <= 1 - i - j; ++k)
+          EXPECT_EQ(p.coeff(i, j, k), c.expected.coeff(i, j, k)) << c.text << " " << i << j << k;
+  }
+  // Beyond the largest double they are refused, as before.
+  for (const char* text : {"2^1024", "1e308*10", "exp(710)", "1e308*x + 1e308*x"})
+    EXPECT_THROW(parsePolynomial(text), ParseError) << text;
+}
+
 TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
   // A function at a pole or a power whose rounding error exceeds its value is reported
   // at the call or the '^' instead of being pruned to 0 like rounding junk.

@@ -322,7 +322,7 @@ class Parser {
       fail(t, std::string(name) + "() of an expression in x, y, z is not a polynomial");
     TrackedValue result;
     const detail::Fold fold = detail::applyFunction(name, argument, result);
-    if (!std::isfinite(result.value) || !std::isfinite(result.magnitude)) {
+    if (!std::isfinite(result.value)) {  // (its magnitude may overflow: TrackedValue::isFinite)
       const std::string value = formatNumber(argument.value);
       if ((name == "sqrt" && argument.value < 0.0) ||
           ((name == "log" || name == "ln") && argument.value <= 0.0))

@@ -24,6 +24,8 @@
 //                               M = |c^e| (max(1, |e|) rho_c + |ln|c|| Me + 1)
 //   f(c) for sqrt, sin, ...     k = kc + 2 (libm within 1 ulp), M = |f(c)| + |f'(c)| Mc
 //
+// M may overflow where v does not (values within ~1000x of the largest double): it is then
+// no bound, and the coefficient is kept as computed (never pruned).
 // Pruning rule (applied after every operation that can cancel: *, /, ^, functions, and
 // once at the end of each chain a1 +- a2 +- ... +- an):
 //     a coefficient with |v_i| <= 2 gamma_k M_i is pure rounding junk: it is set to 0.
