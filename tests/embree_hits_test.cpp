@@ -912,10 +912,11 @@ TEST_F(EmbreeHits, MultipleSurfacesGetTheirOwnNormal) {
           EXPECT_LT(glm::dot(ng, d), 0.0) << k;
         else
           EXPECT_GT(cosine, 0.0) << k;
-        // Within 1e-5 radians of grad h (measured 6.4e-7) and 3e-3 on the triple sphere,
-        // whose hits lie only within ~1e-5 of it (measured 3.7e-4).
+        // Within 1e-5 radians of grad h (measured 6.4e-7) and, on the triple sphere, whose
+        // hits lie only within ~1e-5 of it, README's 1.2e-2 for triple surfaces (measured
+        // 3.7e-4 on this seed, up to 5.9e-3 on others since session 41's code: session 42).
         const double angle = std::acos(std::min(1.0, std::abs(cosine)));
-        EXPECT_LT(angle, c.k == 3 ? 3e-3 : 1e-5)
+        EXPECT_LT(angle, c.k == 3 ? 1.2e-2 : 1e-5)
             << k << " normal " << ng.x << " " << ng.y << " " << ng.z;
       }
     }
@@ -1010,9 +1011,16 @@ TEST_F(EmbreeHits, DoubleSurfacesFaceTheRayFromFarAway) {
     int hits = 0;
     for (int k = 0; k < 200; ++k) {
       const glm::dvec3 o = distance * unit();
-      glm::dvec3 target = unit();
-      if (glm::dot(target, o) < 0) target = -target;  // on the side facing the origin
-      const glm::dvec3 d = target - o;                // |d| ~ distance, as a caller's may be
+      // On the side facing the origin, at least ~0.1 radians from grazing: a grazing ray's
+      // normal is taken where the gradient clears its noise, up to 2^-6 radii back, where
+      // the sphere's normal has turned by that much (README's hit record), and may face
+      // either way of a ray that nearly follows the surface.
+      glm::dvec3 target;
+      do {
+        target = unit();
+        if (glm::dot(target, o) < 0) target = -target;
+      } while (glm::dot(target, o) < 0.1 * distance);
+      const glm::dvec3 d = target - o;  // |d| ~ distance, as a caller's may be
       const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
       if (!hit.hit) continue;
       ++hits;

@@ -138,10 +138,18 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
       return symmetric(data, u, point, rung(data, clearRung), firstClear, false);
     negativeBoth |= e.value < 0;
   }
-  // Negative on both sides and no sign change out to 2^-6 clip radii. (Not decided at the
+  // Negative on both sides and no sign change out to 2^-6 clip radii (not decided at the
   // first rung with both clear: an odd root's hit lies anywhere in its noise region, up to
-  // ~1e-4 radii before the crossing, and f can be clearly negative between the two.)
-  if (negativeBoth) return symmetric(data, u, point, rung(data, clearRung), -firstClear, true, -1);
+  // ~1e-4 radii before the crossing, and f can be clearly negative between the two), and
+  // the gradients on the two sides opposite, as where h changes sign across an even
+  // surface. (On one side, it is a ray touching an odd one from its negative side, f =
+  // h^3 q with h <= 0 along the ray: its normal keeps the surface's own orientation, the
+  // fallback; StressRandom.MultipleSurfacesGetTheirOwnNormal with other seeds.)
+  if (negativeBoth) {
+    const double delta = rung(data, clearRung);
+    if (glm::dot(firstClear, data.horner.evaluate(point + delta * u).gradient) < 0)
+      return symmetric(data, u, point, delta, -firstClear, true, -1);
+  }
   return fallback;
 }
 
