@@ -153,12 +153,11 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
   return fallback;
 }
 
-// The sign of the first value of f clear of its noise along p + delta u, delta = side
-// times the rungs: -1, 1, or 0 where none is.
-int firstClearSign(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point,
-                   double side) {
+// The sign of the first value of f clear of its noise at p - delta u over the rungs: -1,
+// 1, or 0 where none is.
+int signBefore(const SurfaceData& data, const glm::dvec3& u, const glm::dvec3& point) {
   for (int k = 0; k < kRungs; ++k) {
-    const Polynomial::Evaluation e = data.horner.evaluate(point + side * rung(data, k) * u);
+    const Polynomial::Evaluation e = data.horner.evaluate(point - rung(data, k) * u);
     if (std::abs(e.value) > e.valueError) return e.value < 0 ? -1 : 1;
   }
   return 0;
@@ -204,7 +203,7 @@ glm::dvec3 gradientBesideNoise(const SurfaceData& data, const glm::dvec3& dir,
   if (clearOf(gradient, noise)) {
     if (facingOf(gradient, noise, u)) return gradient;
     if (std::abs(glm::dot(gradient, u)) <= 0x1p-20 * glm::length(gradient)) return gradient;
-    const int before = firstClearSign(data, u, point, -1);
+    const int before = signBefore(data, u, point);
     if (before > 0 || (before < 0 && !positiveAfter(data, u, point)))
       return searchBefore(data, u, point, gradient);
     return gradient;
