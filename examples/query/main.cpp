@@ -258,11 +258,20 @@ int run(int argc, char** argv) {
   // cannot be written is bad input), and replaces OUT only once every hit is written: an
   // error later on (a surface the plugin refuses, a full disk) left OUT truncated, which
   // with --out naming the rays file lost the input. (A name of this process's own, as
-  // algray-render's images.)
-  if (std::filesystem::is_directory(outPath, ec))
-    throw UsageError("--out: '" + outPath + "' is a directory");
-  TemporaryFile tmp(outPath + ".algray-" + std::to_string(getpid()) + ".tmp");
-  std::ofstream out(tmp.path);
+  // algray-render's images.) A symbolic link's target is replaced, not the link; OUT that
+  // exists and is no regular file (/dev/stdout, a pipe) is written directly, as before.
+  namespace fs = std::filesystem;
+  const fs::file_status outStatus = fs::status(outPath, ec);
+  if (fs::is_directory(outStatus)) throw UsageError("--out: '" + outPath + "' is a directory");
+  const bool direct = fs::exists(outStatus) && !fs::is_regular_file(outStatus);
+  std::string target = outPath;
+  if (fs::exists(outStatus) && !direct) {
+    const fs::path resolved = fs::canonical(outPath, ec);
+    if (!ec) target = resolved.string();
+  }
+  TemporaryFile tmp(direct ? std::string()
+                           : target + ".algray-" + std::to_string(getpid()) + ".tmp");
+  std::ofstream out(direct ? outPath : tmp.path);
   if (!out) throw UsageError("--out: cannot write '" + outPath + "'");
 
   // ---- Scene -------------------------------------------------------------------------------
@@ -307,9 +316,11 @@ int run(int argc, char** argv) {
   query::writeHits(out, hits);
   out.close();
   if (!out) throw std::runtime_error("--out: error writing '" + outPath + "'");
-  std::filesystem::rename(tmp.path, outPath, ec);
-  if (ec) throw std::runtime_error("--out: cannot replace '" + outPath + "': " + ec.message());
-  tmp.path.clear();  // renamed: nothing to remove
+  if (!direct) {
+    fs::rename(tmp.path, target, ec);
+    if (ec) throw std::runtime_error("--out: cannot replace '" + outPath + "': " + ec.message());
+    tmp.path.clear();  // renamed: nothing to remove
+  }
   const double rate = seconds > 0 ? static_cast<double>(rays.size()) / seconds : 0.0;
   std::fprintf(stderr, "%.0f rays/s\n", rate);
   return 0;

@@ -708,6 +708,20 @@ TEST_F(QueryTool, AFailedRunLeavesTheOutputFileAsItWas) {
   EXPECT_EQ(contents(rays).rfind("hit,t,nx,ny,nz\n1,4,", 0), 0u) << contents(rays);
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+  // A symbolic link keeps pointing at its target, which gets the hits; OUT that is no
+  // regular file (/dev/null here; /dev/stdout, a pipe) is written directly, not replaced.
+  write("rays.csv", raysText);
+  write("real.csv", "old\n");
+  fs::remove(dir / "link.csv");
+  fs::create_symlink("real.csv", dir / "link.csv");
+  const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 --rays " + rays.string();
+  const RunResult linked = run(sphere + " --out " + (dir / "link.csv").string());
+  EXPECT_EQ(linked.exitCode, 0) << linked.err;
+  EXPECT_TRUE(fs::is_symlink(dir / "link.csv"));
+  EXPECT_EQ(contents(dir / "real.csv").rfind("hit,t,nx,ny,nz\n1,4,", 0), 0u);
+  const RunResult null = run(sphere + " --out /dev/null");
+  EXPECT_EQ(null.exitCode, 0) << null.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
   // A directory as OUT is named before any tracing.
   write("rays.csv", raysText);
   fs::create_directories(dir / "outdir");
