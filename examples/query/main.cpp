@@ -21,13 +21,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
 #include <string>
-#include <utility>
 
 #include <unistd.h>
 
@@ -38,18 +38,6 @@ using namespace algray;
 // Bad input from the user: exit code 2.
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
-};
-
-// A file removed when it goes out of scope, unless its path was cleared (kept).
-struct TemporaryFile {
-  explicit TemporaryFile(std::string p) : path(std::move(p)) {}
-  TemporaryFile(const TemporaryFile&) = delete;
-  TemporaryFile& operator=(const TemporaryFile&) = delete;
-  ~TemporaryFile() {
-    std::error_code ec;
-    if (!path.empty()) std::filesystem::remove(path, ec);
-  }
-  std::string path;
 };
 
 double parseNumber(const std::string& text, const std::string& what) {
@@ -254,25 +242,25 @@ int run(int argc, char** argv) {
                        ": the direction is so short that t at the clip region would overflow "
                        "double (scale it up)");
 
-  // The output goes to a temporary file beside it, opened before tracing (a path that
-  // cannot be written is bad input), and replaces OUT only once every hit is written: an
-  // error later on (a surface the plugin refuses, a full disk) left OUT truncated, which
-  // with --out naming the rays file lost the input. (A name of this process's own, as
-  // algray-render's images.) A symbolic link's target is replaced, not the link; OUT that
-  // exists and is no regular file (/dev/stdout, a pipe) is written directly, as before.
+  // OUT is checked before tracing (a path that cannot be written is bad input) but opened,
+  // and so truncated, only once every hit is known: an error on the way (a surface the
+  // plugin refuses) left OUT empty, and with --out naming the rays file the input was
+  // lost. An existing file is tried for writing without truncation; a new one needs a
+  // writable directory. Written in place, so a file keeps its inode, mode and links, a
+  // symbolic link (even a dangling one) its target, and /dev/stdout or a pipe works. (A
+  // temporary file renamed over OUT, tried first, changed all of those and refused names
+  // near NAME_MAX and files in read-only directories.)
   namespace fs = std::filesystem;
   const fs::file_status outStatus = fs::status(outPath, ec);
   if (fs::is_directory(outStatus)) throw UsageError("--out: '" + outPath + "' is a directory");
-  const bool direct = fs::exists(outStatus) && !fs::is_regular_file(outStatus);
-  std::string target = outPath;
-  if (fs::exists(outStatus) && !direct) {
-    const fs::path resolved = fs::canonical(outPath, ec);
-    if (!ec) target = resolved.string();
+  if (fs::is_regular_file(outStatus)) {
+    std::fstream probe(outPath, std::ios::in | std::ios::out);
+    if (!probe) throw UsageError("--out: cannot write '" + outPath + "'");
+  } else if (!fs::exists(outStatus)) {
+    const fs::path parent = fs::path(outPath).parent_path();
+    if (access(parent.empty() ? "." : parent.c_str(), W_OK | X_OK) != 0)
+      throw UsageError("--out: cannot write '" + outPath + "' (" + std::strerror(errno) + ")");
   }
-  TemporaryFile tmp(direct ? std::string()
-                           : target + ".algray-" + std::to_string(getpid()) + ".tmp");
-  std::ofstream out(direct ? outPath : tmp.path);
-  if (!out) throw UsageError("--out: cannot write '" + outPath + "'");
 
   // ---- Scene -------------------------------------------------------------------------------
   RTCDevice device = rtcNewDevice(nullptr);
@@ -313,14 +301,11 @@ int run(int argc, char** argv) {
   }
   rtcReleaseDevice(device);
 
+  std::ofstream out(outPath);
+  if (!out) throw std::runtime_error("--out: cannot write '" + outPath + "'");
   query::writeHits(out, hits);
   out.close();
   if (!out) throw std::runtime_error("--out: error writing '" + outPath + "'");
-  if (!direct) {
-    fs::rename(tmp.path, target, ec);
-    if (ec) throw std::runtime_error("--out: cannot replace '" + outPath + "': " + ec.message());
-    tmp.path.clear();  // renamed: nothing to remove
-  }
   const double rate = seconds > 0 ? static_cast<double>(rays.size()) / seconds : 0.0;
   std::fprintf(stderr, "%.0f rays/s\n", rate);
   return 0;

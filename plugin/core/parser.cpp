@@ -99,6 +99,13 @@ class Parser {
 
   void checkFinite(const TrackedValue& v, const Token& at) const {
     if (v.isFinite()) return;
+    // A finite value whose rounding-error bound overflowed (within ~1000x of the largest
+    // double): without a bound junk cannot be told from a coefficient, sqrt(1.7e308)^2 -
+    // 1.7e308 from 2e292, so it is refused, but as what it is (it was "not finite").
+    if (v.valuesFinite())
+      fail(at, std::string(v.hasVariables ? "a coefficient" : "the value") +
+                   " comes so close to the largest double that its rounding-error bound "
+                   "overflows (scale the equation down)");
     if (v.hasVariables)
       fail(at, "coefficient overflow: the expansion is not finite in double precision");
     fail(at, "the value is not finite (" + formatNumber(v.value) + ")");
@@ -322,7 +329,11 @@ class Parser {
       fail(t, std::string(name) + "() of an expression in x, y, z is not a polynomial");
     TrackedValue result;
     const detail::Fold fold = detail::applyFunction(name, argument, result);
-    if (!std::isfinite(result.value)) {  // (its magnitude may overflow: TrackedValue::isFinite)
+    if (std::isfinite(result.value) && !std::isfinite(result.magnitude))
+      fail(t, "the value of " + std::string(name) + "(" + formatNumber(argument.value) +
+                  ") comes so close to the largest double that its rounding-error bound "
+                  "overflows (scale the equation down)");
+    if (!std::isfinite(result.value)) {
       const std::string value = formatNumber(argument.value);
       if ((name == "sqrt" && argument.value < 0.0) ||
           ((name == "log" || name == "ln") && argument.value <= 0.0))

@@ -87,11 +87,12 @@ Polynomial TrackedValue::toPolynomial() const {
   return copy.poly;
 }
 
-// The values only: a magnitude M beyond double's range is a bound too large to hold, not a
-// value that is (M exceeds |v| by the power rule's |e| rho + |ln c| Me + 1, ~1000 for
-// 2^1016, and sums add the M of both sides), and such an M prunes nothing (prune()). With
-// it included, 2^1016, 10^306, exp(709) and 1.5e308 - 1e308 were refused as "not finite".
 bool TrackedValue::isFinite() const {
+  if (!hasVariables || monomial) return std::isfinite(value) && std::isfinite(magnitude);
+  return poly.isFinite() && polyMagnitude.isFinite();
+}
+
+bool TrackedValue::valuesFinite() const {
   if (!hasVariables || monomial) return std::isfinite(value);
   return poly.isFinite();
 }

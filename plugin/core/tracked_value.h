@@ -24,8 +24,6 @@
 //                               M = |c^e| (max(1, |e|) rho_c + |ln|c|| Me + 1)
 //   f(c) for sqrt, sin, ...     k = kc + 2 (libm within 1 ulp), M = |f(c)| + |f'(c)| Mc
 //
-// M may overflow where v does not (values within ~1000x of the largest double): it is then
-// no bound, and the coefficient is kept as computed (never pruned).
 // Pruning rule (applied after every operation that can cancel: *, /, ^, functions, and
 // once at the end of each chain a1 +- a2 +- ... +- an):
 //     a coefficient with |v_i| <= 2 gamma_k M_i is pure rounding junk: it is set to 0.
@@ -64,7 +62,10 @@ struct TrackedValue {
   }
   // A monomial becomes a dense polynomial (no-op otherwise).
   void materialize();
-  bool isFinite() const;
+  bool isFinite() const;  // every value and every bound
+  // Every value, where isFinite() is not: a value within ~1000x of the largest double, whose
+  // bound (M above) overflowed first.
+  bool valuesFinite() const;
   // The constant a polynomial reduces to when its degree is <= 0.
   TrackedValue asConstant() const;
   Polynomial toPolynomial() const;

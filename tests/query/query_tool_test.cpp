@@ -685,9 +685,9 @@ TEST_F(QueryTool, ASurfaceOutsideTheClipRegionIsNamed) {
   EXPECT_EQ(inside.rows[0][1], 20.0);  // the sphere of radius 10 from z = -30
 }
 
-// OUT is replaced only once every hit is written: a surface the plugin refuses (after the
-// rays were read and OUT opened) left OUT empty, and with --out naming the rays file the
-// input was lost. The temporary file is removed.
+// OUT is opened (truncated) only once every hit is known: a surface the plugin refuses
+// (after the rays were read and OUT opened) left OUT empty, and with --out naming the rays
+// file the input was lost.
 TEST_F(QueryTool, AFailedRunLeavesTheOutputFileAsItWas) {
   const std::string raysText = "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n";
   const fs::path rays = write("rays.csv", raysText);
@@ -708,17 +708,28 @@ TEST_F(QueryTool, AFailedRunLeavesTheOutputFileAsItWas) {
   EXPECT_EQ(contents(rays).rfind("hit,t,nx,ny,nz\n1,4,", 0), 0u) << contents(rays);
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
-  // A symbolic link keeps pointing at its target, which gets the hits; OUT that is no
-  // regular file (/dev/null here; /dev/stdout, a pipe) is written directly, not replaced.
+  // OUT is written in place: a symbolic link (also a dangling one) keeps pointing at its
+  // target, which gets the hits, a hard link sees them, and OUT that is no regular file
+  // (/dev/null here; /dev/stdout, a pipe) is written as it is.
   write("rays.csv", raysText);
   write("real.csv", "old\n");
-  fs::remove(dir / "link.csv");
-  fs::create_symlink("real.csv", dir / "link.csv");
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 --rays " + rays.string();
-  const RunResult linked = run(sphere + " --out " + (dir / "link.csv").string());
-  EXPECT_EQ(linked.exitCode, 0) << linked.err;
-  EXPECT_TRUE(fs::is_symlink(dir / "link.csv"));
-  EXPECT_EQ(contents(dir / "real.csv").rfind("hit,t,nx,ny,nz\n1,4,", 0), 0u);
+  const std::string hits = "hit,t,nx,ny,nz\n1,4,";
+  for (const char* target : {"real.csv", "missing.csv"}) {
+    fs::remove(dir / "link.csv");
+    fs::remove(dir / "missing.csv");
+    fs::create_symlink(target, dir / "link.csv");
+    const RunResult linked = run(sphere + " --out " + (dir / "link.csv").string());
+    EXPECT_EQ(linked.exitCode, 0) << linked.err;
+    EXPECT_TRUE(fs::is_symlink(dir / "link.csv")) << target;
+    EXPECT_EQ(contents(dir / target).rfind(hits, 0), 0u) << target;
+  }
+  write("keep.csv", "old\n");
+  fs::remove(dir / "hard.csv");
+  fs::create_hard_link(dir / "keep.csv", dir / "hard.csv");
+  const RunResult hard = run(sphere + " --out " + (dir / "keep.csv").string());
+  EXPECT_EQ(hard.exitCode, 0) << hard.err;
+  EXPECT_EQ(contents(dir / "hard.csv").rfind(hits, 0), 0u);
   // (Through a link of the test's own: were it replaced, the link would be, not /dev/null.)
   fs::remove(dir / "null.csv");
   fs::create_symlink("/dev/null", dir / "null.csv");
