@@ -97,15 +97,18 @@ class Parser {
          "missing operator before " + detail::describe(text_, t) + " (write a product with '*')");
   }
 
+  // The end of the message for a finite value whose rounding-error bound overflowed.
+  static constexpr const char* kBoundOverflows =
+      " comes so close to the largest double that its rounding-error bound overflows (scale the "
+      "equation down)";
+
   void checkFinite(const TrackedValue& v, const Token& at) const {
     if (v.isFinite()) return;
     // A finite value whose rounding-error bound overflowed (within ~1000x of the largest
     // double): without a bound junk cannot be told from a coefficient, sqrt(1.7e308)^2 -
     // 1.7e308 from 2e292, so it is refused, but as what it is (it was "not finite").
     if (v.valuesFinite())
-      fail(at, std::string(v.hasVariables ? "a coefficient" : "the value") +
-                   " comes so close to the largest double that its rounding-error bound "
-                   "overflows (scale the equation down)");
+      fail(at, std::string(v.hasVariables ? "a coefficient" : "the value") + kBoundOverflows);
     if (v.hasVariables)
       fail(at, "coefficient overflow: the expansion is not finite in double precision");
     fail(at, "the value is not finite (" + formatNumber(v.value) + ")");
@@ -330,9 +333,8 @@ class Parser {
     TrackedValue result;
     const detail::Fold fold = detail::applyFunction(name, argument, result);
     if (std::isfinite(result.value) && !std::isfinite(result.magnitude))
-      fail(t, "the value of " + std::string(name) + "(" + formatNumber(argument.value) +
-                  ") comes so close to the largest double that its rounding-error bound "
-                  "overflows (scale the equation down)");
+      fail(t, "the value of " + std::string(name) + "(" + formatNumber(argument.value) + ")" +
+                  kBoundOverflows);
     if (!std::isfinite(result.value)) {
       const std::string value = formatNumber(argument.value);
       if ((name == "sqrt" && argument.value < 0.0) ||
