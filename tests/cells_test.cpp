@@ -752,6 +752,24 @@ TEST(ClipRayTest, SimpleCases) {
   EXPECT_TRUE(clipRayToBox({0.5, 0.5, -1.0}, {0.0, 0.0, 1.0}, lo, hi, 0.0, 10.0));
   EXPECT_TRUE(clipRayToBox({1.0, 0.0, -1.0}, {0.0, 0.0, 1.0}, lo, hi, 0.0, 10.0));
   EXPECT_FALSE(clipRayToBox({1.5, 0.5, -1.0}, {0.0, 0.0, 1.0}, lo, hi, 0.0, 10.0));
+  // -0 as +0, also with the origin on either face (0 / -0 = NaN, 1 / -0 = -inf).
+  for (const double x : {0.0, 0.5, 1.0}) {
+    for (const double dx : {0.0, -0.0}) {
+      const auto span = clipRayToBox({x, 0.5, -1.0}, {dx, 0.0, 1.0}, lo, hi, 0.0, 10.0);
+      ASSERT_TRUE(span) << x << " " << dx;
+      EXPECT_NEAR(span->t0, 1.0, 1e-14);
+      EXPECT_NEAR(span->t1, 2.0, 1e-14);
+    }
+  }
+  EXPECT_FALSE(clipRayToBox({-0x1p-30, 0.5, -1.0}, {-0.0, 0.0, 1.0}, lo, hi, 0.0, 10.0));
+  // A subnormal entry parameter (exact 1.5 2^-1074, rounded to 2^-1073) stays before the
+  // face, and a subnormal exit parameter after it.
+  auto sub = clipRayToBox({-3 * 0x1p-1074, 0.5, 0.5}, {2.0, 0.0, 0.0}, lo, hi, 0.0, 10.0);
+  ASSERT_TRUE(sub);
+  EXPECT_LE(sub->t0, 0x1p-1074);
+  sub = clipRayToBox({1.0 - 0x1p-53, 0.5, 0.5}, {0x1p-52, 0.0, 0.0}, lo, hi, 0.0, 10.0);
+  ASSERT_TRUE(sub);
+  EXPECT_GE(sub->t1, 0.5);
   // Misses and bad input.
   EXPECT_FALSE(clipRayToBox({-1.0, 2.0, 0.5}, {1.0, 0.0, 0.0}, lo, hi, 0.0, 10.0));
   EXPECT_FALSE(clipRayToBox(glm::dvec3(NAN), glm::dvec3(1.0), lo, hi, 0.0, 10.0));

@@ -476,11 +476,15 @@ std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d, co
   double t0 = tMin, t1 = tMax;
   for (int a = 0; a < 3; ++a) {
     if (std::isnan(o[a]) || std::isnan(d[a])) return std::nullopt;
-    // 1/0 = inf: then (bound - o) * inf is +-inf (all or nothing) or NaN when o lies on
-    // the bound; the comparisons below ignore NaN, which keeps the closed slab. A
-    // subnormal d_a below 2^-1024 has an infinite reciprocal too but finite quotients
-    // (an origin within a few d_a of a face crosses it): those divide (the same two
-    // roundings), and give +-inf or NaN for d_a = 0 as the product did.
+    // A zero component (either sign; under DAZ also a subnormal one, as the adapter's
+    // clipToBox reads it): the closed slab is all or nothing. Through 1/d it was not for
+    // -0 with the origin on a face: 0 / -0 = NaN and 1 / -0 = -inf left the span empty.
+    if (d[a] == 0.0) {
+      if (!(lo[a] <= o[a] && o[a] <= hi[a])) return std::nullopt;
+      continue;
+    }
+    // A subnormal d_a below 2^-1024 has an infinite reciprocal but finite quotients (an
+    // origin within a few d_a of a face crosses it): those divide (the same two roundings).
     const double inv = 1.0 / d[a];
     double tNear, tFar;
     if (std::isinf(inv)) [[unlikely]] {
@@ -494,9 +498,11 @@ std::optional<RaySpan> clipRayToBox(const glm::dvec3& o, const glm::dvec3& d, co
     // Both ends widened by 2 gamma(3) of their magnitude: the subtraction and the
     // product each round once (pbrt-v4 widens tFar only; a widened tNear also keeps a
     // root on the entry face inside the span).
-    // (A product, not an added term: inf stays inf instead of becoming inf - inf.)
-    tNear *= tNear > 0 ? 1 - 2 * gamma(3) : 1 + 2 * gamma(3);
-    tFar *= tFar > 0 ? 1 + 2 * gamma(3) : 1 - 2 * gamma(3);
+    // (A product, not an added term: inf stays inf instead of becoming inf - inf.) And
+    // two subnormal units: below 2^-1022 the quotient's rounding is absolute, not relative
+    // ((0 - (-3 2^-1074)) / 2 = 1.5 2^-1074 rounds to 2^-1073, which the factor keeps).
+    tNear = tNear * (tNear > 0 ? 1 - 2 * gamma(3) : 1 + 2 * gamma(3)) - 0x1p-1073;
+    tFar = tFar * (tFar > 0 ? 1 + 2 * gamma(3) : 1 - 2 * gamma(3)) + 0x1p-1073;
     t0 = tNear > t0 ? tNear : t0;
     t1 = tFar < t1 ? tFar : t1;
     if (t0 > t1) return std::nullopt;
