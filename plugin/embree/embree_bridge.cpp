@@ -74,7 +74,8 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
   r.orgError = orgError;
   if (!data.identity) {
     // t is invariant under the affine map. The origin's uncertainty maps through A^-1
-    // (Frobenius norm bounds the spectral one), plus the rounding of the map itself.
+    // (Frobenius norm bounds the spectral one), plus the rounding of the map itself. Its
+    // world-space part stays known too (KernelRay::orgErrorWorld), for the self-root rule.
     const double inv =
         std::sqrt(glm::dot(data.aInv[0], data.aInv[0]) + glm::dot(data.aInv[1], data.aInv[1]) +
                   glm::dot(data.aInv[2], data.aInv[2]));
@@ -84,7 +85,8 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
     if (roundoff > kUnitRoundoff) {
       // A float ray: the bound the quadric packets (quadric_packet_group.inc) and the
       // tight quadric box (boundedQuadricBox) repeat.
-      r.orgError = inv * (orgError + 4.0 * roundoff * (glm::length(o) + glm::length(data.b)));
+      r.orgErrorWorld = orgError + 4.0 * roundoff * (glm::length(o) + glm::length(data.b));
+      r.orgError = inv * r.orgErrorWorld;
     } else {
       // A double ray: the world origin stands for a point within orgError plus its own
       // rounding, u |o| (twice, for margin); the map adds the rounding of o - b (u |o - b|)
@@ -94,7 +96,9 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
       // origins 0.15 radii off the surface on it, so the rule divided a root out of rays
       // that had none at their origin (a clear hit missed, a hit reported where |f| was
       // 0.16 of its scale: EmbreeHits.SelfRootRuleOfFarTranslatedObjects).
-      r.orgError = inv * (orgError + 2.0 * roundoff * glm::length(o) + gamma(5) * glm::length(ob));
+      r.orgErrorWorld = orgError + 2.0 * roundoff * glm::length(o);
+      r.orgError = inv * (r.orgErrorWorld + gamma(5) * glm::length(ob));
+      r.orgErrorObject = inv * gamma(5) * glm::length(ob);
     }
   }
   // A float ray carries no error bound, and a float host computes a leaving ray's origin
@@ -103,10 +107,13 @@ KernelRay objectRay(const SurfaceData& data, const glm::dvec3& o, const glm::dve
   // adapter assumes that ray started within a few object sizes: 16 u_float (|o| + R), R
   // the clip radius. Hosts needing better pass double rays with RayD::orgError.
   if (roundoff > kUnitRoundoff) {
-    if (deferFloatTerm)
+    if (deferFloatTerm) {
       r.orgErrorDeferred = true;
-    else
-      r.orgError += floatOriginError(data, r.org, roundoff);
+    } else {
+      const double term = floatOriginError(data, r.org, roundoff);
+      r.orgError += term;
+      r.orgErrorObject += term;
+    }
   }
   return r;
 }
@@ -577,8 +584,8 @@ void quadricLane(const Args* args, RTCRayN* ray, unsigned lane) {
   // roots from the window on.
   if (q.g.selfRoot) {
     const double orgError = wholeOrgError(*data, kr);
-    if (withinSelfRootWindow(kr, s, orgError) &&
-        !quadricRoot(q, std::max(q.slo, selfRootWindow(kr, orgError)), s))
+    if (withinSelfRootWindow(*data, kr, s, orgError) &&
+        !quadricRoot(q, std::max(q.slo, selfRootWindow(*data, kr, orgError)), s))
       return;
   }
   offerQuadricRoots<kOcclusion>(L, kr, q, s);

@@ -250,6 +250,12 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
         const double move = orgError != 0.0 ? safeLength(at.gradient) * orgError : 0.0;
         onSurface = absValue <= 4.0 * at.error + 2.0 * (moveRound + move);
       }
+      // A transformed surface's world-space part of the bound, along the gradient
+      // (originMove; the packet lanes leave such origins to this path).
+      if (onSurface && ray.orgErrorWorld > 0.0) [[unlikely]] {
+        const double move = originMove(data, ray, at.gradient, safeLength(at.gradient), orgError);
+        onSurface = absValue <= 4.0 * at.error + 2.0 * (moveRound + move);
+      }
     }
   }
   double tShift = 0.0;

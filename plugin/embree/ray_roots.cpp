@@ -143,7 +143,7 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray, double orgEr
   double move = ray.orgRoundoff * v.gradDotOrg;
   if (orgError != 0.0) {
     if (v.gradLength < 0) v.gradLength = safeLength(v.gradient);
-    move += v.gradLength * orgError;
+    move += originMove(data, ray, v.gradient, v.gradLength, orgError);
   }
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
@@ -212,8 +212,9 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
     // (A quadric in cells: the quadric path's functions read the bound from the ray.)
     KernelRay whole = ray;
     whole.orgError = orgError;
+    whole.orgErrorObject = objectOrgError(data, ray);
     whole.orgErrorDeferred = false;
-    if (restrictQuadric(data, whole, r0, r1, g)) selfWindow = selfRootWindow(whole);
+    if (restrictQuadric(data, whole, r0, r1, g)) selfWindow = selfRootWindow(data, whole, orgError);
     return nullptr;
   }
   // Outside the clip ball (originOutsideClipBall, as the quadric path) the self-root rule
@@ -224,7 +225,7 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
   if (!originOutsideClipBall(data, o, orgError) && originOnSurface(data, ray, orgError)) {
     restrictToRay(data.horner, o, d, 0.0, g);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
-    selfWindow = selfRootWindow(ray, orgError);
+    selfWindow = selfRootWindow(data, ray, orgError);
     return nullptr;
   }
   return restrictOutside(data, ray, r0, r1, closest, g);
@@ -521,6 +522,8 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
   rr.dir = ray.dir;
   rr.orgRoundoff = ray.orgRoundoff;
   rr.orgError = ray.orgError;
+  rr.orgErrorWorld = ray.orgErrorWorld;
+  rr.orgErrorObject = ray.orgErrorObject;
   rr.orgErrorDeferred = ray.orgErrorDeferred;
   rr.id = data.id;
   return rr;

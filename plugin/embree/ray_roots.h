@@ -27,7 +27,7 @@ namespace algray {
 struct RayRoots {
   std::uint64_t id = 0;
   glm::dvec3 org{0.0}, dir{0.0};
-  double orgRoundoff = 0, orgError = 0;
+  double orgRoundoff = 0, orgError = 0, orgErrorWorld = 0, orgErrorObject = 0;
   bool orgErrorDeferred = false;
   RayPolynomial g;
   double r0 = 0, r1 = 0;    // the region span in t
@@ -78,7 +78,8 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
   RayRoots& rr = tlsRayRoots;
   if (rr.id == data.id && rr.org == ray.org && rr.dir == ray.dir &&
       rr.orgRoundoff == ray.orgRoundoff && rr.orgError == ray.orgError && rr.tnear == ray.tnear &&
-      rr.orgErrorDeferred == ray.orgErrorDeferred && (occlusion || !firstUnsettled(data, rr)))
+      rr.orgErrorDeferred == ray.orgErrorDeferred && rr.orgErrorWorld == ray.orgErrorWorld &&
+      rr.orgErrorObject == ray.orgErrorObject && (occlusion || !firstUnsettled(data, rr)))
       [[likely]]
     return rr;
   return deriveRayRoots(data, ray, r0, r1, closest, occlusion);

@@ -158,6 +158,11 @@ struct KernelRay {
   // wholeOrgError; its square root cost every primary ray, see ray_roots.cpp's
   // restrict).
   bool orgErrorDeferred = false;
+  // A transformed surface's orgError in two parts: W, the world-space bound objectRay maps
+  // through |A^-1|_F (the host's bound, a float origin's rounding: world lengths), and the
+  // object-space rest (without a deferred float term). The self-root rule weighs W along
+  // the gradient and the ray instead (originMove, selfRootWindow). 0, 0: the identity.
+  double orgErrorWorld = 0, orgErrorObject = 0;
   std::uint64_t trace = 0;  // the double channel's IntersectContext::trace (0: none)
   glm::dvec3 travOrg{0.0}, travDir{0.0};
 };
@@ -183,6 +188,14 @@ inline double floatOriginError(const SurfaceData& data, const glm::dvec3& o, dou
 inline double wholeOrgError(const SurfaceData& data, const KernelRay& ray) {
   return ray.orgErrorDeferred ? ray.orgError + floatOriginError(data, ray.org, ray.orgRoundoff)
                               : ray.orgError;
+}
+
+// The object-space rest of a ray's whole orgError (KernelRay::orgErrorObject, with a
+// deferred float term added).
+inline double objectOrgError(const SurfaceData& data, const KernelRay& ray) {
+  return ray.orgErrorDeferred
+             ? ray.orgErrorObject + floatOriginError(data, ray.org, ray.orgRoundoff)
+             : ray.orgErrorObject;
 }
 
 // Whether originOutsideClipBall holds for a float ray whose orgError lacks its
@@ -306,24 +319,42 @@ inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, 
 // the same reason (Sec. 6.8.6); a legitimate hit that close to the origin is
 // indistinguishable from it.
 // (orgError: the ray's whole bound, for a ray whose orgError is deferred.)
+//
+// A transformed surface's world part W of the bound (KernelRay::orgErrorWorld) is a ball in
+// world space, where t is the same: the window takes it over the world direction A d,
+// 2 W / |A d|, and the object-space rest over d, whichever of that and the isotropic
+// window is smaller (both hold). Through |A^-1|_F alone, a float ray leaving a flattened
+// object 1e4 from the world origin (diag(1, 1, 1e-3)) had a window of five radii over the
+// object-space |d| and skipped the object's far side (tests/embree_transform_test.cpp).
+// (A d rounds to d_world within a relative O(kappa(A) u), well below the 2^-20 added.)
 inline double selfRootDistance(const KernelRay& ray, double orgError) {
   const glm::dvec3& o = ray.org;
   return 2.0 * (orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)));
 }
-inline double selfRootDistance(const KernelRay& ray) { return selfRootDistance(ray, ray.orgError); }
-inline double selfRootWindow(const KernelRay& ray, double orgError) {
-  return selfRootDistance(ray, orgError) / std::sqrt(glm::dot(ray.dir, ray.dir));
+// (Out of line, as the other transformed-surface parts: the rule's common path stays small.)
+[[gnu::noinline]] inline double worldSelfRootWindow(const SurfaceData& data, const KernelRay& ray,
+                                                    double isotropic) {
+  const glm::dvec3 worldDir = data.a * ray.dir;
+  const double world = 2.0 * ray.orgErrorWorld / std::sqrt(glm::dot(worldDir, worldDir));
+  const double rest =
+      selfRootDistance(ray, objectOrgError(data, ray)) / std::sqrt(glm::dot(ray.dir, ray.dir));
+  return std::min(isotropic, (1.0 + 0x1p-20) * (world + rest));
 }
-inline double selfRootWindow(const KernelRay& ray) { return selfRootWindow(ray, ray.orgError); }
+inline double selfRootWindow(const SurfaceData& data, const KernelRay& ray, double orgError) {
+  const double isotropic = selfRootDistance(ray, orgError) / std::sqrt(glm::dot(ray.dir, ray.dir));
+  if (ray.orgErrorWorld > 0.0) [[unlikely]]
+    return worldSelfRootWindow(data, ray, isotropic);
+  return isotropic;
+}
 // Whether a root s >= 0 lies within that window, without its root and division (the
 // quadric path's shadow rays, where most first roots lie far beyond it: measured, the
 // window computed for every such ray cost the sphere's shadow rays ~10 %).
-inline bool withinSelfRootWindow(const KernelRay& ray, double s, double orgError) {
+inline bool withinSelfRootWindow(const SurfaceData& data, const KernelRay& ray, double s,
+                                 double orgError) {
+  if (ray.orgErrorWorld > 0.0) [[unlikely]]
+    return s <= selfRootWindow(data, ray, orgError);
   const double dist = selfRootDistance(ray, orgError);
   return s * s * glm::dot(ray.dir, ray.dir) <= dist * dist;
-}
-inline bool withinSelfRootWindow(const KernelRay& ray, double s) {
-  return withinSelfRootWindow(ray, s, ray.orgError);
 }
 
 // The axis-aligned box of a clip region (a sphere's bounding box, or the box itself).
@@ -456,6 +487,29 @@ inline double safeLength(const glm::dvec3& v) {
   const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
   if (!(m > 0.0) || !std::isfinite(m)) return m;
   return m * glm::length(v / m);
+}
+
+// How far the origin's uncertainty (orgError, the ray's whole bound) can move f there, for
+// the self-root rule: |grad f| orgError (gradLength: |grad f|). For a transformed surface
+// the world part W of the bound is a ball in world space, an ellipsoid A^-1 B(W) in object
+// space, over which f moves by at most |A^-T grad f| W (grad f . A^-1 v = A^-T grad f . v);
+// the rest is isotropic. Taken through |A^-1|_F alone, float origins near a flattened object
+// 1e4 from the world origin (diag(1, 1, 1e-3)) were spread five radii along its thin axis,
+// and the rule put origins four radii off the surface on it: their hit was divided out
+// (tests/embree_transform_test.cpp). The smaller of the two bounds (both hold); 2^-20 for
+// the rounding of A^-T grad f and of the sum.
+[[gnu::noinline]] inline double worldOriginMove(const SurfaceData& data, const KernelRay& ray,
+                                                const glm::dvec3& gradient, double gradLength,
+                                                double isotropic) {
+  const double world = safeLength(data.aInvT * gradient) * ray.orgErrorWorld;
+  return std::min(isotropic, (1.0 + 0x1p-20) * (world + gradLength * objectOrgError(data, ray)));
+}
+inline double originMove(const SurfaceData& data, const KernelRay& ray, const glm::dvec3& gradient,
+                         double gradLength, double orgError) {
+  const double isotropic = gradLength * orgError;
+  if (ray.orgErrorWorld > 0.0) [[unlikely]]
+    return worldOriginMove(data, ray, gradient, gradLength, isotropic);
+  return isotropic;
 }
 
 // Slab test (Kay & Kajiya), written so that a zero direction component keeps the ray
