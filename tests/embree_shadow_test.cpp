@@ -114,6 +114,111 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
               dbl.closest, flt.closest);
 }
 
+// Surfaces of multiplicity m (f = h^m: a double or triple plane, a squared sphere): a ray
+// leaving a point of the surface outwards meets nothing, in either channel, for closest hit
+// and occlusion in either order; one leaving the sphere inwards meets its far side. The
+// origin lies off h = 0 by its rounding, so g's coefficients c_1..c_(m-1) at the origin are
+// small but not zero; the self-root rule divides them out too (deflateOriginRoot,
+// ray_roots.cpp). Dividing out c_0 alone left a root at 2 t* (3 t* for m = 3), t* the
+// origin's own crossing: 3552 of 20000 leaving rays hit the double plane there.
+struct MultipleCase {
+  const char* equation;
+  bool sphere;  // the unit sphere's h, else the plane 0.6 x + 0.8 y - 0.1
+  // Rays inwards too. Not for m = 4: the far side's fourfold root at 1e-2 to 1e-1 rad from
+  // the tangent plane, within its noise band's reach, is missed by 15 of 100 such rays
+  // (12 before session 43, and 36 more found over 1e-3 off): README's limit.
+  bool inward = true;
+};
+class EmbreeShadowMultiple : public ::testing::TestWithParam<MultipleCase> {};
+
+TEST_P(EmbreeShadowMultiple, LeavingRaysMeetOnlyTheFarSide) {
+  const MultipleCase& k = GetParam();
+  Device device;
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial(k.equation);
+  desc.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+  const SurfaceScene scene(device, desc);
+  std::mt19937 rng(4343);
+  std::normal_distribution<double> n;
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto randomUnit = [&] { return glm::normalize(glm::dvec3(n(rng), n(rng), n(rng))); };
+  const glm::dvec3 planeNormal(0.6, 0.8, 0.0);
+  int outward = 0, inward = 0;
+  for (int i = 0; i < 400; ++i) {
+    // A point of the surface and its exact normal; a direction at angle asin(s) to the
+    // tangent plane, s log-uniform in [1e-4, 1e-1], outwards (or inwards for a quarter of
+    // the sphere's rays, at s >= 1e-2 so that the far side lies clear of the noise band).
+    glm::dvec3 p, normal;
+    if (k.sphere) {
+      normal = randomUnit();
+      p = normal;
+    } else {
+      normal = planeNormal;
+      const glm::dvec3 along = glm::dvec3(-0.8, 0.6, 0.0) * (2.0 * u(rng) - 1.0) +
+                               glm::dvec3(0.0, 0.0, 2.0 * u(rng) - 1.0);
+      p = 0.1 * planeNormal + along;
+    }
+    const bool in = k.sphere && k.inward && i % 4 == 0;
+    const double sinA = in ? 1e-2 + 0.09 * u(rng) : std::pow(10.0, -4.0 + 3.0 * u(rng));
+    glm::dvec3 w = randomUnit();
+    w = glm::normalize(w - glm::dot(w, normal) * normal);
+    const glm::dvec3 dir = std::sqrt(1.0 - sinA * sinA) * w + (in ? -sinA : sinA) * normal;
+    const glm::vec3 pf(p), df(dir);
+    // The exact sphere's far side along the float ray (in double: its error is far below
+    // the tolerance), else nothing.
+    const glm::dvec3 po(pf), dd(df);
+    const double b = glm::dot(po, dd), c = glm::dot(po, po) - 1.0, a = glm::dot(dd, dd);
+    const double farT = (-b + std::sqrt(b * b - a * c)) / a;
+    auto check = [&](bool hit, double t, const char* what) {
+      if (in) {
+        EXPECT_TRUE(hit) << what << " " << i;
+        if (hit) {
+          EXPECT_NEAR(t, farT, 1e-3) << what << " " << i;
+        }
+      } else {
+        EXPECT_FALSE(hit) << what << " " << i << " t " << t << " sin " << sinA;
+      }
+    };
+    (in ? inward : outward)++;
+    // ---- Float channel: occlusion, closest hit, occlusion again ----------------------------
+    const RTCRayHit rayHit = makeRay(pf, df, 0.0f, 10.0f);
+    const bool occluded = occluded1(scene, rayHit.ray);
+    const RTCRayHit h = intersect1(scene, rayHit);
+    const bool hit = h.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    check(hit, h.ray.tfar, "float");
+    EXPECT_EQ(occluded, hit) << "float occlusion first " << i;
+    EXPECT_EQ(occluded1(scene, rayHit.ray), hit) << "float occlusion after " << i;
+    // ---- Double channel: the float point with a host bound, and the double point --------
+    for (const auto& [origin, bound] :
+         {std::pair{po, 1e-7}, std::pair{p, 4.0 * kUnitRoundoff * glm::length(p)}}) {
+      RayD ray{origin, dir, 0.0, 10.0, bound};
+      const HitD hd = intersectD(scene, ray);
+      check(hd.hit, hd.t, "double");
+      RTCRay shadow = makeRayHit(ray).ray;
+      IntersectContext ctx;
+      HitD occ;
+      initIntersectContext(&ctx, &ray, &occ);
+      rtcOccluded1(scene, &ctx.base, &shadow);
+      EXPECT_EQ(occ.hit, hd.hit) << "double occlusion " << i;
+    }
+  }
+  EXPECT_GT(outward, 250);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Multiplicity, EmbreeShadowMultiple,
+    ::testing::Values(MultipleCase{"0.6*x + 0.8*y - 0.1", false},
+                      MultipleCase{"(0.6*x + 0.8*y - 0.1)^2", false},
+                      MultipleCase{"(0.6*x + 0.8*y - 0.1)^3", false},
+                      MultipleCase{"x^2 + y^2 + z^2 - 1", true},
+                      MultipleCase{"(x^2 + y^2 + z^2 - 1)^2", true},
+                      MultipleCase{"(x^2 + y^2 + z^2 - 1)^3", true},
+                      MultipleCase{"(x^2 + y^2 + z^2 - 1)^4", true, false},
+                      MultipleCase{"(x^2 + y^2 + z^2 - 1) * (x^2 + y^2 + z^2 - 16)", true}),
+    [](const ::testing::TestParamInfo<MultipleCase>& param) {
+      return std::string(param.param.sphere ? "Sphere" : "Plane") + std::to_string(param.index);
+    });
+
 std::vector<std::string_view> galleryNames() {
   std::vector<std::string_view> names;
   for (const GallerySurface& s : gallery()) names.push_back(s.name);

@@ -284,15 +284,30 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   double e1 = gamma(7) * glm::dot(kNonNegCentred ? absAP2 : absAP2 + q.absB, absD) + shiftError1;
   double e2 = gamma(5) * (kNonNegDiagonal ? c2 : glm::dot(absD, q.mulAbsA<kDiagonal>(absD)));
   int degree = 2;
-  // The self-root rule's division by s (deflateAtZero: once, and again while the new
-  // constant term is within its bound), on values still in registers: written to g first
-  // and read back, a shadow ray waited on its own stores (perf: a tenth of its
-  // restriction; shadow rays 2 % faster, measured).
+  // The self-root rule's division by s (deflateAtZero), on values still in registers:
+  // written to g first and read back, a shadow ray waited on its own stores (perf: a tenth
+  // of its restriction; shadow rays 2 % faster, measured). Then the linear rest's one root
+  // is dropped too (degree 0) where its constant term, grad f(o) . d, is zero within its
+  // rounding bound or within what the origin's uncertainty moves it by (its gradient is
+  // 2 A d, whose 1-norm bounds the length first): that root lies in the origin's cluster,
+  // which the generic walk's window covers (multipleRootWindow, ray_roots.cpp: a double
+  // plane's leaving rays hit it at twice the origin's crossing).
   if (onSurface) {
     c0 = c1, c1 = c2, c2 = 0.0;
     e0 = e1, e1 = e2, e2 = 0.0;
     degree = 1;
-    if (std::abs(c0) <= 4.0 * e0) {
+    bool again = std::abs(c0) <= 4.0 * e0;
+    if (!again) {
+      const glm::dvec3 ad = 2.0 * mulA(d), absAD = absv(ad);
+      const double moveRound = ray.orgRoundoff * glm::dot(absAD, absv(o));
+      const double upper = (1.0 + 0x1p-20) * (absAD.x + absAD.y + absAD.z) * orgError;
+      if (std::abs(c0) <= 4.0 * e0 + 2.0 * (moveRound + upper)) [[unlikely]] {
+        const double move =
+            orgError != 0.0 ? originMove(data, ray, ad, safeLength(ad), orgError) : 0.0;
+        again = std::abs(c0) <= 4.0 * e0 + 2.0 * (moveRound + move);
+      }
+    }
+    if (again) {
       c0 = c1, c1 = 0.0;
       e0 = e1, e1 = 0.0;
       degree = 0;

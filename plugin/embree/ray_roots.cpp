@@ -148,6 +148,119 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray, double orgEr
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
 
+// ---- Multiple roots at the origin -----------------------------------------------------------
+// On a surface of multiplicity m (f = h^m q: a double plane, a squared sphere) the origin
+// lies off h = 0 by up to its uncertainty, so g = f(o + s d) has m roots clustered around
+// the origin's own crossing t* (g ~ a^m (s - t*)^m there), and its coefficients c_1 ..
+// c_(m-1) are small but not zero. Dividing out the root at 0 leaves the others: for m = 2
+// the quotient a (a s - 2 a t*) has its root at 2 t*, beyond the self-root window where the
+// ray grazes (a leaving ray found its own surface at 2 t*, 3 t* for m = 3, and an occlusion
+// query could disagree with the closest hit of the same ray). Dividing out c_1 .. c_(m-1)
+// too would be wrong: setting them to 0 perturbs g by O(c_1 s) far from the origin, which
+// splits the far side's double root of h^2 into a complex pair (rays leaving a squared
+// sphere inwards missed its far side; so did the repeated division of a constant term that
+// was zero within its rounding bound, until session 43). So the window grows instead, over
+// the cluster: the rule finds m as the first coefficient clear of its rounding bound and, at
+// an origin where f may be singular (multipleRootWindow's gates), of what the origin's
+// uncertainty moves it by (as it asks of c_0 = f(o) in originOnSurface: grad c_k =
+// grad H_(k+1)(d), H_n the degree-n homogeneous part of f expanded about o, through
+// originMove); the cluster's roots lie within Fujiwara's bound of c_1 + ... + c_m s^(m-1),
+// 2 max |c_i / c_m|^(1 / (m - i)), and the window is twice that for the higher terms.
+glm::dvec3 homogeneousGradient(const Polynomial& shifted, int n, const glm::dvec3& d) {
+  glm::dvec3 grad(0.0);
+  auto power = [](double x, int e) {
+    double p = 1.0;
+    for (int i = 0; i < e; ++i) p *= x;
+    return p;
+  };
+  for (int i = n; i >= 0; --i)
+    for (int j = n - i; j >= 0; --j) {
+      const int k = n - i - j;
+      const double c = shifted.coeff(i, j, k);
+      if (c == 0.0) continue;
+      const double px = power(d.x, i), py = power(d.y, j), pz = power(d.z, k);
+      if (i > 0) grad.x += c * i * power(d.x, i - 1) * py * pz;
+      if (j > 0) grad.y += c * j * px * power(d.y, j - 1) * pz;
+      if (k > 0) grad.z += c * k * px * py * power(d.z, k - 1);
+    }
+  return grad;
+}
+
+// The window over the origin's cluster of roots, for g after deflateAtZero (so g's c_i is
+// the Taylor coefficient c_(i + 1) at o), or 0 when g's constant term is clear. orgError:
+// the ray's whole bound; originValue, gradient: f(o), grad f(o).
+double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double orgError,
+                          double originValue, const glm::dvec3& gradient, const RayPolynomial& g) {
+  // Coefficients zero within their rounding bound (a ray tangent at its origin, a node)
+  // need no expansion.
+  int m = 0;
+  while (m <= g.degree && std::abs(g.coeff[m]) <= 4.0 * g.error[m]) ++m;
+  // Beyond those, only where the origin may be a singular point of f: grad f(o) within its
+  // rounding plus what the origin's uncertainty (dist) moves it by, four times over, first
+  // with the clip ball's bounds (2^-10 hitSlopeNoise, 2^-10 hitPointNoise), then at the
+  // origin: with F = f's |coefficients|, grad F(|o|) bounds the rounding (gradientNoise)
+  // and, F's derivatives being increasing in every coordinate, grad F(|o| + rho) / rho the
+  // Hessian's row sums at o (grad F(y + rho) >= grad F(y) + rho hess F(y) 1); rho = R / 16.
+  // Elsewhere the origin's root is simple (a ray grazing a simple surface keeps the rule of
+  // before); the expansion for every leaving ray cost Sarti's shadow rays 7x their time,
+  // the clip ball's bounds alone (loose where f's coefficients cancel) still as much.
+  const glm::dvec3& o = ray.org;
+  const double oSum = std::abs(o.x) + std::abs(o.y) + std::abs(o.z);
+  const double dist = ray.orgRoundoff * oSum + orgError;
+  const double gradMax =
+      std::max({std::abs(gradient.x), std::abs(gradient.y), std::abs(gradient.z)});
+  // A cheap sign of such a cluster first, from g's own coefficients: the roots of
+  // c_0 + c_1 s + c_2 s^2 lie within 2 max(sqrt|c_0 / c_2|, |c_1 / c_2|) (Fujiwara), which
+  // for f = h^m is about 4 dist / sin(angle) or, for a grazing ray, sqrt(dist / curvature),
+  // and for a ray leaving a simple surface about its chord. So the origin can be singular
+  // only where that radius is within 16 sqrt(dist R) / |d|: for float origins the tests
+  // below then run on rays within ~2.5e-3 rad of a simple surface's tangent plane.
+  const double c2 = std::abs(g.degree >= 1 ? g.coeff[1] : 0.0);
+  const double cluster =
+      2.0 * std::max(std::sqrt(std::abs(originValue) / c2), std::abs(g.coeff[0]) / c2);
+  const double dLength = std::sqrt(glm::dot(ray.dir, ray.dir));
+  bool singular = m <= g.degree && cluster * dLength <= 16.0 * std::sqrt(dist * data.radius) &&
+                  gradMax <= 0x1p-8 * (data.hitSlopeNoise + data.hitPointNoise * dist);
+  if (singular) {
+    const double rho = 0x1p-4 * data.radius;
+    const glm::dvec3 scale = data.absHorner.evaluate(absv(o) + rho).gradient;
+    const double scaleMax = std::max({scale.x, scale.y, scale.z});
+    singular = gradMax <= 4.0 * (data.gradientGamma + dist / rho) * scaleMax;
+  }
+  if (singular) {
+    const glm::dvec3& d = ray.dir;
+    const double dInf = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    Polynomial shifted;
+    bool expanded = false;
+    for (; m <= g.degree; ++m) {
+      const int k = m + 1;
+      const double c = std::abs(g.coeff[m]), rounding = 4.0 * g.error[m];
+      // Coarse: |grad c_k|_2 <= sqrt(3) B_k |d|_inf^k, so the move below is at most twice
+      // this.
+      double coarse = k < kMaxDegree ? data.coefficientMove[k] : 0.0;
+      for (int i = 0; i < k; ++i) coarse *= dInf;
+      if (!(c <= rounding + 4.0 * coarse * dist)) break;
+      if (!expanded) {
+        shifted = data.desc.polynomial.translate(o);
+        expanded = true;
+      }
+      const glm::dvec3 grad = homogeneousGradient(shifted, k + 1, d);
+      const double move =
+          ray.orgRoundoff * glm::dot(absv(grad), absv(o)) +
+          (orgError != 0.0 ? originMove(data, ray, grad, safeLength(grad), orgError) : 0.0);
+      if (!(c <= rounding + 2.0 * move)) break;
+    }
+  }
+  if (m == 0) return 0.0;
+  // Every coefficient zero within the origin's uncertainty: the ray runs along the surface.
+  if (m > g.degree) return std::numeric_limits<double>::infinity();
+  double bound = 0.0;
+  const double top = std::abs(g.coeff[m]);
+  for (int i = 0; i < m; ++i)
+    bound = std::max(bound, std::pow(std::abs(g.coeff[i]) / top, 1.0 / (m - i)));
+  return 4.0 * bound;
+}
+
 // ---- Quadrics --------------------------------------------------------------------------
 // Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
 // no expansion, no cache and no polish (the stable quadratic formula is accurate to the
@@ -224,8 +337,12 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
   // deflated polynomial, expanded about that far origin, lost the ray's real roots.
   if (!originOutsideClipBall(data, o, orgError) && originOnSurface(data, ray, orgError)) {
     restrictToRay(data.horner, o, d, 0.0, g);
-    if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     selfWindow = selfRootWindow(data, ray, orgError);
+    if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
+    if (g.degree > 0)
+      selfWindow =
+          std::max(selfWindow, multipleRootWindow(data, ray, orgError, tlsOriginValue.value,
+                                                  tlsOriginValue.gradient, g));
     return nullptr;
   }
   return restrictOutside(data, ray, r0, r1, closest, g);

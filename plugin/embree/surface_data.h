@@ -138,6 +138,10 @@ struct SurfaceData {
   double gradientGamma = 0;
   double hitSlopeNoise = 0;
   double hitPointNoise = 0;  // 2^10 times a bound of |hess f| (row sums) over the clip ball
+  // B_k: |d/dv c_k| <= B_k |d|_inf^k |v|_inf over the clip ball, c_k = D^k f [d^k] / k! the
+  // k-th Taylor coefficient along d (inf where it overflows): the self-root rule's first
+  // test of whether c_k is zero within the origin's uncertainty (deflateOriginRoot).
+  std::array<double, kMaxDegree + 1> coefficientMove{};
 };
 
 // A ray in the surface's object space.
@@ -611,18 +615,20 @@ inline bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const g
 }
 
 // The self-root rule's division by s (ray_roots.cpp): g(0) = 0 is removed from
-// g = sum c_i s^i (error bounds err_i), repeated while the new constant term is zero
-// within its bound (a ray tangent at its origin, or an origin at a singular point).
+// g = sum c_i s^i (error bounds err_i). Once: a new constant term that is zero only within
+// its bound is not set to zero and divided out again (a ray tangent at its origin, an
+// origin at a singular point), as it was until session 43: that perturbed g by c_1 s far
+// from the origin, which split the far side's double root of a squared sphere into a
+// complex pair (a ray leaving it inwards from a point rounded off it missed the far side).
+// The roots left near the origin lie within multipleRootWindow (ray_roots.cpp).
 template <class Array>
 void deflateAtZero(int& degree, Array& c, Array& err) {
-  do {
-    for (int i = 0; i < degree; ++i) {
-      c[i] = c[i + 1];
-      err[i] = err[i + 1];
-    }
-    c[degree] = err[degree] = 0.0;
-    --degree;
-  } while (degree > 0 && std::abs(c[0]) <= 4.0 * err[0]);
+  for (int i = 0; i < degree; ++i) {
+    c[i] = c[i + 1];
+    err[i] = err[i + 1];
+  }
+  c[degree] = err[degree] = 0.0;
+  --degree;
 }
 
 }  // namespace algray

@@ -10,6 +10,7 @@
 #include <glm/vector_relational.hpp>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -375,6 +376,23 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   for (size_t i = hessianWeights.size(); i-- > 0;) hessian = hessian * r + hessianWeights[i];
   const double pointNoise = 0x1p10 * (1.0 + 0x1p-20) * hessian;
   data->hitPointNoise = std::isfinite(pointNoise) ? pointNoise : 0.0;
+  // How far c_k = D^k f(x) [d^k] / k! moves with x (the self-root rule's test for a root of
+  // multiplicity above 1 at the origin, deflateOriginRoot): d/dv c_k is the coefficient of
+  // s^k t in f(x + s d + t v), and for a monomial of degree j with |x_i| <= R that is at
+  // most the one of (R + s |d|_inf + t |v|_inf)^j, j! / (k! (j - k - 1)!) R^(j - k - 1)
+  // |d|_inf^k |v|_inf. R as above with 2^-7 R more: origins up to 2^-9 R outside the clip
+  // ball take the rule. (k = 1 is the Hessian's bound of hitPointNoise.)
+  const double rMove = r + 0x1p-7 * data->radius;
+  for (int k = 0; k < degree; ++k) {
+    double sum = 0;
+    for (int j = degree; j > k; --j) {
+      // A_j j! / (k! (j - k - 1)!) = A_j C(j, k) (j - k).
+      double binomial = 1;
+      for (int i = 1; i <= k; ++i) binomial = binomial * (j - k + i) / i;
+      sum = sum * rMove + weights[j - 1] / j * binomial * (j - k);
+    }
+    data->coefficientMove[k] = std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
+  }
   // (256 R)^2, exact scalings of R^2 (rounded once) within this range of R; else 0: the
   // walk's shortcut for deferred float origin errors is off (surelyOutsideClipBall).
   const bool normalRange = data->radius >= 0x1p-400 && data->radius <= 0x1p400;
