@@ -19,11 +19,13 @@
 // or lies across the ray (a ray touching a simple surface), or f is clearly negative just
 // before the hit and positive after it (an odd root crossing upwards). Otherwise the
 // normal is searched for before the hit, at p - delta d/|d| for delta from 2^-32 to 2^-6
-// clip radii by factors of 4 (searchBefore): the first gradient there that is clear and
-// faces the ray, or, once f is found to have opposite signs at p -+ delta d/|d| (an odd
-// root: h^3 keeps its gradient's orientation across the surface), the first clear one, or,
-// where f is negative on both sides (an even root of f <= 0), grad(-f) at the first clear
-// one; each combined with its mirror point after the hit (symmetric), unless it lies
+// clip radii by factors of 4, on to 2^-2 by factors of 2 (searchBefore): the first gradient
+// there that is clear and faces the ray, or, once f is found to have opposite signs at p -+
+// delta d/|d| (an odd root: h^3 keeps its gradient's orientation across the surface), the
+// first clear one, or, where f is negative on both sides and the gradients there opposite
+// at some rung, or across the surface along grad f (evenAcross: a ray grazing it), an even
+// root of f <= 0, grad(-f) at the first clear one; each combined with its mirror point
+// after the hit (symmetric), unless it lies
 // outside the cone of directions the hit's own gradient and its noise bound allow. (A ray
 // touching a cone's apex from inside is such an even root along the ray: grad(-f) just
 // before the apex, facing the ray.) Where nothing is found and the gradient at the hit is
@@ -31,7 +33,8 @@
 // The gradient's noise at the hit includes what the hit point's own rounding moves it by
 // (hitPointError, surface_data.h): from 1e6 radii a double surface's hit lands 2e-10 radii
 // to either side of it, where its gradient is clear of the evaluation's noise.
-// Cost: up to ~40 evaluations of f, only on these hits, and mostly two (rendering
+// Cost: up to 18 rungs of a few evaluations of f each along the ray and 18 across it (14
+// along it until session 43), only on these hits, and mostly two evaluations (rendering
 // (x^2 + y^2 + z^2 - 1)^2 took 1.07-1.08 s instead of 1.05-1.07); every other hit pays the
 // slope test (docs/speed-details.md, session 35). Accuracy against grad h in long double
 // at the hit: about the distance delta at which grad f is taken times the normal's turning
@@ -77,9 +80,15 @@ bool clearOf(const glm::dvec3& g, const glm::dvec3& noise) {
 bool facingOf(const glm::dvec3& g, const glm::dvec3& noise, const glm::dvec3& u) {
   return glm::dot(g, u) < -kClear * glm::dot(noise, absv(u));
 }
-// The distances looked at before (and after) the hit: 2^-32 to 2^-6 clip radii.
-constexpr int kRungs = 14;
-double rung(const SurfaceData& data, int k) { return std::ldexp(data.radius, -32 + 2 * k); }
+// The distances looked at before (and after) the hit: 2^-32 to 2^-6 clip radii by factors
+// of 4 (kRungs), then on to 2^-2 by factors of 2 for the search alone (kSearchRungs): f =
+// h^m q is within its noise for |h| up to ~(u E)^(1/m), and its gradient, m h^(m-1) q grad
+// h, clears its own noise 2^10-fold only farther out: on (x^2 + y^2 + z^2 - 1)^m in a ball
+// of radius 1.5, ~2^-6 radii for m = 6, 2^-5 for m = 7, 2^-4 for m = 8 (session 43).
+constexpr int kRungs = 14, kSearchRungs = kRungs + 4;
+double rung(const SurfaceData& data, int k) {
+  return std::ldexp(data.radius, k < kRungs ? -32 + 2 * k : -6 + (k - kRungs + 1));
+}
 
 // grad f at p - delta u, combined with grad f at p + delta u where that is clear and
 // oriented as an even root (facing away: g- - g+, or g- + g+ on a grazed simple surface)
@@ -105,6 +114,24 @@ glm::dvec3 symmetric(const SurfaceData& data, const glm::dvec3& u, const glm::dv
   return glm::dot(gMinus, gPlus) > 0 ? gMinus + gPlus : gMinus;
 }
 
+// Whether f, negative near the hit, is an even root of f <= 0 there: from the hit along
+// g = grad f (towards the surface, where f rises), the first rung with f clear is past the
+// surface with f negative and grad f turned against g (h^m q with m even, f <= 0 on both
+// sides), not positive (m odd). Only for rays that touch or graze the surface, whose two
+// sides along the ray need not straddle it (session 43: 16 of 638 hits of -(x^2 + y^2 +
+// z^2 - 1)^8 faced away).
+bool evenAcross(const SurfaceData& data, const glm::dvec3& point, const glm::dvec3& g) {
+  const glm::dvec3 n = glm::normalize(g);
+  for (int k = 0; k < kSearchRungs; ++k) {
+    const glm::dvec3 q = point + rung(data, k) * n;
+    const Polynomial::Evaluation e = data.horner.evaluate(q);
+    if (!(std::abs(e.value) > e.valueError)) continue;
+    if (e.value > 0) return false;
+    if (glm::dot(e.gradient, n) < 0 && clearOf(e.gradient, gradientNoise(data, q))) return true;
+  }
+  return false;
+}
+
 // Back from the hit along the ray: grad f at the first point where it is clear and faces
 // the ray (an even root, or an odd one crossing downwards), or, once f is found to change
 // sign across the hit (an odd root, whose gradient keeps its orientation across the
@@ -118,8 +145,8 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
                         const glm::dvec3& fallback) {
   int clearRung = -1;
   glm::dvec3 firstClear{0.0};
-  bool negativeBoth = false;
-  for (int k = 0; k < kRungs; ++k) {
+  bool negativeBefore = false, negativeBoth = false, opposite = false;
+  for (int k = 0; k < kSearchRungs; ++k) {
     const double delta = rung(data, k);
     const glm::dvec3 before = point - delta * u;
     const Polynomial::Evaluation e = data.horner.evaluate(before);
@@ -132,24 +159,39 @@ glm::dvec3 searchBefore(const SurfaceData& data, const glm::dvec3& u, const glm:
       }
     }
     if (clearRung < 0 || !(std::abs(e.value) > e.valueError)) continue;
-    const Polynomial::Evaluation after = data.horner.evaluate(point + delta * u);
+    negativeBefore |= e.value < 0;
+    const glm::dvec3 q = point + delta * u;
+    const Polynomial::Evaluation after = data.horner.evaluate(q);
     if (!(std::abs(after.value) > after.valueError)) continue;
     if ((e.value < 0) != (after.value < 0))
       return symmetric(data, u, point, rung(data, clearRung), firstClear, false);
     negativeBoth |= e.value < 0;
+    // The gradients on the two sides opposite, as where h changes sign across an even
+    // surface, at any rung: the hit of h^m, m >= 4, lies up to ~u^(1/m) before the surface
+    // (6e-4 radii on -(x^2 + y^2 + z^2 - 1)^4), so at the first clear rung both points may
+    // still lie before it, their gradients alike (session 43: that rung alone reversed 63
+    // of 1600 normals of -h^6 and 1285 of -h^8).
+    opposite |= glm::dot(e.gradient, after.gradient) < 0 && clearOf(e.gradient, noise) &&
+                clearOf(after.gradient, gradientNoise(data, q));
+    // Decided (below) once the first 2^-6 radii are seen, before the farther rungs, where
+    // other parts of the surface come into view (a torus's far side of its tube faced the
+    // ray 0.4 radii back, and was taken for the normal of a grazed -T^2).
+    if (k >= kRungs - 1 && negativeBoth && opposite) break;
   }
-  // Negative on both sides and no sign change out to 2^-6 clip radii (not decided at the
+  // Negative on both sides and no sign change out to the last rung (not decided at the
   // first rung with both clear: an odd root's hit lies anywhere in its noise region, up to
   // ~1e-4 radii before the crossing, and f can be clearly negative between the two), and
-  // the gradients on the two sides opposite, as where h changes sign across an even
-  // surface. (On one side, it is a ray touching an odd one from its negative side, f =
-  // h^3 q with h <= 0 along the ray: its normal keeps the surface's own orientation, the
-  // fallback; StressRandom.MultipleSurfacesGetTheirOwnNormal with other seeds.)
-  if (negativeBoth) {
-    const double delta = rung(data, clearRung);
-    if (glm::dot(firstClear, data.horner.evaluate(point + delta * u).gradient) < 0)
-      return symmetric(data, u, point, delta, -firstClear, true, -1);
-  }
+  // the gradients on the two sides opposite at some rung: an even root of f <= 0. With
+  // them alike, or f negative before the hit and within its noise after it at every rung,
+  // the ray touches or grazes the surface from one side (the crossing, if any, beyond the
+  // rungs or the noise: the audit's ray (0.99, 0, -3) + t (0, 0, 1) on -(x^2 + y^2 + z^2 -
+  // 1)^8, whose whole chord inside the sphere lies within f's noise): f = h^3 q touched
+  // from h <= 0 keeps the surface's own orientation, the fallback (StressRandom.Multiple-
+  // SurfacesGetTheirOwnNormal with other seeds), -h^4 touched from h >= 0 is an even root
+  // and takes grad(-f), facing the ray's side; evenAcross tells them apart across the
+  // surface.
+  if ((negativeBoth && opposite) || (negativeBefore && evenAcross(data, point, firstClear)))
+    return symmetric(data, u, point, rung(data, clearRung), -firstClear, true, -1);
   return fallback;
 }
 
