@@ -193,9 +193,11 @@ glm::dvec3 traceDirect(const Scene& scene, const CameraRay& cameraRay, Rng& rng,
       if (auto ls = scene.sampleLight(light, hit->p, u))
         L += estimateDirect(scene, *hit, sh, m, albedo, *ls, false, counter);
     }
-    // Ambient: the environment's mean radiance reflected without shadowing; exact for a
-    // constant environment and an unoccluded diffuse surface.
-    L += albedo * desc.environment.color;
+    // Ambient: the environment's mean radiance (colour times the image's solid-angle mean)
+    // reflected without shadowing; exact for a constant environment and an unoccluded
+    // diffuse surface. The colour alone made an image environment's ambient light that of
+    // an image of ones.
+    L += albedo * scene.environmentMean();
     return beta * L;
   }
   return glm::dvec3(0.0);

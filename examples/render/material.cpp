@@ -77,6 +77,33 @@ glm::dvec3 Texture::maximum() const {
   return m;
 }
 
+glm::dvec3 Texture::latLongMean() const {
+  // Bilinear lookup of periodic samples averages over the azimuth to the row's mean (each
+  // column's hat function integrates to 1 / width), so the azimuthal mean is the row means
+  // interpolated linearly in theta: y = theta h / pi - 0.5, knots theta_j = (j + 0.5) pi / h,
+  // rows wrapping like lookup() (row -1 = h - 1 at the zenith, row h = 0 at the nadir).
+  // The mean over the sphere is (1/2) int_0^pi L(theta) sin(theta) dtheta; on a knot
+  // interval L = R_j + (R_j+1 - R_j) (theta - theta_j) / step, and
+  // int (theta - theta_j) sin(theta) = sin(theta) - (theta - theta_j) cos(theta).
+  std::vector<glm::dvec3> rows(static_cast<size_t>(height_), glm::dvec3(0.0));
+  for (int j = 0; j < height_; ++j) {
+    for (int i = 0; i < width_; ++i)
+      rows[j] += glm::dvec3(texels_[static_cast<size_t>(j) * width_ + i]);
+    rows[j] /= static_cast<double>(width_);
+  }
+  auto row = [&](int j) { return rows[static_cast<size_t>(((j % height_) + height_) % height_)]; };
+  const double step = kPi / height_;
+  glm::dvec3 sum(0.0);
+  for (int j = -1; j < height_; ++j) {
+    const double knot = (j + 0.5) * step;
+    const double a = std::max(knot, 0.0), b = std::min(knot + step, kPi);
+    auto slopePart = [&](double t) { return std::sin(t) - (t - knot) * std::cos(t); };
+    sum += row(j) * (std::cos(a) - std::cos(b)) +
+           (row(j + 1) - row(j)) * ((slopePart(b) - slopePart(a)) / step);
+  }
+  return 0.5 * sum;
+}
+
 // ---- Microfacet helpers (GGX) ---------------------------------------------------------
 
 namespace {

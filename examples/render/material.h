@@ -34,6 +34,10 @@ class Texture {
   glm::dvec3 average() const;
   // The largest texel value of each channel (a colour times the texture stays below it).
   glm::dvec3 maximum() const;
+  // Mean over the sphere of directions (solid-angle weighted) of lookup() read as a
+  // lat-long map (v = 1 - theta / pi), exactly as interpolated: the ambient light of an
+  // image environment.
+  glm::dvec3 latLongMean() const;
 
  private:
   int width_, height_;

@@ -174,6 +174,7 @@ void Scene::build() {
     lights_.push_back(std::move(light));
   }
   if (!desc_.environment.image.empty()) envImage_ = Texture::load(desc_.environment.image);
+  envMean_ = desc_.environment.color * (envImage_ ? envImage_->latLongMean() : glm::dvec3(1.0));
   // A constant environment is best found by BSDF sampling alone (cosine sampling is
   // exact importance sampling of it for diffuse surfaces, and glossy lobes only lose to
   // uniform light samples); only an image environment joins next-event estimation.

@@ -62,6 +62,9 @@ class Scene {
 
   const Material& material(const Hit& hit, bool frontFace) const;
   glm::dvec3 environment(const glm::dvec3& dir) const;
+  // environment(dir) averaged over all directions (computed once, when the scene is built):
+  // the colour times the image's solid-angle mean; a rotation does not change it.
+  glm::dvec3 environmentMean() const { return envMean_; }
   glm::dvec3 background(const glm::dvec3& dir) const;
 
   // Next-event estimation samples every light of the table once per vertex (few lights:
@@ -93,6 +96,7 @@ class Scene {
   std::vector<int> geomLight_;  // geomID -> light index or -1
   int envLight_ = -1;
   std::shared_ptr<const Texture> envImage_;
+  glm::dvec3 envMean_{0.0};
   double radius_ = 1.0;
   std::vector<std::string> emptySurfaces_;
 };

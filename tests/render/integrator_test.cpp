@@ -4,6 +4,7 @@
 //    with albedo a < 1 a convex surface reflects a * Le (one bounce, nothing else seen);
 //  * the same image for 1 and 2 threads (per-pixel random streams).
 #include "render.h"
+#include "sampling.h"
 #include "scene.h"
 
 #include <gtest/gtest.h>
@@ -14,7 +15,11 @@
 
 #include "mesh.h"
 
+#include <OpenImageIO/imageio.h>
+
 #include <cmath>
+#include <filesystem>
+#include <vector>
 
 namespace algray::render {
 namespace {
@@ -98,6 +103,52 @@ TEST(WhiteFurnace, GreyConvexSurfaceReflectsAlbedoTimesEnvironment) {
     auto [mean, hits] = meanOverHits(s);
     ASSERT_GT(hits, 50);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], 0.35, 0.35 * 0.02);
+  }
+}
+
+// The direct integrator's ambient light is the environment's mean radiance, colour times
+// the image's solid-angle mean: it read the colour alone, so a white sphere under an image
+// of constant 0.1 came out 1.0. A convex sphere with no other light reflects albedo x mean
+// at every pixel. References in closed form: a constant image c gives c; an image of rows
+// a, b, b, a (z up) is, interpolated like lookup(), a on theta in [0, pi/8] and its mirror,
+// b on [3pi/8, 5pi/8], linear between, so its mean int_0^(pi/2) L sin = a + (b - a)
+// (4/pi) (sin(3pi/8) - sin(pi/8)) (int (theta - pi/8) sin = sin - (theta - pi/8) cos).
+TEST(DirectIntegrator, AmbientLightIsTheImageEnvironmentsMean) {
+  auto writeRows = [](const std::string& file, const std::vector<float>& rows) {
+    const int w = 3, h = static_cast<int>(rows.size());
+    std::vector<float> pixels;
+    for (float r : rows)
+      for (int i = 0; i < 3 * w; ++i) pixels.push_back(r);
+    auto out = OIIO::ImageOutput::create(file);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(file, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    ASSERT_TRUE(out->close());
+  };
+  const double a = 1.0, b = 0.2;
+  const double rowsMean = a + (b - a) * (4 / kPi) * (std::sin(3 * kPi / 8) - std::sin(kPi / 8));
+  struct Case {
+    std::vector<float> rows;
+    double colour, albedo, expected;
+  };
+  for (const Case& c : {Case{{0.1f, 0.1f}, 1.0, 1.0, 0.1},
+                        Case{{1.0f, 0.2f, 0.2f, 1.0f}, 0.5, 0.8, 0.5 * 0.8 * rowsMean}}) {
+    // One file per image: OIIO's image cache keeps a file's first size for its name.
+    const std::string file = (std::filesystem::temp_directory_path() /
+                              ("algray_ambient_env" + std::to_string(c.rows.size()) + ".exr"))
+                                 .string();
+    writeRows(file, c.rows);
+    SceneDesc s = furnace(c.albedo);
+    s.settings.integrator = IntegratorType::Direct;
+    s.settings.spp = 1;
+    s.environment.color = glm::dvec3(c.colour);
+    s.environment.image = file;
+    s.environment.rotation = 37;  // turns the image about z: the mean stays
+    addSurface(s, "sphere");
+    auto [mean, hits] = meanOverHits(s);
+    ASSERT_GT(hits, 50);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], c.expected, 1e-6) << c.rows.size();
+    std::filesystem::remove(file);
   }
 }
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace algray::render {
 namespace {
@@ -13,6 +14,34 @@ namespace {
 glm::dvec3 direction(double cosTheta, double phi) {
   double s = std::sqrt(1 - cosTheta * cosTheta);
   return {s * std::cos(phi), s * std::sin(phi), cosTheta};
+}
+
+// The ambient light of an image environment: Texture::latLongMean against brute-force
+// quadrature of lookup() over the sphere (midpoint rule in theta and phi with the sin(theta)
+// weight; lookup is piecewise linear, so the rule's error is O(1/n^2), here below 1e-6),
+// on an image whose rows and columns all differ (the zenith and nadir wrap like lookup()).
+TEST(EnvironmentImage, LatLongMeanIsTheSolidAngleMeanOfTheLookup) {
+  const int w = 5, h = 3;
+  std::vector<glm::vec3> texels;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      texels.emplace_back(0.1f * static_cast<float>(i + 1) + static_cast<float>(j * j),
+                          static_cast<float>((i * 7 + j * 3) % 5), 0.25f * static_cast<float>(j));
+  const Texture texture(w, h, texels);
+  const int nTheta = 3000, nPhi = 600;
+  glm::dvec3 sum(0.0);
+  double weight = 0;
+  for (int a = 0; a < nTheta; ++a) {
+    const double theta = (a + 0.5) * kPi / nTheta;
+    for (int b = 0; b < nPhi; ++b) {
+      const double u = (b + 0.5) / nPhi;  // u = 0.5 + phi / 2pi covers the circle once
+      sum += std::sin(theta) * texture.lookup({u, 1.0 - theta / kPi});
+      weight += std::sin(theta);
+    }
+  }
+  const glm::dvec3 reference = sum / weight;
+  const glm::dvec3 mean = texture.latLongMean();
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], reference[k], 1e-6) << k;
 }
 
 TEST(Bsdf, SampleWeightIsFCosOverPdf) {
