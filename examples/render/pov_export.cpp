@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -42,6 +43,10 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
   glm::dvec3 env = scene.environment.color;
   if (env.r != env.g || env.g != env.b)
     throw std::runtime_error("POV-Ray export: grey environments only");
+  // The ambient light and background below are the colour alone; an image's were lost
+  // (exported as if it were all ones).
+  if (!scene.environment.image.empty())
+    throw std::runtime_error("POV-Ray export: image environments are not exported");
   double aspect = static_cast<double>(s.width) / s.height;
   double hfov = 2.0 * std::atan(aspect * std::tan(0.5 * cam.fovY * kPi / 180.0)) * 180.0 / kPi;
   out << "// Written by algray-render --export-pov: the same scene as algray's direct "
@@ -77,7 +82,10 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
       throw std::runtime_error("POV-Ray export: POV-Ray's polynomial takes degree <= " +
                                std::to_string(kPovRayMaxDegree) + ", this surface has degree " +
                                std::to_string(n));
-    out << "polynomial { " << n;
+    // POV-Ray 3.7's polynomial takes orders 2..35 ("Order of polynom is out of range" for
+    // 1); a plane is the order-2 polynomial whose quadratic terms are zero (absent xyz terms
+    // are 0), which its solver reduces to the linear equation.
+    out << "polynomial { " << std::max(n, 2);
     for (int d = n; d >= 0; --d)
       for (int i = d; i >= 0; --i)
         for (int j = d - i; j >= 0; --j) {

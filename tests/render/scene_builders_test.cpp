@@ -13,6 +13,9 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 
@@ -164,6 +167,59 @@ TEST(PovExport, MeshesAreTheirTrianglesAndHighDegreesAreRefused) {
           povrayScene(quickScene(q), false);
         } catch (const std::runtime_error& e) {
           EXPECT_NE(std::string(e.what()).find("degree <= 35"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      std::runtime_error);
+}
+
+// A plane was written as `polynomial { 1, ... }`, which POV-Ray 3.7 refuses ("Order of
+// polynom is out of range": its orders are 2..35), with exit code 0; it is order 2 with
+// the plane's terms only. POV-Ray itself, when installed, is the reference that parses it.
+TEST(PovExport, PlanesAreOrderTwoPolynomialsPovRayParses) {
+  QuickOptions q;
+  q.surface = "x + y + z - 0.5";
+  const SceneDesc s = quickScene(q);
+  const std::string pov = povrayScene(s, false);
+  EXPECT_NE(pov.find("polynomial { 2,"), std::string::npos) << pov;
+  std::regex term(R"(xyz\((\d+), (\d+), (\d+)\): ([-+0-9.eE]+))");
+  int terms = 0;
+  for (auto it = std::sregex_iterator(pov.begin(), pov.end(), term); it != std::sregex_iterator();
+       ++it, ++terms) {
+    const int i = std::stoi((*it)[1]), j = std::stoi((*it)[2]), k = std::stoi((*it)[3]);
+    EXPECT_LE(i + j + k, 1);
+    EXPECT_EQ(std::stod((*it)[4]), i + j + k == 1 ? 1.0 : -0.5) << i << " " << j << " " << k;
+  }
+  EXPECT_EQ(terms, 4);
+  if (std::system("command -v povray > /dev/null 2>&1") != 0) GTEST_SKIP() << "no povray";
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string file = (dir / "algray_pov_plane.pov").string();
+  const std::string image = (dir / "algray_pov_plane.png").string();
+  std::ofstream(file) << pov;
+  const std::string command =
+      "povray +I" + file + " +O" + image + " +W8 +H8 -D -V > /dev/null 2>&1";
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  std::filesystem::remove(file);
+  std::filesystem::remove(image);
+}
+
+// An image environment was exported as its colour alone (a white background and ambient
+// light for any image), with exit code 0, though coloured environments are refused.
+TEST(PovExport, ImageEnvironmentsAreRefused) {
+  QuickOptions q;
+  q.surface = "sphere";
+  SceneDesc s = quickScene(q);
+  s.environment.color = glm::dvec3(1.0);
+  EXPECT_NO_THROW(povrayScene(s, false));
+  s.environment.image = "sky.exr";
+  EXPECT_THROW(
+      {
+        try {
+          povrayScene(s, false);
+        } catch (const std::runtime_error& e) {
+          EXPECT_NE(std::string(e.what()).find("image environments are not exported"),
+                    std::string::npos)
+              << e.what();
           throw;
         }
       },
