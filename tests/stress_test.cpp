@@ -613,6 +613,33 @@ TEST(StressScale, EmbreeRangeEnds) {
       EXPECT_NE(std::string(e.what()).find("scale the scene"), std::string::npos) << e.what();
     }
   }
+  // The same by the transform: a unit sphere scaled by s has world size s (closed form),
+  // below float's normal range for every s here. From s = 1e-162 the squares in the column
+  // lengths underflowed to 0, the box was exactly 0 and was accepted (a silently empty
+  // picture); at 1e-310 (subnormal) times a sphere of 1e-20, A p itself underflows.
+  for (const double scale : {1e-161, 1e-162, 1e-200, 1e-300, 1e-310}) {
+    for (const bool box : {false, true}) {
+      for (const bool rotated : {false, true}) {
+        const double r = scale < 1e-300 ? 1e-20 : 1.0;
+        SurfaceDesc desc = describe(spherePolynomial(r), 1.2 * r);
+        if (box) desc.clip = ClipBox{glm::dvec3(-1.2 * r), glm::dvec3(1.2 * r)};
+        // A rotation about z by atan(4/3): columns (0.6, 0.8, 0) s, (-0.8, 0.6, 0) s.
+        desc.transform = glm::dmat4(glm::dvec4(0.6, 0.8, 0, 0), glm::dvec4(-0.8, 0.6, 0, 0),
+                                    glm::dvec4(0, 0, 1, 0), glm::dvec4(0, 0, 0, 1));
+        if (!rotated) desc.transform = glm::dmat4(1.0);
+        for (int c = 0; c < 3; ++c) desc.transform[c] *= scale;
+        const std::string at = "scale " + std::to_string(std::log10(scale)) +
+                               (box ? " box" : " sphere") + (rotated ? " rotated" : "");
+        try {
+          SurfaceGeometry g(device, desc);
+          ADD_FAILURE() << at << ": must be refused";
+        } catch (const Error& e) {
+          EXPECT_NE(std::string(e.what()).find("below float's normal range"), std::string::npos)
+              << at << ": " << e.what();
+        }
+      }
+    }
+  }
 }
 
 // A camera on the unbounded part of a surface, outside the clip ball: f(o) = 0, but the

@@ -169,14 +169,21 @@ ClipRegion widenedClip(const ClipRegion& clip) {
 // enter at 1.5e18 (kEmbreeReach), and with flush-to-zero a box whose coordinates are
 // subnormal floats collapses. Either way rays would silently miss the surface, so such a
 // surface is refused with the scale it has.
+// A box without extent on an axis is one whose world size and padding underflowed to
+// nothing (worldBounds pads by a relative 2^-16 and rounds outward, so any box of non-zero
+// size stays one): it needs coordinates as small as 0, below the range like a subnormal one
+// (a surface scaled by 1e-162 had an all-zero box, skipped as zeros, and was accepted).
 void checkEmbreeRange(const SurfaceData& data) {
   double largest = 0.0, smallestNonZero = std::numeric_limits<double>::infinity();
-  for (const SurfaceCell& c : data.cells)
-    for (const float v : {c.bounds.lower_x, c.bounds.lower_y, c.bounds.lower_z, c.bounds.upper_x,
-                          c.bounds.upper_y, c.bounds.upper_z}) {
+  for (const SurfaceCell& c : data.cells) {
+    const RTCBounds& b = c.bounds;
+    for (const float v : {b.lower_x, b.lower_y, b.lower_z, b.upper_x, b.upper_y, b.upper_z}) {
       largest = std::max(largest, static_cast<double>(std::abs(v)));
       if (v != 0.0f) smallestNonZero = std::min(smallestNonZero, static_cast<double>(std::abs(v)));
     }
+    if (b.lower_x == b.upper_x || b.lower_y == b.upper_y || b.lower_z == b.upper_z)
+      smallestNonZero = 0.0;
+  }
   if (!(largest <= kEmbreeReach))
     fail("the surface's bounds reach " + str(largest) +
          ", beyond 1e18, the range of Embree's float boxes and rays (it drops boxes beyond "
@@ -208,12 +215,14 @@ RTCBounds worldBounds(const SurfaceData& data, const glm::dvec3& lo, const glm::
     const glm::dvec3 c = data.a * s->center + data.b;
     const glm::dmat3 at = glm::transpose(data.a);
     for (int i = 0; i < 3; ++i) {
-      const double e = s->radius * glm::length(at[i]);
+      // safeLength: glm::length squares the entries, and a column of 1e-162 gave 0 (an
+      // all-zero box, accepted as if it were in range).
+      const double e = s->radius * safeLength(at[i]);
       wlo[i] = std::max(wlo[i], c[i] - e);
       whi[i] = std::min(whi[i], c[i] + e);
     }
   }
-  const double scale = std::max(glm::length(glm::abs(wlo)), glm::length(glm::abs(whi)));
+  const double scale = std::max(safeLength(wlo), safeLength(whi));
   const double pad = 0x1p-16 * scale;
   RTCBounds b{};
   auto down = [](double v) {
