@@ -1,9 +1,13 @@
 // SURFER/jsurf import. What the keys mean, from jsurf's renderer (IMAGINARY/jsurf,
-// rendering/cpu/RayCreator.java and clipping/ClipToSphere.java; Stussak 2008):
-//  * camera space -> clipping space by rotation_matrix (4x4, row-major) after the inverse
-//    camera_transform; the visible region is the unit sphere of clipping space;
-//  * surface space = clipping space scaled by 10^scale_factor (the zoom slider is
-//    logarithmic: negative factors occur in the gallery files);
+// rendering/cpu/RayCreator.java and clipping/ClipToSphere.java; Stussak 2008) and its
+// loader (util/FileFormat.java):
+//  * camera space -> clipping space by M = transform_matrix * rotation_matrix (4x4,
+//    row-major, each the identity when absent) after the inverse camera_transform; the
+//    visible region is the unit sphere of clipping space;
+//  * surface space = N clipping space, N = surface_transform_matrix * 10^scale_factor (the
+//    zoom slider is logarithmic: negative factors occur in the gallery files). jsurf itself
+//    saves the products as transform_matrix and surface_transform_matrix (no rotation_matrix
+//    or scale_factor); SURFER writes the two factors;
 //  * shading is Phong with ambient/diffuse/specular intensities; lights are given in
 //    camera space, about 100 units away, so they act as directional lights.
 // We map Phong's diffuse term kd * I * cos onto a Lambertian BRDF (albedo / pi) lit by a
@@ -64,6 +68,39 @@ bool wellConditioned(const glm::dmat3& a) {
   return std::isfinite(hadamard) && std::isfinite(det) && det > 64.0 * 0x1p-53 * hadamard;
 }
 
+// A 4x4 key that must be affine with a well-conditioned 3x3 part (row-major, as jsurf's
+// BasicIO writes a Matrix4d); the identity when absent.
+glm::dmat4 affineKey(const JsurfFile& f, const std::string& key) {
+  if (!f.has(key)) return glm::dmat4(1.0);
+  const glm::dmat4 m = rowMajor(f.getNumbers(key, 16));
+  if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+    fail(f, key, "the matrix must be affine (last row 0 0 0 1), not projective");
+  if (!wellConditioned(glm::dmat3(m))) fail(f, key, "singular (or out of range) matrix");
+  return m;
+}
+
+// The inverse of an affine matrix with its last row exactly (0, 0, 0, 1).
+glm::dmat4 affineInverse(const glm::dmat4& m) {
+  const glm::dmat3 inv = glm::inverse(glm::dmat3(m));
+  glm::dmat4 r(inv);
+  r[3] = glm::dvec4(-(inv * glm::dvec3(m[3])), 1.0);
+  return r;
+}
+
+// The uniform scale k of a 3x3 part k Q with Q a rotation (orthogonal, det +1), or nothing:
+// columns of equal length, pairwise orthogonal, right-handed, to a relative 1e-6 (SURFER
+// writes matrices as floats, 8 to 9 digits; such a shear is far below a pixel).
+std::optional<double> similarityScale(const glm::dmat3& a) {
+  const double k2 = glm::dot(a[0], a[0]);
+  constexpr double kTol = 1e-6;
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::abs(glm::dot(a[i], a[i]) - k2) <= kTol * k2)) return std::nullopt;
+    if (!(std::abs(glm::dot(a[i], a[(i + 1) % 3])) <= kTol * k2)) return std::nullopt;
+  }
+  if (!(glm::determinant(a) > 0)) return std::nullopt;
+  return std::sqrt(k2);
+}
+
 }  // namespace
 
 SceneDesc jsurfScene(const std::filesystem::path& path) {
@@ -100,20 +137,27 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
       fail(f, "rotation_matrix", "singular (or out of range) matrix");
   }
   glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -1});
-  if (f.has("camera_transform")) {
-    cameraTransform = rowMajor(f.getNumbers("camera_transform", 16));
-    if (cameraTransform[0][3] != 0 || cameraTransform[1][3] != 0 || cameraTransform[2][3] != 0 ||
-        cameraTransform[3][3] != 1)
-      fail(f, "camera_transform", "the matrix must be affine (last row 0 0 0 1), not projective");
-    if (!wellConditioned(glm::dmat3(cameraTransform)))
-      fail(f, "camera_transform", "singular (or out of range) matrix");
+  if (f.has("camera_transform")) cameraTransform = affineKey(f, "camera_transform");
+  const glm::dmat4 viewTransform = affineKey(f, "transform_matrix");
+  const glm::dmat4 surfaceTransform = affineKey(f, "surface_transform_matrix");
+  // World = SURFER's world (camera space through the inverse camera_transform); clipping =
+  // M world, M = transform_matrix * rotation_matrix; surface = N clipping, N =
+  // surface_transform_matrix * scale (jsurf's FileFormat.load: transform.mul(rotation),
+  // surface_transform.mul(scale)). These keys were ignored (a rendering as without them).
+  if (surfaceTransform == glm::dmat4(1.0)) {
+    // N = scale: the clip sphere (unit in clipping space) has radius `scale` in surface
+    // space, and the polynomial stays exactly as written.
+    s.transform =
+        affineInverse(glm::scale(glm::dmat4(1.0), glm::dvec3(scale)) * viewTransform * rotation);
+    s.clip = ClipSphere{glm::dvec3(0.0), scale};
+  } else {
+    // Any other N maps the clip sphere to an ellipsoid of surface space: the object space
+    // is clipping space instead, with the polynomial f(N p).
+    const glm::dmat4 n = surfaceTransform * glm::scale(glm::dmat4(1.0), glm::dvec3(scale));
+    s.polynomial = s.polynomial.composeAffine(glm::dmat3(n), glm::dvec3(n[3]));
+    s.transform = affineInverse(viewTransform * rotation);
+    s.clip = ClipSphere{glm::dvec3(0.0), 1.0};
   }
-  // World = SURFER's world; surface = scale * rotation * world. The clip sphere (unit in
-  // clipping space) has radius `scale` in surface space.
-  glm::dmat4 worldToSurface = glm::scale(glm::dmat4(1.0), glm::dvec3(scale)) * rotation;
-  // Inverting the 3x3 part keeps the last row exactly (0, 0, 0, 1).
-  s.transform = glm::dmat4(glm::inverse(glm::dmat3(worldToSurface)));
-  s.clip = ClipSphere{glm::dvec3(0.0), scale};
 
   // ---- Materials -------------------------------------------------------------------------
   auto material = [&](const std::string& side) {
@@ -134,6 +178,14 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   scene.surfaces.push_back(std::move(s));
 
   // ---- Camera: SURFER's camera at the origin of camera space, looking down -z ---------
+  // A scale k in camera_transform scales the view by 1/k (jsurf's ray creators span the
+  // view in camera space); a shear, a non-uniform scale or a mirror cannot be a camera
+  // here (it was reduced to the eye and two axes, the view's size and shape lost).
+  const std::optional<double> cameraScale = similarityScale(glm::dmat3(cameraTransform));
+  if (!cameraScale)
+    fail(f, "camera_transform",
+         "only a rotation, a uniform scale and a translation are supported (no shear, "
+         "non-uniform scale or mirror)");
   glm::dmat4 cameraToWorld = glm::inverse(cameraTransform);
   glm::dvec3 eye(cameraToWorld * glm::dvec4(0, 0, 0, 1));
   const std::optional<glm::dvec3> forward =
@@ -155,6 +207,9 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     scene.camera.type = CameraDesc::Type::Orthographic;
     scene.camera.height = f.getNumber("camera_height", 2.0);
     if (!(scene.camera.height > 0)) fail(f, "camera_height", "must be positive");
+    scene.camera.height /= *cameraScale;
+    if (!(scene.camera.height > 0))
+      fail(f, "camera_height", "divided by camera_transform's scale, underflows to 0");
     if (!withinCoordinateRange(scene.camera.height))
       fail(f, "camera_height",
            "beyond 1e17, outside the range Embree's float rays can trace (1.8e18)");

@@ -111,6 +111,58 @@ std::string jsurfError(const std::string& extra) {
   return what;
 }
 
+// jsurf's own view keys, applied as jsurf's FileFormat.load and RayCreator do: clipping =
+// transform_matrix * rotation_matrix * world, surface = surface_transform_matrix * 10^s *
+// clipping, and a uniform scale k in camera_transform shrinks the view k times. The unit
+// sphere of surface space seen along z in the default orthographic view (half-height 1)
+// covers pi a b / 4 of the image, a and b its outline's semi-axes in world units (closed
+// form, against the pixels whose first hit is the surface). They were ignored: every case
+// rendered as the plain file (pi / 4).
+TEST(JsurfImport, JsurfsOwnViewKeysPlaceTheSurface) {
+  struct Case {
+    std::string keys;
+    double a, b;  // semi-axes of the outline in view units (view half-height 1)
+  };
+  const Case cases[] = {
+      // surface = 3 * 0.5 world: radius 1 / 1.5; the clip ball has radius 2.
+      {"transform_matrix=0.5 0 0 0 0 0.5 0 0 0 0 0.5 0 0 0 0 1\n"
+       "surface_transform_matrix=3 0 0 0 0 3 0 0 0 0 3 0 0 0 0 1",
+       1 / 1.5, 1 / 1.5},
+      // A non-uniform surface transform (an ellipsoid clip in surface space): the surface
+      // (2x)^2 + (1.25y)^2 + (1.25z)^2 = 1 of world space, semi-axes 0.5, 0.8, 0.8.
+      {"surface_transform_matrix=2 0 0 0 0 1.25 0 0 0 0 1.25 0 0 0 0 1", 0.5, 0.8},
+      // The same after scale_factor log10(2) (the zoom multiplies surface space by 2).
+      {"surface_transform_matrix=1 0 0 0 0 0.625 0 0 0 0 0.625 0 0 0 0 1\n"
+       "scale_factor=0.30102999566398120",
+       0.5, 0.8},
+      // A camera_transform scaled by 0.5: the view is twice as large (half-height 2); the
+      // surface transform makes the sphere's radius 0.5: an outline of radius 1/4.
+      {"camera_transform=0.5 0 0 0 0 0.5 0 0 0 0 0.5 -0.5 0 0 0 1\n"
+       "surface_transform_matrix=2 0 0 0 0 2 0 0 0 0 2 0 0 0 0 1",
+       0.25, 0.25},
+  };
+  const int n = 200;
+  for (const Case& c : cases) {
+    const std::filesystem::path file = writeJsurf("algray_view_keys.jsurf", c.keys);
+    const SceneDesc desc = jsurfScene(file);
+    std::filesystem::remove(file);
+    const Image image = renderSmall(desc, n);
+    int covered = 0;
+    for (float id : image.id) covered += id > 0;
+    EXPECT_NEAR(covered / double(n * n), std::numbers::pi * c.a * c.b / 4, 0.004) << c.keys;
+  }
+  // Identity values, as jsurf writes them for an unchanged view, change nothing.
+  const std::string identity = "1.0 0.0 0.0 0.0 0.0 1.0 0.0 0.0 0.0 0.0 1.0 0.0 0.0 0.0 0.0 1.0";
+  const std::filesystem::path plain = writeJsurf("algray_view_plain.jsurf", "scale_factor=0.2");
+  const std::filesystem::path keyed =
+      writeJsurf("algray_view_identity.jsurf", "scale_factor=0.2\ntransform_matrix=" + identity +
+                                                   "\nsurface_transform_matrix=" + identity);
+  const Image a = renderSmall(jsurfScene(plain), 64), b = renderSmall(jsurfScene(keyed), 64);
+  EXPECT_TRUE(a.color == b.color);
+  std::filesystem::remove(plain);
+  std::filesystem::remove(keyed);
+}
+
 // Values SURFER never writes: each is an error at the line of its key (they aborted in
 // Embree, rendered inf/negative pixels with exit code 0, or failed later without a line).
 TEST(JsurfImport, BadValuesAreErrorsAtTheirLine) {
@@ -140,6 +192,16 @@ TEST(JsurfImport, BadValuesAreErrorsAtTheirLine) {
       {"light_position_0=0 0 1\nlight_intensity_0=-100", ":4: light_intensity_0"},
       {"light_position_0=0 0 1\nlight_color_0=1e308 1 1", ":4: light_color_0"},
       {"light_color_0=1e38 1 1\nlight_intensity_0=100", ":4: light_intensity_0"},
+      // jsurf's own view keys were ignored; a bad one was too.
+      {"transform_matrix=1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1", ":3: transform_matrix"},
+      {"transform_matrix=1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1", ":3: transform_matrix"},
+      {"surface_transform_matrix=1 0 0 0 0 0 0 0 0 0 1 0 0 0 0 1", ":3: surface_transform_matrix"},
+      {"surface_transform_matrix=1 2", ":3: surface_transform_matrix"},
+      // A camera_transform was reduced to its eye and two axes: its scale (the view's
+      // size), a shear, a non-uniform scale or a mirror were lost without a word.
+      {"camera_transform=1 0.5 0 0 0 1 0 0 0 0 1 -1 0 0 0 1", ":3: camera_transform"},
+      {"camera_transform=2 0 0 0 0 1 0 0 0 0 1 -1 0 0 0 1", ":3: camera_transform"},
+      {"camera_transform=-1 0 0 0 0 1 0 0 0 0 1 -1 0 0 0 1", ":3: camera_transform"},
   };
   for (const auto& [extra, expected] : cases) {
     const std::string what = jsurfError(extra);
