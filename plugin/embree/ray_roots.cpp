@@ -215,12 +215,16 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
   // and for a ray leaving a simple surface about its chord. So the origin can be singular
   // only where that radius is within 16 sqrt(dist R) / |d|: for float origins the tests
   // below then run on rays within ~2.5e-3 rad of a simple surface's tangent plane.
-  const double c2 = std::abs(g.degree >= 1 ? g.coeff[1] : 0.0);
-  const double cluster =
-      2.0 * std::max(std::sqrt(std::abs(originValue) / c2), std::abs(g.coeff[0]) / c2);
-  const double dLength = std::sqrt(glm::dot(ray.dir, ray.dir));
-  bool singular = m <= g.degree && cluster * dLength <= 16.0 * std::sqrt(dist * data.radius) &&
-                  gradMax <= 0x1p-8 * (data.hitSlopeNoise + data.hitPointNoise * dist);
+  // (The clip ball's bounds first: a product and a comparison.)
+  bool singular =
+      m <= g.degree && gradMax <= 0x1p-8 * (data.hitSlopeNoise + data.hitPointNoise * dist);
+  if (singular) {
+    const double c2 = std::abs(g.degree >= 1 ? g.coeff[1] : 0.0);
+    const double cluster =
+        2.0 * std::max(std::sqrt(std::abs(originValue) / c2), std::abs(g.coeff[0]) / c2);
+    const double dLength = std::sqrt(glm::dot(ray.dir, ray.dir));
+    singular = cluster * dLength <= 16.0 * std::sqrt(dist * data.radius);
+  }
   if (singular) {
     const double rho = 0x1p-4 * data.radius;
     const glm::dvec3 scale = data.absHorner.evaluate(absv(o) + rho).gradient;

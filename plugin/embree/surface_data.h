@@ -104,8 +104,9 @@ struct SurfaceData {
   // The quadric path clips rays to cells.front(): the one cell is smaller than the clip
   // region (an ellipsoid's own box, boundedQuadricBox; or a cell the build shrank).
   bool quadricCellClip = false;
-  QuadricBox quadricBox;    // the tight cell, when the one cell is an ellipsoid's box
-  bool packetSimd = false;  // usesQuadricPacket: packets take quadric_packet.cpp
+  QuadricBox quadricBox;        // the tight cell, when the one cell is an ellipsoid's box
+  bool packetSimd = false;      // usesQuadricPacket: packets take quadric_packet.cpp
+  double quadricMoveBound = 0;  // see restrictQuadricRay's second division
   // f, grad f and the bound at a point (self-root rule, polish), precompiled from
   // desc.polynomial.
   HornerForm horner;

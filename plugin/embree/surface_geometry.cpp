@@ -318,8 +318,15 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   normaliseScale(data->desc.polynomial);
   data->id = nextSurfaceId.fetch_add(1);
   data->horner = HornerForm(data->desc.polynomial);
-  if (data->desc.polynomial.degree() == 2 && data->desc.options.quadricPath)
+  if (data->desc.polynomial.degree() == 2 && data->desc.options.quadricPath) {
     data->quadric = QuadricForm::fromPolynomial(data->desc.polynomial);
+    // 4 (1 + 2^-20) max_j sum_i |A_ij|: restrictQuadricRay's first test of its second
+    // division.
+    const glm::dmat3& absA = data->quadric->absA;
+    double column = 0.0;
+    for (int j = 0; j < 3; ++j) column = std::max(column, absA[j][0] + absA[j][1] + absA[j][2]);
+    data->quadricMoveBound = 4.0 * (1.0 + 0x1p-20) * column;
+  }
 
   // ---- Transform ----------------------------------------------------------------------
   const glm::dmat4& m = data->desc.transform;
