@@ -118,9 +118,10 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
 // leaving a point of the surface outwards meets nothing, in either channel, for closest hit
 // and occlusion in either order; one leaving the sphere inwards meets its far side. The
 // origin lies off h = 0 by its rounding, so g's coefficients c_1..c_(m-1) at the origin are
-// small but not zero; the self-root rule divides them out too (deflateOriginRoot,
-// ray_roots.cpp). Dividing out c_0 alone left a root at 2 t* (3 t* for m = 3), t* the
-// origin's own crossing: 3552 of 20000 leaving rays hit the double plane there.
+// small but not zero; the walk starts past a window over the origin's whole cluster of
+// roots (multipleRootWindow, ray_roots.cpp). Dividing out c_0 alone left a root at 2 t*
+// (3 t* for m = 3), t* the origin's own crossing: 3552 of 20000 leaving rays hit the double
+// plane there.
 struct MultipleCase {
   const char* equation;
   bool sphere;  // the unit sphere's h, else the plane 0.6 x + 0.8 y - 0.1

@@ -141,7 +141,7 @@ struct SurfaceData {
   double hitPointNoise = 0;  // 2^10 times a bound of |hess f| (row sums) over the clip ball
   // B_k: |d/dv c_k| <= B_k |d|_inf^k |v|_inf over the clip ball, c_k = D^k f [d^k] / k! the
   // k-th Taylor coefficient along d (inf where it overflows): the self-root rule's first
-  // test of whether c_k is zero within the origin's uncertainty (deflateOriginRoot).
+  // test of whether c_k is zero within the origin's uncertainty (multipleRootWindow).
   std::array<double, kMaxDegree + 1> coefficientMove{};
 };
 

@@ -393,7 +393,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   const double pointNoise = 0x1p10 * (1.0 + 0x1p-20) * hessian;
   data->hitPointNoise = std::isfinite(pointNoise) ? pointNoise : 0.0;
   // How far c_k = D^k f(x) [d^k] / k! moves with x (the self-root rule's test for a root of
-  // multiplicity above 1 at the origin, deflateOriginRoot): d/dv c_k is the coefficient of
+  // multiplicity above 1 at the origin, multipleRootWindow): d/dv c_k is the coefficient of
   // s^k t in f(x + s d + t v), and for a monomial of degree j with |x_i| <= R that is at
   // most the one of (R + s |d|_inf + t |v|_inf)^j, j! / (k! (j - k - 1)!) R^(j - k - 1)
   // |d|_inf^k |v|_inf. R as above with 2^-7 R more: origins up to 2^-9 R outside the clip
