@@ -452,6 +452,88 @@ TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
   EXPECT_TRUE(parsePolynomial("(x+1)^2 - x^2 - 2*x - 1").isZero());
 }
 
+// Underflow: a product, quotient or power below 2^-1022 errs by an absolute amount that a
+// later scaling amplifies; the bound tracks it (tracked_value.h), so a value it swallows
+// is a ParseError, never a silent 0 or a coefficient of the wrong size (until session 43,
+// x*1e-170*1e-170*1e300 parsed to the zero polynomial). References: MPFR on the decimal
+// literals (320 bits; exp(-800) from mpfr_exp).
+namespace underflow {
+
+test::Mp dec(const char* s) {
+  test::Mp r;
+  mpfr_set_str(r.get(), s, 10, MPFR_RNDN);
+  return r;
+}
+
+// The parse of `text` (whose x-coefficient is exactly `exact`, a non-zero normal double)
+// is either refused as lost to underflow or within its own size of the exact value (no
+// swallowed value); `mustParse` for the ones whose error stays below the value.
+void expectHonest(const std::string& text, const test::Mp& exact, bool mustParse) {
+  const double e = exact.toDouble();
+  ASSERT_GE(std::abs(e), 0x1p-1022) << text;  // the premise: 0 would be wrong
+  try {
+    const double c = parsePolynomial(text).coeff(1, 0, 0);
+    const double err = abs(test::Mp(c) - exact).toDouble();
+    EXPECT_LT(err, 0.5 * std::abs(e)) << text << " -> " << c << ", exact " << e;
+  } catch (const ParseError& error) {
+    EXPECT_FALSE(mustParse) << text << ": " << error.what();
+    const std::string& m = error.message();  // (or an overflow of a random chain)
+    EXPECT_TRUE(m.find("lost to underflow") != std::string::npos ||
+                m.find("not finite") != std::string::npos)
+        << text << ": " << error.what();
+  }
+}
+
+}  // namespace underflow
+
+TEST(Parser, ValuesLostToUnderflowAreRejectedNotZeroed) {
+  using underflow::dec;
+  const Rejection cases[] = {
+      {"x*1e-170*1e-170*1e300", 16, "a coefficient is lost to underflow"},
+      {"1e-200^2*1e300*x", 9, "the value is lost to underflow"},
+      {"exp(-800)*1e300*x", 10, "the value is lost to underflow"},
+      {"2^-1075*2^100*x", 8, "the value is lost to underflow"},
+      {"x*1e-160*1e-160*1e300 - 9.9998886718268303e-21*x", 23, "lost to underflow"},
+      {"sqrt(1e-170*1e-170)*x", 1, "lost to underflow"},
+      {"(x + 1e-200)^6*1e300", 15, "lost to underflow"},
+      {"x/(1e-170*1e-170)", 3, "division by a value lost to underflow"},
+  };
+  for (const Rejection& r : cases) expectRejected(r);
+  // The same with their exact coefficients; the wrong digits of 1e-160*1e-160 (a
+  // subnormal, relative error 1.1e-5) are within the bound and kept.
+  test::Mp e800;
+  mpfr_exp(e800.get(), test::Mp(-800.0).get(), MPFR_RNDN);
+  underflow::expectHonest("x*1e-170*1e-170*1e300", dec("1e-40"), false);
+  underflow::expectHonest("1e-200^2*1e300*x", dec("1e-100"), false);
+  underflow::expectHonest("exp(-800)*1e300*x", e800 * dec("1e300"), false);
+  underflow::expectHonest("2^-1075*2^100*x", test::Mp(0x1p-975), false);
+  underflow::expectHonest("x*1e-160*1e-160*1e300", dec("1e-20"), true);
+  underflow::expectHonest("x*1e-323*1e300", dec("1e-23"), true);
+  underflow::expectHonest("x*1e-160*1e-160*1e300 - 9.9998886718268303e-21*x",
+                          dec("1e-20") - dec("9.9998886718268303e-21"), false);
+  // Products of random powers of ten through the subnormal range and back.
+  std::mt19937 rng(43);
+  std::uniform_int_distribution<int> exponent(-330, 150), count(2, 5);
+  for (int trial = 0; trial < 400; ++trial) {
+    std::string text = "x";
+    test::Mp exact(1.0);
+    int total = 0;
+    const int n = count(rng);
+    for (int i = 0; i < n; ++i) {
+      const int p = i + 1 < n ? exponent(rng) : std::clamp(-total - 20, -300, 300);
+      total += p;
+      text += (i % 2 ? "*3e" : "*1e") + std::to_string(p);
+      exact *= dec(((i % 2 ? "3e" : "1e") + std::to_string(p)).c_str());
+    }
+    if (std::abs(exact.toDouble()) < 0x1p-1022 || std::abs(exact.toDouble()) > 1e300) continue;
+    underflow::expectHonest(text, exact, false);
+  }
+  // At the floor of the format an underflow is the nearest double, as before.
+  EXPECT_TRUE(parsePolynomial("x*1e-170*1e-170").isZero());
+  EXPECT_TRUE(parsePolynomial("exp(-800)*x + 1e-200^2*y").isZero());
+  EXPECT_EQ(parsePolynomial("2^-1074*x").coeff(1, 0, 0), 0x1p-1074);
+}
+
 // With rejectUnusedParameters a parameter the equation never reads is a ParameterError
 // naming it; without, it is ignored (a format's fixed set, jsurf's a, b, c, d).
 TEST(Parser, RejectsUnusedParametersOnlyWhenAsked) {

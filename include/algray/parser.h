@@ -20,7 +20,11 @@
 // (x+0.1)^2 - x^2 - 0.2*x - 0.01 is the zero polynomial while (x+1e-8)^3 - x^3 keeps its
 // three small coefficients. A folded constant whose bound swallows a value that is not
 // rounding junk of a zero (tan at a pole within rounding, a power whose rounding error
-// exceeds its value) is a ParseError at the call or the '^', never a silent 0.
+// exceeds its value) is a ParseError at the call or the '^', never a silent 0. So is a
+// value lost to underflow: one rounded below 2^-1022 (absolutely, by up to 2^-1074) and
+// then scaled up beyond the smallest normal double until that error swallows it
+// (x*1e-170*1e-170*1e300, exact 1e-40 x, at its last '*'); the bound carries the absolute
+// term, so a value it does not swallow is kept (x*1e-160*1e-160*1e300 is 9.99988867e-21 x).
 #include "algray/polynomial.h"
 
 #include <map>

@@ -103,6 +103,7 @@ class Parser {
       "equation down)";
 
   void checkFinite(const TrackedValue& v, const Token& at) const {
+    checkUnderflow(v, at);
     if (v.isFinite()) return;
     // A finite value whose rounding-error bound overflowed (within ~1000x of the largest
     // double): without a bound junk cannot be told from a coefficient, sqrt(1.7e308)^2 -
@@ -112,6 +113,18 @@ class Parser {
     if (v.hasVariables)
       fail(at, "coefficient overflow: the expansion is not finite in double precision");
     fail(at, "the value is not finite (" + formatNumber(v.value) + ")");
+  }
+
+  // The underflow rule (tracked_value.h): a value that underflowed, then was scaled up
+  // beyond the smallest normal double, has lost its digits: refused where that happens.
+  void checkUnderflow(const TrackedValue& v, const Token& at) const {
+    const double loss = detail::underflowLoss(v);
+    if (loss == 0.0) return;
+    fail(at, std::string(v.hasVariables ? "a coefficient" : "the value") +
+                 " is lost to underflow: a product, quotient or literal below the smallest normal "
+                 "double (2.2e-308) was rounded, and here its error grows to " +
+                 (std::isfinite(loss) ? "up to " + formatNumber(loss) : std::string("no bound")) +
+                 ", beyond the value (scale the equation's constants)");
   }
 
   // A power of constants whose bound swallowed its non-zero value (tracked_value.h, fold
@@ -166,6 +179,10 @@ class Parser {
       } else {
         if (rhs.hasVariables)
           fail(operandStart, "division by an expression in x, y, z is not a polynomial");
+        if (rhs.underflow != 0.0 && 4.0 * rhs.underflow >= std::abs(rhs.value))
+          fail(operandStart,
+               "division by a value lost to underflow (below the smallest normal "
+               "double, scale the equation's constants)");
         if (rhs.value == 0.0)
           fail(operandStart,
                rhs.magnitude == 0.0
@@ -244,8 +261,14 @@ class Parser {
   TrackedValue parsePrimary() {
     const Token t = next();
     switch (t.kind) {
-      case TokenKind::Number:
-        return TrackedValue::constant(t.number);
+      case TokenKind::Number: {
+        if (!(std::abs(t.number) < 0x1p-1022)) return TrackedValue::constant(t.number);
+        // Below the normal range: whether the digits are non-zero (1e-400 rounds to 0 but
+        // is no exact 0).
+        const std::string_view digits = spelling(t).substr(0, spelling(t).find_first_of("eE"));
+        return TrackedValue::literal(t.number,
+                                     digits.find_first_of("123456789") != std::string_view::npos);
+      }
       case TokenKind::Name:
         return parseName(t);
       case TokenKind::LeftParen: {
@@ -342,6 +365,7 @@ class Parser {
         fail(t, std::string(name) + "(" + value + ") is not a finite real number");
       fail(t, "the value of " + std::string(name) + "(" + value + ") is not finite");
     }
+    checkUnderflow(result, t);
     if (fold == detail::Fold::undetermined) {
       // The fold rule (tracked_value.h): the value's bound is not rounding junk of a zero.
       const std::string call = std::string(name) + "(" + formatNumber(argument.value) + ")";

@@ -11,6 +11,92 @@ namespace algray::detail {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMinNormal = 0x1p-1022;
+// The absolute underflow error of one result: 2^-1075 for a correctly rounded operation,
+// 2^-1074 for libm (within one ulp); 2^-1075 is no double, so both use 2^-1074.
+constexpr double kFloor = 0x1p-1074;
+
+// The floor of one rounded result r of an operation whose exact result is non-zero.
+double floorOf(double r) { return std::abs(r) < kMinNormal ? kFloor : 0.0; }
+
+// The floor of p = fl(a b): none where the product is exact, so that x*1e-323 (a product by
+// 1) does not double the literal's own floor. Exactness is decided where it can be: the
+// smaller factor scaled by 2^600 makes the product normal, its rounding error exact (fma).
+double productFloor(double a, double b, double p) {
+  if (a == 0.0 || b == 0.0 || std::abs(p) >= kMinNormal) return 0.0;
+  if (std::abs(a) > std::abs(b)) std::swap(a, b);
+  const double scaled = std::ldexp(a, 600), q = scaled * b;
+  const bool exact = q != 0.0 && std::fma(scaled, b, -q) == 0.0 && std::ldexp(p, 600) == q;
+  return exact ? 0.0 : kFloor;
+}
+
+// Coefficientwise: the floor of every coefficient of `out` = `in` times s (or divided by s,
+// `divided`: a floor wherever the quotient is below 2^-1022).
+Polynomial floorsWhere(const Polynomial& in, const Polynomial& out, double s, bool divided) {
+  Polynomial r;
+  const auto c = in.coeffs(), o = out.coeffs();
+  for (int n = in.degree(); n >= 0; --n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      const double v = idx < static_cast<int>(o.size()) ? o[idx] : 0.0;
+      const double f = divided ? (c[idx] != 0.0 ? floorOf(v) : 0.0) : productFloor(c[idx], s, v);
+      if (f != 0.0) r.setCoeff(i, j, k, f);
+    });
+  return r;
+}
+
+// x y for x, y >= 0, rounded up where it underflows: a bound that underflowed to 0 would
+// claim an exact value (x*1e-330*3e-65*1e300 lost its x that way).
+double mulUp(double x, double y) {
+  const double p = x * y;
+  return p + productFloor(x, y, p);
+}
+
+double minAbsNonZero(const Polynomial& p) {
+  double m = kInf;
+  for (const double c : p.coeffs())
+    if (c != 0.0) m = std::min(m, std::abs(c));
+  return m;
+}
+
+// The floors of a * b (Polynomial's operator* rounds every product of non-zero
+// coefficients once): a floor for each inexact product below 2^-1022, at its monomial. The common
+// case, no product that small, costs one scan of each.
+Polynomial productFloors(const Polynomial& a, const Polynomial& b) {
+  if (a.isZero() || b.isZero() || minAbsNonZero(a) * minAbsNonZero(b) >= kMinNormal) return {};
+  std::vector<double> f(Polynomial::termCount(a.degree() + b.degree()), 0.0);
+  const auto ca = a.coeffs(), cb = b.coeffs();
+  for (int na = 0; na <= a.degree(); ++na)
+    forEachMonomialOfDegree(na, [&](int i, int j, int k, int ia) {
+      if (ca[ia] == 0.0) return;
+      for (int nb = 0; nb <= b.degree(); ++nb)
+        forEachMonomialOfDegree(nb, [&](int p, int q, int r, int ib) {
+          if (cb[ib] != 0.0)
+            f[Polynomial::index(i + p, j + q, k + r)] +=
+                productFloor(ca[ia], cb[ib], ca[ia] * cb[ib]);
+        });
+    });
+  Polynomial r;
+  for (int n = a.degree() + b.degree(); n >= 0; --n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      if (f[idx] != 0.0) r.setCoeff(i, j, k, f[idx]);
+    });
+  return r;
+}
+
+// p q for p, q >= 0 coefficientwise, rounded up where a product underflows (mulUp).
+Polynomial productUp(const Polynomial& p, const Polynomial& q) {
+  return p * q + productFloors(p, q);
+}
+
+// Ma Ab + Aa Mb + Aa Ab: how the underflow terms of the factors carry into a product.
+Polynomial carriedUnderflow(const Polynomial& ma, const Polynomial& aa, const Polynomial& mb,
+                            const Polynomial& ab) {
+  Polynomial r;
+  if (!ab.isZero()) r += productUp(ma, ab);
+  if (!aa.isZero()) r += productUp(aa, mb);
+  if (!aa.isZero() && !ab.isZero()) r += productUp(aa, ab);
+  return r;
+}
 
 // Saturating sum of rounding counts (absurd inputs cannot wrap around).
 std::int64_t addCounts(std::int64_t a, std::int64_t b) {
@@ -43,6 +129,8 @@ TrackedValue promoted(const TrackedValue& c) {
   p.hasVariables = true;
   p.poly = Polynomial(c.value);
   p.polyMagnitude = Polynomial(c.magnitude);
+  p.polyUnderflow = Polynomial(c.underflow);
+  p.underflow = 0.0;
   return p;
 }
 
@@ -56,6 +144,12 @@ TrackedValue TrackedValue::constant(double v, std::int64_t roundings) {
   t.value = v;
   t.magnitude = std::abs(v);
   t.roundings = roundings;
+  return t;
+}
+
+TrackedValue TrackedValue::literal(double v, bool nonZero) {
+  TrackedValue t = constant(v);
+  if (nonZero) t.underflow = floorOf(v);
   return t;
 }
 
@@ -76,7 +170,9 @@ void TrackedValue::materialize() {
   if (value != 0.0) poly.setCoeff(exponents[0], exponents[1], exponents[2], value);
   if (magnitude != 0.0 && value != 0.0)
     polyMagnitude.setCoeff(exponents[0], exponents[1], exponents[2], magnitude);
-  value = magnitude = 0.0;
+  polyUnderflow = Polynomial();
+  if (underflow != 0.0) polyUnderflow.setCoeff(exponents[0], exponents[1], exponents[2], underflow);
+  value = magnitude = underflow = 0.0;
 }
 
 Polynomial TrackedValue::toPolynomial() const {
@@ -88,8 +184,9 @@ Polynomial TrackedValue::toPolynomial() const {
 }
 
 bool TrackedValue::isFinite() const {
-  if (!hasVariables || monomial) return std::isfinite(value) && std::isfinite(magnitude);
-  return poly.isFinite() && polyMagnitude.isFinite();
+  if (!hasVariables || monomial)
+    return std::isfinite(value) && std::isfinite(magnitude) && std::isfinite(underflow);
+  return poly.isFinite() && polyMagnitude.isFinite() && polyUnderflow.isFinite();
 }
 
 bool TrackedValue::valuesFinite() const {
@@ -104,11 +201,13 @@ TrackedValue TrackedValue::asConstant() const {
     const bool constantTerm = exponents[0] + exponents[1] + exponents[2] == 0;
     c.value = constantTerm ? value : 0.0;
     c.magnitude = constantTerm ? magnitude : 0.0;
+    c.underflow = constantTerm ? underflow : 0.0;
     c.roundings = roundings;
     return c;
   }
   c.value = poly.coeff(0, 0, 0);
   c.magnitude = polyMagnitude.coeff(0, 0, 0);
+  c.underflow = polyUnderflow.coeff(0, 0, 0);
   c.roundings = roundings;
   return c;
 }
@@ -133,6 +232,7 @@ void accumulate(TrackedValue& acc, const TrackedValue& b, bool subtract) {
   if (!acc.hasVariables && !b.hasVariables) {
     acc.value = subtract ? acc.value - b.value : acc.value + b.value;
     acc.magnitude += b.magnitude;
+    acc.underflow += b.underflow;
     return;
   }
   if (!acc.hasVariables) acc = promoted(acc);
@@ -144,17 +244,53 @@ void accumulate(TrackedValue& acc, const TrackedValue& b, bool subtract) {
       acc.poly.setCoeff(i, j, k, acc.poly.coeff(i, j, k) + (subtract ? -b.value : b.value));
     if (b.value != 0.0)
       acc.polyMagnitude.setCoeff(i, j, k, acc.polyMagnitude.coeff(i, j, k) + b.magnitude);
+    if (b.underflow != 0.0)
+      acc.polyUnderflow.setCoeff(i, j, k, acc.polyUnderflow.coeff(i, j, k) + b.underflow);
   } else if (b.hasVariables) {
     if (subtract)
       acc.poly -= b.poly;
     else
       acc.poly += b.poly;
     acc.polyMagnitude += b.polyMagnitude;
+    if (!b.polyUnderflow.isZero()) acc.polyUnderflow += b.polyUnderflow;
   } else {
     acc.poly += Polynomial(subtract ? -b.value : b.value);
     acc.polyMagnitude += Polynomial(b.magnitude);
+    if (b.underflow != 0.0) acc.polyUnderflow += Polynomial(b.underflow);
   }
 }
+
+namespace {
+
+// A of the product of two constants or monomials whose rounded product is r.
+double scalarProductUnderflow(const TrackedValue& a, const TrackedValue& b, double r) {
+  if (a.underflow == 0.0 && b.underflow == 0.0) [[likely]]
+    return productFloor(a.value, b.value, r);
+  const double carried = mulUp(a.magnitude, b.underflow) + mulUp(a.underflow, b.magnitude) +
+                         mulUp(a.underflow, b.underflow);
+  return carried + productFloor(a.value, b.value, r);
+}
+
+// acc = base^n (acc holds base on entry) for the value, magnitude and underflow term of a
+// constant or monomial, by n - 1 products; the caller counts the roundings. Without an
+// underflow term and with base and result normal no step underflowed (|base^s| is
+// monotone in s), so the products alone do (tracking A in every step doubled the time
+// of parsing dense expanded text).
+void scalarPower(TrackedValue& acc, const TrackedValue& base, int n) {
+  for (int s = 1; s < n; ++s) acc.value *= base.value, acc.magnitude *= base.magnitude;
+  if (base.underflow == 0.0 && std::abs(base.value) >= kMinNormal &&
+      std::abs(acc.value) >= kMinNormal) [[likely]]
+    return;
+  acc.value = base.value, acc.magnitude = base.magnitude, acc.underflow = base.underflow;
+  for (int s = 1; s < n; ++s) {
+    const double product = acc.value * base.value;
+    acc.underflow = scalarProductUnderflow(acc, base, product);
+    acc.value = product;
+    acc.magnitude *= base.magnitude;
+  }
+}
+
+}  // namespace
 
 TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
   TrackedValue r;
@@ -167,6 +303,7 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
           (a.monomial ? a.exponents[axis] : 0) + (b.monomial ? b.exponents[axis] : 0);
     r.value = a.value * b.value;
     r.magnitude = a.magnitude * b.magnitude;
+    r.underflow = scalarProductUnderflow(a, b, r.value);
     r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
     return r;
   }
@@ -179,6 +316,7 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
   if (!a.hasVariables && !b.hasVariables) {
     r.value = a.value * b.value;
     r.magnitude = a.magnitude * b.magnitude;
+    r.underflow = scalarProductUnderflow(a, b, r.value);
     r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
   } else if (!a.hasVariables || !b.hasVariables) {
     const TrackedValue& c = a.hasVariables ? b : a;
@@ -186,12 +324,18 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
     r.hasVariables = true;
     r.poly = p.poly * c.value;
     r.polyMagnitude = p.polyMagnitude * c.magnitude;
+    r.polyUnderflow = carriedUnderflow(p.polyMagnitude, p.polyUnderflow, Polynomial(c.magnitude),
+                                       Polynomial(c.underflow));
+    if (c.value != 0.0) r.polyUnderflow += floorsWhere(p.poly, r.poly, c.value, false);
     r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
   } else {
     r.hasVariables = true;
     const int m = std::min(a.poly.nonZeroCount(), b.poly.nonZeroCount());
     r.poly = a.poly * b.poly;
     r.polyMagnitude = a.polyMagnitude * b.polyMagnitude;
+    r.polyUnderflow =
+        carriedUnderflow(a.polyMagnitude, a.polyUnderflow, b.polyMagnitude, b.polyUnderflow);
+    r.polyUnderflow += productFloors(a.poly, b.poly);
     r.roundings = addCounts(addCounts(a.roundings, b.roundings), std::max(m, 1));
   }
   prune(r);
@@ -204,12 +348,17 @@ TrackedValue divide(const TrackedValue& a, const TrackedValue& d) {
   // gamma_kd Md gives |dq| <= |da|/|d| + |a| gamma_kd rho_d / |d| + u|q|.
   TrackedValue r;
   const double scale = conditionOf(d) / std::abs(d.value);
+  // A 4 Ad < |d| and gamma_kd Md < |d| / 2 (the pruning rule) keep |exact d| > |d| / 4.
+  const double carry = 4.0 / std::abs(d.value);
+  const double carryMagnitude = mulUp(carry, mulUp(d.underflow, 1.0 / std::abs(d.value)));
   r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
   if (!a.hasVariables || a.monomial) {
     r = a;
     r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
     r.value = a.value / d.value;
     r.magnitude = a.magnitude * scale;
+    r.underflow = mulUp(carry, a.underflow) + mulUp(carryMagnitude, a.magnitude) +
+                  (a.value != 0.0 ? floorOf(r.value) : 0.0);
   } else {
     r.hasVariables = true;
     const auto c = a.poly.coeffs();
@@ -220,6 +369,10 @@ TrackedValue divide(const TrackedValue& a, const TrackedValue& d) {
         if (q[idx] != 0.0) r.poly.setCoeff(i, j, k, q[idx]);
       });
     r.polyMagnitude = a.polyMagnitude * scale;
+    if (!a.polyUnderflow.isZero()) r.polyUnderflow += productUp(a.polyUnderflow, Polynomial(carry));
+    if (d.underflow != 0.0)
+      r.polyUnderflow += productUp(a.polyMagnitude, Polynomial(carryMagnitude));
+    r.polyUnderflow += floorsWhere(a.poly, r.poly, d.value, true);
   }
   prune(r);
   return r;
@@ -244,7 +397,7 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
     // loop would do, without expanding anything.
     TrackedValue r = a;
     for (int axis = 0; axis < 3; ++axis) r.exponents[axis] = n * a.exponents[axis];
-    for (int s = 1; s < n; ++s) r.value *= a.value, r.magnitude *= a.magnitude;
+    scalarPower(r, a, n);
     r.roundings = addCounts(static_cast<std::int64_t>(n) * a.roundings, n - 1);
     return r;
   }
@@ -261,13 +414,19 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
         magnitude = a.polyMagnitude.coeffs()[idx];
       }
     });
-    if (coefficient != 0.0) {
+    const double underflow = a.polyUnderflow.coeff(e[0], e[1], e[2]);
+    // (Not when another coefficient carries an underflow term: it is no zero.)
+    if (coefficient != 0.0 && a.polyUnderflow.nonZeroCount() == (underflow != 0.0)) {
       TrackedValue r;
       r.hasVariables = true;
-      double c = coefficient, m = magnitude;
-      for (int s = 1; s < n; ++s) c *= coefficient, m *= magnitude;
-      r.poly.setCoeff(n * e[0], n * e[1], n * e[2], c);
-      r.polyMagnitude.setCoeff(n * e[0], n * e[1], n * e[2], m);
+      TrackedValue base = TrackedValue::constant(coefficient);
+      base.magnitude = magnitude;
+      base.underflow = underflow;
+      TrackedValue c = base;
+      scalarPower(c, base, n);
+      r.poly.setCoeff(n * e[0], n * e[1], n * e[2], c.value);
+      r.polyMagnitude.setCoeff(n * e[0], n * e[1], n * e[2], c.magnitude);
+      r.polyUnderflow.setCoeff(n * e[0], n * e[1], n * e[2], c.underflow);
       r.roundings = addCounts(static_cast<std::int64_t>(n) * a.roundings, n - 1);
       return r;
     }
@@ -276,11 +435,25 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
   // products: k grows by kBase + nnz(base) per step (the product rule above).
   const std::int64_t step = addCounts(a.roundings, std::max(a.poly.nonZeroCount(), 1));
   TrackedValue r = a;
+  // The underflow terms by the product rule, step by step, once one appears (they need
+  // the magnitude of every step; without them the magnitude is one pow at the end).
+  bool underflows = !a.polyUnderflow.isZero();
+  Polynomial magnitude = a.polyMagnitude;  // of r while `underflows`
   for (int i = 1; i < n; ++i) {
+    Polynomial floors = productFloors(r.poly, a.poly);
+    if (!underflows && !floors.isZero()) {
+      underflows = true;
+      magnitude = a.polyMagnitude.pow(i);
+    }
+    if (underflows) {
+      r.polyUnderflow =
+          carriedUnderflow(magnitude, r.polyUnderflow, a.polyMagnitude, a.polyUnderflow) + floors;
+      magnitude = magnitude * a.polyMagnitude;
+    }
     r.poly = r.poly * a.poly;
     r.roundings = addCounts(r.roundings, step);
   }
-  r.polyMagnitude = a.polyMagnitude.pow(n);
+  r.polyMagnitude = underflows ? magnitude : a.polyMagnitude.pow(n);
   prune(r);
   return r;
 }
@@ -298,12 +471,26 @@ Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& r
     else
       r.magnitude = std::pow(c.magnitude, e.value) * std::pow(gammaOf(c.roundings), e.value - 1.0);
     if (!std::isfinite(r.magnitude)) r.magnitude = std::abs(r.value);
+    // A base lost to underflow is at most gamma_kc Mc + Ac: so is its power (e > 0).
+    if (c.underflow != 0.0 && e.value != 0.0)
+      r.underflow = std::pow(gammaOf(c.roundings) * c.magnitude + c.underflow, e.value);
     return Fold::ok;
   }
   // d(c^e)/(c^e) = e dc/c + ln|c| de: relative error |e| gamma_kc rho_c + |ln c| gamma_ke Me.
   const double logc = std::abs(std::log(std::abs(c.value)));
   r.magnitude = std::abs(r.value) *
                 (std::max(1.0, std::abs(e.value)) * conditionOf(c) + logc * e.magnitude + 1.0);
+  // Underflow terms: a base within a relative rho = Ac/|c| moves c^e by at most
+  // (1 - rho)^-|e| - 1 relatively (both directions); beyond rho = 1/2 the base may be near
+  // 0 and |c'^e - c^e| <= 2 (|c| + Ac)^e (e > 0) or is unbounded (e < 0). The exponent's
+  // Ae moves it by |c^e ln c| Ae.
+  const double rho = c.underflow / std::abs(c.value), power = std::abs(r.value);
+  double baseShift = 0.0;
+  if (rho > 0.0 && rho < 0.5)
+    baseShift = mulUp(power, std::expm1(-std::abs(e.value) * std::log1p(-rho)));
+  else if (rho > 0.0 && e.value != 0.0)
+    baseShift = e.value > 0.0 ? 2.0 * std::pow(std::abs(c.value) + c.underflow, e.value) : kInf;
+  r.underflow = baseShift + mulUp(mulUp(power, logc), e.underflow) + floorOf(r.value);
   // A power of a non-zero base has no zeros: a value within its bound has lost every digit.
   return pruneFold(r, /*zeroLike=*/false, 0.0);
 }
@@ -325,6 +512,7 @@ Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
       // most sqrt(gamma_k Mc) = gamma_k * sqrt(Mc / gamma_k).
       const double g = gammaOf(c.roundings);
       r.magnitude = g > 0.0 ? std::sqrt(mx / g) : 0.0;
+      r.underflow = std::sqrt(c.underflow);  // sqrt(a + b) <= sqrt(a) + sqrt(b)
       return Fold::ok;
     }
     slope = 0.5 / r.value;
@@ -346,12 +534,21 @@ Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
   } else if (name == "abs") {
     r.value = std::abs(x);
     r.magnitude = mx;
+    r.underflow = c.underflow;
     r.roundings = c.roundings;
     return Fold::ok;
   } else {
     return Fold::unknownFunction;
   }
   r.magnitude = std::abs(r.value) + slope * mx;
+  // The argument's underflow term to first order, except where the slope blows up within
+  // it: sqrt moves by at most min(sqrt(Ac), Ac / sqrt(x)), log by -log1p(-Ac/|x|).
+  double shift = mulUp(slope, c.underflow);
+  if (c.underflow != 0.0 && name == "sqrt")
+    shift = std::min(std::sqrt(c.underflow), c.underflow / r.value);
+  else if (c.underflow != 0.0 && (name == "log" || name == "ln"))
+    shift = c.underflow < std::abs(x) ? -std::log1p(-c.underflow / std::abs(x)) : kInf;
+  r.underflow = shift + floorOf(r.value);
   // sqrt's only zero is at 0 (handled above; elsewhere it is pruned like any function whose
   // argument is tiny but real); exp has none.
   const bool hasUnitSlopeZeros = name != "exp";
@@ -394,6 +591,26 @@ void prune(TrackedValue& v) {
     std::fill(cut.begin() + kept, cut.end(), kInf);
     v.polyMagnitude.pruneBelow(cut);
   }
+}
+
+double underflowLoss(const TrackedValue& v) {
+  if (!v.hasVariables || v.monomial) {
+    if (!(v.underflow > kMinNormal)) return 0.0;
+  } else if (v.polyUnderflow.isZero()) {
+    return 0.0;
+  }
+  const double g2 = 2.0 * gammaOf(v.roundings);
+  auto lost = [&](double value, double magnitude, double underflow) {
+    return underflow > kMinNormal && underflow > g2 * magnitude && std::abs(value) <= underflow;
+  };
+  if (!v.hasVariables || v.monomial)
+    return lost(v.value, v.magnitude, v.underflow) ? v.underflow : 0.0;
+  double loss = 0.0;
+  const auto c = v.poly.coeffs(), m = v.polyMagnitude.coeffs(), a = v.polyUnderflow.coeffs();
+  for (size_t i = 0; i < a.size(); ++i)
+    if (lost(i < c.size() ? c[i] : 0.0, i < m.size() ? m[i] : 0.0, a[i]))
+      loss = std::max(loss, a[i]);
+  return loss;
 }
 
 }  // namespace algray::detail

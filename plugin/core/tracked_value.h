@@ -2,11 +2,24 @@
 // A value of the equation language with a running rounding-error bound, so that the
 // parser can tell rounding junk from real coefficients (the pruning rule below).
 //
-// Every value V carries, next to its computed coefficients v_i, a magnitude M_i >= |v_i|
-// and a count k of rounding steps such that the exact coefficient (the one the same
-// expression has in real arithmetic on the same literals) satisfies
+// Every value V carries, next to its computed coefficients v_i, a magnitude M_i >= |v_i|,
+// a count k of rounding steps and an underflow term A_i >= 0 such that the exact
+// coefficient (the one the same expression has in real arithmetic on the same literals)
+// satisfies
 //
-//     |v_i - exact_i| <= gamma_k * M_i,        gamma_k = k u / (1 - k u).
+//     |v_i - exact_i| <= gamma_k * M_i + A_i,        gamma_k = k u / (1 - k u).
+//
+// A_i is the absolute part of the model fl(a op b) = (a op b)(1 + d) + h of Higham
+// Sec. 2.1: a product, quotient or literal whose result is below 2^-1022 in magnitude
+// (or a non-zero exact result rounded to 0) errs by up to 2^-1075 beyond its relative
+// error (2^-1074 for libm's pow, exp, ...; the code adds 2^-1074, 2^-1075 is no double;
+// sums have no such term: a subnormal sum is exact). A is carried through later operations like the relative terms (first order):
+//   a * b    A = Ma Ab + Aa Mb + Aa Ab (convolutions for polynomials) + the floors
+//   a / d    A = 4 (Aa + Ma Ad / |d|) / |d| + the floors (the parser requires 4 Ad < |d|)
+//   a +- b   A = Aa + Ab
+//   f(c)     A = |f'(c)| Ac (sqrt, log: their exact increments) + the floor; c^e likewise
+// Without it a coefficient lost to underflow and scaled back up (x*1e-170*1e-170*1e300)
+// looked exact: the parser refuses a value it swallows (underflowLoss below).
 //
 // M is the "absolute" expansion of Higham, "Accuracy and Stability of Numerical
 // Algorithms", 2nd ed., Sec. 3.1-3.3: the same expression evaluated with |.| of every
@@ -52,8 +65,13 @@ struct TrackedValue {
   Polynomial poly;  // when hasVariables and !monomial
   Polynomial polyMagnitude;
   std::int64_t roundings = 0;
+  // The underflow term A above: of value (a constant or monomial) or per coefficient.
+  double underflow = 0.0;
+  Polynomial polyUnderflow;
 
   static TrackedValue constant(double v, std::int64_t roundings = 1);
+  // A decimal literal rounded to v; `nonZero` when its digits are not all 0 (1e-400 is).
+  static TrackedValue literal(double v, bool nonZero);
   static TrackedValue variable(int axis);
 
   int degree() const {
@@ -113,7 +131,16 @@ Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& r
 Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& result);
 bool isFunctionName(std::string_view name);
 
-// The pruning rule above, in place.
+// The pruning rule above, in place. It leaves A alone: a coefficient pruned to 0 keeps
+// its underflow term (a lost value is not junk of a zero).
 void prune(TrackedValue& v);
+
+// Underflow rule: the largest A_i of a coefficient lost to underflow, 0 if there is none.
+// A coefficient is lost when A swallows it (|v_i| <= A_i) beyond the pruning rule's reach
+// (A_i > 2 gamma_k M_i) and beyond the floor of the double format (A_i > 2^-1022: an
+// underflow to 0 or a subnormal of a value that stays that small is the nearest double,
+// x*1e-170*1e-170 is 0). The parser reports it where it happens: x*1e-170*1e-170*1e300
+// at the last '*', whose exact coefficient 1e-40 would have been a silent 0.
+double underflowLoss(const TrackedValue& v);
 
 }  // namespace algray::detail
