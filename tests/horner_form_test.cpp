@@ -570,6 +570,64 @@ TEST(HornerForm, BoundsHoldUnderFlushToZero) {
 #endif
 }
 
+// The compensated value's bound where the scheme's own steps leave the normal range: the
+// error-free transformations are exact only above it, and under FTZ a partial below 2^-1022
+// becomes 0 (x y^2 at (1e200, 1e-160, 0): 0 for 1e-120 with a bound of 2.9e-121, the
+// audit's case, session 43). Random polynomials with coefficients from 1e-300 to 1e300 at
+// points from 1e-160 to 1e200 per axis, subnormal coefficients and coordinates in some,
+// gradual and FTZ/DAZ, against MPFR (where the value is not NaN: beyond its range).
+TEST(HornerForm, CompensatedBoundHoldsWhereItsStepsUnderflow) {
+#if defined(__SSE__)
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto signedPow10 = [&](double lo, double hi) { return test::signedPow10(rng, lo, hi); };
+  int bad = 0, finite = 0;
+  std::string first;
+  for (int trial = 0; trial < 1500; ++trial) {
+    const int m = 1 + trial % 6;
+    Polynomial f;
+    glm::dvec3 p(1e200, 1e-160, 0.0);
+    if (trial == 0) {
+      f.setCoeff(1, 2, 0, 1.0);
+    } else {
+      const double scale = -300.0 + 600.0 * u(rng);
+      for (int n = 0; n <= m; ++n)
+        forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+          if (u(rng) < 0.5) f.setCoeff(i, j, k, signedPow10(scale - 5.0, scale));
+        });
+      if (trial % 5 == 4) f.setCoeff(0, 1, 0, signedPow10(-323.0, -308.5));
+      for (int a = 0; a < 3; ++a) {
+        const double e = -160.0 + 360.0 * u(rng);
+        p[a] = u(rng) < 0.15 ? 0.0 : signedPow10(e - 3.0, std::min(e, 300.0 / m));
+      }
+      if (trial % 7 == 6) p[trial % 3] = signedPow10(-322.0, -308.5);
+    }
+    const HornerForm horner(f);
+    const Reference r = reference(f, p);
+    for (const bool flush : {false, true}) {
+      const unsigned saved = _mm_getcsr();
+      if (flush) _mm_setcsr(saved | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
+      const Polynomial::Evaluation e = horner.evaluate(p);
+      const double v = horner.valueCompensated(p);
+      const double bound = horner.compensatedBound(v, e.magnitude, p);
+      _mm_setcsr(saved);
+      if (std::isnan(v)) continue;
+      ++finite;
+      if (mpfr_cmp_d(abs(Mp(v) - r.value).get(), bound) <= 0) continue;
+      if (bad++ == 0)
+        first = f.toString() + (flush ? " FTZ/DAZ" : "") + " at (" + std::to_string(p.x) + ", " +
+                std::to_string(p.y) + ", " + std::to_string(p.z) + "): " + std::to_string(v) +
+                ", bound " + std::to_string(bound) + ", exact " +
+                std::to_string(r.value.toDouble());
+    }
+  }
+  EXPECT_GT(finite, 1500);
+  EXPECT_EQ(bad, 0) << first;
+#else
+  GTEST_SKIP() << "no SSE control register";
+#endif
+}
+
 // The even form's range ends and their neighbours (adversarial campaign, session 18): on
 // every axis a coordinate from 2^-400 and 2^401 (the reduced path takes 2^-400 <= |x| <
 // 2^401 on an even axis), their neighbouring doubles, the ends of the normal range, +-0,

@@ -8,8 +8,13 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <string>
 
 #include "support/mp.h"
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 namespace algray {
 namespace {
@@ -157,6 +162,57 @@ TEST(Polynomial, EvaluationErrorBoundCoversUnderflow) {
         const Mp err = abs(Mp(e.value) - mpEvaluate(f, p));
         ASSERT_LE(mpfr_cmp_d(err.get(), e.valueError), 0) << f.toString() << " at |p| ~ " << radius;
       }
+}
+
+// Under denormals-are-zero (Embree's and TBB's worker threads) a subnormal coefficient
+// reads as 0: its whole term is lost, which the bound must cover; 1e-310 x^3 at x = 1e50
+// (1e-160) came with value and bound 0 (the audit's case, session 43). Random polynomials
+// with subnormal coefficients at points up to 1e60, with gradual underflow and FTZ/DAZ,
+// against MPFR.
+TEST(Polynomial, EvaluationErrorBoundCoversSubnormalCoefficientsUnderDaz) {
+#if defined(__SSE__)
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto pow10 = [&](double lo, double hi) {
+    return (u(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, lo + (hi - lo) * u(rng));
+  };
+  int bad = 0;
+  std::string first;
+  for (int trial = 0; trial < 600; ++trial) {
+    const int m = 1 + trial % 6;
+    Polynomial f;
+    glm::dvec3 p(1e50, 0.0, 0.0);
+    if (trial == 0) {
+      f.setCoeff(3, 0, 0, 1e-310);
+    } else {
+      for (int n = 0; n <= m; ++n)
+        forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+          const double r = u(rng);
+          if (r < 0.3)
+            f.setCoeff(i, j, k, pow10(-323.0, -308.5));
+          else if (r < 0.6)
+            f.setCoeff(i, j, k, pow10(-3.0, 3.0));
+        });
+      for (int a = 0; a < 3; ++a) p[a] = u(rng) < 0.2 ? 0.0 : pow10(-5.0, 60.0 / m);
+    }
+    const Mp exact = mpEvaluate(f, p);
+    for (const bool flush : {false, true}) {
+      const unsigned saved = _mm_getcsr();
+      if (flush) _mm_setcsr(saved | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
+      const Polynomial::Evaluation e = f.evaluateWithBound(p);
+      _mm_setcsr(saved);
+      if (mpfr_cmp_d(abs(Mp(e.value) - exact).get(), e.valueError) <= 0) continue;
+      if (bad++ == 0)
+        first = f.toString() + (flush ? " FTZ/DAZ" : "") + " at (" + std::to_string(p.x) + ", " +
+                std::to_string(p.y) + ", " + std::to_string(p.z) + "): value " +
+                std::to_string(e.value) + " bound " + std::to_string(e.valueError) + " exact " +
+                std::to_string(exact.toDouble());
+    }
+  }
+  EXPECT_EQ(bad, 0) << first;
+#else
+  GTEST_SKIP() << "no SSE control register";
+#endif
 }
 
 TEST(Polynomial, ProductAndPowerEvaluateToProducts) {

@@ -404,6 +404,59 @@ TEST(Taylor, BoundsHoldWhereProductsUnderflow) {
   EXPECT_EQ(checked, 800);
 }
 
+// A subnormal top coefficient (f built in normal mode, as a host's main thread does): DAZ
+// reads it as 0, so the box's degree stops below f's, and the box path wrote 0 with a bound
+// of 0 above it; 1e-310 x^3 + x^2 + y^2 + z^2 - 1 from (0.5, 0.25, 0) along (1e50, 0, 0)
+// has g_3 = 1e-160 (the audit's case, session 43). Every slot gets its underflow floor.
+// Random lower terms, origins and directions over wide ranges, against MPFR, both modes.
+TEST(Taylor, BoundsHoldForASubnormalTopCoefficientUnderFlushToZero) {
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto signedPow10 = [&](double lo, double hi) { return test::signedPow10(rng, lo, hi); };
+  int bad = 0, checked = 0;
+  std::string first;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int m = 2 + trial % 5;
+    Polynomial f;
+    glm::dvec3 o(0.5, 0.25, 0.0), d(trial % 2 ? 1e50 : 1.0, 0.0, 0.0);
+    if (trial < 2) {  // the audit's case
+      f.setCoeff(3, 0, 0, 1e-310);
+      f.setCoeff(2, 0, 0, 1.0);
+      f.setCoeff(0, 2, 0, 1.0);
+      f.setCoeff(0, 0, 2, 1.0);
+      f.setCoeff(0, 0, 0, -1.0);
+    } else {
+      for (int n = 0; n < m; ++n)
+        forEachMonomialOfDegree(n, [&](int i, int j, int k, int) {
+          if (u(rng) < 0.6) f.setCoeff(i, j, k, signedPow10(-3.0, 3.0));
+        });
+      // One to three subnormal coefficients of the top block.
+      forEachMonomialOfDegree(m, [&](int i, int j, int k, int) {
+        if (u(rng) < 0.4 || (i == m)) f.setCoeff(i, j, k, signedPow10(-323.0, -308.5));
+      });
+      for (int a = 0; a < 3; ++a) {
+        o[a] = u(rng) < 0.2 ? 0.0 : signedPow10(-2.0, 2.0);
+        d[a] = u(rng) < 0.2 ? 0.0 : signedPow10(-5.0, 60.0 / m);
+      }
+      if (d == glm::dvec3(0.0)) d.x = 1.0;
+    }
+    const HornerForm box(f);  // in normal mode
+    for (const bool flush : {false, true}) {
+      RayPolynomial g;
+      {
+        std::optional<FlushToZero> mode;
+        if (flush) mode.emplace();
+        g = restrictToRay(box, o, d);
+      }
+      const std::string what = "trial " + std::to_string(trial) + (flush ? " FTZ/DAZ" : " gradual");
+      bad += boundViolations(g, f, o, d, first, what);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 600);
+  EXPECT_EQ(bad, 0) << first;
+}
+
 // RayPolynomial::evaluateWithBound where Horner's products underflow: coefficients from
 // 1e-300 to 1e-100 with exact (zero) error bounds and s from 1e-150 to 1e150, gradual and
 // FTZ/DAZ, against the MPFR value of the same coefficients: 1e-300 + 1e-300 s^2 at

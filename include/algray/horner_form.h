@@ -49,20 +49,22 @@ class HornerForm {
   // bound of that sum.
   Polynomial::Evaluation evaluate(const glm::dvec3& p) const;
   // f(p) by the compensated nested Horner scheme (error-free transformations, plain double
-  // arithmetic, the same on every host): |result - f(p)| <= 2u |f(p)| + gamma(2m+6)^2 E(p),
-  // E = sum |c| |x|^i |y|^j |z|^k (Graillat, Langlois and Louvet, "Compensated Horner
-  // Scheme", 2005, Thm. 3.1, with the nesting's extra steps; tests/horner_form_test.cpp), so
+  // arithmetic, the same on every host): |result - f(p)| <= 2u |f(p)| + gamma(2m+6)^2 E(p)
+  // + U(p), E = sum |c| |x|^i |y|^j |z|^k (Graillat, Langlois and Louvet, "Compensated
+  // Horner Scheme", 2005, Thm. 3.1, with the nesting's extra steps;
+  // tests/horner_form_test.cpp) and U the underflow term of compensatedBound, so
   // near a root it is exact to the square of evaluate()'s relative bound. About 27 flops
   // per stored coefficient against evaluate()'s 6, value only: for where evaluate()'s bound
   // is what limits a root (the adapter's polish and its settling of a first root).
   // Non-finite or beyond 2^995 in any partial value (the splitting constant's range): NaN.
   double valueCompensated(const glm::dvec3& p) const;
-  // That bound for a compensated value v at a point where evaluate() gave the magnitude E
-  // (an upper bound of it on even axes, which only widens the bound).
-  double compensatedBound(double v, double magnitude) const {
-    const double g = gamma(2 * degree_ + 6);
-    return 2.0 * kUnitRoundoff * std::abs(v) + g * g * magnitude;
-  }
+  // That bound for a compensated value v at p where evaluate() gave the magnitude E (an
+  // upper bound of it on even axes, which only widens the bound), with gradual underflow
+  // and with flush-to-zero / denormals-are-zero alike: U(p) counts 2^-1022 for every
+  // operation of the scheme (the theorem assumes none underflows; x y^2 at (1e200,
+  // 1e-160, 0) under FTZ gave 0 for 1e-120 with a bound of 2.9e-121), derivation at
+  // valueCompensated in horner_form.cpp.
+  double compensatedBound(double v, double magnitude, const glm::dvec3& p) const;
   // The axes a in which every monomial's exponent is even and some is not 0 (bit a set):
   // f(x, y, z) = F(x^2, y, z) etc., which evaluate() runs on a box of F (horner_form.cpp).
   unsigned evenAxes() const { return evenAxes_; }
@@ -154,6 +156,7 @@ class HornerForm {
   }
   Polynomial::Evaluation evaluateReduced(const glm::dvec3& p) const;
   int degree_ = -1;
+  int axisDegree_[3] = {0, 0, 0};  // f's degree in x, y, z (compensatedBound)
   double absCoeffSum_ = 0;
   double errorFactor_ = 0;  // valueError = errorFactor_ * magnitude
 };

@@ -95,7 +95,9 @@ class Polynomial {
     glm::dvec3 gradient{0.0};
     // |computed value - exact value| <= valueError, by a running error analysis
     // (Higham, Sec. 3.1 and 5.1): gamma_{n+2} sum|terms| for the monomial products plus
-    // u sum|partial sums| for the summation.
+    // u sum|partial sums| for the summation; evaluateWithBound adds the underflow floors
+    // that keep it with gradual underflow and with flush-to-zero / denormals-are-zero alike
+    // (subnormal coefficients and coordinates included; polynomial.cpp).
     double valueError = 0;
     // sum over terms of |c x^i y^j z^k|: the scale a relative tolerance refers to.
     double magnitude = 0;

@@ -306,8 +306,10 @@ HornerForm::HornerForm(const Polynomial& f) : degree_(f.degree()) {
         top[a] = std::max(top[a], e[a]);
       }
     });
-  for (int a = 0; a < 3; ++a)
+  for (int a = 0; a < 3; ++a) {
+    axisDegree_[a] = top[a];
     if (!odd[a] && top[a] > 0) evenAxes_ |= 1u << a;
+  }
   if (evenAxes_ == 0) return;
   auto isEven = [&](int a) { return (evenAxes_ >> a & 1u) != 0; };
   Polynomial reduced;
@@ -465,6 +467,29 @@ inline void compensatedStep(double& v, double& e, double x, double c, double ec)
 }
 
 }  // namespace
+
+// Underflow. Graillat et al.'s bound assumes that no operation underflows. One that does
+// errs by an absolute amount below 2^-1022 (below 2^-1075 with gradual underflow; under
+// flush-to-zero a result below 2^-1022 becomes 0, and under denormals-are-zero a
+// subnormal slot or partial reads as 0, the same loss). A compensated step runs 23
+// operations (two splits of 3, TwoProduct's 5 products and 4 sums, TwoSum's 6, the error
+// update's 3, counted 32); what one of them loses at the step of slot (i, j, k) (or of the
+// row or block that ends there) reaches the result multiplied by |x|^i |y|^j |z|^k, at most
+// P = prod over the axes of max(1, |p_a|)^(f's degree in a). The steps are one per slot,
+// row and block, at most 3 per slot: U = 96 N 2^-1022 P for N slots (P rounded up to a
+// power of two), below 2^-700 for |p_a| up to 2^8 at degree 40. A subnormal coordinate
+// read as 0 under DAZ moves f by at most m sum|c| 2^-1022 P per axis (as
+// HornerForm::evaluate), added doubled.
+double HornerForm::compensatedBound(double v, double magnitude, const glm::dvec3& p) const {
+  const double g = gamma(2 * degree_ + 6);
+  int e = -1022;
+  for (int a = 0; a < 3; ++a) e += ray_horner::ceilExponent(std::abs(p[a])) * axisDegree_[a];
+  const double scale = ray_horner::pow2(e);
+  double underflow = 96.0 * static_cast<double>(slots_.size()) * scale;
+  if (ray_horner::hasSubnormal(p)) [[unlikely]]
+    underflow += 6.0 * std::max(degree_, 1) * absCoeffSum_ * scale;
+  return 2.0 * kUnitRoundoff * std::abs(v) + g * g * magnitude + underflow;
+}
 
 double HornerForm::valueCompensated(const glm::dvec3& p) const {
   // The box of evaluate(), one row at a time: z-rows (k descending), folded into their

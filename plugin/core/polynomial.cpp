@@ -1,11 +1,17 @@
 #include "algray/polynomial.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 
 #include "ray_horner.h"
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 namespace algray {
 
@@ -231,6 +237,19 @@ double Polynomial::evaluate(const glm::dvec3& p) const { return evaluateWithBoun
 
 glm::dvec3 Polynomial::gradient(const glm::dvec3& p) const { return evaluateWithBound(p).gradient; }
 
+namespace {
+
+// Whether denormals-are-zero is on (MXCSR bit 6; elsewhere assumed, which only costs time).
+bool denormalsAreZero() {
+#if defined(__SSE__)
+  return (_mm_getcsr() & 0x40u) != 0;
+#else
+  return true;
+#endif
+}
+
+}  // namespace
+
 Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const {
   Evaluation e;
   if (degree_ < 0) return e;
@@ -278,9 +297,24 @@ Polynomial::Evaluation Polynomial::evaluateWithBound(const glm::dvec3& p) const 
   // bound itself.
   // Under flush-to-zero a partial sum below 2^-1022 becomes 0 too: one 2^-1022 per
   // addition, doubled for the bound's own sums.
-  e.valueError = (gamma(m + 2) * floored + kUnitRoundoff * sumAbsPartial +
-                  2.0 * terms * std::numeric_limits<double>::min()) *
-                 (1.0 + 2.0 * kUnitRoundoff);
+  // Under DAZ a subnormal coefficient compares equal to 0 above and its term is lost: up
+  // to 2^-1022 fx fy fz, which no relative bound covers (1e-310 x^3 at x = 1e50: 1e-160
+  // with a bound of 0 until session 43). Added, once more 2^-1022 in case that product
+  // flushes and doubled for the bound's own roundings, from a second pass over the
+  // coefficients' bits that runs only with DAZ on (in the loop above it cost 5-7 % of the
+  // sphere's evaluation, polynomial_bench BM_EvalOld).
+  double flushed = 0.0;
+  if (denormalsAreZero()) [[unlikely]]
+    for (int n = 0; n <= m; ++n)
+      forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+        const std::uint64_t bits = std::bit_cast<std::uint64_t>(coeffs_[idx]) << 1;
+        if (bits != 0 && bits < std::uint64_t{1} << 53) flushed += fx[i] * (fy[j] * fz[k]);
+      });
+  e.valueError =
+      (gamma(m + 2) * floored + kUnitRoundoff * sumAbsPartial +
+       2.0 * terms * std::numeric_limits<double>::min() +
+       (flushed > 0.0 ? 2.0 * (flushed + 1.0) * std::numeric_limits<double>::min() : 0.0)) *
+      (1.0 + 2.0 * kUnitRoundoff);
   // A subnormal coordinate reads as 0 under DAZ: f at a point moved by eps < 2^-1022
   // per coordinate, within m sum|c| 2^-1022 max(1, |p_i|)^(m-1) of f(p) (see
   // HornerForm::evaluate); added, doubled, in that case only.

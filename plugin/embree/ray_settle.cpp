@@ -88,7 +88,7 @@ bool clearlyOffSurface(const HornerForm& f, const KernelRay& ray, const KernelHi
   if (std::abs(e.value) > 0x1p10 * (e.valueError + moved)) return true;
   if (!(std::abs(e.value) > e.valueError)) return false;
   const double fc = f.valueCompensated(hit.point);
-  return std::abs(fc) > 0x1p10 * (f.compensatedBound(fc, e.magnitude) + moved);
+  return std::abs(fc) > 0x1p10 * (f.compensatedBound(fc, e.magnitude, hit.point) + moved);
 }
 
 // Polishes rr's first root on f; returns whether f is clearly non-zero at the result.
