@@ -84,7 +84,15 @@ class Polynomial {
   // u -> f(o + u): the Taylor expansion about o, i.e. all derivative tensors
   // D^n f(o)/n! (the homogeneous parts of the result). Exact up to rounding: three
   // Taylor shifts by synthetic division, componentwise within gamma_{6m} of the same shift
-  // of |f| by |o| (the bound OriginExpansion in taylor.cpp computes and uses).
+  // of |f| by |o| wherever no operation's result falls below 2^-1022 in magnitude. That
+  // relative bound excludes underflow: such a result errs by an absolute amount more (up to
+  // 2^-1075 with gradual underflow, 2^-1022 under flush-to-zero; under denormals-are-zero a
+  // subnormal coefficient or component of o reads as 0), which the later steps scale like a
+  // coefficient placed at its slot, so for subnormal data the error exceeds gamma_{6m} times
+  // the shift of |f| by any factor (-3e-310 y z^2 about (0, 0, -0.237): the y coefficient,
+  // -1.69e-311, by 75 times). OriginExpansion (taylor.cpp), which uses this bound, covers
+  // both with a floor: its shift of |f| adds 8 * 2^-1022 / gamma_{6m+6} at every slot and
+  // operation, and a subnormal o's own term (tests/taylor_test.cpp).
   Polynomial translate(const glm::dvec3& o) const;
 
   double evaluate(const glm::dvec3& p) const;

@@ -47,10 +47,14 @@ inline double inverseSquaredLength(double dd) {
   return std::abs(dd - 1.0) <= 0x1p-20 ? 2.0 - dd : 1.0 / dd;
 }
 
-// Parameter of the point of the line o + t d closest to c (within a relative 2^-40:
-// inverseSquaredLength): the natural expansion point when o is far from the clip region
-// (re-centring avoids the cancellation of |o|^m-sized terms when evaluating near the
-// surface).
+// Parameter of the point of the line o + t d closest to c, as dot(c - o, d) times
+// inverseSquaredLength(|d|^2): that factor is within a relative 2^-40 of 1 / |d|^2, but the
+// dot product is rounded like any other (within gamma_4 sum |(c - o)_a d_a|), which is no
+// relative bound where it cancels (c - o nearly orthogonal to d: the result may be off by
+// far more than 2^-40 of itself). It is only an expansion point, which any t serves
+// (restrictToRay's bounds hold about the point o + tShift d it forms, whatever tShift): the
+// natural one when o is far from the clip region (re-centring avoids the cancellation of
+// |o|^m-sized terms when evaluating near the surface), closer the better.
 double closestParameter(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& c);
 
 // Path (2): coefficients of g(s) = f(o + (tShift + s) d). Cost O(m^4) for a dense f of
