@@ -20,25 +20,6 @@
 namespace algray::test {
 namespace {
 
-// First root of |o + t d|^2 = r^2 with t > tnear, in long double (closed form, stable
-// variant of the quadratic formula, Press et al., "Numerical Recipes", Sec. 5.6).
-std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long double r,
-                                      long double tnear) {
-  const long double a = (long double)d.x * d.x + (long double)d.y * d.y + (long double)d.z * d.z;
-  const long double b =
-      2 * ((long double)o.x * d.x + (long double)o.y * d.y + (long double)o.z * d.z);
-  const long double c =
-      (long double)o.x * o.x + (long double)o.y * o.y + (long double)o.z * o.z - r * r;
-  const long double disc = b * b - 4 * a * c;
-  if (disc < 0) return std::nullopt;
-  const long double q = -0.5L * (b + (b < 0 ? -1 : 1) * std::sqrt(disc));
-  long double t0 = q / a, t1 = c / q;
-  if (t0 > t1) std::swap(t0, t1);
-  if (t0 > tnear) return t0;
-  if (t1 > tnear) return t1;
-  return std::nullopt;
-}
-
 // Torus (x^2+y^2+z^2+R^2-r^2)^2 - 4R^2(x^2+y^2) evaluated directly (no Polynomial).
 long double torusValue(long double x, long double y, long double z, long double R, long double r) {
   const long double s = x * x + y * y + z * z + R * R - r * r;
@@ -1050,11 +1031,8 @@ TEST_F(EmbreeHits, HighMultiplicitySurfacesGetTheirOwnNormal) {
   // Measured worst of both surfaces and signs: 1.4e-6, 1.9e-4, 3.8e-3, 5.7e-2, 0.12, 0.21,
   // 0.34 radians for m = 2..8 (README's hit record).
   constexpr double kLimit[9] = {0, 0, 1e-5, 1e-3, 1e-2, 0.1, 0.2, 0.35, 0.5};
-  const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
-  const Polynomial sphere = x * x + y * y + z * z - one;
   const double R = 1.0, r = 0.4;
-  const Polynomial s2 = x * x + y * y + z * z + (R * R - r * r) * one;
-  const Polynomial torus = s2 * s2 - 4.0 * R * R * (x * x + y * y);
+  const Polynomial sphere = spherePolynomial(1.0), torus = torusPolynomial(R, r);
   std::mt19937 random(4301);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   auto unit = [&] {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -29,6 +30,25 @@ inline Polynomial spherePolynomial(double r) {
 inline Polynomial torusPolynomial(double R, double r) {
   const Polynomial s = X() * X() + Y() * Y() + Z() * Z() + Polynomial(R * R - r * r);
   return s * s - 4.0 * R * R * (X() * X() + Y() * Y());
+}
+
+// First root of |o + t d|^2 = r^2 with t > tnear, in long double (closed form, stable
+// variant of the quadratic formula, Press et al., "Numerical Recipes", Sec. 5.6).
+inline std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long double r,
+                                             long double tnear) {
+  const long double a = (long double)d.x * d.x + (long double)d.y * d.y + (long double)d.z * d.z;
+  const long double b =
+      2 * ((long double)o.x * d.x + (long double)o.y * d.y + (long double)o.z * d.z);
+  const long double c =
+      (long double)o.x * o.x + (long double)o.y * o.y + (long double)o.z * o.z - r * r;
+  const long double disc = b * b - 4 * a * c;
+  if (disc < 0) return std::nullopt;
+  const long double q = -0.5L * (b + (b < 0 ? -1 : 1) * std::sqrt(disc));
+  long double t0 = q / a, t1 = c / q;
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 > tnear) return t0;
+  if (t1 > tnear) return t1;
+  return std::nullopt;
 }
 
 struct Device {

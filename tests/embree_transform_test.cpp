@@ -1,41 +1,22 @@
 // SurfaceDesc::transform and float rays: the origin's uncertainty is world-space, so a map
 // that both stretches and moves the object far away must not spread it over object space
-// in every direction (plugin/embree/surface_data.h, OriginError).
+// in every direction (plugin/embree/surface_data.h: originMove, selfRootWindow).
 #include "embree_test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <optional>
 #include <random>
 
 namespace algray::test {
 namespace {
 
-// First root of |o + t d|^2 = 1 with t > tnear in long double (the stable quadratic formula,
-// Press et al., "Numerical Recipes", Sec. 5.6), or none.
-std::optional<long double> unitSphereRoot(const glm::dvec3& o, const glm::dvec3& d,
-                                          long double tnear) {
-  const long double a = (long double)d.x * d.x + (long double)d.y * d.y + (long double)d.z * d.z;
-  const long double b =
-      2 * ((long double)o.x * d.x + (long double)o.y * d.y + (long double)o.z * d.z);
-  const long double c =
-      (long double)o.x * o.x + (long double)o.y * o.y + (long double)o.z * o.z - 1.0L;
-  const long double disc = b * b - 4 * a * c;
-  if (disc < 0) return std::nullopt;
-  const long double q = -0.5L * (b + (b < 0 ? -1 : 1) * std::sqrt(disc));
-  long double t0 = q / a, t1 = c / q;
-  if (t0 > t1) std::swap(t0, t1);
-  if (t0 > tnear) return t0;
-  if (t1 > tnear) return t1;
-  return std::nullopt;
-}
-
 struct Placement {
   glm::dvec3 scale, shift;  // world = scale * object + shift (componentwise)
 };
 
-// The world ray of rh in object space, in long double's precision (a diagonal map).
+// The world ray of rh in object space (a diagonal map: one rounding per coordinate, far
+// below the tests' tolerances).
 void objectRayOf(const Placement& k, const RTCRayHit& rh, glm::dvec3& o, glm::dvec3& d) {
   const glm::dvec3 wo(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z);
   const glm::dvec3 wd(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
@@ -111,7 +92,7 @@ TEST_F(EmbreeTransform, FloatRaysHitFlattenedSurfacesFarAway) {
         if (i % 4 == 3) expectPacketAsSingles(scene, single);
         glm::dvec3 o, d;
         objectRayOf(k, rh, o, d);
-        const auto ref = unitSphereRoot(o, d, 0.0L);
+        const auto ref = sphereRoot(o, d, 1.0L, 0.0L);
         ASSERT_EQ(ref.has_value(), rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
             << i << " quadric " << quadric << " scale " << k.scale.z;
         if (!ref) continue;
@@ -154,7 +135,7 @@ TEST_F(EmbreeTransform, RaysLeavingFlattenedSurfacesFarAwayReachTheFarSide) {
         // the sphere, so the smaller one lies at |t| tiny). The rule takes the origin for a
         // point of the surface, which moves the far root by up to the origin's world-space
         // uncertainty over |d_world| (4 u_float |o| here, ~1e-4), no more.
-        const auto ref = unitSphereRoot(o, d, 0.25L);
+        const auto ref = sphereRoot(o, d, 1.0L, 0.25L);
         ASSERT_TRUE(ref.has_value()) << i;
         ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << i << " quadric " << quadric;
         const double tolerance = 16.0 * 0x1p-24 * glm::length(glm::dvec3(wo)) / glm::length(wd);
