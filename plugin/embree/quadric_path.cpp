@@ -201,7 +201,8 @@ namespace {
   const glm::dvec3 ad = 2.0 * (data.quadric->a * ray.dir), absAD = absv(ad);
   const double moveRound = ray.orgRoundoff * glm::dot(absAD, absv(ray.org));
   const double move = orgError != 0.0 ? originMove(data, ray, ad, safeLength(ad), orgError) : 0.0;
-  return std::abs(c0) <= 4.0 * e0 + 2.0 * (moveRound + move);
+  // 4 = 2 (k + 1) for k = 1, as multipleRootWindow (ray_roots.cpp) says why.
+  return std::abs(c0) <= 4.0 * e0 + 4.0 * (moveRound + move);
 }
 
 template <bool kDiagonal, bool kNonNegDiagonal, bool kNonNegCentred, bool kUnitA>
@@ -311,9 +312,10 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
     // First with |2 A d|_1 <= 2 max_j sum_i |A_ij| |d|_1 (and |o|_inf <= |o|_1), which
     // keeps the common shadow ray's cost to a few products (the exact test inline cost the
     // sphere's shadow rays 3-4 %, measured).
-    if (!again && std::abs(c0) <= 4.0 * e0 + data.quadricMoveBound * (absD.x + absD.y + absD.z) *
-                                                 (ray.orgRoundoff * (absP.x + absP.y + absP.z) +
-                                                  orgError)) [[unlikely]]
+    if (!again &&
+        std::abs(c0) <= 4.0 * e0 + 2.0 * data.quadricMoveBound * (absD.x + absD.y + absD.z) *
+                                       (ray.orgRoundoff * (absP.x + absP.y + absP.z) + orgError))
+        [[unlikely]]
       again = linearRootAtOrigin(data, ray, c0, e0, orgError);
     if (again) {
       c0 = c1, c1 = 0.0;

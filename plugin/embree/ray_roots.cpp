@@ -188,43 +188,43 @@ glm::dvec3 homogeneousGradient(const Polynomial& shifted, int n, const glm::dvec
 
 // The window over the origin's cluster of roots, for g after deflateAtZero (so g's c_i is
 // the Taylor coefficient c_(i + 1) at o), or 0 when g's constant term is clear. orgError:
-// the ray's whole bound; originValue, gradient: f(o), grad f(o).
+// the ray's whole bound; originValue, originValueError, gradient: f(o), its error bound, grad
+// f(o).
 double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double orgError,
-                          double originValue, const glm::dvec3& gradient, const RayPolynomial& g) {
+                          double originValue, double originValueError, const glm::dvec3& gradient,
+                          const RayPolynomial& g) {
   // Coefficients zero within their rounding bound (a ray tangent at its origin, a node)
   // need no expansion.
   int m = 0;
   while (m <= g.degree && std::abs(g.coeff[m]) <= 4.0 * g.error[m]) ++m;
-  // Beyond those, only where the origin may be a singular point of f: grad f(o) within its
-  // rounding plus what the origin's uncertainty (dist) moves it by, four times over, first
-  // with the clip ball's bounds (2^-10 hitSlopeNoise, 2^-10 hitPointNoise), then at the
-  // origin: with F = f's |coefficients|, grad F(|o|) bounds the rounding (gradientNoise)
-  // and, F's derivatives being increasing in every coordinate, grad F(|o| + rho) / rho the
-  // Hessian's row sums at o (grad F(y + rho) >= grad F(y) + rho hess F(y) 1); rho = R / 16.
-  // Elsewhere the origin's root is simple (a ray grazing a simple surface keeps the rule of
-  // before); the expansion for every leaving ray cost Sarti's shadow rays 7x their time,
-  // the clip ball's bounds alone (loose where f's coefficients cancel) still as much.
+  // Beyond those, only where the origin may be a singular point of f (elsewhere its root is
+  // simple: a ray grazing a simple surface keeps the rule of before). The expansion below
+  // for every leaving ray cost Sarti's shadow rays 7x their time, so two gates first.
+  // (1) From the values the rule already has: on f = h^2 q near the origin grad f =
+  // 2 h q grad h, c_0 = h^2 q and c_1 = 2 h q (grad h . d), so |hess f d| ~ 2 q |grad h|
+  // |grad h . d| = |grad f| |c_1| / (2 |c_0|) (|c_0| with 4 times its error bound: f(o) can
+  // round to 0); it must lie within the clip ball's Hessian
+  // bound (2^-10 hitPointNoise, row sums) times |d|_inf, 64-fold. At a simple surface's
+  // origin, c_0 ~ |grad f| dist and c_1 ~ |grad f| |d| sin(angle): the quotient is
+  // |grad f| sin(angle) / dist, far beyond that bound unless the ray grazes within ~dist.
+  // (A cluster radius from c_0..c_2 let a double sphere's grazing rays through: c_2 =
+  // (grad h . d)^2 + 2 h a cancels there.) (2) At the origin: grad f(o) within its
+  // rounding plus what the origin's uncertainty (dist) moves it by, four times over, with
+  // F = f's |coefficients|: grad F(|o|) bounds the rounding (gradientNoise) and, F's
+  // derivatives being increasing in every coordinate, grad F(|o| + rho) / rho the Hessian's
+  // row sums at o (grad F(y + rho) >= grad F(y) + rho hess F(y) 1); rho = R / 16.
   const glm::dvec3& o = ray.org;
   const double oSum = std::abs(o.x) + std::abs(o.y) + std::abs(o.z);
   const double dist = ray.orgRoundoff * oSum + orgError;
   const double gradMax =
       std::max({std::abs(gradient.x), std::abs(gradient.y), std::abs(gradient.z)});
-  // A cheap sign of such a cluster first, from g's own coefficients: the roots of
-  // c_0 + c_1 s + c_2 s^2 lie within 2 max(sqrt|c_0 / c_2|, |c_1 / c_2|) (Fujiwara), which
-  // for f = h^m is about 4 dist / sin(angle) or, for a grazing ray, sqrt(dist / curvature),
-  // and for a ray leaving a simple surface about its chord. So the origin can be singular
-  // only where that radius is within 16 sqrt(dist R) / |d|: for float origins the tests
-  // below then run on rays within ~2.5e-3 rad of a simple surface's tangent plane.
-  // (The clip ball's bounds first: a product and a comparison.)
-  bool singular =
-      m <= g.degree && gradMax <= 0x1p-8 * (data.hitSlopeNoise + data.hitPointNoise * dist);
-  if (singular) {
-    const double c2 = std::abs(g.degree >= 1 ? g.coeff[1] : 0.0);
-    const double cluster =
-        2.0 * std::max(std::sqrt(std::abs(originValue) / c2), std::abs(g.coeff[0]) / c2);
-    const double dLength = std::sqrt(glm::dot(ray.dir, ray.dir));
-    singular = cluster * dLength <= 16.0 * std::sqrt(dist * data.radius);
-  }
+  const glm::dvec3& d = ray.dir;
+  const double dInf = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+  const double hessian = data.hitPointNoise > 0.0 ? 0x1p-10 * data.hitPointNoise
+                                                  : std::numeric_limits<double>::infinity();
+  bool singular = m <= g.degree &&
+                  gradMax * std::abs(g.coeff[0]) <=
+                      128.0 * (std::abs(originValue) + 4.0 * originValueError) * hessian * dInf;
   if (singular) {
     const double rho = 0x1p-4 * data.radius;
     const glm::dvec3 scale = data.absHorner.evaluate(absv(o) + rho).gradient;
@@ -232,18 +232,23 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
     singular = gradMax <= 4.0 * (data.gradientGamma + dist / rho) * scaleMax;
   }
   if (singular) {
-    const glm::dvec3& d = ray.dir;
-    const double dInf = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
     Polynomial shifted;
     bool expanded = false;
     for (; m <= g.degree; ++m) {
       const int k = m + 1;
       const double c = std::abs(g.coeff[m]), rounding = 4.0 * g.error[m];
+      // Within 2 (k + 1) times the move, not twice as c_0's test: on f = h^m (h with
+      // |grad h| = 1 at the origin) the rule takes an origin with |h(o)| up to 2 m dist for
+      // a point of the surface, and c_k, C(m, k) h(o)^(m-k) a^k, is within 2 (k + 1) |grad
+      // c_k| dist for every such origin and k < m (since m <= (k + 1)(m - k)). With twice,
+      // |h(o)| between 4 and 8 dist on a double sphere left c_1 outside the cluster and its
+      // root at 2 t* (grazing rays in the sanitizer build's rounding).
+      const double factor = 2.0 * (k + 1);
       // Coarse: |grad c_k|_2 <= sqrt(3) B_k |d|_inf^k, so the move below is at most twice
       // this.
       double coarse = k < kMaxDegree ? data.coefficientMove[k] : 0.0;
       for (int i = 0; i < k; ++i) coarse *= dInf;
-      if (!(c <= rounding + 4.0 * coarse * dist)) break;
+      if (!(c <= rounding + 2.0 * factor * coarse * dist)) break;
       if (!expanded) {
         shifted = data.desc.polynomial.translate(o);
         expanded = true;
@@ -252,7 +257,7 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
       const double move =
           ray.orgRoundoff * glm::dot(absv(grad), absv(o)) +
           (orgError != 0.0 ? originMove(data, ray, grad, safeLength(grad), orgError) : 0.0);
-      if (!(c <= rounding + 2.0 * move)) break;
+      if (!(c <= rounding + factor * move)) break;
     }
   }
   if (m == 0) return 0.0;
@@ -344,9 +349,9 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
     selfWindow = selfRootWindow(data, ray, orgError);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     if (g.degree > 0)
-      selfWindow =
-          std::max(selfWindow, multipleRootWindow(data, ray, orgError, tlsOriginValue.value,
-                                                  tlsOriginValue.gradient, g));
+      selfWindow = std::max(
+          selfWindow, multipleRootWindow(data, ray, orgError, tlsOriginValue.value,
+                                         tlsOriginValue.valueError, tlsOriginValue.gradient, g));
     return nullptr;
   }
   return restrictOutside(data, ray, r0, r1, closest, g);
