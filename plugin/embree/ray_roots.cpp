@@ -203,16 +203,24 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
   // (1) From the values the rule already has: on f = h^2 q near the origin grad f =
   // 2 h q grad h, c_0 = h^2 q and c_1 = 2 h q (grad h . d), so |hess f d| ~ 2 q |grad h|
   // |grad h . d| = |grad f| |c_1| / (2 |c_0|) (|c_0| with 4 times its error bound: f(o) can
-  // round to 0); it must lie within the clip ball's Hessian
-  // bound (2^-10 hitPointNoise, row sums) times |d|_inf, 64-fold. At a simple surface's
-  // origin, c_0 ~ |grad f| dist and c_1 ~ |grad f| |d| sin(angle): the quotient is
+  // round to 0); it must lie within 4 times the smaller of the clip ball's Hessian bound
+  // (2^-10 hitPointNoise, row sums: |hess f d|_2 <= sqrt(3) that |d|_inf) and the Hessian
+  // as sampled over the clip box (SurfaceData::sampledHessian, 4 times the largest column
+  // seen: |hess f d|_2 <= 3 max column |d|_inf; the bound is far looser where f's
+  // coefficients cancel, and with it every shadow ray of Barth's decic paid gate (2)), times
+  // |d|_inf (grad f's largest component for its length: smaller, so safe). At a simple
+  // surface's origin, c_0 ~ |grad f| dist and c_1 ~ |grad f| |d| sin(angle): the quotient is
   // |grad f| sin(angle) / dist, far beyond that bound unless the ray grazes within ~dist.
   // (A cluster radius from c_0..c_2 let a double sphere's grazing rays through: c_2 =
-  // (grad h . d)^2 + 2 h a cancels there.) (2) At the origin: grad f(o) within its
-  // rounding plus what the origin's uncertainty (dist) moves it by, four times over, with
-  // F = f's |coefficients|: grad F(|o|) bounds the rounding (gradientNoise) and, F's
-  // derivatives being increasing in every coordinate, grad F(|o| + rho) / rho the Hessian's
-  // row sums at o (grad F(y + rho) >= grad F(y) + rho hess F(y) 1); rho = R / 16.
+  // (grad h . d)^2 + 2 h a cancels there.) (2) At the origin: |grad f(o)| within 32 times
+  // what the origin's uncertainty moves it by along grad f, the change of grad f over a
+  // step `step` that way (one evaluation) over the step: on h^2, where the rule admits
+  // |h(o)| <= 8 dist, |grad f| = 2 |h| |grad h| <= 8 |hess f grad f / |grad f|| dist; at a
+  // simple surface's origin the quotient is the curvature's, |grad f| / (curvature dist).
+  // (Bounds from f's |coefficients| - the clip ball's, or grad F(|o| + R / 16) / (R / 16)
+  // with F = f's |coefficients| - are too loose where the coefficients cancel: every
+  // shadow ray of Chmutov-16 expanded f, 13x their time.) Where grad f is rounding noise,
+  // c_1 is within its rounding bound too, which the first loop takes.
   const glm::dvec3& o = ray.org;
   const double oSum = std::abs(o.x) + std::abs(o.y) + std::abs(o.z);
   const double dist = ray.orgRoundoff * oSum + orgError;
@@ -220,16 +228,19 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
       std::max({std::abs(gradient.x), std::abs(gradient.y), std::abs(gradient.z)});
   const glm::dvec3& d = ray.dir;
   const double dInf = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
-  const double hessian = data.hitPointNoise > 0.0 ? 0x1p-10 * data.hitPointNoise
-                                                  : std::numeric_limits<double>::infinity();
-  bool singular = m <= g.degree &&
-                  gradMax * std::abs(g.coeff[0]) <=
-                      128.0 * (std::abs(originValue) + 4.0 * originValueError) * hessian * dInf;
-  if (singular) {
-    const double rho = 0x1p-4 * data.radius;
-    const glm::dvec3 scale = data.absHorner.evaluate(absv(o) + rho).gradient;
-    const double scaleMax = std::max({scale.x, scale.y, scale.z});
-    singular = gradMax <= 4.0 * (data.gradientGamma + dist / rho) * scaleMax;
+  const double hessian =
+      std::min(data.hitPointNoise > 0.0 ? 0x1p-10 * data.hitPointNoise
+                                        : std::numeric_limits<double>::infinity(),
+               data.sampledHessian);
+  bool singular =
+      m <= g.degree && gradMax * std::abs(g.coeff[0]) <=
+                           8.0 * (std::abs(originValue) + 4.0 * originValueError) * hessian * dInf;
+  if (singular && gradMax > 0.0) {
+    const double gradLength = safeLength(gradient);
+    const double step = 32.0 * dist + 0x1p-24 * data.radius;
+    const glm::dvec3 across =
+        data.horner.evaluate(o + (step / gradLength) * gradient).gradient - gradient;
+    singular = gradLength <= 32.0 * (safeLength(across) / step) * dist;
   }
   if (singular) {
     Polynomial shifted;

@@ -143,6 +143,7 @@ struct SurfaceData {
   // k-th Taylor coefficient along d (inf where it overflows): the self-root rule's first
   // test of whether c_k is zero within the origin's uncertainty (multipleRootWindow).
   std::array<double, kMaxDegree + 1> coefficientMove{};
+  double sampledHessian = 0;  // 4 times |hess f| as sampled over the clip box (inf: none)
 };
 
 // A ray in the surface's object space.

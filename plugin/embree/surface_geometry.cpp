@@ -392,6 +392,32 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   for (size_t i = hessianWeights.size(); i-- > 0;) hessian = hessian * r + hessianWeights[i];
   const double pointNoise = 0x1p10 * (1.0 + 0x1p-20) * hessian;
   data->hitPointNoise = std::isfinite(pointNoise) ? pointNoise : 0.0;
+  // The Hessian's size as sampled: 4 times the largest change of grad f over a step of
+  // 2^-8 of the clip box along an axis, divided by the step, at the 9^3 grid points of the
+  // box (for multipleRootWindow's first gate: a measure, not a bound; the bound above is
+  // far looser where f's coefficients cancel, which opened the gate for every shadow ray of
+  // a Chmutov or Sarti surface).
+  {
+    glm::dvec3 lo, hi;
+    clipRegionBox(data->desc.clip, lo, hi);
+    const glm::dvec3 size = hi - lo;
+    const double step = 0x1p-8 * std::max({size.x, size.y, size.z});
+    double largest = 0.0;
+    for (int i = 0; i <= 8; ++i)
+      for (int j = 0; j <= 8; ++j)
+        for (int k = 0; k <= 8; ++k) {
+          const glm::dvec3 p = lo + size * glm::dvec3(i, j, k) / 8.0;
+          const glm::dvec3 g = data->horner.evaluate(p).gradient;
+          for (int a = 0; a < 3; ++a) {
+            glm::dvec3 q = p;
+            q[a] += step;
+            largest = std::max(largest, safeLength(data->horner.evaluate(q).gradient - g) / step);
+          }
+        }
+    data->sampledHessian = std::isfinite(largest) && largest > 0.0
+                               ? 4.0 * largest
+                               : std::numeric_limits<double>::infinity();
+  }
   // How far c_k = D^k f(x) [d^k] / k! moves with x (the self-root rule's test for a root of
   // multiplicity above 1 at the origin, multipleRootWindow): d/dv c_k is the coefficient of
   // s^k t in f(x + s d + t v), and for a monomial of degree j with |x_i| <= R that is at
