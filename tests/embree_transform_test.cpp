@@ -25,7 +25,7 @@ void objectRayOf(const Placement& k, const RTCRayHit& rh, glm::dvec3& o, glm::dv
 }
 
 // The four rays as one packet (rtcIntersect4, the quadric path's SIMD lanes) hit as each
-// did alone, bit for bit.
+// did alone, bit for bit (expectSameFloatHit on each lane).
 void expectPacketAsSingles(RTCScene scene, const RTCRayHit (&single)[4]) {
   alignas(16) RTCRayHit4 packet{};
   alignas(16) int valid[4] = {-1, -1, -1, -1};
@@ -41,8 +41,17 @@ void expectPacketAsSingles(RTCScene scene, const RTCRayHit (&single)[4]) {
   rtcInitIntersectContext(&context);
   rtcIntersect4(valid, scene, &context, &packet);
   for (unsigned l = 0; l < 4; ++l) {
-    EXPECT_EQ(packet.hit.geomID[l], single[l].hit.geomID) << "lane " << l;
-    EXPECT_EQ(packet.ray.tfar[l], single[l].ray.tfar) << "lane " << l;
+    SCOPED_TRACE(l);
+    RTCRayHit lane = single[l];
+    lane.ray.tfar = packet.ray.tfar[l];
+    lane.hit.geomID = packet.hit.geomID[l];
+    lane.hit.primID = packet.hit.primID[l];
+    lane.hit.Ng_x = packet.hit.Ng_x[l];
+    lane.hit.Ng_y = packet.hit.Ng_y[l];
+    lane.hit.Ng_z = packet.hit.Ng_z[l];
+    lane.hit.u = packet.hit.u[l];
+    lane.hit.v = packet.hit.v[l];
+    expectSameFloatHit(lane, single[l]);
   }
 }
 

@@ -198,11 +198,9 @@ namespace {
 // moves it by (its gradient is 2 A d; restrictQuadricRayOf).
 [[gnu::noinline]] bool linearRootAtOrigin(const SurfaceData& data, const KernelRay& ray, double c0,
                                           double e0, double orgError) {
-  const glm::dvec3 ad = 2.0 * (data.quadric->a * ray.dir), absAD = absv(ad);
-  const double moveRound = ray.orgRoundoff * glm::dot(absAD, absv(ray.org));
-  const double move = orgError != 0.0 ? originMove(data, ray, ad, safeLength(ad), orgError) : 0.0;
+  const glm::dvec3 ad = 2.0 * (data.quadric->a * ray.dir);
   // 4 = 2 (k + 1) for k = 1, as multipleRootWindow (ray_roots.cpp) says why.
-  return std::abs(c0) <= 4.0 * e0 + 4.0 * (moveRound + move);
+  return std::abs(c0) <= 4.0 * e0 + 4.0 * originUncertaintyMove(data, ray, ad, orgError);
 }
 
 template <bool kDiagonal, bool kNonNegDiagonal, bool kNonNegCentred, bool kUnitA>

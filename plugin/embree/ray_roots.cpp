@@ -265,10 +265,7 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
         expanded = true;
       }
       const glm::dvec3 grad = homogeneousGradient(shifted, k + 1, d);
-      const double move =
-          ray.orgRoundoff * glm::dot(absv(grad), absv(o)) +
-          (orgError != 0.0 ? originMove(data, ray, grad, safeLength(grad), orgError) : 0.0);
-      if (!(c <= rounding + factor * move)) break;
+      if (!(c <= rounding + factor * originUncertaintyMove(data, ray, grad, orgError))) break;
     }
   }
   if (m == 0) return 0.0;

@@ -517,6 +517,16 @@ inline double originMove(const SurfaceData& data, const KernelRay& ray, const gl
     return worldOriginMove(data, ray, gradient, gradLength, isotropic);
   return isotropic;
 }
+// What the origin's whole uncertainty moves a quantity with that gradient at the origin by:
+// the rounding of its coordinates (orgRoundoff |o_i|) plus originMove (the self-root rule's
+// tests of a cluster's coefficients, multipleRootWindow and the quadric path's).
+inline double originUncertaintyMove(const SurfaceData& data, const KernelRay& ray,
+                                    const glm::dvec3& gradient, double orgError) {
+  const double rounding = ray.orgRoundoff * glm::dot(absv(gradient), absv(ray.org));
+  return orgError != 0.0
+             ? rounding + originMove(data, ray, gradient, safeLength(gradient), orgError)
+             : rounding;
+}
 
 // Slab test (Kay & Kajiya), written so that a zero direction component keeps the ray
 // inside or outside the slab instead of producing 0 * inf = NaN. With widen = true both
