@@ -143,7 +143,9 @@ struct SurfaceData {
   // k-th Taylor coefficient along d (inf where it overflows): the self-root rule's first
   // test of whether c_k is zero within the origin's uncertainty (multipleRootWindow).
   std::array<double, kMaxDegree + 1> coefficientMove{};
-  double sampledHessian = 0;  // 4 times |hess f| as sampled over the clip box (inf: none)
+  // 4 times |hess f| as sampled over the clip box (inf: none measured; both unset for a
+  // quadric, whose self-root rule is quadric_path.cpp's).
+  double sampledHessian = 0;
 };
 
 // A ray in the surface's object space.

@@ -281,6 +281,32 @@ void indexGrid(SurfaceData& data, const glm::dvec3& boxLo, const glm::dvec3& box
 std::atomic<std::uint64_t> nextSurfaceId{1};
 constexpr int kMaxAutoCells = 4096;
 
+// The Hessian's size as sampled: 4 times the largest change of grad f over a step of 2^-8
+// of the clip box along an axis, divided by the step, at the 9^3 grid points of the box (for
+// multipleRootWindow's first gate: a measure, not a bound; hitPointNoise's bound is far
+// looser where f's coefficients cancel, which opened the gate for every shadow ray of a
+// Chmutov or Sarti surface); inf where none is measured.
+double sampledHessian(const HornerForm& f, const ClipRegion& clip) {
+  glm::dvec3 lo, hi;
+  clipRegionBox(clip, lo, hi);
+  const glm::dvec3 size = hi - lo;
+  const double step = 0x1p-8 * std::max({size.x, size.y, size.z});
+  double largest = 0.0;
+  for (int i = 0; i <= 8; ++i)
+    for (int j = 0; j <= 8; ++j)
+      for (int k = 0; k <= 8; ++k) {
+        const glm::dvec3 p = lo + size * glm::dvec3(i, j, k) / 8.0;
+        const glm::dvec3 g = f.evaluate(p).gradient;
+        for (int a = 0; a < 3; ++a) {
+          glm::dvec3 q = p;
+          q[a] += step;
+          largest = std::max(largest, safeLength(f.evaluate(q).gradient - g) / step);
+        }
+      }
+  return std::isfinite(largest) && largest > 0.0 ? 4.0 * largest
+                                                 : std::numeric_limits<double>::infinity();
+}
+
 }  // namespace
 
 QuadricForm QuadricForm::fromPolynomial(const Polynomial& f) {
@@ -392,48 +418,28 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   for (size_t i = hessianWeights.size(); i-- > 0;) hessian = hessian * r + hessianWeights[i];
   const double pointNoise = 0x1p10 * (1.0 + 0x1p-20) * hessian;
   data->hitPointNoise = std::isfinite(pointNoise) ? pointNoise : 0.0;
-  // The Hessian's size as sampled: 4 times the largest change of grad f over a step of
-  // 2^-8 of the clip box along an axis, divided by the step, at the 9^3 grid points of the
-  // box (for multipleRootWindow's first gate: a measure, not a bound; the bound above is
-  // far looser where f's coefficients cancel, which opened the gate for every shadow ray of
-  // a Chmutov or Sarti surface).
-  {
-    glm::dvec3 lo, hi;
-    clipRegionBox(data->desc.clip, lo, hi);
-    const glm::dvec3 size = hi - lo;
-    const double step = 0x1p-8 * std::max({size.x, size.y, size.z});
-    double largest = 0.0;
-    for (int i = 0; i <= 8; ++i)
-      for (int j = 0; j <= 8; ++j)
-        for (int k = 0; k <= 8; ++k) {
-          const glm::dvec3 p = lo + size * glm::dvec3(i, j, k) / 8.0;
-          const glm::dvec3 g = data->horner.evaluate(p).gradient;
-          for (int a = 0; a < 3; ++a) {
-            glm::dvec3 q = p;
-            q[a] += step;
-            largest = std::max(largest, safeLength(data->horner.evaluate(q).gradient - g) / step);
-          }
-        }
-    data->sampledHessian = std::isfinite(largest) && largest > 0.0
-                               ? 4.0 * largest
-                               : std::numeric_limits<double>::infinity();
-  }
-  // How far c_k = D^k f(x) [d^k] / k! moves with x (the self-root rule's test for a root of
-  // multiplicity above 1 at the origin, multipleRootWindow): d/dv c_k is the coefficient of
-  // s^k t in f(x + s d + t v), and for a monomial of degree j with |x_i| <= R that is at
-  // most the one of (R + s |d|_inf + t |v|_inf)^j, j! / (k! (j - k - 1)!) R^(j - k - 1)
-  // |d|_inf^k |v|_inf. R as above with 2^-7 R more: origins up to 2^-9 R outside the clip
-  // ball take the rule. (k = 1 is the Hessian's bound of hitPointNoise.)
-  const double rMove = r + 0x1p-7 * data->radius;
-  for (int k = 0; k < degree; ++k) {
-    double sum = 0;
-    for (int j = degree; j > k; --j) {
-      // A_j j! / (k! (j - k - 1)!) = A_j C(j, k) (j - k).
-      double binomial = 1;
-      for (int i = 1; i <= k; ++i) binomial = binomial * (j - k + i) / i;
-      sum = sum * rMove + weights[j - 1] / j * binomial * (j - k);
+  // The self-root rule's bounds for multiple roots at an origin (multipleRootWindow), used by
+  // the generic walk only: a quadric takes its own rule (quadric_path.cpp), so they are not
+  // computed for one (the sampling alone is 4 9^3 evaluations of f).
+  if (!data->quadric) {
+    data->sampledHessian = sampledHessian(data->horner, data->desc.clip);
+    // How far c_k = D^k f(x) [d^k] / k! moves with x (the self-root rule's test for a root of
+    // multiplicity above 1 at the origin, multipleRootWindow): d/dv c_k is the coefficient of
+    // s^k t in f(x + s d + t v), and for a monomial of degree j with |x_i| <= R that is at
+    // most the one of (R + s |d|_inf + t |v|_inf)^j, j! / (k! (j - k - 1)!) R^(j - k - 1)
+    // |d|_inf^k |v|_inf. R as above with 2^-7 R more: origins up to 2^-9 R outside the clip
+    // ball take the rule. (k = 1 is the Hessian's bound of hitPointNoise.)
+    const double rMove = r + 0x1p-7 * data->radius;
+    for (int k = 0; k < degree; ++k) {
+      double sum = 0;
+      for (int j = degree; j > k; --j) {
+        // A_j j! / (k! (j - k - 1)!) = A_j C(j, k) (j - k).
+        double binomial = 1;
+        for (int i = 1; i <= k; ++i) binomial = binomial * (j - k + i) / i;
+        sum = sum * rMove + weights[j - 1] / j * binomial * (j - k);
+      }
+      data->coefficientMove[k] = std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
     }
-    data->coefficientMove[k] = std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
   }
   // (256 R)^2, exact scalings of R^2 (rounded once) within this range of R; else 0: the
   // walk's shortcut for deferred float origin errors is off (surelyOutsideClipBall).
