@@ -44,8 +44,11 @@ bool readRaster(const std::string& path, Raster& out, std::string& error) {
   out.width = spec.width;
   out.height = spec.height;
   out.channels = spec.nchannels;
-  out.encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
-                spec.format.basetype == OIIO::TypeDesc::UINT16;
+  // The file's own sample type: spec() describes the float buffer read() just made, so it
+  // said "float" for every file and 8/16-bit images were never decoded from sRGB.
+  const OIIO::TypeDesc::BASETYPE stored =
+      static_cast<OIIO::TypeDesc::BASETYPE>(buf.nativespec().format.basetype);
+  out.encoded = stored == OIIO::TypeDesc::UINT8 || stored == OIIO::TypeDesc::UINT16;
   if (out.width <= 0 || out.height <= 0 || out.channels <= 0) return true;
   out.pixels.resize(static_cast<size_t>(out.width) * out.height * out.channels);
   if (buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.pixels.data())) return true;

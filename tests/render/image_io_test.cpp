@@ -1,6 +1,7 @@
 // Image output: the display transform against its closed forms, PNG and EXR files read
 // back with OpenImageIO, atomic writing (no temporary file left behind).
 #include "image_io.h"
+#include "material.h"
 
 #include <gtest/gtest.h>
 
@@ -173,6 +174,46 @@ TEST(ImageFile, PngIsToneMappedSrgb) {
   }
   in->close();
   std::filesystem::remove(path);
+}
+
+// Textures and environment images stored as 8- or 16-bit integers are sRGB-encoded and
+// are decoded on load (docs/scene-format.md); float files are linear as they are. Read
+// back through Texture::load against the IEC 61966-2-1 decoding in double. (The reader
+// judged the encoding from the float buffer it had made, so no file was ever decoded.)
+TEST(ImageFile, IntegerTexturesAreDecodedFromSrgb) {
+  auto decode = [](double c) {
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  };
+  const auto dir = std::filesystem::temp_directory_path();
+  struct Case {
+    const char* name;
+    OIIO::TypeDesc type;
+    std::vector<double> stored;  // the file's three channel values, in its own units
+    double scale;                // their full-scale value (1 for float)
+  };
+  const Case cases[] = {
+      {"algray_srgb_test8.png", OIIO::TypeDesc::UINT8, {128, 64, 192}, 255},
+      {"algray_srgb_test16.png", OIIO::TypeDesc::UINT16, {32768, 1000, 65535}, 65535},
+      {"algray_srgb_testf.exr", OIIO::TypeDesc::FLOAT, {0.5, 0.25, 2.0}, 1}};
+  for (const Case& c : cases) {
+    const std::string path = (dir / c.name).string();
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out) << c.name;
+    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(1, 1, 3, c.type))) << c.name;
+    // write_image maps float [0, 1] to the integer type's full range (the values above
+    // come back exactly: rounding v / scale * scale)
+    std::vector<float> pixel;
+    for (double v : c.stored) pixel.push_back(static_cast<float>(v / c.scale));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixel.data())) << c.name;
+    ASSERT_TRUE(out->close()) << c.name;
+    const glm::dvec3 texel = Texture::load(path)->lookup({0.3, 0.7});
+    for (int k = 0; k < 3; ++k) {
+      const double v = c.stored[k] / c.scale;
+      const double expected = c.type == OIIO::TypeDesc::FLOAT ? v : decode(v);
+      EXPECT_NEAR(texel[k], expected, 1e-6 * std::max(1.0, expected)) << c.name << " " << k;
+    }
+    std::filesystem::remove(path);
+  }
 }
 
 TEST(ImageFile, UnwritablePathThrowsWithTheName) {
