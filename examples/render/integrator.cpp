@@ -47,23 +47,35 @@ void fillAov(SampleAov& aov, const Hit& hit, const Shading& sh, const Material& 
   aov.id = hit.geomID + 1.0;
 }
 
-// A sample of an emitter's far side must be blocked by its near side: stopping 1e-4 of
-// the distance short, a sphere light smaller than that (radius 1e-4 at distance 3) let every
-// far-side sample through and shone twice as bright as the point light of its power. The
-// gap is therefore at most 1e-3 of the sampled triangle's size, and at least 2^-20 of the
-// coordinates, well above the error of Embree's float triangles (~1e-7 of them), so that
-// the ray does not find the sampled triangle itself.
+// Shadow ray towards a light sample, stopping a gap short of it. It aims from the spawned
+// origin at the sampled point itself: the light was sampled from hit.p, and a mesh's
+// origin is pushed off it (64 float ulps of the triangle's coordinates), so a ray along
+// ls.wi for ls.distance from there ended past an area light by up to that push, beyond
+// the gap on a large floor (half-size 100 under a light 2 above: every sample blocked by
+// the light itself, the floor black).
+// The gap: a sample of an emitter's far side must be blocked by its near side; stopping
+// 1e-4 of the distance short, a sphere light smaller than that (radius 1e-4 at distance 3)
+// let every far-side sample through and shone twice as bright as the point light of its
+// power. So the gap is at most 1e-3 of the sampled triangle's size, and at least 2^-20 of
+// the coordinates, well above the error of Embree's float triangles (~1e-7 of them), so
+// that the ray does not find the sampled triangle itself. Convex emitters smaller than
+// that floor return no far-side samples at all (Scene::sampleLight).
 bool shadowed(const Scene& scene, const Hit& hit, const LightSample& ls, RayCounter& counter) {
   glm::dvec3 org = scene.spawnOrigin(hit, ls.wi);
   if (!std::isfinite(ls.distance))
     return scene.occluded(org, ls.wi, 0.0, std::numeric_limits<double>::infinity(), counter);
-  double gap = kShadowEpsilon * ls.distance;
+  const glm::dvec3 target = hit.p + ls.distance * ls.wi;
+  const glm::dvec3 toTarget = target - org;
+  const double distance = glm::length(toTarget);
+  if (!(distance > 0)) return false;
+  const glm::dvec3 dir = toTarget / distance;
+  double gap = kShadowEpsilon * distance;
   if (ls.extent > 0) {
-    const glm::dvec3 a = glm::abs(org), b = glm::abs(org + ls.distance * ls.wi);
+    const glm::dvec3 a = glm::abs(org), b = glm::abs(target);
     const double coordinates = std::max({a.x, a.y, a.z, b.x, b.y, b.z});
     gap = std::max(std::min(gap, 1e-3 * ls.extent), 0x1p-20 * coordinates);
   }
-  return scene.occluded(org, ls.wi, 0.0, std::max(ls.distance - gap, 0.0), counter);
+  return scene.occluded(org, dir, 0.0, std::max(distance - gap, 0.0), counter);
 }
 
 // Light sample contribution f * L * |cos| / pdf, MIS-weighted against BSDF sampling.

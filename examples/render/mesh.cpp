@@ -95,6 +95,7 @@ MeshData makeBox(glm::dvec3 half) {
         m.triangles.push_back({base, base + 2, base + 1}),
             m.triangles.push_back({base, base + 3, base + 2});
     }
+  m.convexClosed = true;
   return m;
 }
 
@@ -138,6 +139,7 @@ MeshData makeIcosphere(int subdivisions) {
     m.uvs.push_back(
         {0.5 + std::atan2(p.y, p.x) / (2 * kPi), std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi});
   m.triangles = std::move(f);
+  m.convexClosed = true;
   return m;
 }
 

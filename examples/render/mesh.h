@@ -16,6 +16,9 @@ struct MeshData {
   std::vector<glm::dvec3> normals;  // per vertex, empty = flat shading
   std::vector<glm::dvec2> uvs;      // per vertex, may be empty
   std::vector<std::array<unsigned, 3>> triangles;
+  // The boundary of a convex solid (box, icosphere; kept by affine transforms): an emissive
+  // one hides its far side from points outside it, and its light sampling says so.
+  bool convexClosed = false;
 
   // Throws std::runtime_error when an index is out of range or a value is not finite.
   void validate(const std::string& what) const;

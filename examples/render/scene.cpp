@@ -29,6 +29,10 @@ struct Scene::Light {
   std::vector<double> cdf;  // mesh: cumulative triangle areas
   double area = 0;
   glm::dvec3 emission{0.0};
+  // Mesh of a convex solid (MeshData::convexClosed): a point of its vertices' convex hull
+  // and the squared radius of a ball about it holding every vertex; 0 for other meshes.
+  glm::dvec3 center{0.0};
+  double outsideRadius2 = 0;
 };
 
 namespace {
@@ -170,6 +174,13 @@ void Scene::build() {
       light.cdf.push_back(light.area);
     }
     if (!(light.area > 0)) continue;
+    if (g->mesh.convexClosed) {
+      for (const glm::dvec3& v : g->mesh.positions) light.center += v;
+      light.center /= static_cast<double>(g->mesh.positions.size());
+      for (const glm::dvec3& v : g->mesh.positions)
+        light.outsideRadius2 =
+            std::max(light.outsideRadius2, glm::dot(v - light.center, v - light.center));
+    }
     geomLight_[id] = static_cast<int>(lights_.size());
     lights_.push_back(std::move(light));
   }
@@ -366,6 +377,18 @@ std::optional<LightSample> Scene::sampleLight(int index, const glm::dvec3& p, gl
       glm::dvec3 d = q - p;
       double d2 = glm::dot(d, d);
       if (!(d2 > 0) || !(nlLen > 0)) return std::nullopt;
+      // The far side of a convex emitter, seen from a point outside it (beyond the ball
+      // about its vertices), lies behind its near side: q is on a face whose plane has p
+      // on the inner side, so the segment from q enters the solid. Such a sample adds
+      // nothing, exactly; not tracing it spares a shadow ray, and the shadow ray's gap
+      // (integrator.cpp: at least 2^-20 of the coordinates) exceeds an emitter smaller than
+      // that, which let far-side samples through (a sphere light of radius 3e-7 shone
+      // twice as bright as its point light).
+      if (light.outsideRadius2 > 0 &&
+          glm::dot(p - light.center, p - light.center) > light.outsideRadius2) {
+        const double outward = glm::dot(nl, q - light.center), towardP = glm::dot(nl, p - q);
+        if ((outward > 0 && towardP < 0) || (outward < 0 && towardP > 0)) return std::nullopt;
+      }
       s.distance = std::sqrt(d2);
       s.wi = d / s.distance;
       double cosL = std::abs(glm::dot(nl / nlLen, s.wi));

@@ -192,11 +192,63 @@ TEST(LightSampling, SmallSphereLightsMatchAPointLight) {
   const auto [point, n] = meanOverHits(scene(0.0));
   ASSERT_GT(n, 50);
   ASSERT_GT(point.x, 0.0);
-  for (const double radius : {1e-2, 1e-3, 1e-4, 1e-5}) {
+  // Below ~1e-6 (2^-20 of the coordinates, the shadow ray's least gap) the near side no
+  // longer blocks the far side's samples: convex emitters return none (radius 3e-7: 1.99x).
+  for (const double radius : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 3e-7, 1e-7, 1e-9}) {
     // The icosphere's area is 0.4 % below the sphere's (its power likewise).
     const double ratio = meanOverHits(scene(radius)).first.x / point.x;
     EXPECT_NEAR(ratio, 1.0, 0.08) << "radius " << radius;
   }
+}
+
+// A diffuse floor under a quad light: the radiance at the floor point below it is
+// albedo * L * F, F the form factor of a differential area to a parallel rectangle (Howell's
+// catalogue, C-11, by superposition of rectangles with a corner above the point). Shadow rays
+// from a mesh start pushed off the floor by 64 float ulps of its coordinates; aimed along the
+// direction sampled from the unpushed point, they ended past the light by that push, and on a
+// floor of half-size 100 under a light 2 above every sample was blocked by the light itself.
+TEST(LightSampling, AreaLightsLightLargeFloors) {
+  const double h = 2, albedo = 0.6, radiance = 2;
+  auto corner = [h](double a, double b) {  // rectangle [0, a] x [0, b] at height h
+    const double A = a / h, B = b / h, sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
+    return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * M_PI);
+  };
+  // The light covers x in [0.5, 1.5], y in [-0.5, 0.5]: twice [0.5, 1.5] x [0, 0.5].
+  const double formFactor = 2 * (corner(1.5, 0.5) - corner(0.5, 0.5));
+  const double expected = albedo * radiance * formFactor;
+  for (const double half : {1.0, 100.0, 1000.0})
+    for (const double shift : {0.0, 1000.0}) {
+      const glm::dvec3 offset(shift, 0, 0);
+      SceneDesc s;
+      s.settings.width = 4;
+      s.settings.height = 4;
+      s.settings.spp = 64;
+      s.settings.integrator = IntegratorType::Direct;
+      s.camera.type = CameraDesc::Type::Orthographic;
+      s.camera.height = 1e-6;  // every pixel sees the floor point below the camera
+      s.camera.position = offset + glm::dvec3(0, 0, 1);
+      s.camera.lookAt = offset;
+      s.camera.up = {0, 1, 0};
+      s.environment.color = glm::dvec3(0.0);
+      Material floor;
+      floor.color = glm::dvec3(albedo);
+      Material light;
+      light.type = MaterialType::Emissive;
+      light.emission = glm::dvec3(radiance);
+      MeshItem plane{"floor", makePlane(half), glm::translate(glm::dmat4(1.0), offset),
+                     s.addMaterial(floor), -1};
+      MeshItem quad{"light", makeQuad(offset + glm::dvec3(0.5, -0.5, h), {1, 0, 0}, {0, 1, 0}),
+                    glm::dmat4(1.0), s.addMaterial(light), -1};
+      s.meshes.push_back(std::move(plane));
+      s.meshes.push_back(std::move(quad));
+      Scene scene(s);
+      Image image;
+      render(scene, image);
+      double sum = 0;
+      for (const auto& c : image.color) sum += c.x;
+      const double mean = sum / static_cast<double>(image.color.size());
+      EXPECT_NEAR(mean, expected, 0.03 * expected) << "half-size " << half << ", shift " << shift;
+    }
 }
 
 TEST(SurfaceTexture, UvComeFromTheSurfaceOnlyWhenTextured) {
