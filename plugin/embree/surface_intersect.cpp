@@ -273,6 +273,20 @@ namespace {
 // -o_i is -0), so a zero tc is left to closestParameter. It lies in [t0, t1] =
 // [tc - dt, tc + dt] (dt >= 0 or NaN, and t0, t1 start unbounded), where the clamp of
 // restrictRecentred keeps it.
+// A root within f's rounding noise of tnear counts as at tnear and is not reported (README,
+// "by design"; the walk's search starts before tnear, searchSpan): f at o + tnear d within
+// its evaluation bound plus what the rounding of that point moves it by. Asked only of a
+// root a rounding-level step past tnear: a host stepping past a hit with tnear = its t
+// (the double nearest the root, which may lie below it) met the same root again one double
+// on, on 1152 of 14313 double-channel rays through a torus with hits.
+[[gnu::noinline, gnu::cold]] bool withinNoiseAt(const HornerForm& f, const glm::dvec3& o,
+                                                const glm::dvec3& d, double t) {
+  const glm::dvec3 p = o + t * d;
+  const Polynomial::Evaluation e = f.evaluate(p);
+  const glm::dvec3 pointError = gamma(2) * (glm::abs(o) + std::abs(t) * glm::abs(d));
+  return std::abs(e.value) <= e.valueError + glm::dot(glm::abs(e.gradient), pointError);
+}
+
 inline bool regionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
                        double& t0, double& t1, double& closest) {
   closest = std::numeric_limits<double>::quiet_NaN();
@@ -379,6 +393,9 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), r1 - r0, hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
+    if (hit.t - ray.tnear <= 0x1p-30 * (std::abs(ray.tnear) + std::abs(hit.t)) &&
+        withinNoiseAt(f, o, d, ray.tnear)) [[unlikely]]
+      continue;
     if (!occlusion)
       hit.gradient = hitGradient(data, d, hit.point, hit.gradient, hitPointError(o, d, hit.t));
     if (ray.trace != 0) {
