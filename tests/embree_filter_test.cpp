@@ -445,6 +445,79 @@ TEST_F(EmbreeFilter, TorusFilterWalksAllFourRoots) {
   EXPECT_NEAR(rh.ray.tfar, 6.4f, 1e-6f);
 }
 
+// With SurfaceOptions::uv on, an occlusion filter sees the u, v an intersection filter sees
+// for the same root (an alpha-textured shadow reads them there, as Embree's triangles give
+// them), both within float rounding of the sphere's spherical coordinates (closed form);
+// Ng stays zero (occlusion computes no normal). Float rays and the double channel. (Every
+// occlusion candidate had u = v = 0.)
+struct UvLog {
+  std::vector<glm::vec2> uv;
+  std::vector<glm::vec3> ng;
+};
+UvLog* gUv = nullptr;
+void uvFilter(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    gUv->uv.emplace_back(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+    gUv->ng.emplace_back(RTCHitN_Ng_x(args->hit, args->N, i), RTCHitN_Ng_y(args->hit, args->N, i),
+                         RTCHitN_Ng_z(args->hit, args->N, i));
+  }
+}
+
+TEST_F(EmbreeFilter, OcclusionFiltersSeeTheIntersectionsUv) {
+  SurfaceDesc desc = sphereDesc(1.0, 1.5);
+  desc.options.uv = true;
+  SurfaceGeometry sphere(device, desc);
+  rtcSetGeometryIntersectFilterFunction(sphere.geometry(), &uvFilter);
+  rtcSetGeometryOccludedFilterFunction(sphere.geometry(), &uvFilter);
+  rtcCommitGeometry(sphere.geometry());
+  Scene scene(device);
+  scene.attach(sphere.geometry());
+  scene.commit();
+  std::mt19937 gen(4404);
+  std::uniform_real_distribution<float> uniform(-0.9f, 0.9f);
+  int checked = 0;
+  for (int k = 0; k < 200; ++k) {
+    const glm::vec3 target(uniform(gen), uniform(gen), uniform(gen));
+    const glm::vec3 o = 4.0f * randomUnit(gen);
+    const glm::vec3 d = glm::normalize(target - o);
+    for (const bool doubleChannel : {false, true}) {
+      UvLog hitLog, shadowLog;
+      RayD rayD{glm::dvec3(o), glm::dvec3(d), 0, kInfF, 0};
+      gUv = &hitLog;
+      RTCRayHit rh = makeRay(o, d);
+      if (doubleChannel) {
+        intersectD(scene, rayD, &rh);
+      } else {
+        rh = intersect1(scene, rh);
+      }
+      gUv = &shadowLog;
+      if (doubleChannel) {
+        HitD hit;
+        IntersectContext context;
+        initIntersectContext(&context, &rayD, &hit, scene);
+        RTCRayHit shadow = makeRayHit(context);
+        rtcOccluded1(scene, &context.base, &shadow.ray);
+      } else {
+        occluded1(scene, makeRay(o, d).ray);
+      }
+      gUv = nullptr;
+      if (hitLog.uv.empty()) continue;
+      ASSERT_FALSE(shadowLog.uv.empty());
+      EXPECT_EQ(shadowLog.uv[0], hitLog.uv[0]) << k << " " << doubleChannel;
+      EXPECT_EQ(shadowLog.ng[0], glm::vec3(0.0f));
+      const glm::dvec3 p = glm::dvec3(o) + double(rh.ray.tfar) * glm::dvec3(d);
+      double u = std::atan2(p.y, p.x) / (2 * M_PI);
+      if (u < 0) u += 1;
+      const double v = std::acos(std::clamp(p.z / glm::length(p), -1.0, 1.0)) / M_PI;
+      EXPECT_NEAR(hitLog.uv[0].x, u, 1e-5) << k;
+      EXPECT_NEAR(hitLog.uv[0].y, v, 1e-5) << k;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 200);
+}
+
 TEST_F(EmbreeFilter, ContextFilterIsChainedThroughAlgrayContext) {
   SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
   Scene scene(device);

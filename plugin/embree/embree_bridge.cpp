@@ -441,9 +441,22 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   const double t = L.dctx ? hostParameter(L, h.t) : h.t;  // (nothing added on a float ray's path)
   float tf;
   if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
-  // Occlusion computes no normal: Ng, u, v are zero for the filter.
+  // Occlusion computes no normal: Ng is zero for the filter. u, v are the intersection's
+  // where the host asked for them (SurfaceOptions::uv: an alpha-textured shadow reads them
+  // in its occlusion filter, as Embree's triangles give them), else 0, 0.
+  float uf = 0.0f, vf = 0.0f;
+  if (L.data->desc.options.uv) {
+    if (L.dctx) {
+      double u, v;
+      surfaceUV(*L.data, h.point, u, v);
+      uf = floatU(u);
+      vf = static_cast<float>(v);
+    } else {
+      surfaceUVFloat(*L.data, h.point, uf, vf);
+    }
+  }
   HitBuffer candidate;
-  writeCandidate(candidate.hitN(), n, lane, glm::vec3(0.0f), 0.0f, 0.0f, args->primID, args->geomID,
+  writeCandidate(candidate.hitN(), n, lane, glm::vec3(0.0f), uf, vf, args->primID, args->geomID,
                  args->context);
   int valid[kMaxN] = {};
   valid[lane] = -1;
