@@ -8,6 +8,8 @@
 //     (ray_settle.cpp), and all of them only when a cell beyond it or a host filter asks.
 #include "ray_roots.h"
 
+#include "double_channel.h"
+
 #include "algray/roots.h"
 #include "algray/taylor.h"
 
@@ -24,6 +26,32 @@
 #include <type_traits>
 
 namespace algray {
+
+// ---- The expansion point ----------------------------------------------------------------------
+// restrictToRay's bound holds about the point p~ = fl(o + fl(tShift d)) it forms (taylor.h),
+// which lies off the ray's line by up to u (|p~| + |tShift d|) per coordinate. Where |p~| is
+// not small that is a relative rounding of the point, of the order of the bound's own
+// (the terms' magnitudes at p~ times gamma_(3m+3)); where the line passes near the
+// object-space origin (|p~| below an eighth of |tShift d|, the sum cancelled) it is not, and
+// where f's terms all vanish there (a singular or tangent point at the origin) g's bound
+// shrinks with |p~| while the displacement does not: a ray exactly through the node of
+// (x^2+y^2+z^2)^2 - 4 (x^2+y^2) was expanded about a p~ 1e-16 off its line, along which g
+// stays below -9.8e-36 with a bound of 1e-47 on its constant term, and missed the node (5-8 %
+// of exact rays through the node, the point of x^4+y^4+z^4 or a sphere's tangent point at 0).
+// There the point is formed with error-free transformations (pointOnLine: off the line by
+// u |p| + u^2 |tShift d|, a relative rounding again) and g expanded about it.
+void restrictAbout(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift,
+                   RayPolynomial& g) {
+  const glm::dvec3 step = tShift * d, p = o + step;
+  const double pNorm = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  const double stepNorm = std::max({std::abs(step.x), std::abs(step.y), std::abs(step.z)});
+  if (8.0 * pNorm < stepNorm) [[unlikely]] {
+    restrictToRay(f, pointOnLine(o, d, tShift), d, 0.0, g);
+    g.tShift = tShift;
+    return;
+  }
+  restrictToRay(f, o, d, tShift, g);
+}
 
 namespace {
 
@@ -313,7 +341,7 @@ void restrictRecentred(const SurfaceData& data, const glm::dvec3& o, const glm::
   if (data.desc.options.recentre)
     tShift =
         closest == closest ? closest : std::clamp(closestParameter(o, d, glm::dvec3(0.0)), r0, r1);
-  restrictToRay(data.horner, o, d, tShift, g);
+  restrictAbout(data.horner, o, d, tShift, g);
 }
 
 // From an origin outside the clip ball (no self-root rule): from the origin cache or

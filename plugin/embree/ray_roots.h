@@ -92,6 +92,10 @@ void completeRoots(const SurfaceData& data, RayRoots& rr);
 // ended within its evaluation bound (confirmed). `last`, if given, receives f at the result.
 bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
             double regionSpan, KernelHit& hit, Polynomial::Evaluation* last = nullptr);
+// restrictToRay(f, o, d, tShift, g) about a point on the line itself where it matters
+// (restrictAbout, ray_roots.cpp): every restriction about a point of the ray other than o.
+void restrictAbout(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift,
+                   RayPolynomial& g);
 // The first root of rr.g in [rr.slo, rr.shi] (rr.count = 0 or 1); solveFirst sets that
 // search span first.
 void solveFirstInSpan(const SurfaceData& data, RayRoots& rr);

@@ -117,7 +117,7 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
     const RayRoots before = rr;
     const double from = rr.g.tShift + clearBefore(rr.g, s, rr.slo);
     const double centre = rr.g.tShift + s;
-    restrictToRay(data.horner, ray.org, ray.dir, centre, rr.g);
+    restrictAbout(data.horner, ray.org, ray.dir, centre, rr.g);
     rr.slo = from - centre;
     rr.shi = rr.r1 - centre;
     rr.closedLo = true;
@@ -281,7 +281,7 @@ namespace {
 
 [[gnu::noinline, gnu::cold]] void searchFromTnear(const SurfaceData& data, const KernelRay& ray,
                                                   RayRoots& rr) {
-  restrictToRay(data.horner, ray.org, ray.dir, ray.tnear, rr.g);
+  restrictAbout(data.horner, ray.org, ray.dir, ray.tnear, rr.g);
   rr.fromCache = false;
   rr.firstPolished = false;
   solveFirst(data, rr);
