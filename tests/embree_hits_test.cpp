@@ -186,6 +186,48 @@ TEST_F(EmbreeHits, RaysThroughASingularPointAtTheOriginFindIt) {
   }
 }
 
+// Stepping past a hit skips only the root within f's noise of tnear, not a distinct one
+// close by: two planes 1e-8 and 1e-6 apart (f between them far above its noise), and a
+// torus seen from 1e9 radii (roots 3e6 ulps apart), every root in order against its closed
+// form. (A first version of the rule skipped every root within 2^-30 of tnear: the second
+// plane and three of the torus's four roots were lost.)
+TEST_F(EmbreeHits, SteppingPastAHitKeepsACloseDistinctRoot) {
+  struct Case {
+    const char* equation;
+    double clip;
+    glm::dvec3 o, d;
+    std::vector<double> roots;
+  };
+  const double far = 1e9;
+  const Case cases[] = {
+      {"x*(x-1e-8)*(x+5)", 2, {-5.5, 0.1, 0.2}, {1, 0, 0}, {5.5, 5.5 + 1e-8}},
+      {"(x-0.3)*(x-0.3-1e-6)*(x+5)", 2, {-5.5, 0.1, 0.2}, {1, 0, 0}, {5.8, 5.8 + 1e-6}},
+      {"(x^2+y^2+z^2+0.84)^2-4*(x^2+y^2)",
+       1.6,
+       {-far, 0, 0},
+       {1, 0, 0},
+       {far - 1.4, far - 0.6, far + 0.6, far + 1.4}},
+  };
+  for (const Case& c : cases) {
+    SurfaceDesc desc;
+    desc.polynomial = parsePolynomial(c.equation);
+    desc.clip = ClipSphere{glm::dvec3(0.0), c.clip};
+    SurfaceScene scene(device, desc);
+    RayD ray = unboundedRay(c.o, c.d);
+    std::vector<double> hits;
+    for (int step = 0; step < 8; ++step) {
+      const HitD hit = intersectD(scene, ray);
+      if (!hit.hit) break;
+      hits.push_back(hit.t);
+      ray.tnear = hit.t;
+    }
+    ASSERT_EQ(hits.size(), c.roots.size()) << c.equation;
+    for (size_t i = 0; i < hits.size(); ++i)
+      EXPECT_NEAR(hits[i], c.roots[i], 1e-10 * std::max(1.0, std::abs(c.roots[i])))
+          << c.equation << " root " << i;
+  }
+}
+
 TEST_F(EmbreeHits, SphereMatchesClosedForm) {
   SurfaceDesc desc = sphereDesc(1.0, 1.5);
   desc.options.uv = true;
