@@ -1,7 +1,6 @@
 // libalgray_render_oiio.so: every OpenImageIO call of algray-render (image_backend.h).
 #include "image_backend.h"
 
-#include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
 #include <memory>
@@ -34,25 +33,31 @@ WriteStatus writeRaster(const std::string& formatPath, const std::string& filePa
   return WriteStatus::Failed;
 }
 
+// Straight from the file (ImageInput, not the shared image cache, which kept a file's first
+// size under its name), with the colour as stored: OpenImageIO multiplies a file's colour by
+// its alpha on reading unless told not to, and the sRGB decoding must see the stored value
+// (an RGBA texel (128, 128, 128, 77) read as 38 and decoded to 0.019 instead of 0.216).
 bool readRaster(const std::string& path, Raster& out, std::string& error) {
-  OIIO::ImageBuf buf(path);
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-    error = buf.geterror();
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
+  if (!in) {
+    error = OIIO::geterror();
     return false;
   }
-  const OIIO::ImageSpec& spec = buf.spec();
+  const OIIO::ImageSpec& spec = in->spec();
   out.width = spec.width;
   out.height = spec.height;
   out.channels = spec.nchannels;
-  // The file's own sample type: spec() describes the float buffer read() just made, so it
-  // said "float" for every file and 8/16-bit images were never decoded from sRGB.
-  const OIIO::TypeDesc::BASETYPE stored =
-      static_cast<OIIO::TypeDesc::BASETYPE>(buf.nativespec().format.basetype);
-  out.encoded = stored == OIIO::TypeDesc::UINT8 || stored == OIIO::TypeDesc::UINT16;
+  // The file's own sample type (8/16-bit files are sRGB-encoded).
+  out.encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
+                spec.format.basetype == OIIO::TypeDesc::UINT16;
   if (out.width <= 0 || out.height <= 0 || out.channels <= 0) return true;
   out.pixels.resize(static_cast<size_t>(out.width) * out.height * out.channels);
-  if (buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.pixels.data())) return true;
-  error = buf.geterror();
+  if (in->read_image(0, 0, 0, out.channels, OIIO::TypeDesc::FLOAT, out.pixels.data()) &&
+      in->close())
+    return true;
+  error = in->geterror();
   return false;
 }
 

@@ -188,18 +188,23 @@ TEST(ImageFile, IntegerTexturesAreDecodedFromSrgb) {
   struct Case {
     const char* name;
     OIIO::TypeDesc type;
-    std::vector<double> stored;  // the file's three channel values, in its own units
+    std::vector<double> stored;  // the file's channel values (RGB or RGBA), in its own units
     double scale;                // their full-scale value (1 for float)
   };
+  // (With alpha: the colour as stored, not multiplied by alpha, which OpenImageIO does on
+  // reading by default: (128, 128, 128, 77) read as 38 and decoded to 0.019.)
   const Case cases[] = {
       {"algray_srgb_test8.png", OIIO::TypeDesc::UINT8, {128, 64, 192}, 255},
       {"algray_srgb_test16.png", OIIO::TypeDesc::UINT16, {32768, 1000, 65535}, 65535},
+      {"algray_srgb_testa.png", OIIO::TypeDesc::UINT8, {128, 64, 192, 77}, 255},
       {"algray_srgb_testf.exr", OIIO::TypeDesc::FLOAT, {0.5, 0.25, 2.0}, 1}};
   for (const Case& c : cases) {
     const std::string path = (dir / c.name).string();
     auto out = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(out) << c.name;
-    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(1, 1, 3, c.type))) << c.name;
+    OIIO::ImageSpec spec(1, 1, static_cast<int>(c.stored.size()), c.type);
+    if (c.stored.size() == 4) spec.attribute("oiio:UnassociatedAlpha", 1);
+    ASSERT_TRUE(out->open(path, spec)) << c.name;
     // write_image maps float [0, 1] to the integer type's full range (the values above
     // come back exactly: rounding v / scale * scale)
     std::vector<float> pixel;
