@@ -48,16 +48,22 @@ std::shared_ptr<const Texture> Texture::load(const std::string& path) {
 Texture::Texture(int width, int height, std::vector<glm::vec3> texels)
     : width_(width), height_(height), texels_(std::move(texels)) {}
 
-glm::dvec3 Texture::lookup(glm::dvec2 uv) const {
+glm::dvec3 Texture::lookup(glm::dvec2 uv) const { return bilinear(uv, false); }
+
+glm::dvec3 Texture::lookupLatLong(glm::dvec2 uv) const { return bilinear(uv, true); }
+
+glm::dvec3 Texture::bilinear(glm::dvec2 uv, bool clampRows) const {
   // Image row 0 is the top; v = 0 is the bottom (OBJ convention).
+  const double v = clampRows ? std::clamp(uv.y, 0.0, 1.0) : uv.y - std::floor(uv.y);
   double x = (uv.x - std::floor(uv.x)) * width_ - 0.5;
-  double y = (1.0 - (uv.y - std::floor(uv.y))) * height_ - 0.5;
+  double y = (1.0 - v) * height_ - 0.5;
   if (!std::isfinite(x) || !std::isfinite(y)) return glm::dvec3(texels_[0]);
   double fx = std::floor(x), fy = std::floor(y);
   double tx = x - fx, ty = y - fy;
   auto at = [&](long i, long j) {
     i = ((i % width_) + width_) % width_;
-    j = ((j % height_) + height_) % height_;
+    j = clampRows ? std::clamp(j, 0L, static_cast<long>(height_) - 1)
+                  : ((j % height_) + height_) % height_;
     return glm::dvec3(texels_[static_cast<size_t>(j) * width_ + i]);
   };
   long i = static_cast<long>(fx), j = static_cast<long>(fy);
@@ -81,7 +87,7 @@ glm::dvec3 Texture::latLongMean() const {
   // Bilinear lookup of periodic samples averages over the azimuth to the row's mean (each
   // column's hat function integrates to 1 / width), so the azimuthal mean is the row means
   // interpolated linearly in theta: y = theta h / pi - 0.5, knots theta_j = (j + 0.5) pi / h,
-  // rows wrapping like lookup() (row -1 = h - 1 at the zenith, row h = 0 at the nadir).
+  // rows clamped like lookupLatLong() (row -1 = 0 at the zenith, row h = h - 1 at the nadir).
   // The mean over the sphere is (1/2) int_0^pi L(theta) sin(theta) dtheta; on a knot
   // interval L = R_j + (R_j+1 - R_j) (theta - theta_j) / step, and
   // int (theta - theta_j) sin(theta) = sin(theta) - (theta - theta_j) cos(theta).
@@ -91,7 +97,7 @@ glm::dvec3 Texture::latLongMean() const {
       rows[j] += glm::dvec3(texels_[static_cast<size_t>(j) * width_ + i]);
     rows[j] /= static_cast<double>(width_);
   }
-  auto row = [&](int j) { return rows[static_cast<size_t>(((j % height_) + height_) % height_)]; };
+  auto row = [&](int j) { return rows[static_cast<size_t>(std::clamp(j, 0, height_ - 1))]; };
   const double step = kPi / height_;
   glm::dvec3 sum(0.0);
   for (int j = -1; j < height_; ++j) {

@@ -30,16 +30,20 @@ class Texture {
   static std::shared_ptr<const Texture> load(const std::string& path);
   Texture(int width, int height, std::vector<glm::vec3> texels);
   glm::dvec3 lookup(glm::dvec2 uv) const;
+  // A lat-long map's lookup (v = 1 - theta / pi, the environment's): wrapping in u only,
+  // rows clamped at the poles (wrapped, the zenith blended the top row with the bottom
+  // one over half a texel, and v = 1 itself read the bottom row).
+  glm::dvec3 lookupLatLong(glm::dvec2 uv) const;
   // Average colour; used as the albedo AOV and by tests.
   glm::dvec3 average() const;
   // The largest texel value of each channel (a colour times the texture stays below it).
   glm::dvec3 maximum() const;
-  // Mean over the sphere of directions (solid-angle weighted) of lookup() read as a
-  // lat-long map (v = 1 - theta / pi), exactly as interpolated: the ambient light of an
-  // image environment.
+  // Mean over the sphere of directions (solid-angle weighted) of lookupLatLong(), exactly
+  // as interpolated: the ambient light of an image environment.
   glm::dvec3 latLongMean() const;
 
  private:
+  glm::dvec3 bilinear(glm::dvec2 uv, bool clampRows) const;
   int width_, height_;
   std::vector<glm::vec3> texels_;
 };

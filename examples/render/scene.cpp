@@ -315,7 +315,7 @@ glm::dvec3 Scene::environment(const glm::dvec3& dir) const {
     // Lat-long map, z up: u = azimuth, v = 1 at the zenith.
     double phi = std::atan2(dir.y, dir.x) - desc_.environment.rotation * kPi / 180.0;
     double theta = std::acos(std::clamp(dir.z, -1.0, 1.0));
-    c *= envImage_->lookup({0.5 + phi / (2 * kPi), 1.0 - theta / kPi});
+    c *= envImage_->lookupLatLong({0.5 + phi / (2 * kPi), 1.0 - theta / kPi});
   }
   return c;
 }

@@ -110,7 +110,7 @@ TEST(WhiteFurnace, GreyConvexSurfaceReflectsAlbedoTimesEnvironment) {
 // the image's solid-angle mean: it read the colour alone, so a white sphere under an image
 // of constant 0.1 came out 1.0. A convex sphere with no other light reflects albedo x mean
 // at every pixel. References in closed form: a constant image c gives c; an image of rows
-// a, b, b, a (z up) is, interpolated like lookup(), a on theta in [0, pi/8] and its mirror,
+// a, b, b, a (z up) is, interpolated like lookupLatLong(), a on theta in [0, pi/8] and its mirror,
 // b on [3pi/8, 5pi/8], linear between, so its mean int_0^(pi/2) L sin = a + (b - a)
 // (4/pi) (sin(3pi/8) - sin(pi/8)) (int (theta - pi/8) sin = sin - (theta - pi/8) cos).
 TEST(DirectIntegrator, AmbientLightIsTheImageEnvironmentsMean) {
@@ -150,6 +150,35 @@ TEST(DirectIntegrator, AmbientLightIsTheImageEnvironmentsMean) {
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], c.expected, 1e-6) << c.rows.size();
     std::filesystem::remove(file);
   }
+}
+
+// An image environment at its poles: straight up the top row, straight down the bottom one,
+// and near them only those rows (each row constant here, so the azimuth does not matter).
+// The lookup wrapped rows like a surface texture's: v = 1 (the zenith) read the bottom row,
+// and within half a texel of the zenith the top row was blended with the bottom one.
+TEST(EnvironmentImage, PolesReadOnlyTheirOwnRows) {
+  const std::vector<float> rows = {2.0f, 0.5f, 0.25f, 0.125f};  // top to bottom
+  const int w = 8, h = static_cast<int>(rows.size());
+  std::vector<float> pixels;
+  for (float r : rows)
+    for (int i = 0; i < 3 * w; ++i) pixels.push_back(r);
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "algray_env_poles.exr").string();
+  auto out = OIIO::ImageOutput::create(file);
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(file, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  ASSERT_TRUE(out->close());
+  SceneDesc s = furnace(0.5);
+  s.environment.color = glm::dvec3(1.0);
+  s.environment.image = file;
+  const Scene scene(s);
+  for (const double tilt : {0.0, 1e-6, 0.05, 0.1}) {  // radians from the pole; a row is pi/4
+    const glm::dvec3 up(std::sin(tilt), 0.0, std::cos(tilt)), down(up.x, up.y, -up.z);
+    EXPECT_DOUBLE_EQ(scene.environment(up).x, rows.front()) << tilt;
+    EXPECT_DOUBLE_EQ(scene.environment(down).x, rows.back()) << tilt;
+  }
+  std::filesystem::remove(file);
 }
 
 // A textured material on an algebraic surface reads the surface's u, v (the plugin's

@@ -17,9 +17,9 @@ glm::dvec3 direction(double cosTheta, double phi) {
 }
 
 // The ambient light of an image environment: Texture::latLongMean against brute-force
-// quadrature of lookup() over the sphere (midpoint rule in theta and phi with the sin(theta)
+// quadrature of lookupLatLong() over the sphere (midpoint rule in theta and phi with the sin(theta)
 // weight; lookup is piecewise linear, so the rule's error is O(1/n^2), here below 1e-6),
-// on an image whose rows and columns all differ (the zenith and nadir wrap like lookup()).
+// on an image whose rows and columns all differ (rows clamped at the zenith and nadir).
 TEST(EnvironmentImage, LatLongMeanIsTheSolidAngleMeanOfTheLookup) {
   const int w = 5, h = 3;
   std::vector<glm::vec3> texels;
@@ -35,7 +35,7 @@ TEST(EnvironmentImage, LatLongMeanIsTheSolidAngleMeanOfTheLookup) {
     const double theta = (a + 0.5) * kPi / nTheta;
     for (int b = 0; b < nPhi; ++b) {
       const double u = (b + 0.5) / nPhi;  // u = 0.5 + phi / 2pi covers the circle once
-      sum += std::sin(theta) * texture.lookup({u, 1.0 - theta / kPi});
+      sum += std::sin(theta) * texture.lookupLatLong({u, 1.0 - theta / kPi});
       weight += std::sin(theta);
     }
   }
