@@ -68,6 +68,18 @@ glm::dvec3 asD(const RTCRayHit& rh, bool org) {
 
 using EmbreeHits = EmbreeFixture;
 
+// The hits of a host stepping along a double ray: tnear = the previous HitD.t, up to 8.
+std::vector<double> stepThrough(RTCScene scene, RayD ray) {
+  std::vector<double> hits;
+  for (int step = 0; step < 8; ++step) {
+    const HitD hit = intersectD(scene, ray);
+    if (!hit.hit) break;
+    hits.push_back(hit.t);
+    ray.tnear = hit.t;
+  }
+  return hits;
+}
+
 // A host stepping along a double ray (tnear = the previous HitD.t) meets each root once, in
 // order: the roots of the torus along the ray, from a dense long-double sign scan and
 // bisection, against the steps. The double nearest a root may lie below it, and a search
@@ -111,14 +123,7 @@ TEST_F(EmbreeHits, DoubleRaysSteppingPastAHitMeetEachRootOnce) {
       }
     }
     // ---- Steps: each hit a root of the list, past the previous one ----------------------
-    RayD ray = unboundedRay(o, d);
-    std::vector<double> hits;
-    for (int step = 0; step < 8; ++step) {
-      const HitD hit = intersectD(scene, ray);
-      if (!hit.hit) break;
-      hits.push_back(hit.t);
-      ray.tnear = hit.t;
-    }
+    const std::vector<double> hits = stepThrough(scene, unboundedRay(o, d));
     raysWithHits += !hits.empty();
     for (size_t i = 0; i < hits.size(); ++i) {
       if (i > 0 && hits[i] - hits[i - 1] < 1e-9) ++repeats;
@@ -213,14 +218,7 @@ TEST_F(EmbreeHits, SteppingPastAHitKeepsACloseDistinctRoot) {
     desc.polynomial = parsePolynomial(c.equation);
     desc.clip = ClipSphere{glm::dvec3(0.0), c.clip};
     SurfaceScene scene(device, desc);
-    RayD ray = unboundedRay(c.o, c.d);
-    std::vector<double> hits;
-    for (int step = 0; step < 8; ++step) {
-      const HitD hit = intersectD(scene, ray);
-      if (!hit.hit) break;
-      hits.push_back(hit.t);
-      ray.tnear = hit.t;
-    }
+    const std::vector<double> hits = stepThrough(scene, unboundedRay(c.o, c.d));
     ASSERT_EQ(hits.size(), c.roots.size()) << c.equation;
     for (size_t i = 0; i < hits.size(); ++i)
       EXPECT_NEAR(hits[i], c.roots[i], 1e-10 * std::max(1.0, std::abs(c.roots[i])))
