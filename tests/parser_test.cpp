@@ -306,6 +306,7 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"2²·x", "4*x"},
       {"2⁻¹·x + 10⁺²", "2^-1*x + 10^+2"},
       {"𝑥² + 𝑦² + 𝑧² − 𝑟² + 𝜋·𝑎·𝑥", "x^2 + y^2 + z^2 - r^2 + pi*a*x"},
+      {"(𝑥²+𝑦²+𝑧²+𝑅²−𝑟²)² = 4·𝑅²·(𝑥²+𝑦²)", "(x^2+y^2+z^2+R^2-r^2)^2 = 4*R^2*(x^2+y^2)"},
   };
   ParseOptions o;
   o.parameters = {{"R", 1.0}, {"r", 0.4}, {"a", 2.0}};
@@ -339,6 +340,35 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
 
 // ParseError::unknownName names an undefined name a parameter could give, so that tools can
 // say how their users give one; not a glued product or an unknown function.
+// Every mathematical italic letter, capital (U+1D434..U+1D44D) and small (U+1D44E..U+1D467,
+// U+210E for the unassigned italic h), reads as its plain letter: as a coordinate or as a
+// parameter's name (the capitals were refused: a pasted torus's R).
+TEST(Parser, EveryItalicLetterIsItsPlainLetter) {
+  auto utf8 = [](unsigned cp) {
+    std::string out;
+    out += static_cast<char>(0xF0 | (cp >> 18));
+    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+    return out;
+  };
+  const std::string letters = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
+  int checked = 0;
+  for (size_t k = 0; k < letters.size(); ++k) {
+    const std::string plain(1, letters[k]);
+    const std::string italic = 0x1D434 + k == 0x1D455 ? "\u210E" : utf8(0x1D434 + k);
+    ParseOptions o;
+    const bool coordinate = plain == "x" || plain == "y" || plain == "z";
+    if (!coordinate && plain != "e")  // (e is built in)
+      o.parameters = {{plain, 2.0 + static_cast<double>(k)}};
+    const std::string tail = coordinate ? " + 1" : "*x + 1";
+    SCOPED_TRACE(plain);
+    EXPECT_EQ(parsePolynomial(italic + tail, o), parsePolynomial(plain + tail, o));
+    ++checked;
+  }
+  EXPECT_EQ(checked, 52);
+}
+
 TEST(Parser, UnknownNamesAreNamed) {
   auto unknownName = [](const char* text, const ParseOptions& options = {}) {
     try {

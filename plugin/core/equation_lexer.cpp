@@ -159,24 +159,28 @@ size_t superscriptSignLength(std::string_view text, size_t i) {
 }
 
 // A name written as a typographic letter: the Greek pi (U+03C0, and its italic U+1D70B) and
-// the mathematical italic small letters of word processors' equations (U+1D44E..U+1D467, with
-// U+210E for h, the Planck constant sign Unicode puts in its place).
+// the mathematical italic letters of word processors' equations, capital (U+1D434..U+1D44D,
+// a torus's R) and small (U+1D44E..U+1D467, with U+210E for h, the Planck constant sign
+// Unicode puts in its place; the capitals were refused until session 44).
 struct LetterForm {
   std::string_view name;  // empty: none at text[i]
   int length = 0;         // in bytes
 };
 LetterForm letterForm(std::string_view text, size_t i) {
-  static constexpr std::string_view kLetters = "abcdefghijklmnopqrstuvwxyz";
+  static constexpr std::string_view kLetters =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
   const std::string_view rest = text.substr(i);
   if (rest.starts_with("\u03C0")) return {"pi", 2};
   if (rest.starts_with("\u210E")) return {"h", 3};
   if (rest.starts_with("\U0001D70B")) return {"pi", 4};
-  if (rest.size() < 4 || !rest.starts_with("\xF0\x9D\x91")) return {};
-  // U+1D44E..U+1D45F end in 0x8E..0x9F after F0 9D 91, U+1D460..U+1D467 in 0xA0..0xA7
+  // F0 9D 90..91 xx: U+1D400..U+1D47F, of which U+1D434..U+1D467 are the italic letters
   // (U+1D455, the italic h's unassigned slot, included: nothing else is there).
-  const int last = static_cast<unsigned char>(rest[3]);
-  if (last < 0x8E || last > 0xA7) return {};
-  return {kLetters.substr(static_cast<size_t>(last - 0x8E), 1), 4};
+  if (rest.size() < 4 || !rest.starts_with("\xF0\x9D")) return {};
+  const int third = static_cast<unsigned char>(rest[2]), last = static_cast<unsigned char>(rest[3]);
+  if ((third != 0x90 && third != 0x91) || (last & 0xC0) != 0x80) return {};
+  const int codePoint = 0x1D000 + ((third & 0x3F) << 6) + (last & 0x3F);
+  if (codePoint < 0x1D434 || codePoint > 0x1D467) return {};
+  return {kLetters.substr(static_cast<size_t>(codePoint - 0x1D434), 1), 4};
 }
 
 // The character at text[i] for a message: quoted as written, with its code point where it
