@@ -208,13 +208,16 @@ int run(int argc, char** argv) {
   // within about 1e-14 radii of the surface. (Origins beyond 4 radii keep 0: the self-root
   // rule ignores them, and the far-ray paths read orgError.) With the column, each ray's
   // own bound is used as given (hit points of rays from farther away).
-  const glm::dvec3 centre =
-      clipSphere.empty() ? 0.5 * (std::get<ClipBox>(desc.clip).lo + std::get<ClipBox>(desc.clip).hi)
-                         : glm::dvec3(0.0);
-  const double radius =
-      clipSphere.empty()
-          ? 0.5 * glm::length(std::get<ClipBox>(desc.clip).hi - std::get<ClipBox>(desc.clip).lo)
-          : clipSphere[0];
+  // (Halves first, the half-diagonal's length scaled: a box beyond the plugin's range,
+  // -1e200..1e200, overflowed here to an infinite radius, and the check below blamed the
+  // rays' directions instead of letting the plugin name the box's size.)
+  auto length = [](const glm::dvec3& v) {
+    const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    return m > 0 ? m * glm::length(v / m) : 0.0;
+  };
+  const ClipBox* box = std::get_if<ClipBox>(&desc.clip);
+  const glm::dvec3 centre = box ? 0.5 * box->lo + 0.5 * box->hi : glm::dvec3(0.0);
+  const double radius = box ? length(0.5 * box->hi - 0.5 * box->lo) : clipSphere[0];
   if (!givenOrgErrors) {
     for (RayD& ray : rays) {
       const glm::dvec3 oc = glm::abs(ray.org - centre);
@@ -227,10 +230,6 @@ int run(int argc, char** argv) {
   // (1e-310 from 3 radii away: t = 2e310) has hits whose t cannot be written; it was
   // reported as a miss. t there is (|o - c| + R) / |d|, with everything scaled by d's
   // largest component (lengths of huge or tiny vectors over- or underflow their squares).
-  auto length = [](const glm::dvec3& v) {
-    const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-    return m > 0 ? m * glm::length(v / m) : 0.0;
-  };
   auto farT = [&](const RayD& ray) {
     const double m = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
     const double d = glm::length(ray.dir / m);  // its largest component is 1: no over- or underflow

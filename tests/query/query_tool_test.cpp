@@ -685,6 +685,20 @@ TEST_F(QueryTool, ASurfaceOutsideTheClipRegionIsNamed) {
   EXPECT_EQ(inside.rows[0][1], 20.0);  // the sphere of radius 10 from z = -30
 }
 
+// A clip box beyond the plugin's range is refused by the plugin, which names its size: the
+// tool's own check of the rays' far t overflowed on the box's radius first and blamed the
+// rays' directions ("the direction is so short ...").
+TEST_F(QueryTool, AClipBoxBeyondThePluginsRangeIsNamed) {
+  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-3,0,0,1,0,inf\n");
+  for (const char* box : {"-1e200,-1,-1,1e200,1,1", "-1e308,-1,-1,1.7e308,1,1"}) {
+    const RunResult r =
+        run("--surface \"x^2+y^2+z^2-1\" --clip-box " + std::string(box) + " " + common(rays));
+    EXPECT_EQ(r.exitCode, 2) << box;
+    EXPECT_NE(r.err.find("the clip region's size"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("direction"), std::string::npos) << r.err;
+  }
+}
+
 // OUT is opened (truncated) only once every hit is known: a surface the plugin refuses
 // (after the rays were read and OUT opened) left OUT empty, and with --out naming the rays
 // file the input was lost.
