@@ -1281,6 +1281,39 @@ TEST_F(EmbreeHits, HighMultiplicitySurfacesGetTheirOwnNormal) {
 // 1.02, whose other sheet lies at 1.025, had every normal of the session's first search to
 // 2^-2 radii reversed (400 of 400 rays; 29 with session 42's search to 2^-6, which this
 // test allows: it is that search's noise-band limit).
+// A double surface's normal faces the ray beside another sheet of f within the normal
+// search's reach: (x^2+y^2+z^2-1)^2 (x - c) seen from inside in a clip sphere of radius 2,
+// the plane 0.0005-0.01 radii past the +x cap. f = h^2 q <= 0 on both sides of the cap; a
+// sign change across the hit at a rung reaching the plane was taken for an odd root's
+// crossing (1000 of 1000 such normals faced away). Reference: the sphere's normal, the hit
+// point itself, turned to face the ray.
+TEST_F(EmbreeHits, DoubleSurfaceNormalsFaceTheRayBesideAnotherSheet) {
+  std::mt19937_64 gen(4402);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const double c : {1.001, 1.005, 1.02}) {
+    SurfaceDesc desc;
+    desc.polynomial = parsePolynomial("(x^2+y^2+z^2-1)^2*(x-" + std::to_string(c) + ")");
+    desc.clip = ClipSphere{glm::dvec3(0.0), 2.0};
+    SurfaceScene scene(device, desc);
+    int hits = 0, away = 0, off = 0;
+    for (int k = 0; k < 300; ++k) {
+      const glm::dvec3 o = 0.2 * glm::dvec3(uniform(gen), uniform(gen), uniform(gen));
+      const glm::dvec3 target(1.0, 0.12 * uniform(gen), 0.12 * uniform(gen));
+      const glm::dvec3 d = glm::normalize(target - o);
+      const HitD hit = intersectD(scene, unboundedRay(o, d));
+      if (!hit.hit) continue;
+      ++hits;
+      const glm::dvec3 p = o + hit.t * d;
+      const glm::dvec3 n = glm::normalize(hit.Ng), exact = -glm::normalize(p);
+      away += glm::dot(n, d) >= 0;
+      off += glm::length(n - exact) > 1e-4;
+    }
+    EXPECT_GT(hits, 250) << c;
+    EXPECT_EQ(away, 0) << c;
+    EXPECT_EQ(off, 0) << c;
+  }
+}
+
 TEST_F(EmbreeHits, MultipleSurfaceNormalsIgnoreSheetsOutsideTheClipRegion) {
   const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
   const Polynomial r2 = x * x + y * y + z * z;
