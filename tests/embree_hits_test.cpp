@@ -161,6 +161,11 @@ TEST(TwoProduct, ProductErrorIsTheExactError) {
     ++checked;
   }
   EXPECT_GT(checked, 150000);
+  for (const double a : {0.0, -0.0, 3.0, -0x1p-1074})
+    for (const double b : {0.0, -0.0, -5.0})
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(productError(a, b, a * b)),
+                std::bit_cast<std::uint64_t>(std::fma(a, b, -(a * b))))
+          << a << " " << b;
 }
 
 // Rays exactly through a singular or tangent point at the object-space origin (dyadic

@@ -30,6 +30,7 @@ inline double productError(double a, double b, double prod) {
 #if defined(__FMA__)
   return std::fma(a, b, -prod);
 #else
+  if (a == 0.0 || b == 0.0) return 0.0;  // as fma's (+-0) - (+-0) (axis-aligned directions)
   if (!(std::abs(a) < 0x1p995 && std::abs(b) < 0x1p995 && std::abs(prod) < 0x1p1023 &&
         std::abs(prod) >= 0x1p-900)) [[unlikely]]
     return std::fma(a, b, -prod);
