@@ -314,6 +314,23 @@ inline glm::vec3 floatNormal(const glm::dvec3& g) {
   return scaledFloatNormal(g, m);
 }
 
+// A candidate's u, v: in double for the double channel (the HitD's) and as the float hit
+// buffer takes them, else to float accuracy (surfaceUVFloat); none (0, 0, as Embree's own
+// sphere) when the host switched them off (SurfaceOptions::uv).
+inline void candidateUV(const Lane& L, const glm::dvec3& point, double& u, double& v, float& uf,
+                        float& vf) {
+  u = v = 0.0;
+  uf = vf = 0.0f;
+  if (!L.data->desc.options.uv) return;
+  if (L.dctx) {
+    surfaceUV(*L.data, point, u, v);
+    uf = floatU(u);
+    vf = static_cast<float>(v);
+  } else {
+    surfaceUVFloat(*L.data, point, uf, vf);
+  }
+}
+
 template <bool kPacketLane>
 bool acceptIntersectionOf(void* user, const KernelHit& h) {
   Lane& L = *static_cast<Lane*>(user);
@@ -350,28 +367,19 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
                       RTCRayN_dir_z(ray, n, lane));
     ngFloat = floatNormal(ng);
   }
-  // u, v in double for the double channel, else to float accuracy (surfaceUVFloat);
-  // none (0, 0, as Embree's own sphere) when the host switched them off.
+  // (A packet lane may come with the u, v of its first root; a packet has no double channel.)
   double u = 0, v = 0;
   float uf = 0, vf = 0;
-  if (L.data->desc.options.uv) {
-    if (L.dctx) {
-      surfaceUV(*L.data, h.point, u, v);
-      uf = floatU(u);
-      vf = static_cast<float>(v);
-    } else {
-      bool given = false;
-      if constexpr (kPacketLane) {
-        const auto& P = static_cast<const PacketLane&>(L);
-        if (h.t == P.uvT) {
-          uf = floatU(P.uvU);
-          vf = static_cast<float>(P.uvV);
-          given = true;
-        }
-      }
-      if (!given) surfaceUVFloat(*L.data, h.point, uf, vf);
+  bool givenUV = false;
+  if constexpr (kPacketLane) {
+    const auto& P = static_cast<const PacketLane&>(L);
+    if (L.data->desc.options.uv && !L.dctx && h.t == P.uvT) {
+      uf = floatU(P.uvU);
+      vf = static_cast<float>(P.uvV);
+      givenUV = true;
     }
   }
+  if (!givenUV) candidateUV(L, h.point, u, v, uf, vf);
   HitBuffer candidate;
   writeCandidate(candidate.hitN(), n, lane, ngFloat, uf, vf, args->primID, args->geomID,
                  args->context);
@@ -442,19 +450,11 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   float tf;
   if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
   // Occlusion computes no normal: Ng is zero for the filter. u, v are the intersection's
-  // where the host asked for them (SurfaceOptions::uv: an alpha-textured shadow reads them
-  // in its occlusion filter, as Embree's triangles give them), else 0, 0.
-  float uf = 0.0f, vf = 0.0f;
-  if (L.data->desc.options.uv) {
-    if (L.dctx) {
-      double u, v;
-      surfaceUV(*L.data, h.point, u, v);
-      uf = floatU(u);
-      vf = static_cast<float>(v);
-    } else {
-      surfaceUVFloat(*L.data, h.point, uf, vf);
-    }
-  }
+  // (an alpha-textured shadow reads them in its occlusion filter, as Embree's triangles
+  // give them).
+  double u, v;
+  float uf, vf;
+  candidateUV(L, h.point, u, v, uf, vf);
   HitBuffer candidate;
   writeCandidate(candidate.hitN(), n, lane, glm::vec3(0.0f), uf, vf, args->primID, args->geomID,
                  args->context);
