@@ -266,13 +266,6 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 
 namespace {
 
-// clipRegionSpan, and closest: closestParameter(o, d, 0) for restrictRecentred when the
-// clip region is a sphere centred on the object-space origin (the gallery's), else NaN.
-// clipToSphere's tc is that value bit for bit: with the centre 0, o - 0 = o, and
-// dot(0 - o, d) is -dot(o, d) exactly but for the sign of a zero sum (0 - o_i is +0 where
-// -o_i is -0), so a zero tc is left to closestParameter. It lies in [t0, t1] =
-// [tc - dt, tc + dt] (dt >= 0 or NaN, and t0, t1 start unbounded), where the clamp of
-// restrictRecentred keeps it.
 // A root within f's rounding noise of tnear counts as at tnear and is not reported (README,
 // "by design"; the walk's search starts before tnear, searchSpan): f at o + tnear d is within
 // its evaluation bound plus what the rounding of that point moves it by, and the root t
@@ -293,6 +286,13 @@ namespace {
   return t - tnear <= 4.0 * (std::nextafter(a, kInf) - a) + reach;
 }
 
+// clipRegionSpan, and closest: closestParameter(o, d, 0) for restrictRecentred when the
+// clip region is a sphere centred on the object-space origin (the gallery's), else NaN.
+// clipToSphere's tc is that value bit for bit: with the centre 0, o - 0 = o, and
+// dot(0 - o, d) is -dot(o, d) exactly but for the sign of a zero sum (0 - o_i is +0 where
+// -o_i is -0), so a zero tc is left to closestParameter. It lies in [t0, t1] =
+// [tc - dt, tc + dt] (dt >= 0 or NaN, and t0, t1 start unbounded), where the clamp of
+// restrictRecentred keeps it.
 inline bool regionSpan(const SurfaceData& data, const glm::dvec3& o, const glm::dvec3& d,
                        double& t0, double& t1, double& closest) {
   closest = std::numeric_limits<double>::quiet_NaN();
