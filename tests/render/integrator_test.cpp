@@ -106,25 +106,27 @@ TEST(WhiteFurnace, GreyConvexSurfaceReflectsAlbedoTimesEnvironment) {
   }
 }
 
+// A float RGB image of `width` columns whose rows (top to bottom) are each one grey value.
+void writeRowImage(const std::string& file, int width, const std::vector<float>& rows) {
+  std::vector<float> pixels;
+  for (float r : rows)
+    for (int i = 0; i < 3 * width; ++i) pixels.push_back(r);
+  auto out = OIIO::ImageOutput::create(file);
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(
+      file, OIIO::ImageSpec(width, static_cast<int>(rows.size()), 3, OIIO::TypeDesc::FLOAT)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  ASSERT_TRUE(out->close());
+}
+
 // The direct integrator's ambient light is the environment's mean radiance, colour times
 // the image's solid-angle mean: it read the colour alone, so a white sphere under an image
 // of constant 0.1 came out 1.0. A convex sphere with no other light reflects albedo x mean
 // at every pixel. References in closed form: a constant image c gives c; an image of rows
-// a, b, b, a (z up) is, interpolated like lookupLatLong(), a on theta in [0, pi/8] and its mirror,
-// b on [3pi/8, 5pi/8], linear between, so its mean int_0^(pi/2) L sin = a + (b - a)
+// a, b, b, a (z up) is, interpolated like lookupLatLong(), a on theta in [0, pi/8] and its
+// mirror, b on [3pi/8, 5pi/8], linear between, so its mean int_0^(pi/2) L sin = a + (b - a)
 // (4/pi) (sin(3pi/8) - sin(pi/8)) (int (theta - pi/8) sin = sin - (theta - pi/8) cos).
 TEST(DirectIntegrator, AmbientLightIsTheImageEnvironmentsMean) {
-  auto writeRows = [](const std::string& file, const std::vector<float>& rows) {
-    const int w = 3, h = static_cast<int>(rows.size());
-    std::vector<float> pixels;
-    for (float r : rows)
-      for (int i = 0; i < 3 * w; ++i) pixels.push_back(r);
-    auto out = OIIO::ImageOutput::create(file);
-    ASSERT_TRUE(out);
-    ASSERT_TRUE(out->open(file, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT)));
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-    ASSERT_TRUE(out->close());
-  };
   const double a = 1.0, b = 0.2;
   const double rowsMean = a + (b - a) * (4 / kPi) * (std::sin(3 * kPi / 8) - std::sin(kPi / 8));
   struct Case {
@@ -137,7 +139,7 @@ TEST(DirectIntegrator, AmbientLightIsTheImageEnvironmentsMean) {
     const std::string file = (std::filesystem::temp_directory_path() /
                               ("algray_ambient_env" + std::to_string(c.rows.size()) + ".exr"))
                                  .string();
-    writeRows(file, c.rows);
+    writeRowImage(file, 3, c.rows);
     SceneDesc s = furnace(c.albedo);
     s.settings.integrator = IntegratorType::Direct;
     s.settings.spp = 1;
@@ -158,17 +160,9 @@ TEST(DirectIntegrator, AmbientLightIsTheImageEnvironmentsMean) {
 // and within half a texel of the zenith the top row was blended with the bottom one.
 TEST(EnvironmentImage, PolesReadOnlyTheirOwnRows) {
   const std::vector<float> rows = {2.0f, 0.5f, 0.25f, 0.125f};  // top to bottom
-  const int w = 8, h = static_cast<int>(rows.size());
-  std::vector<float> pixels;
-  for (float r : rows)
-    for (int i = 0; i < 3 * w; ++i) pixels.push_back(r);
   const std::string file =
       (std::filesystem::temp_directory_path() / "algray_env_poles.exr").string();
-  auto out = OIIO::ImageOutput::create(file);
-  ASSERT_TRUE(out);
-  ASSERT_TRUE(out->open(file, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT)));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-  ASSERT_TRUE(out->close());
+  writeRowImage(file, 8, rows);
   SceneDesc s = furnace(0.5);
   s.environment.color = glm::dvec3(1.0);
   s.environment.image = file;
