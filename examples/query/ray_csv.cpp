@@ -4,6 +4,7 @@
 #include <array>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <istream>
 #include <ostream>
@@ -20,8 +21,7 @@ constexpr size_t kRequired = 8, kOrgError = 8;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
   return s;
 }
 
@@ -38,6 +38,49 @@ std::vector<std::string_view> split(std::string_view line) {
   return fields;
 }
 
+// A field as a message shows it: control bytes as \xHH (a NUL byte cut the message short,
+// a carriage return overwrote it on a terminal).
+std::string shown(std::string_view field) {
+  std::string s;
+  for (const char c : field) {
+    const auto b = static_cast<unsigned char>(c);
+    if (b < 0x20 || b == 0x7f) {
+      constexpr char kHex[] = "0123456789ABCDEF";
+      s += {'\\', 'x', kHex[b >> 4], kHex[b & 15]};
+    } else {
+      s += c;
+    }
+  }
+  return s;
+}
+
+// IN.csv's lines end in "\n", "\r\n" or a lone "\r" (classic Mac OS text, which getline
+// alone read as one line: "the header has no column 'tfar'").
+class LineReader {
+ public:
+  explicit LineReader(std::istream& in) : in_(in) {}
+
+  bool next(std::string& line) {
+    if (at_ == std::string::npos) {
+      if (!std::getline(in_, text_)) return false;
+      if (!text_.empty() && text_.back() == '\r') text_.pop_back();
+      at_ = 0;
+    }
+    const size_t cr = text_.find('\r', at_);
+    line.assign(text_, at_, cr == std::string::npos ? std::string::npos : cr - at_);
+    at_ = cr == std::string::npos ? std::string::npos : cr + 1;
+    ++number_;
+    return true;
+  }
+  long number() const { return number_; }
+
+ private:
+  std::istream& in_;
+  std::string text_;
+  size_t at_ = std::string::npos;  // where the next line of text_ starts; npos: read another
+  long number_ = 0;
+};
+
 [[noreturn]] void fail(const std::string& name, long line, const std::string& message) {
   throw CsvError(name + ":" + std::to_string(line) + ": " + message);
 }
@@ -46,15 +89,17 @@ std::vector<std::string_view> split(std::string_view line) {
 
 std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasOrgError) {
   std::string text;
+  LineReader lines(in);
   long lineNo = 0;
   // ---- Header: map each required column to its field index --------------------------
   std::array<int, kColumns.size()> where;
   where.fill(-1);
   size_t fieldCount = 0;
-  while (std::getline(in, text)) {
-    ++lineNo;
-    // A UTF-8 byte order mark, as Excel writes it, is not part of the first column name.
-    if (lineNo == 1 && text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+  while (lines.next(text)) {
+    lineNo = lines.number();
+    // A UTF-8 byte order mark, as Excel writes it, is not part of the first column name
+    // (nor after blank lines, where joining files puts it).
+    if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
     if (trim(text).empty()) continue;
     const auto fields = split(text);
     fieldCount = fields.size();
@@ -81,8 +126,8 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
 
   // ---- Rows ----------------------------------------------------------------------------
   std::vector<RayD> rays;
-  while (std::getline(in, text)) {
-    ++lineNo;
+  while (lines.next(text)) {
+    lineNo = lines.number();
     if (trim(text).empty()) continue;
     const auto fields = split(text);
     if (fields.size() != fieldCount)
@@ -99,17 +144,17 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
       errno = 0;
       v[c] = field.empty() ? 0.0 : std::strtod(field.c_str(), &end);
       if (field.empty() || end != field.c_str() + field.size())
-        fail(name, lineNo, at + ": not a number: '" + field + "'");
+        fail(name, lineNo, at + ": not a number: '" + shown(field) + "'");
       // strtod reports a literal outside double's range with ERANGE: an overflow returns
       // inf, an underflow 0 or a subnormal. Only the subnormal is the literal's value.
       if (errno == ERANGE && std::isinf(v[c]))
-        fail(name, lineNo, at + ": '" + field + "' overflows double");
+        fail(name, lineNo, at + ": '" + shown(field) + "' overflows double");
       if (errno == ERANGE && v[c] == 0.0)
-        fail(name, lineNo, at + ": '" + field + "' underflows to 0 in double");
+        fail(name, lineNo, at + ": '" + shown(field) + "' underflows to 0 in double");
       if (std::isnan(v[c])) fail(name, lineNo, at + ": NaN is not a valid value");
       const bool isTfar = kColumns[c] == "tfar";
       if (std::isinf(v[c]) && !(isTfar && v[c] > 0))
-        fail(name, lineNo, at + ": must be finite: '" + field + "'");
+        fail(name, lineNo, at + ": must be finite: '" + shown(field) + "'");
     }
     RayD ray;
     ray.org = {v[0], v[1], v[2]};

@@ -157,13 +157,22 @@ int main(int argc, char** argv) {
       QuickOptions q;
       q.surface = surface;
       for (const std::string& p : params) {
-        auto eq = p.find('=');
-        if (eq == std::string::npos || eq == 0)
+        // Spaces around the name and the value are quoting (strtod skipped leading ones
+        // only: "a= 1" was taken, "a=1 " refused), as in algray-query.
+        auto trimmed = [](const std::string& s) {
+          const size_t first = s.find_first_not_of(" \t");
+          return first == std::string::npos
+                     ? std::string()
+                     : s.substr(first, s.find_last_not_of(" \t") + 1 - first);
+        };
+        const size_t eq = p.find('=');
+        const std::string name = trimmed(p.substr(0, eq == std::string::npos ? 0 : eq));
+        if (eq == std::string::npos || name.empty())
           throw SceneError("--param", 0, 0, "expected NAME=VALUE, got '" + p + "'");
         // strtod, not std::stod: stod throws out_of_range for every ERANGE, so a subnormal
         // value (--param a=1e-320, its own value, as in algray-query) was "not a number",
         // and so were an overflow and an underflow to 0, which are refused by name.
-        const std::string text = p.substr(eq + 1);
+        const std::string text = trimmed(p.substr(eq + 1));
         char* end = nullptr;
         errno = 0;
         const double v = std::strtod(text.c_str(), &end);
@@ -173,8 +182,8 @@ int main(int argc, char** argv) {
           throw SceneError("--param", 0, 0, "'" + p + "' overflows double");
         if (errno == ERANGE && v == 0.0)
           throw SceneError("--param", 0, 0, "'" + p + "' underflows to 0 in double");
-        if (!q.parameters.emplace(p.substr(0, eq), v).second)
-          throw SceneError("--param", 0, 0, p.substr(0, eq) + ": given more than once");
+        if (!q.parameters.emplace(name, v).second)
+          throw SceneError("--param", 0, 0, name + ": given more than once");
       }
       if (clipSphere) q.clipRadius = *clipSphere;
       try {

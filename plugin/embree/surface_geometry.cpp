@@ -87,8 +87,13 @@ void validate(const SurfaceDesc& desc) {
   // with the remedy.
   if (!(size >= 1e-100 && size <= 1e100)) {
     std::ostringstream os;
-    os << "the clip region's size in object space is " << size
-       << ", outside 1e-100 .. 1e100: scale the polynomial's variables instead of undoing it by "
+    // A box spanning more than double's range has no size to print ("inf" says nothing).
+    os << "the clip region's size in object space is ";
+    if (std::isinf(size))
+      os << "beyond double's range (1.8e308)";
+    else
+      os << size;
+    os << ", outside 1e-100 .. 1e100: scale the polynomial's variables instead of undoing it by "
           "the transform";
     fail(os.str());
   }

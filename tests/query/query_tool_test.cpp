@@ -696,6 +696,7 @@ TEST_F(QueryTool, AClipBoxBeyondThePluginsRangeIsNamed) {
     EXPECT_EQ(r.exitCode, 2) << box;
     EXPECT_NE(r.err.find("the clip region's size"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find("direction"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("is inf"), std::string::npos) << r.err;  // beyond double: no size
   }
 }
 
@@ -875,6 +876,14 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   EXPECT_EQ(bom.exitCode, 0) << bom.err;
   ASSERT_EQ(bom.rows.size(), 1u);
   EXPECT_EQ(bom.rows[0][1], 4.0);  // the unit sphere from z = -5 along +z
+  // Spaces around a parameter's name and value are quoting ("a= 1" was taken, "a=1 " not).
+  for (const char* param : {"\"a= 4\"", "\"a=4 \"", "\" a =4\""}) {
+    const RunResult r = run("--surface \"x^2+y^2+z^2-a\" --clip-sphere 3 --param " +
+                            std::string(param) + " " + common(good));
+    EXPECT_EQ(r.exitCode, 0) << param << "\n" << r.err;
+    ASSERT_EQ(r.rows.size(), 1u) << param;
+    EXPECT_EQ(r.rows[0][1], 3.0) << param;  // the sphere of radius 2
+  }
 }
 
 TEST(RayCsv, ReaderParsesAndRejects) {
@@ -946,6 +955,33 @@ TEST(RayCsv, ByteOrderMarkAndEmptyFile) {
   EXPECT_EQ(csvError(""), "t.csv:1: empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
   EXPECT_PRED2(startsWith, csvError("\xef\xbb\xbf"), "t.csv:1: empty file:");
   EXPECT_PRED2(startsWith, csvError("\n\n"), "t.csv:2: empty file:");
+  // On the header line after blank lines, where joining files puts it, it is still a mark.
+  std::istringstream late("\n\xef\xbb\xbfox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");
+  EXPECT_EQ(algray::query::readRays(late, "late.csv").size(), 1u);
+}
+
+// Classic Mac OS text ends its lines in a lone CR: the file was one line ("the header has
+// no column 'tfar'"); mixed endings count lines one by one.
+TEST(RayCsv, EveryLineEndingEndsALine) {
+  for (const std::string eol : {"\r", "\r\n", "\n"}) {
+    std::istringstream in("ox,oy,oz,dx,dy,dz,tnear,tfar" + eol + "0,0,-5,0,0,1,0,inf" + eol + eol +
+                          "1,0,-5,0,0,1,0,inf" + eol);
+    const auto rays = algray::query::readRays(in, "eol.csv");
+    ASSERT_EQ(rays.size(), 2u) << int(eol[0]);
+    EXPECT_EQ(rays[1].org, glm::dvec3(1, 0, -5));
+  }
+  EXPECT_EQ(csvError("ox,oy,oz,dx,dy,dz,tnear,tfar\r0,0,-5,0,0,1,0,inf\r\n\n\r0,0,-5,0,0,1,0,-1"),
+            "t.csv:5: column 'tfar' (field 8): must be >= tnear");
+}
+
+// Control bytes in a bad field are shown, not passed on: a NUL cut the message short.
+TEST(RayCsv, ControlBytesInAFieldAreShown) {
+  const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1" + std::string(1, '\0') + "x,0,inf\n"),
+            "t.csv:2: column 'dz' (field 6): not a number: '1\\x00x'");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,\x7f"
+                              "1,0,inf\n"),
+            "t.csv:2: column 'dz' (field 6): not a number: '\\x7F1'");
 }
 
 }  // namespace

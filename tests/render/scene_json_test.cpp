@@ -790,5 +790,18 @@ TEST(RenderProgram, SubnormalParameterIsAValue) {
   std::filesystem::remove(image);
 }
 
+// Spaces around a --param's name and value are quoting: "a= 1" was taken (strtod skips
+// leading spaces), "a=1 " and " a=1" refused.
+TEST(RenderProgram, SpacesAroundAParameterAreQuoting) {
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_spaced_param.png";
+  for (const char* param : {"'a= 1'", "'a=1 '", "' a =1'"}) {
+    const auto [code, out] = runRender("--surface x^2+y^2+z^2-a --param " + std::string(param) +
+                                       " --width 8 --height 8 --spp 1 -q -o " + image.string());
+    EXPECT_EQ(code, 0) << param << "\n" << out;
+  }
+  std::filesystem::remove(image);
+}
+
 }  // namespace
 }  // namespace algray::render
