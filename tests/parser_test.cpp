@@ -441,6 +441,15 @@ TEST(Parser, ValuesNearTheLargestDoubleAreNamedAsSuch) {
     ASSERT_NO_THROW(p = parsePolynomial(c.text)) << c.text;
     EXPECT_EQ(p, c.expected) << c.text;
   }
+  // log's slope 1/x overflows at a subnormal x, its bound (about 1 + |log x|) does not:
+  // log(1e-320) was "so close to the largest double".
+  for (const double tiny : {1e-320, 1e-310, 2.2250738585072009e-308}) {
+    char text[64];
+    std::snprintf(text, sizeof text, "log(%.17g)*x + ln(%.17g)", tiny, tiny);
+    Polynomial p;
+    ASSERT_NO_THROW(p = parsePolynomial(text)) << text;
+    EXPECT_EQ(p, std::log(tiny) * x + Polynomial(std::log(tiny))) << text;
+  }
   // Beyond the largest double they are not finite, as before.
   for (const char* text : {"2^1024", "1e308*10", "exp(710)"}) {
     try {

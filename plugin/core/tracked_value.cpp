@@ -540,7 +540,8 @@ Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
   } else {
     return Fold::unknownFunction;
   }
-  r.magnitude = std::abs(r.value) + slope * mx;
+  // log's slope 1/|x| overflows for a subnormal x, where slope * Mx, about 1, does not.
+  r.magnitude = std::abs(r.value) + (name == "log" || name == "ln" ? mx / std::abs(x) : slope * mx);
   // The argument's underflow term to first order, except where the slope blows up within
   // it: sqrt moves by at most min(sqrt(Ac), Ac / sqrt(x)), log by -log1p(-Ac/|x|).
   double shift = mulUp(slope, c.underflow);
