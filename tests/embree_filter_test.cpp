@@ -334,6 +334,33 @@ TEST_F(EmbreeFilter, ContextsMadeOnOtherThreadsFindTheirRoots) {
   }
 }
 
+// A context reused for the same ray through a grid edge, where the plane's root is offered
+// by a shared claim (the orphan rule): every trace, and an occlusion query after them,
+// finds it again at t = dist. (The offered-roots marks, kept by the context's trace id,
+// were the first trace's: every cell skipped the root from the second trace on, on 13 of
+// these 60 rays.)
+TEST_F(EmbreeFilter, ReusedContextFindsAGridEdgeRootAgain) {
+  const SurfaceScene scene(device, inDepth3Cells("z - 0.1"));
+  for (const auto& [ray, delta, dist] : gridEdgeRays({10.0, 100.0, 1000.0, 1e4, 1e5})) {
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit, scene);
+    for (int trace = 0; trace < 3; ++trace) {
+      hit = HitD{};
+      RTCRayHit rh = makeRayHit(context);
+      rtcIntersect1(scene, &context.base, &rh);
+      EXPECT_TRUE(hit.hit) << "trace " << trace << " delta " << delta << " dist " << dist;
+      if (hit.hit) {
+        EXPECT_NEAR(hit.t, dist, 1e-12 * dist);
+      }
+    }
+    hit = HitD{};
+    RTCRay shadow = makeRayHit(context).ray;
+    rtcOccluded1(scene, &context.base, &shadow);
+    EXPECT_EQ(shadow.tfar, -kInfF) << "delta " << delta << " dist " << dist;
+  }
+}
+
 // Offers (geomID per candidate) seen by a filter that rejects every candidate.
 std::vector<unsigned> gOffers;
 void rejectAndLogGeometry(const RTCFilterFunctionNArguments* args) {
@@ -377,6 +404,43 @@ TEST_F(EmbreeFilter, OrphanRootsOfferedOnceAmongSeveralSurfaces) {
     EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), 0u), 1)
         << "delta " << delta << " dist " << dist;
   }
+}
+
+// The same with 40 planes z = 0.1 + k / 1000 in the same grid: each plane's root reaches
+// the filter exactly once per trace. (The offered-roots table held 16 entries, evicted in
+// turn: with 17 planes or more a plane's root was offered twice on 25 of 96 traces.)
+TEST_F(EmbreeFilter, OrphanRootsOfferedOnceAmongFortySurfaces) {
+  SurfaceDesc desc;
+  desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+  desc.options.cellDepth = 3;
+  constexpr unsigned kPlanes = 40;
+  std::vector<std::unique_ptr<SurfaceGeometry>> planes;
+  Scene scene(device);
+  for (unsigned k = 0; k < kPlanes; ++k) {
+    desc.polynomial = Z() - Polynomial(0.1 + 0.001 * k);
+    planes.push_back(std::make_unique<SurfaceGeometry>(device, desc));
+    rtcSetGeometryIntersectFilterFunction(planes.back()->geometry(), &rejectAndLogGeometry);
+    rtcSetGeometryOccludedFilterFunction(planes.back()->geometry(), &rejectAndLogGeometry);
+    rtcCommitGeometry(planes.back()->geometry());
+    scene.attach(planes.back()->geometry());
+  }
+  scene.commit();
+  for (const auto& [ray, delta, dist] : gridEdgeRays({10.0, 100.0, 1000.0, 1e4}))
+    for (const bool occlusion : {false, true}) {
+      HitD hit;
+      IntersectContext context;
+      initIntersectContext(&context, &ray, &hit, scene);
+      RTCRayHit rh = makeRayHit(context);
+      gOffers.clear();
+      if (occlusion)
+        rtcOccluded1(scene, &context.base, &rh.ray);
+      else
+        rtcIntersect1(scene, &context.base, &rh);
+      for (unsigned id = 0; id < kPlanes; ++id)
+        EXPECT_EQ(std::count(gOffers.begin(), gOffers.end(), id), 1)
+            << "plane " << id << " delta " << delta << " dist " << dist << " occlusion "
+            << occlusion;
+    }
 }
 
 // The offered-roots mask belongs to one surface's roots: in the same trace another

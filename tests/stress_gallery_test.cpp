@@ -438,6 +438,43 @@ TEST(StressShadow, OcclusionBesideTheNextHitAgreesWithIt) {
   }
 }
 
+// A closest hit after an occlusion query of the same ray whose tfar lies just before the
+// hit is the fresh query's, bit for bit, and none with tfar at the fresh hit: such an
+// occlusion query completes the ray's root list behind a first root it did not place on f,
+// and the closest hit took that record as settled (Chmutov-16: a hit 1.8e-12 early, before
+// a tfar the root lies at).
+TEST(StressShadow, ClosestHitAfterANearOcclusionIsTheFreshOne) {
+  for (const char* name : {"chmutov-12", "chmutov-16", "sarti-dodecic"}) {
+    const GallerySurface* g = findGallerySurface(name);
+    ASSERT_NE(g, nullptr) << name;
+    const double radius = g->clipRadius;
+    OneSurface s(describe(g->build(), radius));
+    const RayD other = rayD(glm::dvec3(5.0 * radius), glm::dvec3(-1.0));  // resets the record
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> normal;
+    int moved = 0, early = 0;
+    for (int k = 0; k < 300; ++k) {
+      const glm::dvec3 o =
+          3.0 * radius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+      const glm::dvec3 d = 0.35 * radius * glm::dvec3{normal(rng), normal(rng), normal(rng)} - o;
+      s.intersect(other);
+      const auto fresh = s.intersect(rayD(o, d));
+      if (!fresh) continue;
+      for (const double rel : {-1e-6, -1e-9, -1e-12}) {
+        s.intersect(other);
+        s.occluded(rayD(o, d, 0.0, fresh->t * (1.0 + rel)));
+        const auto after = s.intersect(rayD(o, d));
+        if (!after || after->t != fresh->t) ++moved;
+        s.intersect(other);
+        s.occluded(rayD(o, d, 0.0, fresh->t * (1.0 + rel)));
+        if (s.intersect(rayD(o, d, 0.0, fresh->t))) ++early;
+      }
+    }
+    EXPECT_EQ(moved, 0) << name;
+    EXPECT_EQ(early, 0) << name;
+  }
+}
+
 // ---- Random rays of every scale -----------------------------------------------------------
 // Origins from 1e-3 to 1e6 clip radii, direction lengths from 1e-30 to 1e15 (beyond the
 // float range see StressInput.HugeFiniteOriginThroughDoubleChannel), random intervals: whatever the

@@ -9,19 +9,16 @@
 #include "ray_roots.h"
 
 #include "double_channel.h"
+#include "thread_heap.h"
 
 #include "algray/roots.h"
 #include "algray/taylor.h"
-
-#include <pthread.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <memory>
-#include <new>
 #include <span>
 #include <type_traits>
 
@@ -82,29 +79,8 @@ struct OriginCache {
   glm::dvec3 pendingOrigin{0.0};
 };
 
-// The cache holds vectors, so a `thread_local OriginCache` would have a destructor, and
-// C++ registers such a destructor on a thread's first use through __cxa_thread_atexit,
-// which takes the dynamic loader's lock: the first ray of every thread then waited for
-// any dlopen running in the host at that moment (measured: algray-render's render thread
-// stood still for the whole 0.17 s load of OpenImageIO on its second thread, so the
-// render loop of a torus took 0.29 s instead of 0.11 s). A POSIX thread key frees the
-// cache at thread exit instead, without that lock; the thread_local is only a pointer
-// (trivially destructible: nothing registered).
-void freeOriginCache(void* p) { delete static_cast<OriginCache*>(p); }
-
-OriginCache& threadOriginCache() {
-  thread_local OriginCache* cache = nullptr;
-  if (cache) return *cache;
-  static const pthread_key_t key = [] {
-    pthread_key_t k{};
-    if (pthread_key_create(&k, &freeOriginCache) != 0) throw std::bad_alloc();
-    return k;
-  }();
-  auto owned = std::make_unique<OriginCache>();
-  if (pthread_setspecific(key, owned.get()) != 0) throw std::bad_alloc();
-  cache = owned.release();
-  return *cache;
-}
+// Per thread, on the heap (thread_heap.h: no destructor registered on a thread's first ray).
+OriginCache& threadOriginCache() { return ThreadHeap<OriginCache>::get(); }
 
 CacheEntry* cachedExpansion(const SurfaceData& data, const glm::dvec3& o) {
   OriginCache& cache = threadOriginCache();

@@ -49,9 +49,11 @@ struct RayRoots {
 static_assert(std::is_trivially_destructible_v<RayRoots>);
 
 // Whether rr's first root is g's alone, not yet placed on f (a quadric's closed form
-// needs no placing; ray_settle.cpp places it).
+// needs no placing; ray_settle.cpp places it), also where an occlusion query completed
+// the list behind it (count == 1 alone let a closest hit after it keep g's placing, 1.8e-12
+// early on Chmutov-16, and report a root past its tfar).
 inline bool firstUnsettled(const SurfaceData& data, const RayRoots& rr) {
-  return rr.count == 1 && !rr.firstPolished && !data.quadric;
+  return rr.count > 0 && !rr.firstPolished && !data.quadric;
 }
 
 // ---- ray_roots.cpp -------------------------------------------------------------------------

@@ -12,6 +12,7 @@
 //   4. Newton polish on f itself and the gradient at the hit point.
 #include "ray_roots.h"
 #include "surface_data.h"
+#include "thread_heap.h"
 
 #include "algray/taylor.h"
 
@@ -21,7 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <type_traits>
+#include <vector>
 
 namespace algray {
 
@@ -35,37 +36,59 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // (walkRoots). Kept apart from the record, which the cells of other surfaces replace in
 // the same trace: masks kept in it were rebuilt empty on each visit back, and a plane's
 // orphan root reached an any-hit filter up to 4 times in a scene of three planes. (They
-// must never hide another surface's or ray's roots: the key.) An entry evicted early only
-// lets a root be offered again, never hides one.
+// must never hide another surface's or ray's roots: the key.) A new entry replaces the
+// oldest one of another trace; where every entry is this trace's (a trace meeting that many
+// surfaces with roots) the table grows, up to 4096 entries, beyond which an evicted entry
+// only lets a root be offered again, never hides one. (With 16 entries and round-robin
+// eviction a ray through 17 planes in grids of cells saw a plane's root twice on 25 of 96
+// traces.)
 struct OfferedRoots {
   std::uint64_t id = 0, trace = 0;
   glm::dvec3 org{0.0}, dir{0.0};
   double tnear = 0;
   std::uint64_t offered = 0, shared = 0;
+  std::array<unsigned, 64> offeredBy{};  // the cell that offered root i (bit i of offered)
 };
 struct OfferedTable {
-  std::array<OfferedRoots, 16> entries{};
-  unsigned next = 0;
-  unsigned last = 0;  // the entry found last: a ray's roots ask for the same one in a row
+  std::vector<OfferedRoots> entries = std::vector<OfferedRoots>(16);
+  size_t next = 0;
+  size_t last = 0;  // the entry found last: a ray's roots ask for the same one in a row
 };
-static_assert(std::is_trivially_destructible_v<OfferedTable>);  // threadOriginCache, ray_roots.cpp
-thread_local OfferedTable tlsOffered;
+constexpr size_t kMaxOfferedEntries = 4096;
 
 OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
-  OfferedTable& table = tlsOffered;
+  OfferedTable& table = ThreadHeap<OfferedTable>::get();
   auto matches = [&](const OfferedRoots& e) {
     return e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir &&
            e.tnear == ray.tnear;
   };
-  if (matches(table.entries[table.last])) return table.entries[table.last];
-  for (unsigned i = 0; i < table.entries.size(); ++i)
-    if (matches(table.entries[i])) {
+  std::vector<OfferedRoots>& entries = table.entries;
+  if (matches(entries[table.last])) return entries[table.last];
+  for (size_t i = 0; i < entries.size(); ++i)
+    if (matches(entries[i])) {
       table.last = i;
-      return table.entries[i];
+      return entries[i];
     }
-  table.last = table.next++ % table.entries.size();
-  OfferedRoots& e = table.entries[table.last];
-  e = OfferedRoots{data.id, ray.trace, ray.org, ray.dir, ray.tnear, 0, 0};
+  const size_t n = entries.size();
+  table.last = table.next % n;
+  bool found = false;
+  for (size_t k = 0; k < n && !found; ++k)
+    if (entries[(table.next + k) % n].trace != ray.trace) {
+      table.last = (table.next + k) % n;
+      found = true;
+    }
+  if (!found && n < kMaxOfferedEntries) {
+    entries.resize(2 * n);
+    table.last = n;
+  }
+  table.next = table.last + 1;
+  OfferedRoots& e = entries[table.last];
+  e.id = data.id;
+  e.trace = ray.trace;
+  e.org = ray.org;
+  e.dir = ray.dir;
+  e.tnear = ray.tnear;
+  e.offered = e.shared = 0;
   return e;
 }
 
@@ -415,9 +438,14 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     // The owner, visited once per trace, defers only to a shared claim of this trace: the
     // trace id is the context's, and a host tracing the same ray again with the same
     // context got the next root each time (the owner skipped the roots offered before).
+    // A cell meets each root once per trace: one meeting a root it offered itself is in the
+    // next trace of a context the host reuses (embree.h allows it), whose marks are the last
+    // trace's (a root on a grid edge, offered by a shared claim, was skipped by every cell
+    // from the second trace on: 26 of 72 such rays missed).
     const std::uint64_t bit = i < 64 ? std::uint64_t{1} << i : 0;
     if (ray.trace != 0) {
-      const OfferedRoots& seen = offeredRoots(data, ray);
+      OfferedRoots& seen = offeredRoots(data, ray);
+      if ((seen.offered & bit) != 0 && seen.offeredBy[i] == cell) seen.offered = seen.shared = 0;
       if (((claim == Claim::kOwner ? seen.shared : seen.offered) & bit) != 0) continue;
     }
     // Polish within the whole span (a root near a cell face may move across it; the
@@ -437,6 +465,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     if (ray.trace != 0) {
       OfferedRoots& seen = offeredRoots(data, ray);
       seen.offered |= bit;
+      if (bit != 0) seen.offeredBy[i] = cell;
       if (claim == Claim::kShared) seen.shared |= bit;
     }
     if (accept(user, hit)) return true;
