@@ -12,6 +12,23 @@
 namespace algray {
 namespace {
 
+// Beyond degree 40 the univariate tests refuse, as firstRoot does: they dropped the terms
+// above it, so s^41 - 1 on [0, 2] (root s = 1, range [-1, 2^41 - 1]) had the enclosure
+// [-1, -1] and "no root".
+TEST(RangeBound, UnivariateTestsRefuseDegreesAbove40) {
+  std::vector<double> c(42, 0.0);
+  c[0] = -1.0;
+  c[41] = 1.0;
+  EXPECT_THROW(rangeOverInterval(c, {}, 0.0, 2.0), Error);
+  EXPECT_THROW(provablyNoRoot(c, {}, 0.0, 2.0), Error);
+  EXPECT_THROW(quickNoRoot(c, {}, 0.0, 2.0), Error);
+  c.pop_back();  // degree 40 (40 + 1 coefficients): accepted, s^40 - 1 has its root at 1
+  c[40] = 1.0;
+  EXPECT_FALSE(provablyNoRoot(c, {}, 0.0, 2.0));
+  EXPECT_FALSE(quickNoRoot(c, {}, 0.0, 2.0));
+  EXPECT_LE(rangeOverInterval(c, {}, 0.0, 2.0).lower(), -1.0);
+}
+
 // g(s) = 2^-1074 * a * (s - r) (and its square for degree 2) with integer a * r: the
 // coefficients are exact subnormals, every product of the evaluation underflows, and r
 // is a root by construction. No test may claim "no root" on a span containing r.

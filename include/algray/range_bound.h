@@ -93,6 +93,7 @@ class BoxPolynomial {
 // multiply-adds for degree m), then b_0 + sum b_k [-r^k, r^k] ([0, r^k] for even k),
 // r the half-width. Overestimates the true range by O(r^2): cheap and tight on the short
 // spans of small cells, where it can prove "no root here" before a full root solve.
+// Throws Error for more than kMaxDegree + 1 coefficients (as firstRoot, roots.h).
 Interval rangeOverInterval(std::span<const double> c, std::span<const double> err, double lo,
                            double hi);
 // True if g provably has no root in [lo, hi] (never for non-finite input).
@@ -107,7 +108,8 @@ inline bool provablyNoRoot(std::span<const double> c, std::span<const double> er
 //   |g(s) - g(mid)| <= sum |c_i| |s^i - mid^i| <= M(|mid| + r) - M(|mid|)
 // (|s^i - mid^i| <= (|mid| + r)^i - |mid|^i, expand both binomially). True if |g(mid)|
 // exceeds that plus every rounding error (Higham's gamma bounds), i.e. no root in
-// [lo, hi]. Loose where the coefficients cancel, which the centred form is not.
+// [lo, hi]. Loose where the coefficients cancel, which the centred form is not. Throws
+// Error for more than kMaxDegree + 1 coefficients.
 bool quickNoRoot(std::span<const double> c, std::span<const double> err, double lo, double hi);
 
 // A half-width h >= max(hi - c, c - lo) (exact reals), 0 when lo == c == hi.

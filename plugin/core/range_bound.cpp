@@ -272,8 +272,20 @@ Interval rangeOverBox(const Polynomial& f, const glm::dvec3& lo, const glm::dvec
 }
 
 // ---- Univariate ------------------------------------------------------------------------
+namespace {
+// Beyond degree 40 the terms above it were dropped without a word (s^41 - 1 on [0, 2]:
+// "no root"); refused as firstRoot refuses it.
+void checkDegree(std::span<const double> c, const char* where) {
+  if (c.size() > static_cast<std::size_t>(kMaxDegree + 1)) [[unlikely]]
+    throw Error(std::string(where) + ": " + std::to_string(c.size()) +
+                " coefficients, more than degree kMaxDegree = " + std::to_string(kMaxDegree) +
+                " allows");
+}
+}  // namespace
+
 Interval rangeOverInterval(std::span<const double> c, std::span<const double> err, double lo,
                            double hi) {
+  checkDegree(c, "rangeOverInterval");
   const GradualUnderflow gradual;  // interval arithmetic (gradual_underflow.h)
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const Interval whole(-kInf, kInf);
@@ -303,6 +315,7 @@ Interval rangeOverInterval(std::span<const double> c, std::span<const double> er
 }
 
 bool quickNoRoot(std::span<const double> c, std::span<const double> err, double lo, double hi) {
+  checkDegree(c, "quickNoRoot");
   if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return false;
   const int n = static_cast<int>(std::min<std::size_t>(c.size(), kMaxDegree + 1)) - 1;
   if (n < 0) return false;  // the zero polynomial vanishes everywhere

@@ -97,6 +97,20 @@ void validate(const SurfaceDesc& desc) {
           "the transform";
     fail(os.str());
   }
+  // A polynomial of degree m over a region of size R spreads its coefficients over about R^m
+  // (x^20 + y^20 + z^20 - R^20), and once scaled (normaliseScale) the small ones, times the
+  // ray's powers, reach double's underflow floor, whose bound then swallows them: from R^m
+  // ~ 1e+-290 on rays missed or hit inside the surface (degree 20 at R = 6e14, 40 at 2e7 and
+  // 3e-8, 30 at 1e10; right at 4e14, 1.5e7 and 5e-8). Refused from 1e+-250 on, with the
+  // remedy that works at any scale.
+  if (const double exponent = f.degree() * std::log10(size); std::abs(exponent) > 250.0) {
+    std::ostringstream os;
+    os << "the clip region's size in object space (" << size << ") to the polynomial's degree ("
+       << f.degree() << ") is about 1e" << std::lround(exponent)
+       << ", outside 1e-250 .. 1e250, where its coefficients leave double's range: write the "
+          "polynomial in units of about the surface's size and put the scale in the transform";
+    fail(os.str());
+  }
   const glm::dmat4& m = desc.transform;
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
