@@ -759,6 +759,40 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
     EXPECT_EQ(std::string(e.what()).find("singular"), std::string::npos) << e.what();
   }
   EXPECT_THROW(SurfaceGeometry(nullptr, desc), Error);
+  // The object-space size to the degree, R^m, within 1e-250 .. 1e250: x^m + y^m + z^m = R^m
+  // seen from x = -1.5 R along +x hits at x = -R (closed form: t = 0.5 R) inside that range,
+  // and is refused beyond it (degree 20 at R = 6e14 was hit at x = -3.7e14, inside the
+  // surface; degree 40 at 2e7 and 3e-8 missed).
+  const auto power = [](int m, double r) {
+    Polynomial p = X().pow(m) + Y().pow(m) + Z().pow(m);
+    p.setCoeff(0, 0, 0, -std::pow(r, m));
+    return p;
+  };
+  for (const auto& [m, r] : {std::pair{20, 1e12}, {40, 1e6}, {40, 1e-6}, {20, 1e-12}}) {
+    SurfaceDesc ok;
+    ok.polynomial = power(m, r);
+    ok.clip = ClipSphere{{0, 0, 0}, 1.25 * r};
+    const SurfaceScene scene(device, ok);
+    const HitD hit = intersectD(scene, RayD{{-1.5 * r, 0.1 * r, 0.05 * r},
+                                            {1, 0, 0},
+                                            0,
+                                            std::numeric_limits<double>::infinity(),
+                                            0});
+    EXPECT_TRUE(hit.hit) << m << " " << r;
+    EXPECT_NEAR(hit.t, 0.5 * r, 1e-12 * r) << m << " " << r;
+  }
+  for (const auto& [m, r] : {std::pair{20, 6e14}, {40, 2e7}, {40, 3e-8}, {30, 1e10}}) {
+    SurfaceDesc bad;
+    bad.polynomial = power(m, r);
+    bad.clip = ClipSphere{{0, 0, 0}, 1.25 * r};
+    try {
+      make(bad);
+      ADD_FAILURE() << "degree " << m << " at size " << r << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("put the scale in the transform"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 // The measurement switches of SurfaceOptions change the path, not the answer: every
