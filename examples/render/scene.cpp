@@ -313,7 +313,10 @@ glm::dvec3 Scene::environment(const glm::dvec3& dir) const {
   glm::dvec3 c = desc_.environment.color;
   if (envImage_) {
     // Lat-long map, z up: u = azimuth, v = 1 at the zenith.
-    double phi = std::atan2(dir.y, dir.x) - desc_.environment.rotation * kPi / 180.0;
+    // Whole turns out first, exactly (fmod is exact): 360 * 2^60 degrees times pi / 180
+    // kept none of the fraction of a turn and rendered up to 0.22 off a rotation of 0.
+    const double turn = std::fmod(desc_.environment.rotation, 360.0);
+    double phi = std::atan2(dir.y, dir.x) - turn * kPi / 180.0;
     double theta = std::acos(std::clamp(dir.z, -1.0, 1.0));
     c *= envImage_->lookupLatLong({0.5 + phi / (2 * kPi), 1.0 - theta / kPi});
   }

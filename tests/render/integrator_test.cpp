@@ -107,16 +107,22 @@ TEST(WhiteFurnace, GreyConvexSurfaceReflectsAlbedoTimesEnvironment) {
 }
 
 // A float RGB image of `width` columns whose rows (top to bottom) are each one grey value.
-void writeRowImage(const std::string& file, int width, const std::vector<float>& rows) {
+// A float RGB image of grey values, row by row from the top.
+void writeGreyImage(const std::string& file, int width, int height,
+                    const std::vector<float>& grey) {
   std::vector<float> pixels;
-  for (float r : rows)
-    for (int i = 0; i < 3 * width; ++i) pixels.push_back(r);
+  for (float g : grey)
+    for (int c = 0; c < 3; ++c) pixels.push_back(g);
   auto out = OIIO::ImageOutput::create(file);
   ASSERT_TRUE(out);
-  ASSERT_TRUE(out->open(
-      file, OIIO::ImageSpec(width, static_cast<int>(rows.size()), 3, OIIO::TypeDesc::FLOAT)));
+  ASSERT_TRUE(out->open(file, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT)));
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
   ASSERT_TRUE(out->close());
+}
+void writeRowImage(const std::string& file, int width, const std::vector<float>& rows) {
+  std::vector<float> grey;
+  for (float r : rows) grey.insert(grey.end(), width, r);
+  writeGreyImage(file, width, static_cast<int>(rows.size()), grey);
 }
 
 // The direct integrator's ambient light is the environment's mean radiance, colour times
@@ -152,6 +158,40 @@ TEST(DirectIntegrator, AmbientLightIsTheImageEnvironmentsMean) {
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(mean[k], c.expected, 1e-6) << c.rows.size();
     std::filesystem::remove(file);
   }
+}
+
+// An environment's rotation turns the image about z by whole turns as by none: rotations
+// of 360 k + a degrees look up what a does (bit for bit for an exact multiple; the image's
+// columns differ, so a wrong turn shows). 360 * 2^60 times pi / 180 kept none of the
+// fraction of a turn and read up to 0.22 off.
+TEST(EnvironmentImage, WholeTurnsOfTheRotationChangeNothing) {
+  const int width = 16, height = 4;
+  std::vector<float> grey;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) grey.push_back(0.1f + 0.05f * x + 0.01f * y);
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "algray_env_turns.exr").string();
+  writeGreyImage(file, width, height, grey);
+  const auto sceneTurnedBy = [&](double degrees) {
+    SceneDesc s = furnace(0.5);
+    s.environment.color = glm::dvec3(1.0);
+    s.environment.image = file;
+    s.environment.rotation = degrees;
+    return std::make_unique<Scene>(s);
+  };
+  const auto none = sceneTurnedBy(0.0), some = sceneTurnedBy(37.0);
+  for (const double turns : {1.0, -3.0, 0x1p40, 0x1p60, 1e15}) {
+    const auto whole = sceneTurnedBy(360.0 * turns), more = sceneTurnedBy(360.0 * turns + 37.0);
+    for (const glm::dvec3& dir :
+         {glm::dvec3(1, 0.3, 0.2), glm::dvec3(-0.4, -1, 0.5), glm::dvec3(0.2, -0.7, -0.6)}) {
+      const glm::dvec3 d = glm::normalize(dir);
+      EXPECT_EQ(whole->environment(d).x, none->environment(d).x) << turns;
+      if (360.0 * turns + 37.0 - 360.0 * turns == 37.0) {  // 37 degrees more, exactly
+        EXPECT_NEAR(more->environment(d).x, some->environment(d).x, 1e-9) << turns;
+      }
+    }
+  }
+  std::filesystem::remove(file);
 }
 
 // An image environment at its poles: straight up the top row, straight down the bottom one,
