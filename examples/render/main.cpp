@@ -324,6 +324,17 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, onInterrupt);
     RenderStats stats = render(scene, image, options);
     std::signal(SIGINT, SIG_DFL);
+    // A pixel beyond float's range would be written as inf (exit 0): refused, as a colour
+    // times its image beyond float is (scene-format.md).
+    if (stats.overflowPixels > 0) {
+      std::fprintf(stderr,
+                   "algray-render: pixel (%d, %d) (and %llu more): radiance %.3g, beyond the "
+                   "image's float range (3.4e38): lower the lights' intensities or move them "
+                   "away from the surfaces\n",
+                   stats.overflowX, stats.overflowY,
+                   static_cast<unsigned long long>(stats.overflowPixels - 1), stats.overflowValue);
+      return 2;
+    }
     if (gUnwritableFormat.load()) {
       std::fprintf(stderr,
                    "algray-render: -o %s: unsupported image format (OpenImageIO cannot write it)\n",

@@ -26,6 +26,7 @@ void Image::resize(int w, int h) {
   normal.assign(n, glm::vec3(0.0f));
   albedo.assign(n, glm::vec3(0.0f));
   id.assign(n, 0.0f);
+  overflow.assign(n, 0.0);
 }
 
 namespace {
@@ -57,7 +58,13 @@ void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, 
     if (i == 0) id = aov.id;
   }
   double inv = 1.0 / s.spp;
-  image.color[pixel] = glm::vec3(sum * inv);
+  const glm::dvec3 mean = sum * inv;
+  image.color[pixel] = glm::vec3(mean);
+  // Beyond float the pixel holds inf (render() reports it): the mean, not inf, is the
+  // message's value.
+  const glm::vec3& c = image.color[pixel];
+  if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+    image.overflow[pixel] = std::max({mean.x, mean.y, mean.z});
   image.depth[pixel] = static_cast<float>(depth * inv);
   double nl = std::sqrt(normal.x * normal.x + normal.y * normal.y + normal.z * normal.z);
   image.normal[pixel] = nl > 0 ? glm::vec3(normal / nl) : glm::vec3(0.0f);
@@ -155,6 +162,12 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
   for (const RayCounter& c : counters) stats.rays += c.rays;
   stats.tilesDone = tilesDone.load();
   stats.interrupted = interrupted.load();
+  for (size_t i = 0; i < image.overflow.size(); ++i)
+    if (image.overflow[i] != 0.0 && stats.overflowPixels++ == 0) {
+      stats.overflowX = static_cast<int>(i % s.width);
+      stats.overflowY = static_cast<int>(i / s.width);
+      stats.overflowValue = image.overflow[i];
+    }
   if (options.progress) {
     drawProgress(stats.tilesDone, stats.tilesTotal, stats.seconds, stats.rays);
     std::fputc('\n', stderr);

@@ -18,6 +18,7 @@ struct Image {
   std::vector<glm::vec3> normal;
   std::vector<glm::vec3> albedo;
   std::vector<float> id;
+  std::vector<double> overflow;  // a colour beyond float's range (its largest component), else 0
   void resize(int w, int h);
 };
 
@@ -31,6 +32,11 @@ struct RenderStats {
   std::uint64_t rays = 0;  // camera, bounce and shadow rays
   int tilesDone = 0, tilesTotal = 0;
   bool interrupted = false;
+  // Pixels whose colour lies beyond float's range (3.4e38), which the image cannot hold
+  // (a point light 1e-20 above a plane: 2.5e39), and the first of them in row order.
+  std::uint64_t overflowPixels = 0;
+  int overflowX = -1, overflowY = -1;
+  double overflowValue = 0;
 };
 
 // Renders scene.desc().settings (width, height, spp, integrator, seed, threads).

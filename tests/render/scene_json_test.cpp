@@ -592,6 +592,39 @@ TEST(RenderProgram, OutOfRangeSceneValuesExitWithCode2AndLocation) {
   std::filesystem::remove(image);
 }
 
+// A pixel whose radiance lies beyond float's range, from values each within it, is refused
+// (exit 2, the pixel and its value) instead of written as inf with exit 0: a point light of
+// intensity 1 at 1e-20 above a plane (2.5e39 below it, (0.8 / pi) / 1e-40), and two lights
+// of irradiance 3e38 beside an environment of 3e38 (0.8 (6e38 / pi + 3e38) = 3.9e38). A light just within range renders.
+TEST(RenderProgram, PixelsBeyondFloatAreRefused) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "algray_overflow_scene.json";
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_overflow_scene.exr";
+  const auto scene = [&](const std::string& lights) {
+    std::ofstream(file)
+        << R"({"render": {"width": 15, "height": 15, "spp": 1, "integrator": "direct"},
+ "camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "up": [0, 1, 0]},
+ "meshes": [{"shape": "plane", "size": 2}], )"
+        << lights << "}";
+  };
+  for (const char* lights :
+       {R"("lights": [{"type": "point", "position": [0, 0, 1e-20]}])",
+        R"("lights": [{"type": "directional", "direction": [0, 0, 1], "irradiance": 3e38},
+                      {"type": "directional", "direction": [0, 0, 1], "irradiance": 3e38}],
+           "environment": {"color": 3e38})"}) {
+    scene(lights);
+    auto [code, out] = runRender(file.string() + " -q -o " + image.string());
+    EXPECT_EQ(code, 2) << lights << ": " << out;
+    EXPECT_NE(out.find("beyond the image's float range"), std::string::npos) << out;
+  }
+  scene(R"("lights": [{"type": "point", "position": [0, 0, 1e-3]}])");
+  auto [code, out] = runRender(file.string() + " -q -o " + image.string());
+  EXPECT_EQ(code, 0) << out;
+  std::filesystem::remove(file);
+  std::filesystem::remove(image);
+}
+
 // Errors the plugin raises while Scene builds a surface name the surface's position.
 TEST(RenderProgram, SurfaceBuildErrorsHaveTheSurfacesLocation) {
   const char* surfaces[] = {
