@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <memory>
+#include <string>
 
 namespace algray::render {
 
@@ -53,6 +54,16 @@ bool readRaster(const std::string& path, Raster& out, std::string& error) {
   out.encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
                 spec.format.basetype == OIIO::TypeDesc::UINT16;
   if (out.width <= 0 || out.height <= 0 || out.channels <= 0) return true;
+  // The buffer is sized from the header before any pixel is read: a 69-byte PNG whose
+  // header said 20000 x 20000 took 6.4 GB and 42 s to fail ("Not enough image data"), a
+  // 28-byte PGM of 100000 x 100000 ended in a bare std::bad_alloc. Beyond 2^30 values
+  // (4 GiB as float; a 16k x 8k RGBA map is half that) the image is refused first.
+  if (static_cast<double>(out.width) * out.height * out.channels > 0x1p30) {
+    error = "its header says " + std::to_string(out.width) + " x " + std::to_string(out.height) +
+            " pixels of " + std::to_string(out.channels) +
+            " channels, more than 2^30 values (4 GiB as float): too large to read";
+    return false;
+  }
   out.pixels.resize(static_cast<size_t>(out.width) * out.height * out.channels);
   if (in->read_image(0, 0, 0, out.channels, OIIO::TypeDesc::FLOAT, out.pixels.data()) &&
       in->close())

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -229,6 +230,25 @@ TEST(ImageFile, UnwritablePathThrowsWithTheName) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.png"), std::string::npos);
   }
+}
+
+// An image whose header claims more than 2^30 values is refused before its buffer is made:
+// a 28-byte PGM of 100000 x 100000 ended in a bare std::bad_alloc (a 69-byte PNG of 20000 x
+// 20000 took 6.4 GB and 42 s to fail). A small one of the same kind loads.
+TEST(ImageFile, HeadersClaimingHugeImagesAreRefused) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "algray_huge.pgm";
+  std::ofstream(path, std::ios::binary) << "P5\n100000 100000\n255\n" << std::string(6, '\x80');
+  try {
+    Texture::load(path.string());
+    ADD_FAILURE() << "a 100000 x 100000 texture header was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("too large to read"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+  const std::filesystem::path small = std::filesystem::temp_directory_path() / "algray_small.pgm";
+  std::ofstream(small, std::ios::binary) << "P5\n2 3\n255\n" << std::string(6, '\x80');
+  EXPECT_NO_THROW(Texture::load(small.string()));
+  std::filesystem::remove(small);
 }
 
 }  // namespace
