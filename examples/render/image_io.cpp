@@ -176,8 +176,11 @@ void writeImage(const Image& image, const std::string& path, const RenderSetting
             encodeByte(static_cast<double>(image.color[i][k]) * scale, settings.toneMap);
   }
   // The format comes from the final name; the bytes go to the temporary one.
-  // (A name of this process's own: "OUT.tmp" replaced and removed a user's file.)
-  std::string tmp = path + ".algray-" + std::to_string(getpid()) + ".tmp", error;
+  // (A name of this process's own: "OUT.tmp" replaced and removed a user's file; a short
+  // one beside OUT: OUT + a suffix passed NAME_MAX for a valid 244-byte name.)
+  std::string tmp =
+      (fs::path(path).parent_path() / (".algray-" + std::to_string(getpid()) + ".tmp")).string();
+  std::string error;
   const void* pixels = desc.floating ? static_cast<const void*>(floats.data()) : bytes.data();
   const WriteStatus status = backend.write(path, tmp, desc, pixels, error);
   if (status == WriteStatus::UnsupportedFormat)

@@ -267,7 +267,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "algray-render: -o %s: is a directory\n", output.c_str());
       return 2;
     }
-    const std::string probe = output + ".algray-probe-" + std::to_string(getpid());
+    // A short name beside it: OUT + a suffix passed NAME_MAX for a valid 244-byte name.
+    const std::filesystem::path outPath(output);
+    const std::string probe =
+        (outPath.parent_path() / (".algray-probe-" + std::to_string(getpid()))).string();
     std::FILE* f = std::fopen(probe.c_str(), "wbx");
     if (!f && errno != EEXIST) {
       std::fprintf(stderr, "algray-render: -o %s: cannot write there (%s)\n", output.c_str(),

@@ -625,6 +625,18 @@ TEST(RenderProgram, PixelsBeyondFloatAreRefused) {
   std::filesystem::remove(image);
 }
 
+// An output name near NAME_MAX (255 bytes) is written: the writability probe and the
+// temporary file were OUT plus a suffix, past the limit ("File name too long").
+TEST(RenderProgram, LongOutputNamesAreWritten) {
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / (std::string(240, 'a') + ".png");
+  auto [code, out] =
+      runRender("--surface torus --width 8 --height 8 --spp 1 -q -o " + image.string());
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_TRUE(std::filesystem::exists(image));
+  std::filesystem::remove(image);
+}
+
 // Errors the plugin raises while Scene builds a surface name the surface's position.
 TEST(RenderProgram, SurfaceBuildErrorsHaveTheSurfacesLocation) {
   const char* surfaces[] = {
