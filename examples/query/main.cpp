@@ -258,6 +258,8 @@ int run(int argc, char** argv) {
   // temporary file renamed over OUT, tried first, changed all of those and refused names
   // near NAME_MAX and files in read-only directories.)
   namespace fs = std::filesystem;
+  // (An empty name passed as "." and failed after every ray was traced, exit 1.)
+  if (outPath.empty()) throw UsageError("--out: the file name is empty");
   const fs::file_status outStatus = fs::status(outPath, ec);
   if (fs::is_directory(outStatus)) throw UsageError("--out: '" + outPath + "' is a directory");
   if (fs::is_regular_file(outStatus)) {
@@ -265,6 +267,10 @@ int run(int argc, char** argv) {
     if (!probe) throw UsageError("--out: cannot write '" + outPath + "'");
   } else if (!fs::exists(outStatus)) {
     const fs::path parent = fs::path(outPath).parent_path();
+    // (A file as the directory was "Permission denied", access()'s word for it.)
+    if (!parent.empty() && fs::exists(parent, ec) && !fs::is_directory(parent, ec))
+      throw UsageError("--out: cannot write '" + outPath + "' ('" + parent.string() +
+                       "' is not a directory)");
     if (access(parent.empty() ? "." : parent.c_str(), W_OK | X_OK) != 0)
       throw UsageError("--out: cannot write '" + outPath + "' (" + std::strerror(errno) + ")");
   }

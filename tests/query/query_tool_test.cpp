@@ -838,6 +838,10 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {sphere + "--rays /nonexistent/rays.csv --out " + (dir / "out.csv").string(), "cannot open"},
       {"--surface \"7\" --clip-sphere 2 " + common(good), "constant"},
       {sphere + "--rays " + good.string() + " --out /nonexistent/out.csv", "--out: cannot write"},
+      {sphere + "--rays " + good.string() + " --out ''",
+       "algray-query: --out: the file name is empty\n"},
+      {sphere + "--rays " + good.string() + " --out " + good.string() + "/x.csv",
+       "' is not a directory)\n"},
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1e30 " + common(good), "scale the scene down"},
       // A directory as IN.csv (was "empty file"), a parameter or radius the user cannot
       // have meant (1e-400 was silently 0, inf reached the library), and the library's own
