@@ -6,6 +6,7 @@
 //
 // Exit codes: 0 success, 2 bad flags, equation or input rows (message on stderr with
 // the line or column), 1 anything else (I/O, Embree).
+#include "decimal_option.h"
 #include "ray_csv.h"
 
 #include "algray/embree.h"
@@ -141,6 +142,7 @@ int run(int argc, char** argv) {
   app.add_option("--out", outPath, "output CSV: hit,t,nx,ny,nz")->required();
   app.add_flag("--float", useFloat, "trace Embree's float rays instead of algray's double channel");
   app.add_option("--threads", threads, "worker threads (default: all cores)")
+      ->transform(algray::cli::decimal())
       ->check(CLI::Range(1, 1024));
   try {
     app.parse(argc, argv);

@@ -1,6 +1,7 @@
 // algray-render: the sample path tracer. See docs/scene-format.md and
 // docs/render-summary.md. Exit codes: 0 done, 2 bad input (scene, file, option),
 // 1 other failures, 130 interrupted (the partial image is still written).
+#include "decimal_option.h"
 #include "image_backend.h"
 #include "image_io.h"
 #include "pov_export.h"
@@ -83,15 +84,25 @@ int main(int argc, char** argv) {
   app.add_option("scene", input, "SCENE.json or SURFACE.jsurf (default: the built-in scene)");
   app.add_option("-o,--output", output,
                  "output image: .png (tone-mapped sRGB) or .exr (linear + AOVs)");
-  app.add_option("--width", width, "image width")->check(CLI::Range(1, 1 << 15));
-  app.add_option("--height", height, "image height")->check(CLI::Range(1, 1 << 15));
-  app.add_option("--spp", spp, "samples per pixel")->check(CLI::Range(1, 1 << 20));
+  app.add_option("--width", width, "image width")
+      ->transform(algray::cli::decimal())
+      ->check(CLI::Range(1, 1 << 15));
+  app.add_option("--height", height, "image height")
+      ->transform(algray::cli::decimal())
+      ->check(CLI::Range(1, 1 << 15));
+  app.add_option("--spp", spp, "samples per pixel")
+      ->transform(algray::cli::decimal())
+      ->check(CLI::Range(1, 1 << 20));
   app.add_option("--threads", threads, "worker threads (0 = all cores)")
+      ->transform(algray::cli::decimal())
       ->check(CLI::Range(0, 1024));
   app.add_option("--integrator", integrator, "path (default) or direct")
       ->check(CLI::IsMember({"path", "direct"}));
-  app.add_option("--max-depth", maxDepth, "maximum path length")->check(CLI::Range(0, 1000));
+  app.add_option("--max-depth", maxDepth, "maximum path length")
+      ->transform(algray::cli::decimal())
+      ->check(CLI::Range(0, 1000));
   app.add_option("--seed", seed, "random seed")
+      ->transform(algray::cli::decimal())
       ->check(CLI::Range(0LL, 1LL << 30));  // as the JSON "seed"
   app.add_option("--exposure", exposure, "exposure in stops (PNG)");
   app.add_option(

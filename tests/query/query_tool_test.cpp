@@ -834,6 +834,7 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1 --clip-box -1,-1,-1,1,1,1 " + common(good),
        "clip"},
       {sphere + common(good) + " --threads 0", "--threads"},
+      {sphere + common(good) + " --threads 0x2", "--threads: '0x2' is not a decimal integer"},
       {sphere + common(good) + " --bogus", "bogus"},
       {sphere + "--rays /nonexistent/rays.csv --out " + (dir / "out.csv").string(), "cannot open"},
       {"--surface \"7\" --clip-sphere 2 " + common(good), "constant"},

@@ -637,6 +637,24 @@ TEST(RenderProgram, LongOutputNamesAreWritten) {
   std::filesystem::remove(image);
 }
 
+// Integer options are decimal: CLI11 converted them with strtoll's base 0, so --width 010
+// rendered 8 pixels wide, --height 0x10 16, and --width 08 was "not in range".
+TEST(RenderProgram, IntegerOptionsAreDecimal) {
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_decimal_options.png";
+  const auto [code, out] =
+      runRender("--surface torus --width 010 --height 0008 --spp 01 -q -o " + image.string());
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find(", 10x8, 1 spp,"), std::string::npos) << out;
+  for (const char* bad : {"--width 0x10", "--height 1e1", "--seed 0x2A", "--spp 1.0"}) {
+    const auto [badCode, badOut] =
+        runRender(std::string("--surface torus ") + bad + " -q -o " + image.string());
+    EXPECT_EQ(badCode, 2) << bad << ": " << badOut;
+    EXPECT_NE(badOut.find("is not a decimal integer"), std::string::npos) << bad << ": " << badOut;
+  }
+  std::filesystem::remove(image);
+}
+
 // Errors the plugin raises while Scene builds a surface name the surface's position.
 TEST(RenderProgram, SurfaceBuildErrorsHaveTheSurfacesLocation) {
   const char* surfaces[] = {

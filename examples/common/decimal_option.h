@@ -1,0 +1,26 @@
+#pragma once
+// Integer options of the tools are decimal. CLI11 2.1 converts them with strtoll's base 0:
+// "--width 010" rendered 8 pixels wide, "--height 0x10" 16, "--seed 0042" was seed 34 and
+// "--width 08" "not in range". This transform, run before CLI11 converts, drops leading
+// zeros and refuses anything but an optional sign and digits.
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace algray::cli {
+
+inline CLI::Validator decimal() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const size_t digits = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+        if (digits == text.size() ||
+            text.find_first_not_of("0123456789", digits) != std::string::npos)
+          return "'" + text + "' is not a decimal integer";
+        const size_t first = text.find_first_not_of('0', digits);
+        text = text.substr(0, digits) + (first == std::string::npos ? "0" : text.substr(first));
+        return "";
+      },
+      "DECIMAL");
+}
+
+}  // namespace algray::cli
