@@ -614,11 +614,28 @@ class Loader {
                   " across in scene space, below 1e-15, where Embree's float triangle test "
                   "underflows: scale "
                   "the scene up");
+    checkResolvable(p, "the mesh", lo, hi);
     item.material = j.contains("material") ? materialRef(j["material"], p + "/material", scene)
                                            : defaultMaterial(scene);
     if (j.contains("back_material"))
       item.backMaterial = materialRef(j["back_material"], p + "/back_material", scene);
     scene.meshes.push_back(std::move(item));
+  }
+
+  // A mesh or area light smaller than 2^-40 of its coordinates: its vertices round onto
+  // each other (a sphere light of radius 1e-12 at z = 1e5 became a flat disc, covered
+  // twice, and shone 1.4-1.8 times its power), so it is refused, naming the point light
+  // that stands for it.
+  void checkResolvable(const std::string& p, const std::string& what, const glm::dvec3& lo,
+                       const glm::dvec3& hi) const {
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    const double reach = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x),
+                                   std::abs(hi.y), std::abs(hi.z)});
+    if (!(extent >= 0x1p-40 * reach))
+      fail(p, what + " is " + (std::ostringstream() << extent).str() +
+                  " across at coordinates up to " + (std::ostringstream() << reach).str() +
+                  ", below 2^-40 of them, where its vertices round onto each other: enlarge it "
+                  "or use a point light");
   }
 
   void readLight(const json& j, const std::string& p, SceneDesc& scene) const {
@@ -665,6 +682,13 @@ class Loader {
             glm::scale(glm::translate(glm::dmat4(1.0), coordinate(j["center"], p + "/center")),
                        glm::dvec3(length(j["radius"], p + "/radius")));
       }
+      glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
+      for (const glm::dvec3& v : item.mesh.positions) {
+        const glm::dvec3 w(item.transform * glm::dvec4(v, 1.0));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+      checkResolvable(p, "the " + type + " light", lo, hi);
       m.emission = color(j["radiance"], p + "/radiance");
       item.material = scene.addMaterial(m);
       item.label = where(p) + ": " + type + " light";

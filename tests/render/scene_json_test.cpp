@@ -655,6 +655,35 @@ TEST(RenderProgram, IntegerOptionsAreDecimal) {
   std::filesystem::remove(image);
 }
 
+// Area lights smaller than 2^-40 of their coordinates are refused: a sphere light of radius
+// 1e-12 at z = 1e5 (or 1e-16 at z = 1) had its vertices rounded onto a disc covered twice
+// and shone 1.4-1.8 times as bright as the point light it stands for. One of 1e-9 renders.
+TEST(RenderProgram, UnresolvableAreaLightsAreRefused) {
+  const std::filesystem::path image =
+      std::filesystem::temp_directory_path() / "algray_small_light.png";
+  for (const char* light :
+       {R"("lights": [{"type": "sphere", "center": [0, 0, 1e5], "radius": 1e-12, "radiance": 1}])",
+        R"("lights": [{"type": "sphere", "center": [0, 0, 1], "radius": 1e-16, "radiance": 1}])",
+        R"("lights": [{"type": "quad", "corner": [0, 0, 1e5], "edge1": [1e-12, 0, 0],
+                       "edge2": [0, 1e-12, 0], "radiance": 1}])"}) {
+    const std::filesystem::path file = sphereScene("algray_small_light.json", light);
+    auto [code, out] =
+        runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o " + image.string());
+    EXPECT_EQ(code, 2) << light << ": " << out;
+    EXPECT_NE(out.find(file.string() + ":2:"), std::string::npos) << light << ": " << out;
+    EXPECT_NE(out.find("below 2^-40 of them"), std::string::npos) << light << ": " << out;
+    std::filesystem::remove(file);
+  }
+  const std::filesystem::path file = sphereScene(
+      "algray_small_light.json",
+      R"("lights": [{"type": "sphere", "center": [0, 0, 3], "radius": 1e-9, "radiance": 1e18}])");
+  auto [code, out] =
+      runRender(file.string() + " --width 8 --height 8 --spp 1 -q -o " + image.string());
+  EXPECT_EQ(code, 0) << out;
+  std::filesystem::remove(file);
+  std::filesystem::remove(image);
+}
+
 // Errors the plugin raises while Scene builds a surface name the surface's position.
 TEST(RenderProgram, SurfaceBuildErrorsHaveTheSurfacesLocation) {
   const char* surfaces[] = {
