@@ -759,6 +759,18 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
     EXPECT_EQ(std::string(e.what()).find("singular"), std::string::npos) << e.what();
   }
   EXPECT_THROW(SurfaceGeometry(nullptr, desc), Error);
+  // A condition number beyond double's range is named as such, not printed as inf or nan
+  // (the inverse of a scale of 1e-300 against 1 overflows).
+  SurfaceDesc flat = desc;
+  flat.transform =
+      glm::dmat4(glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1e-300, 0), glm::dvec3(0, 0, 1)));
+  try {
+    make(flat);
+    ADD_FAILURE() << "a transform of condition 1e300 was accepted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("condition number is beyond double's range"), std::string::npos) << what;
+  }
   // The object-space size to the degree, R^m, within 1e-250 .. 1e250: x^m + y^m + z^m = R^m
   // seen from x = -1.5 R along +x hits at x = -R (closed form: t = 0.5 R) inside that range,
   // and is refused beyond it (degree 20 at R = 6e14 was hit at x = -3.7e14, inside the

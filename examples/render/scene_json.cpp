@@ -105,6 +105,8 @@ class Loader {
     allowKeys(root_, "",
               {"render", "camera", "materials", "environment", "background", "surfaces", "meshes",
                "lights", "description"});
+    // Free text for people, unused, but a string as documented (a number was accepted).
+    if (root_.contains("description")) string(root_["description"], "/description");
     if (root_.contains("render")) readRender(root_["render"], "/render", scene.settings);
     if (root_.contains("camera")) readCamera(root_["camera"], "/camera", scene.camera);
     if (root_.contains("materials")) {

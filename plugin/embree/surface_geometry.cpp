@@ -152,8 +152,13 @@ void validate(const SurfaceDesc& desc) {
   const double cond = frobenius(w) * frobenius(glm::inverse(w));
   if (!(cond <= 0x1p40)) {
     std::ostringstream os;
-    os << "the transform's condition number is " << cond
-       << " (beyond 2^40 = 1.1e12): it squashes one direction against the others by more than "
+    // (The inverse of a scale of 1e-300 against 1 overflows: "inf" or "-nan" said nothing.)
+    os << "the transform's condition number is ";
+    if (std::isfinite(cond))
+      os << cond;
+    else
+      os << "beyond double's range";
+    os << " (beyond 2^40 = 1.1e12): it squashes one direction against the others by more than "
           "double "
           "precision resolves in world space; scale the equation's variables instead";
     fail(os.str());

@@ -128,6 +128,9 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
   EXPECT_EQ(w.line(), 2);
   EXPECT_EQ(w.column(), 32);
   EXPECT_NE(w.message().find("not used"), std::string::npos) << w.message();
+  // "description" is free text, but text: a number was accepted.
+  SceneError x = errorOf("{\"description\": 5}");
+  EXPECT_EQ(x.column(), 17);
 }
 
 TEST(SceneJson, EquationErrorPointsIntoTheString) {
