@@ -13,12 +13,15 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <istream>
 #include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -151,7 +154,8 @@ namespace {
 // checked here first, with their line numbers: every number of v, vn, vt must be a
 // decimal literal ([+-]digits[.digits][e[+-]digits], what tinyobjloader parses) within
 // float's range (what it stores); every face corner must be i, i/j, i//k or i/j/k with
-// non-zero integers in int's range. The reading stays tinyobjloader's.
+// non-zero integers in int's range, each naming a v, vt or vn line above the face. The
+// reading stays tinyobjloader's.
 bool isDecimalLiteral(std::string_view t) {
   size_t i = 0;
   if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
@@ -169,27 +173,103 @@ bool isDecimalLiteral(std::string_view t) {
   return i == t.size();
 }
 
-// (Not std::isspace: a library call per character, 5 % of loading a 74 MB OBJ.)
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+// tinyobjloader's blanks between a line's words: a line "vn\v0 0 1" or "\fv 1 0 0" is no
+// vn or v line to it, so it must be none to the counts of v, vt and vn lines here that
+// relative indices are checked against. (Not std::isspace: a library call per character,
+// 5 % of loading a 74 MB OBJ.)
+bool isBlank(char c) { return c == ' ' || c == '\t'; }
 
-// t comes from a word split at blanks, so strtoll's skipping of leading blanks never applies.
-bool isFaceIndex(std::string_view t) {
+// The value of a face index: a non-zero integer in int's range (tinyobjloader reads it
+// with atoi), or 0 when t is none. t comes from a word split at blanks, so strtoll's
+// skipping of leading blanks never applies.
+long long faceIndex(std::string_view t) {
   const std::string text(t);
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(text.c_str(), &end, 10);
-  return !text.empty() && *end == '\0' && errno != ERANGE && v != 0 && v >= INT_MIN && v <= INT_MAX;
+  return !text.empty() && *end == '\0' && errno != ERANGE && v >= INT_MIN && v <= INT_MAX ? v : 0;
 }
 
-void checkObjNumbers(const std::string& path) {
-  std::ifstream in(path);
+// The lines of an OBJ file as tinyobjloader's safeGetline splits them: at "\n", "\r\n" and
+// a lone "\r" (classic Mac). Split at "\n" only, a CR-only file was one line here and many
+// to tinyobjloader: after a comment line "v abc 1 0", "v 1 2" and "f 1 2 4294967299" were
+// never checked (they rendered, the last as "f 1 2 3"), and a valid CR-only file was
+// refused as "'v' with 15 numbers".
+class ObjLines {
+ public:
+  explicit ObjLines(std::istream& in) : in_(in) {}
+
+  // The next line without its ending, valid until the next call; false after the last.
+  // The file is read in blocks, not in std::getline's pieces up to a '\n': a CR-only file
+  // is one such piece, held whole.
+  bool next(std::string_view& line) {
+    carry_.clear();
+    bool carried = false;  // part of the line is in carry_
+    for (;;) {
+      if (pos_ == block_.size()) {
+        block_.resize(kBlock);
+        in_.read(block_.data(), kBlock);
+        block_.resize(static_cast<size_t>(in_.gcount()));
+        pos_ = 0;
+        if (block_.empty()) {  // a last line without an ending is a line, "" is none
+          line = carry_;
+          return carried;
+        }
+      }
+      if (afterCr_) {  // "\r\n" is one ending, even across two blocks
+        afterCr_ = false;
+        if (block_[pos_] == '\n' && ++pos_ == block_.size()) continue;
+      }
+      size_t end = pos_;
+      while (end < block_.size() && block_[end] != '\n' && block_[end] != '\r') ++end;
+      if (end == block_.size()) {
+        carry_.append(block_, pos_, end - pos_);
+        carried = true;
+        pos_ = end;
+        continue;
+      }
+      const std::string_view piece = std::string_view(block_).substr(pos_, end - pos_);
+      afterCr_ = block_[end] == '\r';
+      pos_ = end + 1;
+      if (!carried) {
+        line = piece;
+      } else {
+        carry_.append(piece);
+        line = carry_;
+      }
+      return true;
+    }
+  }
+
+ private:
+  static constexpr size_t kBlock = 1 << 16;
+  std::istream& in_;
+  std::string block_;  // the block read last, lines from pos_ on not returned yet
+  size_t pos_ = 0;
+  std::string carry_;     // a line begun in an earlier block
+  bool afterCr_ = false;  // the last line ended in '\r': a '\n' next belongs to it
+};
+
+void checkObjText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
   if (!in) return;  // tinyobjloader reports it
-  std::string line;
+  ObjLines lines(in);
+  std::string_view text;
   std::vector<std::string_view> items;
-  for (int lineNo = 1; std::getline(in, line); ++lineNo) {
+  // The v, vt and vn lines so far: an index names one of them, from the first (1) or back
+  // from the last (-1). tinyobjloader resolves a negative index against these counts too;
+  // one reaching before the first became an index below 0 that loadObj took for "no
+  // normal" ("f 1//-9 2//-9 3//-9" with one vn dropped every normal of the mesh). A
+  // polygon of 4 or more corners with an index beyond the list ("f 1 2 3 9" or "f 1 2 3
+  // -9" with 3 vertices) was dropped by tinyobjloader's triangulation with a warning, and
+  // it triangulates a polygon at the next g, o or usemtl line, with the vertices read by
+  // then: a vertex defined below its face is refused for every face as well.
+  long long counts[3] = {0, 0, 0};  // v, vt, vn
+  const char* const names[3] = {"vertex", "uv", "normal"};
+  const char* const kinds[3] = {"'v'", "'vt'", "'vn'"};
+  for (long long lineNo = 1; lines.next(text); ++lineNo) {
     items.clear();
-    const std::string_view text(line);
-    for (size_t i = 0; i < text.size();) {  // words separated by blanks (and a final '\r')
+    for (size_t i = 0; i < text.size();) {  // words separated by blanks
       while (i < text.size() && isBlank(text[i])) ++i;
       const size_t start = i;
       while (i < text.size() && !isBlank(text[i])) ++i;
@@ -198,10 +278,14 @@ void checkObjNumbers(const std::string& path) {
     }
     if (items.empty()) continue;
     const std::string_view kind = items.front();
-    if (kind != "v" && kind != "vn" && kind != "vt" && kind != "f") continue;
     auto fail = [&](const std::string& what) {
       throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": " + what);
     };
+    // tinyobjloader keeps every tag line with up to 8192 ints, floats and strings each,
+    // whatever the line gives: 2000 lines "t a 8192/8192/8192" (38 KB) took 1.9 GB.
+    if (kind == "t")
+      fail("'t' (tag) lines are not supported (the renderer does not use them; remove them)");
+    if (kind != "v" && kind != "vn" && kind != "vt" && kind != "f") continue;
     const size_t n = items.size() - 1;
     if (kind == "f") {
       if (n < 3) fail("a face needs at least 3 vertices");
@@ -209,13 +293,27 @@ void checkObjNumbers(const std::string& path) {
         const std::string_view corner = items[k];
         const size_t a = corner.find('/'),
                      b = a == std::string_view::npos ? a : corner.find('/', a + 1);
-        const bool ok = isFaceIndex(corner.substr(0, a)) &&
-                        (a == std::string_view::npos ||
-                         (b == std::string_view::npos
-                              ? isFaceIndex(corner.substr(a + 1))
-                              : (b == a + 1 || isFaceIndex(corner.substr(a + 1, b - a - 1))) &&
-                                    isFaceIndex(corner.substr(b + 1))));
-        if (!ok) fail("bad face index '" + std::string(corner) + "'");
+        // The corner's v, vt and vn words (vt and vn may be absent).
+        std::string_view parts[3];
+        bool present[3] = {true, false, false};
+        parts[0] = corner.substr(0, a);
+        if (a != std::string_view::npos) {
+          if (b == std::string_view::npos) {
+            parts[1] = corner.substr(a + 1), present[1] = true;
+          } else {
+            if (b != a + 1) parts[1] = corner.substr(a + 1, b - a - 1), present[1] = true;
+            parts[2] = corner.substr(b + 1), present[2] = true;
+          }
+        }
+        long long index[3] = {0, 0, 0};
+        for (int p = 0; p < 3; ++p)
+          if (present[p] && (index[p] = faceIndex(parts[p])) == 0)
+            fail("bad face index '" + std::string(corner) + "'");
+        for (int p = 0; p < 3; ++p)
+          if (present[p] && std::llabs(index[p]) > counts[p])
+            fail(std::string(names[p]) + " index out of range in '" + std::string(corner) + "' (" +
+                 std::to_string(counts[p]) + " " + kinds[p] +
+                 (counts[p] == 1 ? " line" : " lines") + " above it)");
       }
       continue;
     }
@@ -229,13 +327,18 @@ void checkObjNumbers(const std::string& path) {
           !(std::abs(std::strtod(number.c_str(), nullptr)) <= std::numeric_limits<float>::max()))
         fail("'" + number + "' is not a finite decimal number (in float's range)");
     }
+    ++counts[kind == "v" ? 0 : kind == "vt" ? 1 : 2];
   }
 }
 
 }  // namespace
 
 MeshData loadObj(const std::string& path) {
-  checkObjNumbers(path);
+  // An ifstream opens a directory and reads nothing: it was ".: no triangles".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw std::runtime_error(path + ": is a directory, not an OBJ file");
+  checkObjText(path);
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
@@ -250,6 +353,8 @@ MeshData loadObj(const std::string& path) {
   // OBJ indexes positions, normals and uvs separately; make one vertex per distinct
   // (position, normal, uv) triple.
   std::map<std::array<int, 3>, unsigned> remap;
+  // An index below 0 is an absent normal or uv: checkObjText refused the negative ones
+  // reaching before their list, which tinyobjloader turned into indices below 0 as well.
   bool allNormals = true, allUvs = true;
   for (const tinyobj::shape_t& shape : reader.GetShapes())
     for (const tinyobj::index_t& idx : shape.mesh.indices) {
@@ -268,6 +373,7 @@ MeshData loadObj(const std::string& path) {
         if (it == remap.end()) {
           // tinyobjloader only warns about an index beyond its list: every index is checked
           // before it is read (a normal or uv index was not: "f 1//900" read past the heap).
+          // checkObjText refuses such an index first, with its line; this guards the reads.
           if (idx.vertex_index < 0 ||
               3 * static_cast<size_t>(idx.vertex_index) + 2 >= attrib.vertices.size())
             throw std::runtime_error(path + ": vertex index out of range");
