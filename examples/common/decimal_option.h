@@ -12,6 +12,11 @@ namespace algray::cli {
 inline CLI::Validator decimal() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
+        // Spaces around it are quoting, as around --param's values (" 2" was taken before).
+        const size_t start = text.find_first_not_of(" \t");
+        text = start == std::string::npos
+                   ? std::string()
+                   : text.substr(start, text.find_last_not_of(" \t") + 1 - start);
         const size_t digits = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
         if (digits == text.size() ||
             text.find_first_not_of("0123456789", digits) != std::string::npos)

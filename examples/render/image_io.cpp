@@ -7,7 +7,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -134,6 +136,14 @@ AovSet parseAovList(const std::string& list) {
   return set;
 }
 
+std::string uniqueSuffix() {
+  std::random_device random;
+  const std::uint64_t bits = (std::uint64_t{random()} << 32) ^ random();
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(bits));
+  return std::to_string(getpid()) + "-" + hex;
+}
+
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,
                 const AovSet& aovs) {
   namespace fs = std::filesystem;
@@ -177,9 +187,10 @@ void writeImage(const Image& image, const std::string& path, const RenderSetting
   }
   // The format comes from the final name; the bytes go to the temporary one.
   // (A name of this process's own: "OUT.tmp" replaced and removed a user's file; a short
-  // one beside OUT: OUT + a suffix passed NAME_MAX for a valid 244-byte name.)
+  // one beside OUT: OUT + a suffix passed NAME_MAX for a valid 244-byte name; random, not
+  // the PID alone: two containers' renders, both PID 1, wrote one directory's file.)
   std::string tmp =
-      (fs::path(path).parent_path() / (".algray-" + std::to_string(getpid()) + ".tmp")).string();
+      (fs::path(path).parent_path() / (".algray-" + uniqueSuffix() + ".tmp")).string();
   std::string error;
   const void* pixels = desc.floating ? static_cast<const void*>(floats.data()) : bytes.data();
   const WriteStatus status = backend.write(path, tmp, desc, pixels, error);

@@ -38,6 +38,10 @@ AovSet parseAovList(const std::string& list);
 
 // Writes R, G, B and the channels of `aovs`. Throws std::runtime_error naming the file on
 // failure.
+// A name part for the tool's own files beside OUT: the PID and 64 random bits in hex (the
+// PID alone is shared by processes in different containers writing one directory).
+std::string uniqueSuffix();
+
 void writeImage(const Image& image, const std::string& path, const RenderSettings& settings,
                 const AovSet& aovs = {});
 

@@ -281,7 +281,7 @@ int main(int argc, char** argv) {
     // A short name beside it: OUT + a suffix passed NAME_MAX for a valid 244-byte name.
     const std::filesystem::path outPath(output);
     const std::string probe =
-        (outPath.parent_path() / (".algray-probe-" + std::to_string(getpid()))).string();
+        (outPath.parent_path() / (".algray-probe-" + uniqueSuffix())).string();
     std::FILE* f = std::fopen(probe.c_str(), "wbx");
     if (!f && errno != EEXIST) {
       std::fprintf(stderr, "algray-render: -o %s: cannot write there (%s)\n", output.c_str(),

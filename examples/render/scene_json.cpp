@@ -624,19 +624,21 @@ class Loader {
     scene.meshes.push_back(std::move(item));
   }
 
-  // A mesh or area light smaller than 2^-40 of its coordinates: its vertices round onto
+  // A mesh or area light smaller than 2^-44 of its coordinates: its vertices round onto
   // each other (a sphere light of radius 1e-12 at z = 1e5 became a flat disc, covered
-  // twice, and shone 1.4-1.8 times its power), so it is refused, naming the point light
-  // that stands for it.
+  // twice, and shone 1.4-1.8 times its power; a quad light 1e-14 wide at y = 3 shone 2 %
+  // too bright, 1e-15 11 % too dim, 1e-16 not at all), so it is refused, naming the point
+  // light that stands for it. `extent`: its smallest size that must stay (a quad's shorter
+  // edge), else its bounding box's largest.
   void checkResolvable(const std::string& p, const std::string& what, const glm::dvec3& lo,
-                       const glm::dvec3& hi) const {
-    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+                       const glm::dvec3& hi, double extent = -1.0) const {
+    if (extent < 0.0) extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
     const double reach = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x),
                                    std::abs(hi.y), std::abs(hi.z)});
-    if (!(extent >= 0x1p-40 * reach))
+    if (!(extent >= 0x1p-44 * reach))
       fail(p, what + " is " + (std::ostringstream() << extent).str() +
                   " across at coordinates up to " + (std::ostringstream() << reach).str() +
-                  ", below 2^-40 of them, where its vertices round onto each other: enlarge it "
+                  ", below 2^-44 of them, where its vertices round onto each other: enlarge it "
                   "or use a point light");
   }
 
@@ -664,6 +666,7 @@ class Loader {
       m.type = MaterialType::Emissive;
       if (!j.contains("radiance")) fail(p, "an area light needs \"radiance\"");
       MeshItem item;
+      double quadEdge = -1.0;  // the shorter edge's length
       if (type == "quad") {
         allowKeys(j, p, {"type", "corner", "edge1", "edge2", "radiance"});
         for (const char* k : {"corner", "edge1", "edge2"})
@@ -675,6 +678,7 @@ class Loader {
           fail(p + "/edge2",
                "a quad light's edges must span an area (edge1 and edge2 are parallel or zero)");
         item.mesh = makeQuad(coordinate(j["corner"], p + "/corner"), e1, e2);
+        quadEdge = std::min(glm::length(e1), glm::length(e2));
       } else {
         allowKeys(j, p, {"type", "center", "radius", "radiance"});
         if (!j.contains("center") || !j.contains("radius"))
@@ -690,7 +694,7 @@ class Loader {
         lo = glm::min(lo, w);
         hi = glm::max(hi, w);
       }
-      checkResolvable(p, "the " + type + " light", lo, hi);
+      checkResolvable(p, "the " + type + " light", lo, hi, type == "quad" ? quadEdge : -1.0);
       m.emission = color(j["radiance"], p + "/radiance");
       item.material = scene.addMaterial(m);
       item.label = where(p) + ": " + type + " light";

@@ -96,7 +96,8 @@ class BoxPolynomial {
 // Throws Error for more than kMaxDegree + 1 coefficients (as firstRoot, roots.h).
 Interval rangeOverInterval(std::span<const double> c, std::span<const double> err, double lo,
                            double hi);
-// True if g provably has no root in [lo, hi] (never for non-finite input).
+// True if g provably has no root in [lo, hi] (never for non-finite input). Throws Error for
+// more than kMaxDegree + 1 coefficients, as rangeOverInterval.
 inline bool provablyNoRoot(std::span<const double> c, std::span<const double> err, double lo,
                            double hi) {
   const Interval r = rangeOverInterval(c, err, lo, hi);

@@ -36,12 +36,15 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // (walkRoots). Kept apart from the record, which the cells of other surfaces replace in
 // the same trace: masks kept in it were rebuilt empty on each visit back, and a plane's
 // orphan root reached an any-hit filter up to 4 times in a scene of three planes. (They
-// must never hide another surface's or ray's roots: the key.) A new entry replaces the
-// oldest one of another trace; where every entry is this trace's (a trace meeting that many
-// surfaces with roots) the table grows, up to 4096 entries, beyond which an evicted entry
-// only lets a root be offered again, never hides one. (With 16 entries and round-robin
-// eviction a ray through 17 planes in grids of cells saw a plane's root twice on 25 of 96
-// traces.)
+// must never hide another surface's or ray's roots: the key.) One trace has one ray, so an
+// entry of another trace or another ray is done with (but for a trace a host filter
+// interrupted with rays of its own): a new entry replaces the oldest such one. Where every
+// entry is this trace's and ray's (a trace meeting that many surfaces with roots) the table
+// grows, up to 4096 entries, beyond which an evicted entry only lets a root be offered again,
+// never hides one; the first new trace after that shrinks it back. (With 16 entries and
+// round-robin eviction a ray through 17 planes in grids of cells saw a plane's root twice on
+// 25 of 96 traces; grown for every new ray of a context the host reused, the table's search
+// made later rays up to 45 times slower.)
 struct OfferedRoots {
   std::uint64_t id = 0, trace = 0;
   glm::dvec3 org{0.0}, dir{0.0};
@@ -51,32 +54,40 @@ struct OfferedRoots {
 // The cell that offered root i (bit i of offered), per entry: apart from the entries, so that
 // a new ray's search through them touches only the keys (16 entries in 1.4 KB).
 using OfferedBy = std::array<unsigned, 64>;
+constexpr size_t kOfferedEntries = 16, kMaxOfferedEntries = 4096;
 struct OfferedTable {
-  std::vector<OfferedRoots> entries = std::vector<OfferedRoots>(16);
-  std::vector<OfferedBy> offeredBy = std::vector<OfferedBy>(16);
+  std::vector<OfferedRoots> entries = std::vector<OfferedRoots>(kOfferedEntries);
+  std::vector<OfferedBy> offeredBy = std::vector<OfferedBy>(kOfferedEntries);
   size_t next = 0;
   size_t last = 0;  // the entry found last: a ray's roots ask for the same one in a row
 };
-constexpr size_t kMaxOfferedEntries = 4096;
 
 OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
   OfferedTable& table = ThreadHeap<OfferedTable>::get();
-  auto matches = [&](const OfferedRoots& e) {
-    return e.trace == ray.trace && e.id == data.id && e.org == ray.org && e.dir == ray.dir &&
-           e.tnear == ray.tnear;
+  auto sameTrace = [&](const OfferedRoots& e) {
+    return e.trace == ray.trace && e.org == ray.org && e.dir == ray.dir && e.tnear == ray.tnear;
   };
   std::vector<OfferedRoots>& entries = table.entries;
-  if (matches(entries[table.last])) return entries[table.last];
-  for (size_t i = 0; i < entries.size(); ++i)
-    if (matches(entries[i])) {
+  if (entries[table.last].id == data.id && sameTrace(entries[table.last]))
+    return entries[table.last];
+  bool traceSeen = false;
+  for (size_t i = 0; i < entries.size(); ++i) {
+    if (entries[i].trace != ray.trace) continue;
+    traceSeen = true;
+    if (entries[i].id == data.id && sameTrace(entries[i])) {
       table.last = i;
       return entries[i];
     }
+  }
+  if (!traceSeen && entries.size() > kOfferedEntries) {  // a new trace after a large one
+    entries.resize(kOfferedEntries);
+    table.offeredBy.resize(kOfferedEntries);
+  }
   const size_t n = entries.size();
   table.last = table.next % n;
   bool found = false;
   for (size_t k = 0; k < n && !found; ++k)
-    if (entries[(table.next + k) % n].trace != ray.trace) {
+    if (!sameTrace(entries[(table.next + k) % n])) {
       table.last = (table.next + k) % n;
       found = true;
     }

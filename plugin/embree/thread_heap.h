@@ -12,6 +12,7 @@
 // origin cache through the pointer until session 45).
 #include <pthread.h>
 
+#include <atomic>
 #include <memory>
 #include <new>
 
@@ -24,6 +25,13 @@ class ThreadHeap {
   // std::bad_alloc where it cannot be made (the Embree bridge counts that as a miss).
   static T& get() {
     if (object_) return *object_;
+    // After the library's statics are gone (a host tracing from a static destructor on a
+    // new thread, where the deleted key threw and the ray missed), the object is made
+    // without a key and lives as long as the process.
+    if (keyDeleted_.load(std::memory_order_acquire)) {
+      object_ = new T();
+      return *object_;
+    }
     static const Key key;
     auto owned = std::make_unique<T>();
     if (pthread_setspecific(key.key, owned.get()) != 0) throw std::bad_alloc();
@@ -40,7 +48,10 @@ class ThreadHeap {
     Key() {
       if (pthread_key_create(&key, &release) != 0) throw std::bad_alloc();
     }
-    ~Key() { pthread_key_delete(key); }
+    ~Key() {
+      keyDeleted_.store(true, std::memory_order_release);
+      pthread_key_delete(key);
+    }
     Key(const Key&) = delete;
     Key& operator=(const Key&) = delete;
   };
@@ -49,6 +60,7 @@ class ThreadHeap {
     delete static_cast<T*>(p);
   }
   static constinit inline thread_local T* object_ = nullptr;
+  static constinit inline std::atomic<bool> keyDeleted_{false};  // trivially destructible
 };
 
 }  // namespace algray

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace algray::render {
 namespace {
 
@@ -230,6 +232,15 @@ TEST(ImageFile, UnwritablePathThrowsWithTheName) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.png"), std::string::npos);
   }
+}
+
+// The tool's files beside OUT (the temporary image, the writability probe) have names of
+// their own per call, not per PID: two renders in different containers, both PID 1, wrote
+// one directory's ".algray-1.tmp" and one renamed the other's image to its OUT.
+TEST(ImageFile, TemporaryNamesDifferBetweenCalls) {
+  const std::string a = uniqueSuffix(), b = uniqueSuffix();
+  EXPECT_NE(a, b);
+  EXPECT_TRUE(a.starts_with(std::to_string(getpid()) + "-")) << a;
 }
 
 // An image whose header claims more than 2^30 values is refused before its buffer is made:
