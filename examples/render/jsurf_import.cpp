@@ -21,6 +21,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -195,7 +196,10 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   if (!withinCoordinateRange(eye) || !forward || !up)
     fail(f, "camera_transform", "puts the camera beyond 1e17 (Embree's float rays reach 1.8e18)");
   scene.camera.position = eye;
-  scene.camera.lookAt = eye + *forward;
+  // A step along forward that survives eye's rounding: eye + forward equalled eye from
+  // |eye| = 2^53 on ("position and look_at must differ", exit 1, no line).
+  const double reach = std::max({1.0, std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
+  scene.camera.lookAt = eye + std::max(1.0, 0x1p-20 * reach) * *forward;
   scene.camera.up = *up;
   std::string type = f.get("camera_type").value_or("ORTHOGRAPHIC_CAMERA");
   if (type == "PERSPECTIVE_CAMERA") {

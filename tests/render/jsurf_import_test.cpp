@@ -215,7 +215,9 @@ TEST(JsurfImport, BadValuesAreErrorsAtTheirLine) {
 TEST(JsurfImport, ExtremeButValidValuesRender) {
   for (const char* extra :
        {"light_position_0=1e-200 0 1e-200", "light_position_0=1e308 1e308 1e308",
-        "scale_factor=100", "scale_factor=-100"}) {
+        "scale_factor=100", "scale_factor=-100",
+        // A camera 1e16 away (eye + forward rounded to eye from 2^53 on: "look_at must differ").
+        "camera_transform=1 0 0 0 0 1 0 0 0 0 1 1e16 0 0 0 1"}) {
     SCOPED_TRACE(extra);
     const std::filesystem::path file = writeJsurf("algray_extreme_values.jsurf", extra);
     SceneDesc desc = jsurfScene(file);
