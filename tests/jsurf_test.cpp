@@ -70,6 +70,18 @@ TEST(Jsurf, PropertiesSyntax) {
 
 // An editor's UTF-8 byte order mark is not part of the first key (the file had "no
 // surface_equation"); the columns of the first line count from after it.
+// A directory is named as such (an ifstream opens it and reads nothing: it was an empty
+// file, which then failed later for want of a surface_equation).
+TEST(Jsurf, ADirectoryIsNamedAsSuch) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  try {
+    JsurfFile::read(dir);
+    ADD_FAILURE() << "a directory was read as a file";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Jsurf, ByteOrderMarkIsSkipped) {
   const JsurfFile f = JsurfFile::parse("\xEF\xBB\xBFsurface_equation=x^2+y^2+z^2-1+\n", "t.jsurf");
   ASSERT_TRUE(f.has("surface_equation"));

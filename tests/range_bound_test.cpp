@@ -29,6 +29,13 @@ TEST(RangeBound, UnivariateTestsRefuseDegreesAbove40) {
   EXPECT_LE(rangeOverInterval(c, {}, 0.0, 2.0).lower(), -1.0);
 }
 
+// A table's degree outside 0..40 is refused by name (-5 threw std::length_error from a
+// vector's size).
+TEST(RangeBound, MonomialTablesRefuseDegreesOutsideTheRange) {
+  for (const int degree : {-5, -1, 41}) EXPECT_THROW(MonomialTables{degree}, Error) << degree;
+  EXPECT_EQ(MonomialTables(40).terms, Polynomial::termCount(40));
+}
+
 // g(s) = 2^-1074 * a * (s - r) (and its square for degree 2) with integer a * r: the
 // coefficients are exact subnormals, every product of the evaluation underflows, and r
 // is a root by construction. No test may claim "no root" on a span containing r.

@@ -35,7 +35,7 @@ enum class RangeBound {
 // monomials grouped in columns that share the other two exponents, ordered by the
 // exponent of that axis. Shared (read-only) by all boxes of one build.
 struct MonomialTables {
-  explicit MonomialTables(int degree);
+  explicit MonomialTables(int degree);  // throws Error outside 0..kMaxDegree
   int degree;
   int terms;
   std::vector<int> columnIndex[3];     // concatenated columns, exponent 0 first

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 namespace algray {
 
@@ -157,6 +158,9 @@ JsurfFile JsurfFile::parse(std::string_view text, std::string name) {
 }
 
 JsurfFile JsurfFile::read(const std::filesystem::path& path) {
+  // An ifstream opens a directory and reads nothing: it was an empty file.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error(path.string() + ": is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path.string() + ": cannot read");
   std::ostringstream buffer;

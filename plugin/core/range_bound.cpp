@@ -27,7 +27,15 @@ void taylorShift(Interval* a, int n, double delta) {
 }  // namespace
 
 // ---- Index tables ----------------------------------------------------------------------
-MonomialTables::MonomialTables(int m) : degree(m), terms(Polynomial::termCount(m)) {
+// (A degree outside 0..kMaxDegree threw std::length_error from a vector's size, or worse.)
+static int checkedDegree(int m) {
+  if (m < 0 || m > kMaxDegree)
+    throw Error("MonomialTables: degree " + std::to_string(m) + " outside 0.." +
+                std::to_string(kMaxDegree));
+  return m;
+}
+
+MonomialTables::MonomialTables(int m) : degree(checkedDegree(m)), terms(Polynomial::termCount(m)) {
   for (int e = 0; e <= kMaxDegree; ++e) halfPow[e] = std::ldexp(1.0, -e);
   for (auto& e : exponent) e.assign(terms, 0);
   allEven.assign(terms, 0);
