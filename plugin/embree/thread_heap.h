@@ -27,9 +27,15 @@ class ThreadHeap {
     if (object_) return *object_;
     // After the library's statics are gone (a host tracing from a static destructor on a
     // new thread, where the deleted key threw and the ray missed), the object is made
-    // without a key and lives as long as the process.
+    // without a key and lives as long as the process, on a list that keeps it reachable
+    // (LeakSanitizer reported it when only the exited thread had held it).
     if (keyDeleted_.load(std::memory_order_acquire)) {
-      object_ = new T();
+      auto* orphan = new Orphan();
+      orphan->next = orphans_.load(std::memory_order_relaxed);
+      while (!orphans_.compare_exchange_weak(orphan->next, orphan, std::memory_order_release,
+                                             std::memory_order_relaxed)) {
+      }
+      object_ = &orphan->object;
       return *object_;
     }
     static const Key key;
@@ -61,6 +67,11 @@ class ThreadHeap {
   }
   static constinit inline thread_local T* object_ = nullptr;
   static constinit inline std::atomic<bool> keyDeleted_{false};  // trivially destructible
+  struct Orphan {
+    T object{};
+    Orphan* next = nullptr;
+  };
+  static constinit inline std::atomic<Orphan*> orphans_{nullptr};
 };
 
 }  // namespace algray
