@@ -24,6 +24,12 @@
 // (from inf - inf) makes every comparison false; callers that prune on a bound must
 // therefore test "provably empty" (a comparison that is false for NaN), never "possibly
 // non-empty".
+// C++20 (std::span, std::bit_cast, concepts): older dialects fail here, by name, not deep
+// inside a header (a C++17 consumer's first error was polynomial.h's std::span).
+#if __cplusplus < 202002L
+#error "algray needs C++20 (-std=c++20; CMake consumers get it from algray::algray)"
+#endif
+
 #include <algorithm>
 #include <bit>
 #include <cmath>

@@ -13,6 +13,12 @@
 //  * Products and powers skip zero coefficients, so sparse inputs (Chmutov) cost what
 //    their non-zero terms cost; tests/bench/polynomial_bench.cpp measures the parser-style
 //    workload in this layout.
+// C++20 (std::span, std::bit_cast, concepts): older dialects fail here, by name, not deep
+// inside a header (a C++17 consumer's first error was polynomial.h's std::span).
+#if __cplusplus < 202002L
+#error "algray needs C++20 (-std=c++20; CMake consumers get it from algray::algray)"
+#endif
+
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
