@@ -6,7 +6,7 @@
 //
 // Exit codes: 0 success, 2 bad flags, equation or input rows (message on stderr with
 // the line or column), 1 anything else (I/O, Embree).
-#include "decimal_option.h"
+#include "cli_text.h"
 #include "ray_csv.h"
 
 #include "algray/embree.h"
@@ -41,15 +41,8 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Spaces around a name or a value are the shell's quoting, not part of it (strtod skipped
-// leading ones only: "a= 1" was taken, "a=1 " refused).
-std::string trimmed(const std::string& s) {
-  const size_t first = s.find_first_not_of(" \t");
-  return first == std::string::npos ? "" : s.substr(first, s.find_last_not_of(" \t") + 1 - first);
-}
-
 double parseNumber(const std::string& given, const std::string& what) {
-  const std::string text = trimmed(given);
+  const std::string text = algray::cli::trimmed(given);
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(text.c_str(), &end);
@@ -158,9 +151,9 @@ int run(int argc, char** argv) {
   parseOptions.rejectUnusedParameters = true;
   for (const std::string& p : params) {
     const size_t eq = p.find('=');
-    if (eq == std::string::npos || trimmed(p.substr(0, eq)).empty())
+    const std::string name = algray::cli::trimmed(p.substr(0, eq == std::string::npos ? 0 : eq));
+    if (eq == std::string::npos || name.empty())
       throw UsageError("--param '" + p + "': expected NAME=VALUE");
-    const std::string name = trimmed(p.substr(0, eq));
     const double value = parseNumber(p.substr(eq + 1), "--param " + name);
     // A second value would silently win: which one the user meant is not ours to guess.
     if (!parseOptions.parameters.emplace(name, value).second)

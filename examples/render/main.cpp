@@ -1,7 +1,7 @@
 // algray-render: the sample path tracer. See docs/scene-format.md and
 // docs/render-summary.md. Exit codes: 0 done, 2 bad input (scene, file, option),
 // 1 other failures, 130 interrupted (the partial image is still written).
-#include "decimal_option.h"
+#include "cli_text.h"
 #include "image_backend.h"
 #include "image_io.h"
 #include "pov_export.h"
@@ -168,14 +168,8 @@ int main(int argc, char** argv) {
       QuickOptions q;
       q.surface = surface;
       for (const std::string& p : params) {
-        // Spaces around the name and the value are quoting (strtod skipped leading ones
-        // only: "a= 1" was taken, "a=1 " refused), as in algray-query.
-        auto trimmed = [](const std::string& s) {
-          const size_t first = s.find_first_not_of(" \t");
-          return first == std::string::npos
-                     ? std::string()
-                     : s.substr(first, s.find_last_not_of(" \t") + 1 - first);
-        };
+        // Spaces around the name and the value are quoting, as in algray-query.
+        using algray::cli::trimmed;
         const size_t eq = p.find('=');
         const std::string name = trimmed(p.substr(0, eq == std::string::npos ? 0 : eq));
         if (eq == std::string::npos || name.empty())

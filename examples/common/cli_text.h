@@ -1,0 +1,37 @@
+#pragma once
+// Command-line text shared by algray-render and algray-query.
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace algray::cli {
+
+// Spaces around a name or a value are the shell's quoting, not part of it (strtod skipped
+// leading ones only: "--param a= 1" was taken, "a=1 " refused).
+inline std::string trimmed(const std::string& s) {
+  const size_t first = s.find_first_not_of(" \t");
+  return first == std::string::npos ? std::string()
+                                    : s.substr(first, s.find_last_not_of(" \t") + 1 - first);
+}
+
+// Integer options of the tools are decimal. CLI11 2.1 converts them with strtoll's base 0:
+// "--width 010" rendered 8 pixels wide, "--height 0x10" 16, "--seed 0042" was seed 34 and
+// "--width 08" "not in range". This transform, run before CLI11 converts, trims spaces (as
+// around --param's values; " 2" was taken before), drops leading zeros and refuses
+// anything but an optional sign and digits.
+inline CLI::Validator decimal() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        text = trimmed(text);
+        const size_t digits = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+        if (digits == text.size() ||
+            text.find_first_not_of("0123456789", digits) != std::string::npos)
+          return "'" + text + "' is not a decimal integer";
+        const size_t first = text.find_first_not_of('0', digits);
+        text = text.substr(0, digits) + (first == std::string::npos ? "0" : text.substr(first));
+        return "";
+      },
+      "DECIMAL");
+}
+
+}  // namespace algray::cli
