@@ -721,6 +721,22 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
     badDepth.options.cellDepth = depth;
     EXPECT_THROW(make(badDepth), Error) << depth;
   }
+  // The solver's options, refused with the field's name (in a callback the solver's own
+  // refusal would count as a miss on every ray).
+  for (const double tol : {std::nan(""), -1.0, 2.0}) {
+    SurfaceDesc badTolerance = desc;
+    badTolerance.options.roots.relTolerance = tol;
+    try {
+      make(badTolerance);
+      ADD_FAILURE() << "relTolerance " << tol << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("options.roots.relTolerance"), std::string::npos)
+          << e.what();
+    }
+  }
+  SurfaceDesc badMethod = desc;
+  badMethod.options.roots.method = static_cast<RootMethod>(7);
+  EXPECT_THROW(make(badMethod), Error);
   for (const int depth : {-1, 0, 3}) {
     SurfaceDesc goodDepth = desc;
     goodDepth.options.cellDepth = depth;

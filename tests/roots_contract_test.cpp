@@ -1016,6 +1016,34 @@ TEST(RootsContract, BadInput) {
   EXPECT_FALSE(firstRoot(std::vector<double>{3}, {}, 0.0, 1.0).has_value());
   EXPECT_THROW(firstRoot(std::vector<double>(kMaxDegree + 2, 1.0), {}, 0.0, 1.0), Error);
   EXPECT_THROW(firstRoot(c, std::vector<double>{1}, 0.0, 1.0), Error);
+  // Options outside their ranges are refused by every query and precision (they were taken
+  // for the defaults: a caller's mistake solved something else than asked).
+  for (const double tol : {nan, -1e-3, 1.5, inf}) {
+    RootOptions o;
+    o.relTolerance = tol;
+    EXPECT_THROW(firstRoot(c, {}, 0.0, 1.0, o), Error) << tol;
+    EXPECT_THROW(hasRoot(c, {}, 0.0, 1.0, o), Error) << tol;
+    double out[2];
+    EXPECT_THROW(allRoots(c, {}, 0.0, 1.0, out, o), Error) << tol;
+    const std::vector<float> cf{-0.5f, 1.0f};
+    EXPECT_THROW(firstRoot(cf, {}, 0.0f, 1.0f, o), Error) << tol;
+  }
+  for (const int m : {-1, 5, 1000}) {
+    RootOptions o;
+    o.method = static_cast<RootMethod>(m);
+    try {
+      firstRoot(c, {}, 0.0, 1.0, o);
+      ADD_FAILURE() << "method " << m << " was taken";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("RootMethod"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(hasRoot(c, {}, 0.0, 1.0, o), Error) << m;
+  }
+  for (const double tol : {0.0, 1e-6, 1.0}) {
+    RootOptions o;
+    o.relTolerance = tol;
+    EXPECT_NEAR(firstRoot(c, {}, 0.0, 1.0, o).value_or(-1.0), 0.5, tol + 1e-15) << tol;
+  }
   // Huge but finite values: no hang, no non-finite root.
   const std::vector<double> huge{-1e308, 1e308, -1e308, 1e308};
   const auto r = firstRoot(huge, {}, -1e300, 1e300);

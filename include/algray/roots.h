@@ -56,10 +56,17 @@ enum class RootMethod {
   Bernstein,   // Bernstein/Descartes subdivision; double only
 };
 
+// Whether m is one of RootMethod's enumerators (the solvers and SurfaceDesc refuse others).
+constexpr bool validRootMethod(RootMethod m) {
+  return m == RootMethod::Auto || m == RootMethod::ClosedForm || m == RootMethod::Yuksel ||
+         m == RootMethod::Sturm || m == RootMethod::Bernstein;
+}
+
 struct RootOptions {
   RootMethod method = RootMethod::Auto;
-  // Relative tolerance on a root, relative to the interval length; 0 means full
-  // precision (iterate until the root is bracketed to adjacent doubles or Newton stalls).
+  // Relative tolerance on a root, relative to the interval length, in [0, 1] (else the
+  // solvers throw Error); 0 means full precision (iterate until the root is bracketed to
+  // adjacent doubles or Newton stalls).
   double relTolerance = 0.0;
   // The interval is (lo, hi]: a root within noise of lo is the one a caller walking the
   // roots already has (firstRoot(c, err, previousRoot, hi)), and is not reported. With
@@ -76,7 +83,8 @@ struct RootOptions {
   bool noiseBefore = false;
 };
 
-// c has degree+1 <= kMaxDegree+1 entries (more throws Error); c[degree] may be rounding
+// c has degree+1 <= kMaxDegree+1 entries (more throws Error, as do options outside their
+// ranges: a method that is no RootMethod, relTolerance NaN or outside [0, 1]); c[degree] may be rounding
 // noise: leading coefficients negligible against the others, by the rule documented in
 // roots.cpp, are dropped. err, if not empty, has the same size (else Error) and bounds the
 // absolute error of each c[i]; it enters the noise bound of the tangent and end rules

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -36,11 +37,27 @@ using roots_detail::toLocal;
               std::to_string(nc) + " coefficients");
 }
 
+// A method outside the enumeration, or a tolerance that is NaN, negative or above 1 (the
+// whole interval), was taken for the default until session 46: a caller's mistake then
+// solved something else than asked, silently.
+[[noreturn, gnu::noinline, gnu::cold]] void throwOptionsError(const RootOptions& o,
+                                                              const char* where) {
+  if (!validRootMethod(o.method))
+    throw Error(std::string(where) + ": RootOptions::method " +
+                std::to_string(static_cast<int>(o.method)) + " is not a RootMethod");
+  std::ostringstream os;
+  os << where << ": RootOptions::relTolerance must be in [0, 1], got " << o.relTolerance;
+  throw Error(os.str());
+}
+
 // The message building stays out of line: this runs on every ray.
 template <class T>
-void checkSizes(std::span<const T> c, std::span<const T> err, const char* where) {
+void checkArguments(std::span<const T> c, std::span<const T> err, const RootOptions& o,
+                    const char* where) {
   if (c.size() > static_cast<size_t>(kMaxDegree + 1) || (!err.empty() && err.size() != c.size()))
     throwSizeError(c.size(), err.size(), where);
+  if (!validRootMethod(o.method) || !(o.relTolerance >= 0.0 && o.relTolerance <= 1.0))
+    throwOptionsError(o, where);
 }
 
 // piece(a, b, options) on the pieces of (lo, hi] at -split and split in increasing order,
@@ -318,14 +335,14 @@ template <class T>
 template <class T>
 bool firstRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, T& root,
                 const RootOptions& o, bool* atNoise = nullptr) {
-  checkSizes(c, err, "firstRoot");
+  checkArguments(c, err, o, "firstRoot");
   if (!c.empty() && c[0] == 0) return firstRootFactored(c, err, lo, hi, root, o, atNoise);
   return firstRootInFrame(c, err, lo, hi, root, o, atNoise);
 }
 
 template <class T>
 bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const RootOptions& o) {
-  checkSizes(c, err, "hasRoot");
+  checkArguments(c, err, o, "hasRoot");
   if (!c.empty() && c[0] == 0) return hasRootFactored(c, err, lo, hi, o);
   return hasRootInFrame(c, err, lo, hi, o);
 }
@@ -333,7 +350,7 @@ bool hasRootT(std::span<const T> c, std::span<const T> err, T lo, T hi, const Ro
 template <class T>
 int allRootsT(std::span<const T> c, std::span<const T> err, T lo, T hi, std::span<T> out,
               const RootOptions& options) {
-  checkSizes(c, err, "allRoots");
+  checkArguments(c, err, options, "allRoots");
   if (out.empty()) return 0;
   if (!c.empty() && c[0] == 0) return allRootsFactored(c, err, lo, hi, out, options);
   return allRootsInFrame(c, err, lo, hi, out, options);

@@ -65,6 +65,16 @@ void validate(const SurfaceDesc& desc) {
   if (desc.options.cellDepth < -1 || desc.options.cellDepth > kMaxCellDepth)
     fail("options.cellDepth must be -1 (automatic) or 0.." + std::to_string(kMaxCellDepth) +
          ", got " + std::to_string(desc.options.cellDepth));
+  // The solver's options as firstRoot checks them (roots.h), here with the field's name
+  // (in a callback the solver's Error would only count as a miss).
+  if (const RootOptions& r = desc.options.roots; !validRootMethod(r.method))
+    fail("options.roots.method " + std::to_string(static_cast<int>(r.method)) +
+         " is not a RootMethod");
+  else if (!(r.relTolerance >= 0.0 && r.relTolerance <= 1.0)) {
+    std::ostringstream os;
+    os << "options.roots.relTolerance must be in [0, 1], got " << r.relTolerance;
+    fail(os.str());
+  }
   double size = 0.0;  // of the clip region in object space
   if (const auto* s = std::get_if<ClipSphere>(&desc.clip)) {
     if (!finite(s->center)) fail("clip sphere centre is not finite: " + str(s->center));
