@@ -203,6 +203,26 @@ namespace {
   return std::abs(c0) <= 4.0 * e0 + 4.0 * originUncertaintyMove(data, ray, ad, orgError);
 }
 
+// The self-root rule divides g by its root near the origin, r, not by s, where g(0) = v is
+// clear of its rounding (the origin off the surface within its uncertainty: r != 0; g / s
+// moved the far root by r, ray_roots.cpp, divideByOriginRoot, says why). With g = c2 (s -
+// r)(s - R), the quotient is c2 s - c2 R, and -c2 R = -q for the stable formula's q = -(c1
+// + sign(c1) sqrt(c1^2 - 4 c2 v)) / 2 (R = q / c2): (c1 + sign(c1) root) / 2, one square
+// root and no division. Only where the roots are well apart, 8 |c2 v| <= c1^2 (root >=
+// |c1| / sqrt 2: no cancellation); near-tangent origins keep g / s and the cluster rules.
+// k0 = c1, k1 = c2 (the s-deflated coefficients).
+inline bool originRootApart(double v, double ve, double k0, double k1) {
+  return std::abs(v) > 4.0 * ve && k0 != 0.0 && 8.0 * std::abs(k1 * v) <= k0 * k0;
+}
+// The quotient's constant term's bound: d/dc1 = (1 + |c1| / root) / 2 <= 1.21, d/dv =
+// |c2| / root, d/dc2 = |v| / root, and the rounding of the square root's argument (relative
+// <= 4.5 u with root^2 >= c1^2 / 2), the root and the sum, gamma(8) (|c1| + root).
+inline double originQuotientError(double v, double ve, double k0, double ke0, double k1, double ke1,
+                                  double root) {
+  return 1.25 * ke0 + (std::abs(k1) * ve + std::abs(v) * ke1) / root +
+         gamma(8) * (std::abs(k0) + root);
+}
+
 template <bool kDiagonal, bool kNonNegDiagonal, bool kNonNegCentred, bool kUnitA>
 void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
                           QuadricRay& g, double closest, double oc2) {
@@ -303,6 +323,7 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
   // which the generic walk's window covers (multipleRootWindow, ray_roots.cpp: a double
   // plane's leaving rays hit it at twice the origin's crossing).
   if (onSurface) {
+    const double v = c0, ve = e0;
     c0 = c1, c1 = c2, c2 = 0.0;
     e0 = e1, e1 = e2, e2 = 0.0;
     degree = 1;
@@ -319,6 +340,11 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
       c0 = c1, c1 = 0.0;
       e0 = e1, e1 = 0.0;
       degree = 0;
+    } else if (originRootApart(v, ve, c0, c1) && originRootMatters(data, ray, v, c0)) {
+      // (In this order, as the packet kernel computes it: bit for bit the same.)
+      const double root = std::sqrt(c0 * c0 - 4.0 * (c1 * v));
+      e0 = originQuotientError(v, ve, c0, e0, c1, e1, root);
+      c0 = 0.5 * (c0 + std::copysign(root, c0));
     }
   }
   g.degree = degree;

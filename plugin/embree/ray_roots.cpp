@@ -282,6 +282,63 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
   return 4.0 * bound;
 }
 
+// ---- The origin's own root, when it is not 0 -------------------------------------------------
+// An origin the rule takes for a point of the surface lies off it by up to its uncertainty
+// (the host's orgError, up to twice over: originOnSurface). g(0) = c_0 = f(o) is then clear
+// of its rounding, and g's root near the origin is r ~ -c_0 / c_1, not 0. deflateAtZero's
+// g / s (c_0 set to 0) keeps the sum of the roots (Vieta), so every other root moved by
+// about r: the far side of a unit sphere seen from 1e-4 off, with orgError 1e-4, was 1e-4
+// off, and where the surface meets the clip region the moved root left it (a miss; a
+// clip ball at the sphere's radius lost the far side for offsets from 1e-4 down).
+// Where that moves them by more than the ray's resolution (originRootMatters), g is
+// divided by (s - r) instead: Newton from r0 = -c_0 / c_1 gives r, and synthetic division
+// the quotient q (q_(n-1) = c_n, q_(k-1) = c_k + r q_k), whose roots are g's others. Only
+// for a simple root well apart from the rest, rho = sum_(i>=2) |c_i| |r0|^(i-1) / |c_1| <=
+// 1/8 (g within 1/8 of its tangent line over [0, 2 r0], so Newton converges there,
+// quadratically: the error after k steps is about rho^(2^k) |r|, one step below 2^-26);
+// near-tangent origins, whose clusters multipleRootWindow covers, keep g / s. Error bounds
+// (Higham, Sec. 3.1, for the recurrence; r's own uncertainty dr, g's noise at r over
+// |g'(r)|, enters every q_k through dq_k/dr ~ q_(k+1); the remainder g(r), within g's
+// noise, is dropped with its size added to the constant term's bound).
+// g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term and its bound.
+bool divideByOriginRoot(RayPolynomial& g, double c0, double e0) {
+  const int n = g.degree + 1;  // g's degree before the division by s
+  const double c1 = g.coeff[0];
+  if (!(std::abs(c0) > 4.0 * e0) || !(std::abs(c1) > 4.0 * g.error[0])) return false;
+  const double noiseFactor = gamma(2 * n + 1);
+  double r = -c0 / c1, value = 0.0, slope = 0.0, noise = 0.0;
+  for (int step = 0; step < 6; ++step) {
+    // g(r), g'(r), sum (e_i + gamma(2n + 1) |c_i|) |r|^i and sum_(i>=2) |c_i| |r|^(i-1)
+    // in one pass (c_(k+1) = coeff[k]).
+    const double ar = std::abs(r);
+    value = g.coeff[n - 1], slope = 0.0, noise = g.error[n - 1] + noiseFactor * std::abs(value);
+    double rest = std::abs(value);
+    for (int k = n - 2; k >= -1; --k) {
+      const double ck = k >= 0 ? g.coeff[k] : c0, ek = k >= 0 ? g.error[k] : e0;
+      slope = slope * r + value;
+      value = value * r + ck;
+      noise = noise * ar + ek + noiseFactor * std::abs(ck);
+      if (k >= 1) rest = rest * ar + std::abs(ck);
+    }
+    const double rho = rest * ar / std::abs(c1);
+    if (step == 0 && !(rho <= 0.125)) return false;
+    r -= value / slope;
+    if (rho <= 0x1p-27) break;  // the step's own error, rho^2 |r|, is below 2^-54 |r|
+  }
+  if (!std::isfinite(r) || !(slope != 0.0)) return false;
+  const double ar = std::abs(r);
+  // r's uncertainty: g's noise at r over the slope, and the last step's own error at most.
+  const double dr = 2.0 * noise / std::abs(slope) + 0x1p-52 * ar;
+  for (int k = n - 2; k >= 0; --k) {
+    const double q = g.coeff[k + 1], term = r * q;
+    g.coeff[k] += term;
+    g.error[k] +=
+        ar * g.error[k + 1] + dr * std::abs(q) + gamma(2) * (std::abs(g.coeff[k]) + std::abs(term));
+  }
+  g.error[0] += std::abs(value);
+  return true;
+}
+
 // ---- Quadrics --------------------------------------------------------------------------
 // Degree 2 in closed form (SurfaceData::quadric; restrictQuadricRay in quadric_path.cpp):
 // no expansion, no cache and no polish (the stable quadratic formula is accurate to the
@@ -338,10 +395,12 @@ CacheEntry* restrictOutside(const SurfaceData& data, const KernelRay& ray, doubl
 // divided out the origin's root (selfRootWindow), else 0. orgError: the ray's whole bound
 // (ray.orgError, with a deferred float term added).
 CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double orgError, double r0,
-                          double r1, double closest, RayPolynomial& g, double& selfWindow) {
+                          double r1, double closest, RayPolynomial& g, double& selfWindow,
+                          double& originSlack) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   selfWindow = 0.0;
+  originSlack = -1.0;
   if (data.quadric) {
     // (A quadric in cells: the quadric path's functions read the bound from the ray.)
     KernelRay whole = ray;
@@ -359,11 +418,19 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
   if (!originOutsideClipBall(data, o, orgError) && originOnSurface(data, ray, orgError)) {
     restrictToRay(data.horner, o, d, 0.0, g);
     selfWindow = selfRootWindow(data, ray, orgError);
+    const double c0 = g.coeff[0], e0 = g.error[0];
+    originSlack = 4.0 * (e0 + gamma(2 * g.degree + 1) * std::abs(c0)) - std::abs(c0);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
-    if (g.degree > 0)
-      selfWindow = std::max(
-          selfWindow, multipleRootWindow(data, ray, orgError, tlsOriginValue.value,
-                                         tlsOriginValue.valueError, tlsOriginValue.gradient, g));
+    if (g.degree > 0) {
+      const double cluster =
+          multipleRootWindow(data, ray, orgError, tlsOriginValue.value, tlsOriginValue.valueError,
+                             tlsOriginValue.gradient, g);
+      // A simple root at the origin (no cluster): divided out where it lies, not at 0.
+      if (cluster == 0.0 && originRootMatters(data, ray, c0, g.coeff[0]) &&
+          divideByOriginRoot(g, c0, e0))
+        originSlack = -1.0;  // (g is no longer g / s; c0 was clear of its bound anyway)
+      selfWindow = std::max(selfWindow, cluster);
+    }
     return nullptr;
   }
   return restrictOutside(data, ray, r0, r1, closest, g);
@@ -381,15 +448,16 @@ bool surelyOutsideClipBall(const SurfaceData& data, const KernelRay& ray) {
 // for every float ray in the bridge, its square root cost the Barth sextic's primary rays
 // 2-3 % (2.85 -> 2.92-2.94 Mrays/s deferred).
 CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
-                     double closest, RayPolynomial& g, double& selfWindow) {
+                     double closest, RayPolynomial& g, double& selfWindow, double& originSlack) {
   if (!ray.orgErrorDeferred)
-    return restrictWhole(data, ray, ray.orgError, r0, r1, closest, g, selfWindow);
+    return restrictWhole(data, ray, ray.orgError, r0, r1, closest, g, selfWindow, originSlack);
   if (!data.quadric && surelyOutsideClipBall(data, ray)) {
     selfWindow = 0.0;
+    originSlack = -1.0;
     return restrictOutside(data, ray, r0, r1, closest, g);
   }
   const double orgError = wholeOrgError(data, ray);
-  return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow);
+  return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow, originSlack);
 }
 
 // The solver's options for a clip-region span: its start is the region's boundary, not a
@@ -602,10 +670,37 @@ void solveFirstInSpan(const SurfaceData& data, RayRoots& rr) {
   }
 }
 
-// The first root of rr.g in the search span (rr.count = 0 or 1).
+// Whether g's root s lies in the origin's noise region: g = c_0 + s q(s) (q = g / s) within
+// the self-root rule's bound on g(0) over all of [0, s] (|c_0| + |s| sum |q_k| |s|^k <= 4
+// (e_0 + gamma(2n + 1) |c_0|): g's noise bound grows with |s|, so it holds at every point
+// between). g's data cannot tell such a root from the origin's own. Needed where f's
+// gradient vanishes along a curve of its surface, which is smooth there: Taubin's heart (x^2
+// + 9/4 y^2 + z^2 - 1)^3 = x^2 z^3 + 9/80 y^2 z^3 along its equator ellipse (z = 0), where f
+// ~ dist^3 and the hits are ill-conditioned (t up to 1e-5 radii off within f's rounding):
+// g of a ray leaving such a hit has a near-triple cluster of roots 1e-6 wide beyond the
+// window of the origin's stated uncertainty, of which the tangent rule reported a complex
+// pair's extremum, 1e-8..3e-6 radii from the origin (98 of 2400 leaving rays near the
+// equator; audit of session 46, against the exact restriction: no real root there).
+bool inOriginNoise(const RayRoots& rr, double s) {
+  const double slack = rr.originSlack, a = std::abs(s);
+  const RayPolynomial& g = rr.g;
+  if (!(a * std::abs(g.coeff[0]) <= slack)) return false;  // the common case: one product
+  double sum = 0.0;
+  for (int k = g.degree; k >= 0; --k) sum = sum * a + std::abs(g.coeff[k]);
+  return a * sum <= slack;
+}
+
+// The first root of rr.g in the search span (rr.count = 0 or 1), past the origin's noise
+// region on a ray leaving the surface (inOriginNoise; at most 8 roots skipped, as a cap).
 void solveFirst(const SurfaceData& data, RayRoots& rr) {
   searchSpan(rr);
   solveFirstInSpan(data, rr);
+  if (!(rr.originSlack > 0.0)) return;
+  for (int i = 0; i < 8 && rr.count == 1 && inOriginNoise(rr, rr.roots[0]); ++i) {
+    rr.slo = rr.roots[0];
+    rr.closedLo = false;
+    solveFirstInSpan(data, rr);
+  }
 }
 
 constinit thread_local RayRoots tlsRayRoots;
@@ -617,7 +712,7 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
   rr.r0 = r0;
   rr.r1 = r1;
   rr.tnear = ray.tnear;
-  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow);
+  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow, rr.originSlack);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
     ++entry->failures;

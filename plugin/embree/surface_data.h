@@ -628,6 +628,23 @@ inline bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const g
   return clipToBox(b.lo, b.hi, o, d, t0, t1);
 }
 
+// Whether the self-root rule's division by s instead of by the origin's root r ~ -c0 / c1
+// (ray_roots.cpp, divideByOriginRoot; quadric_path.cpp, originRootApart) would move the
+// ray's other roots by more than its resolution, 16 roundings of |o|_1 + R: |r| |d|_1
+// beyond that. For a float ray that is the uncertainty its channel gives every origin
+// (README), for a double ray 2^-49 of the scale. Below it, g / s stays: on a float shadow
+// ray c0 clears double's rounding whenever the float origin is off the surface, and the
+// division by r on all of them cost the gallery's float shadow rays 10-25 % (speed_report,
+// session 46), for moves within a few float roundings of the scene.
+// (Written as the packet kernel computes it, quadric_packet_group.inc: the same bits.)
+inline bool originRootMatters(const SurfaceData& data, const KernelRay& ray, double c0, double c1) {
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  const double oSum = std::abs(o.x) + std::abs(o.y) + std::abs(o.z);
+  return std::abs(c0) * (std::abs(d.x) + std::abs(d.y) + std::abs(d.z)) >
+         16.0 * ray.orgRoundoff * (oSum + data.radius) * std::abs(c1);
+}
+
 // The self-root rule's division by s (ray_roots.cpp): g(0) = 0 is removed from
 // g = sum c_i s^i (error bounds err_i). Once: a new constant term that is zero only within
 // its bound is not set to zero and divided out again (a ray tangent at its origin, an
