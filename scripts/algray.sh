@@ -3,8 +3,8 @@
 #   bash scripts/algray.sh render   install what is missing, build, render the default scene
 #   bash scripts/algray.sh test     install what is missing, build, run every test
 #                                   (Release, ASan+UBSan, -march=native, Clang, then the
-#                                   installed-package example examples/minimal against a
-#                                   temporary prefix)
+#                                   installed-package consumers examples/minimal and
+#                                   tests/package/core_only against a temporary prefix)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -65,16 +65,25 @@ case "${1:-}" in
     # Clang compiles per function as GCC does, plugin/core/isa_target.h).
     configure_and_build build-clang -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14
     ctest --test-dir build-clang --output-on-failure -j "$jobs"
-    # The installed package: find_package(algray) from examples/minimal.
-    if [[ -f examples/minimal/CMakeLists.txt ]]; then
-      prefix=$(mktemp -d)
-      cmake --install build --prefix "$prefix" >/dev/null
+    # The installed package: find_package(algray) from examples/minimal, and a consumer of
+    # the math core alone (tests/package/core_only) with Embree hidden, which it must not
+    # need.
+    build_consumers() {  # prefix
+      local prefix=$1
       cmake -S examples/minimal -B "$prefix/minimal-build" -G Ninja \
         -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release
       cmake --build "$prefix/minimal-build" -j "$jobs"
       "$prefix/minimal-build/algray-minimal"
-      rm -rf "$prefix"
-    fi
+      cmake -S tests/package/core_only -B "$prefix/core-only-build" -G Ninja \
+        -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON
+      # (CMake's warning that CMAKE_DISABLE_FIND_PACKAGE_embree was not used is the point.)
+      cmake --build "$prefix/core-only-build" -j "$jobs"
+      "$prefix/core-only-build/algray-core-only"
+    }
+    prefix=$(mktemp -d)
+    cmake --install build --prefix "$prefix" >/dev/null
+    build_consumers "$prefix"
+    rm -rf "$prefix"
     ;;
   *)
     echo "usage: bash scripts/algray.sh render|test" >&2
