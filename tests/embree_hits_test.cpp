@@ -760,6 +760,16 @@ TEST_F(EmbreeHits, BadDescriptionsThrow) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("object space"), std::string::npos) << e.what();
   }
+  // As a ScaleError: the finding apart from the remedy through the transform, for a host
+  // whose users set the scale otherwise (algray-query); what() has both.
+  try {
+    make(tinier);
+  } catch (const ScaleError& e) {
+    EXPECT_EQ(e.problem().find("transform"), std::string::npos) << e.problem();
+    EXPECT_EQ(std::string(e.what()), "algray::SurfaceGeometry: " + e.problem() +
+                                         ": scale the polynomial's variables instead of "
+                                         "undoing it by the transform");
+  }
   {
     const SurfaceScene scene(device, tiny);
     const RTCRayHit rh = intersect1(scene, makeRay({0, 0, -5}, {0, 0, 1}));

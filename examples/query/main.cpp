@@ -277,13 +277,23 @@ int run(int argc, char** argv) {
   double seconds = 0;
   {
     std::unique_ptr<SurfaceGeometry> surface;
+    // The library's message names its own class; the user needs the options it came from.
+    const std::string clipOption = clipSphere.empty() ? "--clip-box" : "--clip-sphere";
     try {
       surface = std::make_unique<SurfaceGeometry>(device, desc);
+    } catch (const ScaleError& e) {
+      rtcReleaseDevice(device);
+      // The library's remedy is its transform, which this tool does not have: here the
+      // scale is the units of the equation, the clip region and the rays (--clip-sphere
+      // 1e-300 was told to "scale the polynomial's variables instead of undoing it by the
+      // transform").
+      throw UsageError("--surface, " + clipOption + ": " + e.problem() +
+                       ": write --surface in units of about the surface's size, and " + clipOption +
+                       " and the rays in the same units (--rays: every column but tnear and "
+                       "tfar; t stays the same)");
     } catch (const Error& e) {
       rtcReleaseDevice(device);
-      // The library's message names its own class; the user needs the options it came from.
-      throw UsageError(std::string("--surface, ") +
-                       (clipSphere.empty() ? "--clip-box" : "--clip-sphere") + ": " + e.what());
+      throw UsageError("--surface, " + clipOption + ": " + e.what());
     }
     if (surface->primitiveCount() == 0)
       std::cerr << "algray-query: warning: no point of the surface lies in the clip region "

@@ -49,6 +49,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <string_view>
 #include <variant>
 
@@ -99,12 +100,26 @@ struct SurfaceDesc {
   SurfaceOptions options;
 };
 
+// Thrown by SurfaceGeometry when the clip region's size in object space, or that size to
+// the polynomial's degree, is beyond what the kernels resolve in double. what() ends with
+// the remedy through `transform`; problem() is the finding alone, so that a tool whose
+// users set the scale some other way (algray-query has no transform) can name its own.
+class ScaleError : public Error {
+ public:
+  ScaleError(const std::string& problem, const std::string& remedy);
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string problem_;
+};
+
 struct SurfaceData;  // the adapter's private state (plugin/embree/)
 
 class SurfaceGeometry {
  public:
   // Throws algray::Error on invalid input (zero or non-finite polynomial, empty or
-  // non-finite clip region, singular transform).
+  // non-finite clip region, singular transform), algray::ScaleError on a clip region too
+  // large or small for double (above).
   SurfaceGeometry(RTCDevice device, SurfaceDesc desc);
   // From an equation string (parser.h syntax, e.g. "x^2 + y^2 + z^2 = r^2" with r in
   // parse.parameters): throws algray::ParseError with the column on a malformed equation.

@@ -36,7 +36,9 @@ std::string str(double v) {
   return s.str();
 }
 
-[[noreturn]] void fail(const std::string& what) { throw Error("algray::SurfaceGeometry: " + what); }
+constexpr const char* kPrefix = "algray::SurfaceGeometry: ";
+
+[[noreturn]] void fail(const std::string& what) { throw Error(kPrefix + what); }
 
 // f and 2^k f have the same surface, and every computation of the kernels (restriction
 // and its noise bounds, roots, self-root test, cell enclosures) is scaled exactly by a
@@ -53,6 +55,13 @@ void normaliseScale(Polynomial& f) {
   f *= std::ldexp(1.0, -e / 2);  // two halves: 2^-e alone may leave double's range
   f *= std::ldexp(1.0, -(e - e / 2));
 }
+
+}  // namespace
+
+ScaleError::ScaleError(const std::string& problem, const std::string& remedy)
+    : Error(kPrefix + problem + ": " + remedy), problem_(problem) {}
+
+namespace {
 
 // ---- Validation ------------------------------------------------------------------------
 void validate(const SurfaceDesc& desc) {
@@ -103,9 +112,9 @@ void validate(const SurfaceDesc& desc) {
       os << "beyond double's range (1.8e308)";
     else
       os << size;
-    os << ", outside 1e-100 .. 1e100: scale the polynomial's variables instead of undoing it by "
-          "the transform";
-    fail(os.str());
+    os << ", outside 1e-100 .. 1e100";
+    throw ScaleError(os.str(),
+                     "scale the polynomial's variables instead of undoing it by the transform");
   }
   // A polynomial of degree m over a region of size R spreads its coefficients over about R^m
   // (x^20 + y^20 + z^20 - R^20), and once scaled (normaliseScale) the small ones, times the
@@ -117,9 +126,10 @@ void validate(const SurfaceDesc& desc) {
     std::ostringstream os;
     os << "the clip region's size in object space (" << size << ") to the polynomial's degree ("
        << f.degree() << ") is about 1e" << std::lround(exponent)
-       << ", outside 1e-250 .. 1e250, where its coefficients leave double's range: write the "
-          "polynomial in units of about the surface's size and put the scale in the transform";
-    fail(os.str());
+       << ", outside 1e-250 .. 1e250, where its coefficients leave double's range";
+    throw ScaleError(os.str(),
+                     "write the polynomial in units of about the surface's size and put the "
+                     "scale in the transform");
   }
   const glm::dmat4& m = desc.transform;
   for (int c = 0; c < 4; ++c)

@@ -700,6 +700,37 @@ TEST_F(QueryTool, AClipBoxBeyondThePluginsRangeIsNamed) {
   }
 }
 
+// A clip region too small or large for double (or its size to the degree) is refused with
+// what the tool's user can change: the library's remedy, its transform, is no option here
+// (--clip-sphere 1e-300 was told to "undo it by the transform").
+TEST_F(QueryTool, AScaleBeyondDoubleNamesTheToolsOptions) {
+  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-3,0,0,1,0,inf\n");
+  struct Case {
+    std::string args, option, problem;
+  };
+  const std::vector<Case> cases = {
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 1e-300 ", "--clip-sphere",
+       "the clip region's size in object space is 1e-300, outside 1e-100 .. 1e100"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box 0,0,0,1e200,1e200,1e200 ", "--clip-box",
+       "outside 1e-100 .. 1e100"},
+      {"--surface \"x^40+y^40+z^40-1\" --clip-sphere 1e7 ", "--clip-sphere",
+       "to the polynomial's degree (40) is about 1e280"},
+  };
+  for (const Case& c : cases) {
+    const RunResult r = run(c.args + common(rays));
+    EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.err.find("transform"), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find("algray-query: --surface, " + c.option + ": "), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find(c.problem), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(": write --surface in units of about the surface's size, and " + c.option +
+                         " and the rays in the same units (--rays: every column but tnear "
+                         "and tfar"),
+              std::string::npos)
+        << r.err;
+  }
+}
+
 // OUT is opened (truncated) only once every hit is known: a surface the plugin refuses
 // (after the rays were read and OUT opened) left OUT empty, and with --out naming the rays
 // file the input was lost.
