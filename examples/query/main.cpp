@@ -133,7 +133,9 @@ int run(int argc, char** argv) {
          "tfar, tfar may be inf; org_error: the origin's uncertainty, >= 0)")
       ->required();
   app.add_option("--out", outPath, "output CSV: hit,t,nx,ny,nz")->required();
-  app.add_flag("--float", useFloat, "trace Embree's float rays instead of algray's double channel");
+  app.add_flag("--float", useFloat,
+               "trace Embree's float rays instead of algray's double channel (org_error must be "
+               "0: float rays carry none)");
   app.add_option("--threads", threads, "worker threads (default: all cores)")
       ->transform(algray::cli::decimal())
       ->check(CLI::Range(1, 1024));
@@ -202,6 +204,19 @@ int run(int argc, char** argv) {
   } catch (const query::CsvError& e) {
     throw UsageError(e.what());
   }
+  // Embree's float ray has no field for an origin's uncertainty: with --float a row's
+  // org_error was read and silently not used (the float channel assumes its own bound,
+  // that of a float origin near the clip region), so a hit point given with the error of
+  // a ray from far away could find its own origin. Refused rather than ignored.
+  if (useFloat)
+    for (size_t i = 0; i < rays.size(); ++i)
+      if (rays[i].orgError != 0.0) {
+        std::ostringstream value;
+        value << rays[i].orgError;
+        throw UsageError("--float: ray " + std::to_string(i + 1) + " has org_error " + value.str() +
+                         ", which Embree's float rays cannot carry (they assume the rounding "
+                         "of a float origin near the clip region): trace it without --float");
+      }
 
   // Without the column org_error, a user's o + t d of a hit carries gamma(3) (|o| + |t d|)
   // from the ray that found it, not the rounding of its own coordinates (orgError = 0): a

@@ -629,6 +629,34 @@ TEST_F(QueryTool, OriginErrorsFromTheColumnStopSelfHitsOfFarRays) {
   EXPECT_GT(selfHits(without), 0);
 }
 
+// Embree's float ray has no origin error: with --float a non-zero org_error was read and
+// silently ignored. Refused before tracing (OUT is not written), naming the ray, the column
+// and the option; zeros (the float ray's own assumption covers them) and the double
+// channel pass.
+TEST_F(QueryTool, FloatRefusesANonZeroOrgError) {
+  const std::string surface = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
+  const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar,org_error\n";
+  const fs::path given =
+      write("given.csv", header + "0,0,-5,0,0,1,0,inf,0\n0,0,-5,0,0,1,0,inf,2e-14\n");
+  const RunResult refused = run(surface + common(given) + " --float");
+  EXPECT_EQ(refused.exitCode, 2) << refused.err;
+  EXPECT_NE(refused.err.find("algray-query: --float: ray 2 has org_error 2e-14, which Embree's "
+                             "float rays cannot carry"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_FALSE(fs::exists(dir / "out.csv"));
+  EXPECT_EQ(refused.err.find("rays/s"), std::string::npos) << refused.err;  // not traced
+  const RunResult doubleChannel = run(surface + common(given));
+  EXPECT_EQ(doubleChannel.exitCode, 0) << doubleChannel.err;
+  ASSERT_EQ(doubleChannel.rows.size(), 2u);
+  EXPECT_EQ(doubleChannel.rows[1][1], 4.0);
+  const RunResult zeros =
+      run(surface + common(write("zeros.csv", header + "0,0,-5,0,0,1,0,inf,0\n")) + " --float");
+  EXPECT_EQ(zeros.exitCode, 0) << zeros.err;
+  ASSERT_EQ(zeros.rows.size(), 1u);
+  EXPECT_NEAR(zeros.rows[0][1], 4.0, 1e-6);
+}
+
 // A gallery name as --surface traces that surface in its own clip sphere (or the one given):
 // the same hits, bit for bit, as its polynomial written out with that sphere.
 TEST_F(QueryTool, GalleryNamesTraceTheGallerySurface) {
