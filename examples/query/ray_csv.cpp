@@ -1,5 +1,7 @@
 #include "ray_csv.h"
 
+#include "text_lines.h"
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -54,43 +56,18 @@ std::string shown(std::string_view field) {
   return s;
 }
 
-// IN.csv's lines end in "\n", "\r\n" or a lone "\r" (classic Mac OS text, which getline
-// alone read as one line: "the header has no column 'tfar'").
-class LineReader {
- public:
-  explicit LineReader(std::istream& in) : in_(in) {}
-
-  bool next(std::string& line) {
-    if (at_ == std::string::npos) {
-      if (!std::getline(in_, text_)) return false;
-      if (!text_.empty() && text_.back() == '\r') text_.pop_back();
-      at_ = 0;
-    }
-    const size_t cr = text_.find('\r', at_);
-    line.assign(text_, at_, cr == std::string::npos ? std::string::npos : cr - at_);
-    at_ = cr == std::string::npos ? std::string::npos : cr + 1;
-    ++number_;
-    return true;
-  }
-  long number() const { return number_; }
-
- private:
-  std::istream& in_;
-  std::string text_;
-  size_t at_ = std::string::npos;  // where the next line of text_ starts; npos: read another
-  long number_ = 0;
-};
-
-[[noreturn]] void fail(const std::string& name, long line, const std::string& message) {
+[[noreturn]] void fail(const std::string& name, long long line, const std::string& message) {
   throw CsvError(name + ":" + std::to_string(line) + ": " + message);
 }
 
 }  // namespace
 
 std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasOrgError) {
-  std::string text;
-  LineReader lines(in);
-  long lineNo = 0;
+  // Lines end in "\n", "\r\n" or a lone "\r" (classic Mac OS text, which getline alone read
+  // as one line: "the header has no column 'tfar'").
+  std::string_view text;
+  algray::text::LineReader lines(in);
+  long long lineNo = 0;
   // ---- Header: map each required column to its field index --------------------------
   std::array<int, kColumns.size()> where;
   where.fill(-1);
@@ -99,7 +76,7 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
     lineNo = lines.number();
     // A UTF-8 byte order mark, as Excel writes it, is not part of the first column name
     // (nor after blank lines, where joining files puts it).
-    if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+    if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
     if (trim(text).empty()) continue;
     const auto fields = split(text);
     fieldCount = fields.size();
@@ -113,10 +90,10 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
     break;
   }
   // A read error is not the end of the file (/proc/self/mem read nothing and was "empty").
-  if (in.bad()) fail(name, std::max(lineNo, 1L), "read error");
+  if (in.bad()) fail(name, std::max(lineNo, 1LL), "read error");
   // Lines are 1-based: a file without a single line is reported at line 1.
   if (fieldCount == 0)
-    fail(name, std::max(lineNo, 1L),
+    fail(name, std::max(lineNo, 1LL),
          "empty file: expected the header ox,oy,oz,dx,dy,dz,tnear,tfar");
   for (size_t c = 0; c < kRequired; ++c)
     if (where[c] < 0)

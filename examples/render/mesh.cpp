@@ -1,6 +1,7 @@
 #include "mesh.h"
 
 #include "sampling.h"
+#include "text_lines.h"
 
 #include <tiny_obj_loader.h>
 #include <glm/geometric.hpp>
@@ -190,70 +191,11 @@ long long faceIndex(std::string_view t) {
   return !text.empty() && *end == '\0' && errno != ERANGE && v >= INT_MIN && v <= INT_MAX ? v : 0;
 }
 
-// The lines of an OBJ file as tinyobjloader's safeGetline splits them: at "\n", "\r\n" and
-// a lone "\r" (classic Mac). Split at "\n" only, a CR-only file was one line here and many
-// to tinyobjloader: after a comment line "v abc 1 0", "v 1 2" and "f 1 2 4294967299" were
-// never checked (they rendered, the last as "f 1 2 3"), and a valid CR-only file was
-// refused as "'v' with 15 numbers".
-class ObjLines {
- public:
-  explicit ObjLines(std::istream& in) : in_(in) {}
-
-  // The next line without its ending, valid until the next call; false after the last.
-  // The file is read in blocks, not in std::getline's pieces up to a '\n': a CR-only file
-  // is one such piece, held whole.
-  bool next(std::string_view& line) {
-    carry_.clear();
-    bool carried = false;  // part of the line is in carry_
-    for (;;) {
-      if (pos_ == block_.size()) {
-        block_.resize(kBlock);
-        in_.read(block_.data(), kBlock);
-        block_.resize(static_cast<size_t>(in_.gcount()));
-        pos_ = 0;
-        if (block_.empty()) {  // a last line without an ending is a line, "" is none
-          line = carry_;
-          return carried;
-        }
-      }
-      if (afterCr_) {  // "\r\n" is one ending, even across two blocks
-        afterCr_ = false;
-        if (block_[pos_] == '\n' && ++pos_ == block_.size()) continue;
-      }
-      size_t end = pos_;
-      while (end < block_.size() && block_[end] != '\n' && block_[end] != '\r') ++end;
-      if (end == block_.size()) {
-        carry_.append(block_, pos_, end - pos_);
-        carried = true;
-        pos_ = end;
-        continue;
-      }
-      const std::string_view piece = std::string_view(block_).substr(pos_, end - pos_);
-      afterCr_ = block_[end] == '\r';
-      pos_ = end + 1;
-      if (!carried) {
-        line = piece;
-      } else {
-        carry_.append(piece);
-        line = carry_;
-      }
-      return true;
-    }
-  }
-
- private:
-  static constexpr size_t kBlock = 1 << 16;
-  std::istream& in_;
-  std::string block_;  // the block read last, lines from pos_ on not returned yet
-  size_t pos_ = 0;
-  std::string carry_;     // a line begun in an earlier block
-  bool afterCr_ = false;  // the last line ended in '\r': a '\n' next belongs to it
-};
-
 void checkObjText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return;  // tinyobjloader reports it
-  ObjLines lines(in);
+  // Split as tinyobjloader's safeGetline splits them (at "\n", "\r\n" and a lone "\r").
+  algray::text::LineReader lines(in);
   std::string_view text;
   std::vector<std::string_view> items;
   // The v, vt and vn lines so far: an index names one of them, from the first (1) or back
@@ -267,7 +209,8 @@ void checkObjText(const std::string& path) {
   long long counts[3] = {0, 0, 0};  // v, vt, vn
   const char* const names[3] = {"vertex", "uv", "normal"};
   const char* const kinds[3] = {"'v'", "'vt'", "'vn'"};
-  for (long long lineNo = 1; lines.next(text); ++lineNo) {
+  while (lines.next(text)) {
+    const long long lineNo = lines.number();
     items.clear();
     for (size_t i = 0; i < text.size();) {  // words separated by blanks
       while (i < text.size() && isBlank(text[i])) ++i;
