@@ -41,18 +41,20 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-double parseNumber(const std::string& given, const std::string& what) {
-  const std::string text = algray::cli::trimmed(given);
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
-    throw UsageError(what + ": not a finite number: '" + text + "'");
+// `number` read from `text` (trimmed), for the option `what`: finite, or refused.
+double checkedNumber(const std::string& text, const cli::Number& number, const std::string& what) {
   // As in IN.csv: a literal below double's range is refused, not silently 0 (--param
   // a=1e-400 turned x^2+y^2+z^2-a into a point). A subnormal result is its value.
-  if (errno == ERANGE && v == 0.0)
+  if (number.problem == cli::NumberProblem::kUnderflows)
     throw UsageError(what + ": '" + text + "' underflows to 0 in double");
-  return v;
+  if (number.problem != cli::NumberProblem::kNone || !std::isfinite(number.value))
+    throw UsageError(what + ": not a finite number: '" + text + "'");
+  return number.value;
+}
+
+double parseNumber(const std::string& given, const std::string& what) {
+  const std::string text = cli::trimmed(given);
+  return checkedNumber(text, cli::readNumber(text), what);
 }
 
 ClipRegion parseClip(const std::vector<double>& sphere, const std::string& box) {
@@ -152,14 +154,12 @@ int run(int argc, char** argv) {
   ParseOptions parseOptions;
   parseOptions.rejectUnusedParameters = true;
   for (const std::string& p : params) {
-    const size_t eq = p.find('=');
-    const std::string name = algray::cli::trimmed(p.substr(0, eq == std::string::npos ? 0 : eq));
-    if (eq == std::string::npos || name.empty())
-      throw UsageError("--param '" + p + "': expected NAME=VALUE");
-    const double value = parseNumber(p.substr(eq + 1), "--param " + name);
+    const cli::Param param = cli::readParam(p);
+    if (param.name.empty()) throw UsageError("--param '" + p + "': expected NAME=VALUE");
+    const double value = checkedNumber(param.valueText, param.number, "--param " + param.name);
     // A second value would silently win: which one the user meant is not ours to guess.
-    if (!parseOptions.parameters.emplace(name, value).second)
-      throw UsageError("--param " + name + ": given more than once");
+    if (!parseOptions.parameters.emplace(param.name, value).second)
+      throw UsageError("--param " + param.name + ": given more than once");
   }
   SurfaceDesc desc;
   if (const GallerySurface* g = findGallerySurface(equation)) {

@@ -168,27 +168,24 @@ int main(int argc, char** argv) {
       QuickOptions q;
       q.surface = surface;
       for (const std::string& p : params) {
-        // Spaces around the name and the value are quoting, as in algray-query.
-        using algray::cli::trimmed;
-        const size_t eq = p.find('=');
-        const std::string name = trimmed(p.substr(0, eq == std::string::npos ? 0 : eq));
-        if (eq == std::string::npos || name.empty())
+        // The syntax is algray-query's (cli_text.h); inf and nan go on to the parser,
+        // which names them as the parameter's value.
+        using algray::cli::NumberProblem;
+        const algray::cli::Param param = algray::cli::readParam(p);
+        if (param.name.empty())
           throw SceneError("--param", 0, 0, "expected NAME=VALUE, got '" + p + "'");
-        // strtod, not std::stod: stod throws out_of_range for every ERANGE, so a subnormal
-        // value (--param a=1e-320, its own value, as in algray-query) was "not a number",
-        // and so were an overflow and an underflow to 0, which are refused by name.
-        const std::string text = trimmed(p.substr(eq + 1));
-        char* end = nullptr;
-        errno = 0;
-        const double v = std::strtod(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size())
-          throw SceneError("--param", 0, 0, "not a number in '" + p + "'");
-        if (errno == ERANGE && std::isinf(v))
-          throw SceneError("--param", 0, 0, "'" + p + "' overflows double");
-        if (errno == ERANGE && v == 0.0)
-          throw SceneError("--param", 0, 0, "'" + p + "' underflows to 0 in double");
-        if (!q.parameters.emplace(name, v).second)
-          throw SceneError("--param", 0, 0, name + ": given more than once");
+        switch (param.number.problem) {
+          case NumberProblem::kNone:
+            break;
+          case NumberProblem::kNotANumber:
+            throw SceneError("--param", 0, 0, "not a number in '" + p + "'");
+          case NumberProblem::kOverflows:
+            throw SceneError("--param", 0, 0, "'" + p + "' overflows double");
+          case NumberProblem::kUnderflows:
+            throw SceneError("--param", 0, 0, "'" + p + "' underflows to 0 in double");
+        }
+        if (!q.parameters.emplace(param.name, param.number.value).second)
+          throw SceneError("--param", 0, 0, param.name + ": given more than once");
       }
       if (clipSphere) q.clipRadius = *clipSphere;
       try {
