@@ -11,7 +11,9 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <type_traits>
 
@@ -111,6 +113,17 @@ void solveFirst(const SurfaceData& data, RayRoots& rr);
 // one the solver is asked whether g is within its noise before it (RootOptions::noiseBefore).
 inline bool exactRoots(const SurfaceOptions& opt, const RayRoots& rr) {
   return opt.roots.relTolerance == 0.0 && !opt.singlePrecision && !(rr.selfWindow > 0.0);
+}
+
+// How far g's noise region reaches about its root s, to first order: 4 |bound / g'(s)|
+// (the factor covers the curvature and the solver's error), at least 2^-50 of `scale`, the
+// size of the parameters it is compared with. Not finite where g' is 0 (NaN where the bound
+// is 0 too): the callers then place the root on f. One formula for occlusionRootCertain
+// and the walk's endWithinReach (surface_intersect.cpp), so that they agree.
+inline double noiseReach(const RayPolynomial& g, double s, double scale) {
+  double bound, slope;
+  g.evaluateWithBound(s, bound, slope);
+  return std::max(4.0 * bound / std::abs(slope), 0x1p-50 * scale);
 }
 
 // ---- ray_settle.cpp ------------------------------------------------------------------------

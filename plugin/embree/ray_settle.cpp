@@ -245,9 +245,7 @@ bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray) {
   const RayPolynomial& g = rr.g;
   if (g.tShift + rr.slo > ray.tnear && g.tShift + rr.shi < ray.tfar) return true;
   const double s = rr.roots[0];
-  double bound, slope;
-  g.evaluateWithBound(s, bound, slope);
-  const double h = std::max(4.0 * bound / std::abs(slope), 0x1p-50 * std::abs(s));
+  const double h = noiseReach(g, s, std::abs(s));
   const double a = s - h, b = s + h;
   const auto outside = [&](double t) { return t < g.tShift + a || t > g.tShift + b; };
   if (!(h < kInf) || !outside(ray.tnear) || !outside(ray.tfar)) return false;

@@ -40,6 +40,16 @@ constexpr const char* kPrefix = "algray::SurfaceGeometry: ";
 
 [[noreturn]] void fail(const std::string& what) { throw Error(kPrefix + what); }
 
+// A measure of the description for a message: one beyond double's range has no value to
+// print ("inf" or "-nan" said nothing: a clip box spanning more than 1.8e308, the
+// condition number of a scale of 1e-300 against 1, whose inverse overflows).
+void putMeasure(std::ostream& os, double v) {
+  if (std::isfinite(v))
+    os << v;
+  else
+    os << "beyond double's range";
+}
+
 // f and 2^k f have the same surface, and every computation of the kernels (restriction
 // and its noise bounds, roots, self-root test, cell enclosures) is scaled exactly by a
 // power of two as long as it stays in double's normal range. A polynomial whose largest
@@ -106,12 +116,8 @@ void validate(const SurfaceDesc& desc) {
   // with the remedy.
   if (!(size >= 1e-100 && size <= 1e100)) {
     std::ostringstream os;
-    // A box spanning more than double's range has no size to print ("inf" says nothing).
     os << "the clip region's size in object space is ";
-    if (std::isinf(size))
-      os << "beyond double's range (1.8e308)";
-    else
-      os << size;
+    putMeasure(os, size);
     os << ", outside 1e-100 .. 1e100";
     throw ScaleError(os.str(),
                      "scale the polynomial's variables instead of undoing it by the transform");
@@ -172,12 +178,8 @@ void validate(const SurfaceDesc& desc) {
   const double cond = frobenius(w) * frobenius(glm::inverse(w));
   if (!(cond <= 0x1p40)) {
     std::ostringstream os;
-    // (The inverse of a scale of 1e-300 against 1 overflows: "inf" or "-nan" said nothing.)
     os << "the transform's condition number is ";
-    if (std::isfinite(cond))
-      os << cond;
-    else
-      os << "beyond double's range";
+    putMeasure(os, cond);
     os << " (beyond 2^40 = 1.1e12): it squashes one direction against the others by more than "
           "double "
           "precision resolves in world space; scale the equation's variables instead";

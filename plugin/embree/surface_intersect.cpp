@@ -62,21 +62,28 @@ struct OfferedTable {
   size_t last = 0;  // the entry found last: a ray's roots ask for the same one in a row
 };
 
-OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
+// An entry of the table and its offering cells, found with one look-up (the cells were
+// looked up again through the thread's table for every root offered).
+struct OfferedSlot {
+  OfferedRoots& roots;
+  OfferedBy& offeredBy;
+};
+
+OfferedSlot offeredRoots(const SurfaceData& data, const KernelRay& ray) {
   OfferedTable& table = ThreadHeap<OfferedTable>::get();
+  auto slot = [&](size_t i) { return OfferedSlot{table.entries[i], table.offeredBy[i]}; };
   auto sameTrace = [&](const OfferedRoots& e) {
     return e.trace == ray.trace && e.org == ray.org && e.dir == ray.dir && e.tnear == ray.tnear;
   };
   std::vector<OfferedRoots>& entries = table.entries;
-  if (entries[table.last].id == data.id && sameTrace(entries[table.last]))
-    return entries[table.last];
+  if (entries[table.last].id == data.id && sameTrace(entries[table.last])) return slot(table.last);
   bool traceSeen = false;
   for (size_t i = 0; i < entries.size(); ++i) {
     if (entries[i].trace != ray.trace) continue;
     traceSeen = true;
     if (entries[i].id == data.id && sameTrace(entries[i])) {
       table.last = i;
-      return entries[i];
+      return slot(i);
     }
   }
   if (!traceSeen && entries.size() > kOfferedEntries) {  // a new trace after a large one
@@ -104,13 +111,7 @@ OfferedRoots& offeredRoots(const SurfaceData& data, const KernelRay& ray) {
   e.dir = ray.dir;
   e.tnear = ray.tnear;
   e.offered = e.shared = 0;
-  return e;
-}
-
-// The offering cells of an entry offeredRoots returned.
-OfferedBy& offeredByOf(const OfferedRoots& e) {
-  OfferedTable& table = ThreadHeap<OfferedTable>::get();
-  return table.offeredBy[static_cast<size_t>(&e - table.entries.data())];
+  return slot(table.last);
 }
 
 // ---- Cell ownership ------------------------------------------------------------------------
@@ -338,10 +339,8 @@ namespace {
 // told no on 0.1-0.5 % of the steps through the Chmutov and Sarti surfaces (the next root's
 // g, expanded about a point near tnear, placed it up to 1e-8 late).
 [[gnu::noinline]] bool endWithinReach(const RayPolynomial& g, double s, const KernelRay& ray) {
-  double bound, slope;
-  g.evaluateWithBound(s, bound, slope);
   const double t = g.tShift + s;
-  const double h = std::max(4.0 * bound / std::abs(slope), 0x1p-50 * (std::abs(s) + std::abs(t)));
+  const double h = noiseReach(g, s, std::abs(s) + std::abs(t));
   return !(std::abs(ray.tfar - t) > h && std::abs(t - ray.tnear) > h);  // a NaN reach: polish
 }
 
@@ -465,8 +464,8 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     // from the second trace on: 26 of 72 such rays missed).
     const std::uint64_t bit = i < 64 ? std::uint64_t{1} << i : 0;
     if (ray.trace != 0) {
-      OfferedRoots& seen = offeredRoots(data, ray);
-      if ((seen.offered & bit) != 0 && offeredByOf(seen)[i] == cell) seen.offered = seen.shared = 0;
+      auto [seen, offeredBy] = offeredRoots(data, ray);
+      if ((seen.offered & bit) != 0 && offeredBy[i] == cell) seen.offered = seen.shared = 0;
       if (((claim == Claim::kOwner ? seen.shared : seen.offered) & bit) != 0) continue;
     }
     // Polish within the whole span (a root near a cell face may move across it; the
@@ -484,9 +483,9 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     if (!occlusion)
       hit.gradient = hitGradient(data, d, hit.point, hit.gradient, hitPointError(o, d, hit.t));
     if (ray.trace != 0) {
-      OfferedRoots& seen = offeredRoots(data, ray);
+      auto [seen, offeredBy] = offeredRoots(data, ray);
       seen.offered |= bit;
-      if (bit != 0) offeredByOf(seen)[i] = cell;
+      if (bit != 0) offeredBy[i] = cell;
       if (claim == Claim::kShared) seen.shared |= bit;
     }
     if (accept(user, hit)) return true;
