@@ -242,6 +242,25 @@ TEST(Taylor, BoxPathIsBitIdenticalOnAnyShape) {
 // inverseSquaredLength's relative 2^-40 for near-unit directions (float-normalised ones,
 // and double ones up to 2^-20 off unit length) and the rounding of the dot product, and
 // a plain quotient for every other length.
+// RayPolynomial's fields are public; a degree beyond its arrays is refused (evaluate read
+// past them).
+TEST(Taylor, RayPolynomialRefusesADegreeBeyondItsArrays) {
+  RayPolynomial g;
+  g.degree = 2;
+  g.coeff[0] = -1.0;
+  g.coeff[2] = 1.0;
+  double bound = 0.0, slope = 0.0;
+  EXPECT_EQ(g.evaluate(2.0), 3.0);
+  EXPECT_EQ(g.evaluateWithBound(2.0, bound, slope), 3.0);
+  EXPECT_EQ(slope, 4.0);
+  for (const int degree : {kMaxDegree + 1, 1000}) {
+    g.degree = degree;
+    EXPECT_THROW(g.evaluate(0.5), Error) << degree;
+    EXPECT_THROW(g.evaluateWithBound(0.5, bound), Error) << degree;
+    EXPECT_THROW(g.evaluateWithBound(0.5, bound, slope), Error) << degree;
+  }
+}
+
 TEST(Taylor, ClosestParameterWithinItsBound) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

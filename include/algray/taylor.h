@@ -25,7 +25,7 @@ namespace algray {
 // order 2^-1022 times the powers of the ray that follow an underflow, taylor.cpp); it is
 // +inf where coeff[i] is not finite or the bound's own magnitudes overflowed.
 struct RayPolynomial {
-  int degree = -1;  // -1 .. kMaxDegree (the arrays' size): evaluate reads coeff[0..degree]
+  int degree = -1;  // -1 .. kMaxDegree (the arrays' size; beyond it evaluate throws Error)
   double tShift = 0;
   std::array<double, kMaxDegree + 1> coeff{};
   std::array<double, kMaxDegree + 1> error{};

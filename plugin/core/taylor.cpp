@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "ray_horner.h"
@@ -147,7 +148,18 @@ double absSumInBoxOrder(const Polynomial& f) {
 
 }  // namespace
 
+namespace {
+// RayPolynomial's fields are public: a degree beyond its arrays read past them (session 45
+// stated the range; one compare per evaluation checks it).
+[[noreturn, gnu::noinline, gnu::cold]] void throwRayDegree(int degree) {
+  throw Error("RayPolynomial: degree " + std::to_string(degree) +
+              " beyond kMaxDegree = " + std::to_string(kMaxDegree));
+}
+}  // namespace
+
 double RayPolynomial::evaluate(double s) const {
+  if (degree > kMaxDegree) [[unlikely]]
+    throwRayDegree(degree);
   double v = 0.0;
   for (int i = degree; i >= 0; --i) v = v * s + coeff[i];
   return v;
@@ -166,6 +178,8 @@ double evaluateRay(const RayPolynomial& g, double s, double& bound, double& slop
   // after it, and the magnitudes' and errors' own steps lose as much: 4 * 2^-1022 w,
   // w = sum_i max(1, |s|)^i, covers them (the bound's small terms flushed to 0 before:
   // 1e-300 s at s = 1e-6 had the bound 0).
+  if (g.degree > kMaxDegree) [[unlikely]]
+    throwRayDegree(g.degree);
   double v = 0.0, mag = 0.0, err = 0.0, w = 0.0;
   const double as = std::abs(s), aw = std::max(1.0, as);
   slope = 0.0;
