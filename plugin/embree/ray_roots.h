@@ -36,8 +36,8 @@ struct RayRoots {
   double slo = 0, shi = 0;  // the same in s
   double tnear = 0;         // the ray's (searchSpan, with selfWindow)
   double selfWindow = 0;    // > 0: the self-root rule applied (selfRootWindow)
-  // With it and g = g0 / s: the rule's bound on |g0(0)| less |g0(0)|, over which a root
-  // lies in the origin's noise region (inOriginNoise, ray_roots.cpp); else negative.
+  // With it and g = g0 / s: |g0(0)|, the constant the rule set to 0, which a root of g
+  // must outgrow to be a surface's (inOriginNoise, ray_roots.cpp); else negative.
   double originSlack = -1;
   bool closedLo = true;  // slo is the region's start (regionRoots), not the window
   std::array<double, kMaxDegree> roots{};  // in s, increasing
