@@ -7,6 +7,15 @@
 #                                   tests/package/core_only against a temporary prefix,
 #                                   static and shared)
 set -euo pipefail
+usage() {
+  echo "usage: bash scripts/algray.sh render|test" >&2
+  exit 2
+}
+# The argument first: a typo ("rendr") installed some 20 packages before the usage line.
+case "${1:-}" in
+  render | test) ;;
+  *) usage ;;
+esac
 cd "$(dirname "$0")/.."
 root=$(pwd)
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -101,7 +110,6 @@ case "${1:-}" in
     rm -rf "$prefix"
     ;;
   *)
-    echo "usage: bash scripts/algray.sh render|test" >&2
-    exit 2
+    usage
     ;;
 esac
