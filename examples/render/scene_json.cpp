@@ -526,7 +526,8 @@ class Loader {
       try {
         item.polynomial = parsePolynomial(text, options);
       } catch (const ParameterError& e) {
-        fail(p + "/parameters/" + jsonPointerToken(e.name()), e.message());
+        // what(): "parameter 'a': is not used by the equation", as --param names it.
+        fail(p + "/parameters/" + jsonPointerToken(e.name()), e.what());
       } catch (const ParseError& e) {
         // The column is the decoded string's: the same character in the file.
         const std::string hint =

@@ -119,7 +119,11 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
       "  \"parameters\": {\"x\": 1}}]}");
   EXPECT_EQ(v.line(), 2);
   EXPECT_EQ(v.column(), 23);
-  EXPECT_NE(v.message().find("x"), std::string::npos);
+  // Named as --param names it ("--param: x: clashes ..."): the position alone left the
+  // reader to find which key the value belongs to.
+  EXPECT_NE(v.message().find("parameter 'x': clashes with the built-in name 'x'"),
+            std::string::npos)
+      << v.message();
   // A parameter the equation never reads: its value, on line 2.
   SceneError w = errorOf(
       "{\"surfaces\": [{\"equation\": \"x^2 + y^2 + z^2 - r^2\", \"clip\": {\"sphere\": "
@@ -127,7 +131,7 @@ TEST(SceneJson, SemanticErrorsPointAtTheValue) {
       "  \"parameters\": {\"r\": 1, \"rr\": 2}}]}");
   EXPECT_EQ(w.line(), 2);
   EXPECT_EQ(w.column(), 32);
-  EXPECT_NE(w.message().find("not used"), std::string::npos) << w.message();
+  EXPECT_NE(w.message().find("parameter 'rr': is not used"), std::string::npos) << w.message();
   // "description" is free text, but text: a number was accepted.
   SceneError x = errorOf("{\"description\": 5}");
   EXPECT_EQ(x.column(), 17);
