@@ -161,8 +161,15 @@ TEST(Jsurf, EquationErrorsPointIntoTheFile) {
             std::string::npos);
   // At the end of the value: one past its last character.
   const JsurfFile c = JsurfFile::parse("surface_equation = (x+1\n", "c.jsurf");
-  EXPECT_NE(expectError([&] { c.polynomial(); }).find("c.jsurf:1:20: unbalanced parenthesis"),
+  EXPECT_NE(expectError([&] {
+              c.polynomial();
+            }).find("c.jsurf:1:20: unbalanced parenthesis: '(' is never closed"),
             std::string::npos);
+  // A second place in the message is the file's too (it was the equation's "column 3" after
+  // the file's "1:20"), here across a continuation.
+  const JsurfFile c2 = JsurfFile::parse("surface_equation=x + (y \\\n  = 1)\n", "c2.jsurf");
+  EXPECT_EQ(expectError([&] { c2.polynomial(); }),
+            "c2.jsurf:2:3: expected ')' to close '(' at line 1, column 22 but found '='");
   const JsurfFile d = JsurfFile::parse("surface_equation=x^3\n", "d.jsurf");
   EXPECT_NE(
       expectError([&] { d.polynomial(2); }).find("d.jsurf:1:19: degree 3 exceeds the limit 2"),

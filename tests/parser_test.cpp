@@ -261,9 +261,9 @@ TEST(Parser, RejectsWithColumnAndMessage) {
       // Structure.
       {"", 1, "empty equation"},
       {"  \t ", 1, "empty equation"},
-      {"(x+1", 1, "unbalanced parenthesis: '(' at column 1 is never closed"},
-      {"((x+1)*(y", 8, "unbalanced parenthesis: '(' at column 8 is never closed"},
-      {"x+1)", 4, "unbalanced parenthesis: ')' at column 4 has no matching '('"},
+      {"(x+1", 1, "unbalanced parenthesis: '(' is never closed"},
+      {"((x+1)*(y", 8, "unbalanced parenthesis: '(' is never closed"},
+      {"x+1)", 4, "unbalanced parenthesis: ')' has no matching '('"},
       {"(x = 1)", 4, "expected ')' to close '(' at column 1"},
       {"()", 2, "empty parentheses"},
       {"x +", 4, "the equation ends after '+'"},
@@ -289,6 +289,34 @@ TEST(Parser, RejectsWithColumnAndMessage) {
       {"\xc3\xa9 \xc3\xa9 ?", 1, "unexpected character"},
   };
   for (const Rejection& r : cases) expectRejected(r);
+}
+
+// A message names at most one place besides its own column, and says which: the two
+// parenthesis messages are about the parenthesis at the error's column (they repeated it
+// as "at column N", which a scene file's "file:2:36:" prefix then contradicted), and the
+// one that names a second place gives its column so that callers can write it their way.
+TEST(Parser, SecondPlaceInAMessageIsItsOwnColumn) {
+  auto errorOf = [](std::string_view text) {
+    try {
+      parsePolynomial(text);
+    } catch (const ParseError& e) {
+      return e;
+    }
+    return ParseError(0, "no error");
+  };
+  for (const char* text : {"(x+1", "x+1)", "((x+1)*(y"}) {
+    const ParseError e = errorOf(text);
+    EXPECT_EQ(e.message().find("column"), std::string::npos) << text << ": " << e.message();
+    EXPECT_EQ(e.relatedColumn(), 0) << text;
+    EXPECT_EQ(e.messageWith("elsewhere"), e.message()) << text;
+  }
+  const ParseError e = errorOf("x + (y = 1)");
+  EXPECT_EQ(e.column(), 8);
+  EXPECT_EQ(e.relatedColumn(), 5);
+  EXPECT_EQ(e.message(), "expected ')' to close '(' at column 5 but found '='");
+  EXPECT_EQ(std::string(e.what()), "column 8: " + e.message());
+  EXPECT_EQ(e.messageWith("line 2, column 30"),
+            "expected ')' to close '(' at line 2, column 30 but found '='");
 }
 
 // Equations copied from papers and web pages: superscript exponents, the minus sign U+2212,

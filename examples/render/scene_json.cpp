@@ -153,6 +153,14 @@ class Loader {
     TextLocation loc = locateOffset(text_, at);
     throw SceneError(name_, loc.line, loc.column, message);
   }
+  // "line L, column C" in the file of character `column` of a string value, for a message
+  // that names a second place in it.
+  std::string placeInString(const std::string& pointer, int column) const {
+    auto it = offsets_.find(pointer);
+    if (it == offsets_.end()) return "column " + std::to_string(column) + " of the string";
+    const TextLocation loc = locateOffset(text_, stringCharacterOffset(text_, it->second, column));
+    return "line " + std::to_string(loc.line) + ", column " + std::to_string(loc.column);
+  }
   // "file:line:column" of a value, for labels of items whose errors come later (Scene).
   std::string where(const std::string& pointer) const {
     auto it = offsets_.find(pointer);
@@ -535,7 +543,12 @@ class Loader {
                 ? ""
                 : " (give it a value in the surface's \"parameters\", e.g. {\"" + e.unknownName() +
                       "\": 1})";
-        fail(p + "/equation", e.message() + hint, e.column());
+        // A second place the message names ("... close '(' at column 7") is the file's too:
+        // "column 7" beside the prefix's file column read as the same system.
+        std::string message = e.message();
+        if (e.relatedColumn() > 0)
+          message = e.messageWith(placeInString(p + "/equation", e.relatedColumn()));
+        fail(p + "/equation", message + hint, e.column());
       } catch (const std::exception& e) {
         fail(p + "/equation", e.what());
       }

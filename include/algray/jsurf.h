@@ -46,6 +46,8 @@ class JsurfFile {
     // equation points into the file even across escapes and line continuations.
     std::vector<std::pair<int, int>> positions;
   };
+  // Source (line, column) of the value's 1-based column (> 0; positions not empty).
+  static std::pair<int, int> position(const Entry& entry, int column);
   std::string where(const Entry& entry, int column = 0) const;
   std::string name_;
   std::map<std::string, Entry, std::less<>> entries_;

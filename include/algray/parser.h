@@ -33,21 +33,33 @@
 
 namespace algray {
 
-// A rejected equation: the 1-based column of the offending character and a message.
+// A rejected equation: the 1-based column of the offending character and a message. A
+// message may name a second place in the equation ("expected ')' to close '(' at column 3
+// but found '='"): relatedColumn() is its column (0 if none), and messageWith() writes it
+// the caller's way, so that a tool reporting the error at its file's line and column
+// ("scene.json:2:36: ...") names the second place in the same terms, not the equation's.
 class ParseError : public Error {
  public:
   ParseError(int column, const std::string& message, const std::string& unknownName = {});
+  // The message is `before` + "column N" + `after`, N = relatedColumn.
+  ParseError(int column, const std::string& before, int relatedColumn, const std::string& after);
   int column() const { return column_; }
   const std::string& message() const { return message_; }  // without the location
   // The name when the equation uses one that is neither built in nor a parameter (and
   // could be one: not a glued product such as "xy"), else empty: most often a parameter
   // the caller did not give, so a tool can say how its users give one.
   const std::string& unknownName() const { return unknownName_; }
+  int relatedColumn() const { return relatedColumn_; }
+  // message() with its "column N" of relatedColumn() written as `place` ("line 2, column
+  // 30"); message() itself when there is no second place.
+  std::string messageWith(std::string_view place) const;
 
  private:
   int column_;
   std::string message_;
   std::string unknownName_;
+  int relatedColumn_ = 0;
+  std::string before_, after_;  // message_ around "column N"
 };
 
 // A rejected entry of ParseOptions::parameters: a name that clashes with a built-in (x, y,

@@ -181,14 +181,17 @@ int JsurfFile::lineOf(std::string_view key) const {
   return it == entries_.end() ? 0 : it->second.line;
 }
 
-std::string JsurfFile::where(const Entry& entry, int column) const {
-  if (column <= 0 || entry.positions.empty()) return name_ + ":" + std::to_string(entry.line);
+std::pair<int, int> JsurfFile::position(const Entry& entry, int column) {
   // Column c of the value is its code point c - 1, or one past the last one.
   const size_t i = static_cast<size_t>(column - 1);
-  const auto [line, col] =
-      i < entry.positions.size()
-          ? entry.positions[i]
-          : std::pair{entry.positions.back().first, entry.positions.back().second + 1};
+  return i < entry.positions.size()
+             ? entry.positions[i]
+             : std::pair{entry.positions.back().first, entry.positions.back().second + 1};
+}
+
+std::string JsurfFile::where(const Entry& entry, int column) const {
+  if (column <= 0 || entry.positions.empty()) return name_ + ":" + std::to_string(entry.line);
+  const auto [line, col] = position(entry, column);
   return name_ + ":" + std::to_string(line) + ":" + std::to_string(col);
 }
 
@@ -266,7 +269,15 @@ Polynomial JsurfFile::polynomial(int maxDegree) const {
     const auto p = entries_.find(key);
     throw Error((p != entries_.end() ? where(p->second) : name_) + ": " + key + ": " + e.message());
   } catch (const ParseError& e) {
-    throw Error(where(it->second, e.column()) + ": " + e.message());
+    // A second place the message names ("... close '(' at column 9") in the file's terms
+    // too: the equation's column beside the prefix's file column read as the same system.
+    std::string message = e.message();
+    if (e.relatedColumn() > 0 && !it->second.positions.empty()) {
+      const auto [line, column] = position(it->second, e.relatedColumn());
+      message =
+          e.messageWith("line " + std::to_string(line) + ", column " + std::to_string(column));
+    }
+    throw Error(where(it->second, e.column()) + ": " + message);
   }
 }
 

@@ -30,6 +30,18 @@ ParseError::ParseError(int column, const std::string& message, const std::string
       message_(message),
       unknownName_(unknownName) {}
 
+ParseError::ParseError(int column, const std::string& before, int relatedColumn,
+                       const std::string& after)
+    : ParseError(column, before + "column " + std::to_string(relatedColumn) + after) {
+  relatedColumn_ = relatedColumn;
+  before_ = before;
+  after_ = after;
+}
+
+std::string ParseError::messageWith(std::string_view place) const {
+  return relatedColumn_ > 0 ? before_ + std::string(place) + after_ : message_;
+}
+
 ParameterError::ParameterError(const std::string& name, const std::string& message)
     : Error("parameter '" + name + "': " + message), name_(name), message_(message) {}
 
@@ -66,9 +78,7 @@ class Parser {
       checkFinite(value, equals);
     }
     const Token& t = peek();
-    if (t.kind == TokenKind::RightParen)
-      fail(t, "unbalanced parenthesis: ')' at column " + std::to_string(column(t)) +
-                  " has no matching '('");
+    if (t.kind == TokenKind::RightParen) fail(t, "unbalanced parenthesis: ')' has no matching '('");
     if (t.kind != TokenKind::End) missingOperator(t);
     return value.toPolynomial();
   }
@@ -301,13 +311,11 @@ class Parser {
       next();
       return;
     }
-    if (t.kind == TokenKind::End)
-      fail(open, "unbalanced parenthesis: '(' at column " + std::to_string(column(open)) +
-                     " is never closed");
+    if (t.kind == TokenKind::End) fail(open, "unbalanced parenthesis: '(' is never closed");
     if (t.kind == TokenKind::Number || t.kind == TokenKind::Name || t.kind == TokenKind::LeftParen)
       missingOperator(t);
-    fail(t, "expected ')' to close '(' at column " + std::to_string(column(open)) + " but found " +
-                detail::describe(text_, t));
+    throw ParseError(column(t), "expected ')' to close '(' at ", column(open),
+                     " but found " + detail::describe(text_, t));
   }
 
   TrackedValue parseName(const Token& t) {

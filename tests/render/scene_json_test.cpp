@@ -176,6 +176,25 @@ TEST(SceneJson, EquationErrorPointsIntoTheString) {
       << e.message();
 }
 
+// Every position in an equation's message is the file's: an unclosed '(' is named by the
+// prefix alone, and a second place is written as the file's line and column (the message
+// said "'(' at column 7" after the prefix "t.json:2:36", the equation's column beside the
+// file's).
+TEST(SceneJson, EquationMessagesUseTheFilesColumns) {
+  SceneError e = errorOf(
+      "{\n  \"surfaces\": [{\"equation\": \"x^2 + (y^2 + z^2 - 1\", \"clip\": {\"sphere\": "
+      "{\"radius\": 2}}}]\n}");
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.column(), 36);
+  EXPECT_EQ(e.message(), "unbalanced parenthesis: '(' is never closed");
+  e = errorOf(
+      "{\n  \"surfaces\": [{\"equation\": \"x^2 + (y^2 = 1)\", \"clip\": {\"sphere\": "
+      "{\"radius\": 2}}}]\n}");
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.column(), 41);
+  EXPECT_EQ(e.message(), "expected ')' to close '(' at line 2, column 36 but found '='");
+}
+
 TEST(SceneJson, MissingFileNamesTheFile) {
   try {
     loadSceneFile("/nonexistent/scene.json");
