@@ -2,6 +2,7 @@
 // again here in long double (not from the Polynomial), its degree, points known to lie on
 // it (parametrisations, nodes with vanishing gradient), and a clip radius that frames it.
 #include "algray/gallery.h"
+#include "algray/parser.h"
 
 #include <gtest/gtest.h>
 
@@ -217,6 +218,29 @@ TEST(Gallery, NamesAreUniqueAndFindable) {
         "kummer-quartic", "togliatti-quintic", "barth-sextic", "labs-septic", "heart", "chmutov-8",
         "chmutov-12", "chmutov-16", "endrass-octic", "sarti-dodecic"})
     EXPECT_NE(findGallerySurface(required), nullptr) << required;
+}
+
+// The equations the gallery shows (algray-render --list-gallery) are in algray's own
+// syntax and are its surfaces: people paste them into --surface. The descriptions showed
+// heart's "9/4y^2" (the parser: "malformed number '4y'"), roman's "x^2y^2" and cayley's
+// "4(x^3...", none of which parsed.
+TEST(Gallery, ShownEquationsParseToTheSurface) {
+  int shown = 0;
+  for (const GallerySurface& s : gallery()) {
+    if (s.equation.empty()) continue;
+    ++shown;
+    SCOPED_TRACE(s.name);
+    Polynomial parsed;
+    ASSERT_NO_THROW(parsed = parsePolynomial(s.equation));
+    const Polynomial built = s.build();
+    ASSERT_EQ(parsed.degree(), built.degree());
+    const double tolerance = 1e-14 * built.maxAbsCoeff();
+    for (size_t i = 0; i < built.coeffs().size(); ++i)
+      EXPECT_NEAR(parsed.coeffs()[i], built.coeffs()[i], tolerance) << i;
+  }
+  for (const char* name : {"sphere", "torus", "cayley-cubic", "roman-surface", "heart"})
+    EXPECT_FALSE(findGallerySurface(name)->equation.empty()) << name;
+  EXPECT_GE(shown, 5);
 }
 
 // Names as people type them find the surface; names that are not in the gallery are

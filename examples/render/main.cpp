@@ -145,10 +145,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (listGallery) {
+    // The equation as algray reads it, ready to paste into --surface or a scene file.
     for (const algray::GallerySurface& g : algray::gallery())
-      std::printf("%-22s degree %2d  clip %.3g  %.*s\n", std::string(g.name).c_str(),
-                  g.build().degree(), g.clipRadius, static_cast<int>(g.description.size()),
-                  g.description.data());
+      std::printf("%-22s degree %2d  clip %.3g  %s%s%s\n", std::string(g.name).c_str(),
+                  g.build().degree(), g.clipRadius, std::string(g.description).c_str(),
+                  g.equation.empty() ? "" : ": ", std::string(g.equation).c_str());
     return 0;
   }
 

@@ -19,6 +19,10 @@ struct GallerySurface {
   std::string_view description;  // one line, with the reference of the formula
   double clipRadius;             // clip sphere about the origin that frames it
   Polynomial (*build)();         // the polynomial (built on demand)
+  // The equation as parsePolynomial reads it (explicit '*': people paste what they are
+  // shown), where it is short enough to show; empty for the long ones (their formulas are
+  // in plugin/core/gallery.cpp). Parsed, it is build() to within rounding.
+  std::string_view equation = {};
 };
 
 std::span<const GallerySurface> gallery();

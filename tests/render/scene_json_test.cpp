@@ -4,6 +4,7 @@
 #include "json_locate.h"
 
 #include "algray/gallery.h"
+#include "algray/parser.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -576,6 +577,27 @@ std::pair<int, std::string> runRender(const std::string& args) {
   while (fgets(buf, sizeof buf, pipe)) out += buf;
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// --list-gallery shows each surface's equation as algray reads it (the heart's was
+// "9/4y^2", which --surface refused as "malformed number '4y'").
+TEST(RenderProgram, ListedGalleryEquationsRenderAsTheSurface) {
+  auto [code, out] = runRender("--list-gallery");
+  ASSERT_EQ(code, 0) << out;
+  int checked = 0;
+  for (const GallerySurface& g : gallery()) {
+    if (g.equation.empty()) continue;
+    const size_t line = out.find(std::string(g.name) + " ");
+    ASSERT_NE(line, std::string::npos) << g.name << ": " << out;
+    const std::string text = out.substr(line, out.find('\n', line) - line);
+    const size_t colon = text.rfind(": ");
+    ASSERT_NE(colon, std::string::npos) << text;
+    EXPECT_EQ(text.substr(colon + 2), g.equation);
+    EXPECT_NO_THROW(parsePolynomial(text.substr(colon + 2))) << text;
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+  EXPECT_EQ(out.find("9/4y"), std::string::npos) << out;
 }
 
 // A scene file of one sphere plus `extra` members, written to a temporary file.
