@@ -29,6 +29,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include <unistd.h>
 
@@ -40,6 +41,21 @@ using namespace algray;
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// What goes before the caret under `text` for its 1-based `column` (in code points, as
+// ParseError counts): a space per character, but the text's own tabs as tabs, so that the
+// terminal moves the caret as far as it moved the equation (a space per tab left the
+// caret up to 7 columns short).
+std::string caretPad(std::string_view text, int column) {
+  std::string pad;
+  int character = 1;
+  for (size_t i = 0; i < text.size() && character < column; ++i) {
+    if ((static_cast<unsigned char>(text[i]) & 0xC0) == 0x80) continue;  // inside a character
+    pad += text[i] == '\t' ? '\t' : ' ';
+    ++character;
+  }
+  return pad + std::string(static_cast<size_t>(std::max(0, column - character)), ' ');
+}
 
 // `number` read from `text` (trimmed), for the option `what`: finite, or refused.
 double checkedNumber(const std::string& text, const cli::Number& number, const std::string& what) {
@@ -182,8 +198,7 @@ int run(int argc, char** argv) {
       else if (!e.unknownName().empty())
         hint = " (give it a value with --param " + e.unknownName() + "=VALUE)";
       throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() +
-                       hint + "\n  " + equation + "\n  " +
-                       std::string(std::max(0, e.column() - 1), ' ') + "^");
+                       hint + "\n  " + equation + "\n  " + caretPad(equation, e.column()) + "^");
     }
     if (clipSphere.empty() && clipBox.empty())
       throw UsageError("one of --clip-sphere R or --clip-box X0,Y0,Z0,X1,Y1,Z1 is required");

@@ -871,6 +871,11 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x²+y²+z²−a\" --clip-sphere 2 " + common(good),
        "column 10: unknown name 'a' (give it a value with --param a=VALUE)\n  x²+y²+z²−a\n"
        "           ^\n"},
+      // A tab in the equation is a tab before the caret too (a space left the caret 7
+      // columns short of the '(' on a terminal).
+      {"--surface \"x^2+\ty^2+(z\" --clip-sphere 2 " + common(good),
+       "column 10: unbalanced parenthesis: '(' is never closed\n  x^2+\ty^2+(z\n"
+       "      \t    ^\n"},
       {"--surface \"x^2-a\" --param a --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2-a\" --param a=zz --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2+y^2+z^2-1\" --param x=1 --clip-sphere 2 " + common(good),
