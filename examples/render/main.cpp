@@ -305,12 +305,19 @@ int main(int argc, char** argv) {
     Scene scene(desc);
     // A surface that cannot be seen is worth a word (exit code 0: the picture is valid):
     // quick mode's default clip sphere (radius 2) holds no point of x^2+y^2+z^2 = 100.
+    // In quick mode a larger --clip-sphere is the remedy when the surface lies farther
+    // out; x^2+y^2+z^2+1 has no real point anywhere, which its terms may tell.
+    const bool quick = surfaceOpt->count() > 0;
     for (const std::string& label : scene.emptySurfaces())
-      std::fprintf(stderr,
-                   "algray-render: warning: %s: no point of the surface lies in its clip "
-                   "region, so none of it is drawn%s\n",
-                   label.c_str(),
-                   surfaceOpt->count() > 0 ? " (a larger --clip-sphere may reach it)" : "");
+      std::fprintf(
+          stderr,
+          "algray-render: warning: %s: no point of the surface lies in its clip region, so none "
+          "of it is drawn%s\n",
+          label.c_str(),
+          !quick ? ""
+          : evidentlyHasNoRealPoints(desc.surfaces.front().polynomial)
+              ? " (nor anywhere: every term is an even power of x, y, z with the constant's sign)"
+              : " (a larger --clip-sphere may reach it, if it has real points farther out)");
     // OpenImageIO loads (~0.35 s, image_backend.h) while the image renders. Not earlier:
     // while the loader runs, every thread creation waits for it (glibc's pthread_create
     // takes the loader's lock for the new thread's TLS), and building the scene starts

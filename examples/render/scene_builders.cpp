@@ -151,6 +151,19 @@ SceneDesc defaultScene() {
   return scene;
 }
 
+bool evidentlyHasNoRealPoints(const Polynomial& f) {
+  const double constant = f.coeff(0, 0, 0);
+  if (constant == 0.0) return false;
+  for (int n = 1; n <= f.degree(); ++n)
+    for (int i = n; i >= 0; --i)
+      for (int j = n - i; j >= 0; --j) {
+        const int k = n - i - j;
+        const double c = f.coeff(i, j, k);
+        if (c != 0.0 && ((i | j | k) % 2 != 0 || (c > 0.0) != (constant > 0.0))) return false;
+      }
+  return true;
+}
+
 SceneDesc quickScene(const QuickOptions& options) {
   SceneDesc scene;
   SurfaceItem s;

@@ -23,6 +23,10 @@ struct QuickOptions {
 // z = -R, a camera that frames the sphere, one directional light with shadows and a
 // constant environment (ambient light). Throws algray::Error / ParseError.
 SceneDesc quickScene(const QuickOptions& options);
+// True when f has no real zero for a reason read off its terms: every term an even power
+// of x, y and z with the constant's sign (x^2+y^2+z^2+1). So no clip sphere can reach
+// any of it. False says nothing (deciding that in general is not cheap).
+bool evidentlyHasNoRealPoints(const Polynomial& f);
 
 // A .jsurf file framed as SURFER frames it: the clip sphere of radius 1 in view space,
 // surface coordinates = 10^scale_factor * rotation_matrix * view coordinates, an

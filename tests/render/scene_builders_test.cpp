@@ -110,6 +110,17 @@ TEST(QuickScene, RefusesParametersTheSurfaceDoesNotUse) {
   expectRefused(q, "r", "takes no parameters");
 }
 
+// Quick mode's warning for a surface outside its clip sphere tells "nowhere" from "farther
+// out" where the terms show it: all even powers with the constant's sign have no real zero.
+TEST(QuickScene, NoRealPointsWhenTheTermsShowIt) {
+  for (const char* none : {"x^2+y^2+z^2+1", "(x^2+y^2+z^2)^2+1", "-x^4-2*y^2*z^2-3", "5"})
+    EXPECT_TRUE(evidentlyHasNoRealPoints(parsePolynomial(none))) << none;
+  // A real point, or signs that do not tell (x^2 - y^2 + 1 has points; so may others).
+  for (const char* some : {"x^2+y^2+z^2-100", "x^2-y^2+1", "x^2+y^2+z^2", "x^3+1", "x^2*y+1",
+                           "(x^2+y^2+z^2-1)^2+1", "x^2+y^2+z^2+1-0.5*x*y"})
+    EXPECT_FALSE(evidentlyHasNoRealPoints(parsePolynomial(some))) << some;
+}
+
 TEST(PovExport, PolynomialTermsMatchTheSurface) {
   QuickOptions q;
   q.surface = "barth-sextic";
