@@ -331,16 +331,16 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
     // First with |2 A d|_1 <= 2 max_j sum_i |A_ij| |d|_1 (and |o|_inf <= |o|_1), which
     // keeps the common shadow ray's cost to a few products (the exact test inline cost the
     // sphere's shadow rays 3-4 %, measured).
-    if (!again &&
-        std::abs(c0) <= 4.0 * e0 + 2.0 * data.quadricMoveBound * (absD.x + absD.y + absD.z) *
-                                       (ray.orgRoundoff * (absP.x + absP.y + absP.z) + orgError))
-        [[unlikely]]
+    const double dSum = absD.x + absD.y + absD.z, pSum = absP.x + absP.y + absP.z;
+    if (!again && std::abs(c0) <= 4.0 * e0 + 2.0 * data.quadricMoveBound * dSum *
+                                                 (ray.orgRoundoff * pSum + orgError)) [[unlikely]]
       again = linearRootAtOrigin(data, ray, c0, e0, orgError);
     if (again) {
       c0 = c1, c1 = 0.0;
       e0 = e1, e1 = 0.0;
       degree = 0;
-    } else if (originRootApart(v, ve, c0, c1) && originRootMatters(data, ray, v, c0)) {
+    } else if (originRootMatters(data, ray, v, c0, pSum, dSum) && originRootApart(v, ve, c0, c1))
+        [[unlikely]] {
       // (In this order, as the packet kernel computes it: bit for bit the same.)
       const double root = std::sqrt(c0 * c0 - 4.0 * (c1 * v));
       e0 = originQuotientError(v, ve, c0, e0, c1, e1, root);

@@ -637,12 +637,16 @@ inline bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const g
 // division by r on all of them cost the gallery's float shadow rays 10-25 % (speed_report,
 // session 46), for moves within a few float roundings of the scene.
 // (Written as the packet kernel computes it, quadric_packet_group.inc: the same bits.)
+// oSum, dSum: |o|_1 and |d|_1 (summed x, y, z in that order).
+inline bool originRootMatters(const SurfaceData& data, const KernelRay& ray, double c0, double c1,
+                              double oSum, double dSum) {
+  return std::abs(c0) * dSum > 16.0 * ray.orgRoundoff * (oSum + data.radius) * std::abs(c1);
+}
 inline bool originRootMatters(const SurfaceData& data, const KernelRay& ray, double c0, double c1) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
-  const double oSum = std::abs(o.x) + std::abs(o.y) + std::abs(o.z);
-  return std::abs(c0) * (std::abs(d.x) + std::abs(d.y) + std::abs(d.z)) >
-         16.0 * ray.orgRoundoff * (oSum + data.radius) * std::abs(c1);
+  return originRootMatters(data, ray, c0, c1, std::abs(o.x) + std::abs(o.y) + std::abs(o.z),
+                           std::abs(d.x) + std::abs(d.y) + std::abs(d.z));
 }
 
 // The self-root rule's division by s (ray_roots.cpp): g(0) = 0 is removed from
