@@ -122,10 +122,11 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
 // more than its rounding, and g of a ray leaving it has a near-triple cluster of roots
 // beyond the window of the origin's stated uncertainty; with g(0) set to 0, q = g / s had
 // real roots there 1e-8..3e-6 radii from the origin (98 of 2400 leaving rays in session
-// 46's audit, where the exact restriction has no real root; ray_roots.cpp, inOriginNoise). Primary rays aimed within 1e-7..1e-2 of the equator
-// from 3 radii, rays leaving each hit with pbrt's bound, double channel, closest hit and
-// occlusion; a hit within kSelfDistance that the exact ray from the surface point does not
-// meet there (genuineReentry) is the origin found again.
+// 46's audit, where the exact restriction has no real root; ray_roots.cpp, inOriginNoise).
+// Primary rays aimed within 1e-7..1e-2 of the equator from 3 radii, rays leaving each hit
+// with pbrt's bound, double channel, closest hit and occlusion; a hit within kSelfDistance
+// that the exact ray from the surface point does not meet there (genuineReentry) is the
+// origin found again.
 TEST(EmbreeShadowHeart, FewLeavingRaysNearTheEquatorFindTheirOrigin) {
   const GallerySurface* heart = findGallerySurface("heart");
   ASSERT_NE(heart, nullptr);
@@ -194,6 +195,7 @@ TEST(EmbreeShadowOffset, ThinShellsAndGrazingReentriesAreHits) {
     const char* orgError;
     double expected;
   };
+  const char* shell10 = "((x-10)^2+y^2+z^2-1)*((x-10)^2+y^2+z^2-1.0000200001)";
   const ShellCase cases[] = {
       {"((x-100)^2+y^2+z^2-1)*((x-100)^2+2*y^2+z^2+1)",
        {100, 0, 0},
@@ -207,13 +209,13 @@ TEST(EmbreeShadowOffset, ThinShellsAndGrazingReentriesAreHits) {
        {"-0x1.5041186ce3a97p-1", "-0x1.3e2b751a09132p-1", "0x1.b57865c87f77bp-2"},
        "0",
        9.99999836e-8},
-      {"((x-10)^2+y^2+z^2-1)*((x-10)^2+y^2+z^2-1.0000200001)",
+      {shell10,
        {10, 0, 0},
        {"0x1.3f16a8c108759p+3", "-0x1.aa5fea79a9161p-1", "-0x1.1b153bb4eedfbp-1"},
        {"-0x1.5041186ce3a97p-1", "-0x1.3e2b751a09132p-1", "0x1.b57865c87f77bp-2"},
        "0",
        3.33694966e-5},
-      {"((x-10)^2+y^2+z^2-1)*((x-10)^2+y^2+z^2-1.0000200001)",
+      {shell10,
        {10, 0, 0},
        {"0x1.3f16a8281c5e5p+3", "-0x1.aa6101e775c9cp-1", "-0x1.1b15f53a5eaa9p-1"},
        {"0x1.5041186ce3a97p-1", "0x1.3e2b751a09132p-1", "-0x1.b57865c87f77bp-2"},
@@ -290,8 +292,8 @@ TEST(EmbreeShadowHeart, HitsNearTheEquatorLieOnTheCrossing) {
     if (error <= 1e-9) ++placed;
   }
   EXPECT_GT(compared, 190);
-  // (4 of these 200, 5 of 600 in the audit's rays, stayed 1e-8..1e-5 off: where the compensated values do
-  // not clear their bound on both sides within the search's reach.)
+  // (4 of these 200, 5 of 600 in the audit's rays, stayed 1e-8..1e-5 off: where the
+  // compensated values do not clear their bound on both sides within the search's reach.)
   EXPECT_GE(placed, compared - compared / 25) << "worst " << worst;
   EXPECT_LT(worst, 3e-5);
   std::printf("heart equator: %d of %d hits within 1e-9 R, worst %.3g R\n", placed, compared,
