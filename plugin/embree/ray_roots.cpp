@@ -296,9 +296,8 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
 // for a simple root well apart from the rest, rho = sum_(i>=2) |c_i| |r0|^(i-1) / |c_1| <=
 // 1/8 (g within 1/8 of its tangent line over [0, 2 r0], so Newton converges there,
 // quadratically: the relative error after k steps is at most rho^(2^k), one step where rho
-// <= 2^-27);
-// near-tangent origins, whose clusters multipleRootWindow covers, keep g / s. Error bounds
-// (Higham, Sec. 3.1, for the recurrence; r's own uncertainty dr, g's noise at r over
+// <= 2^-27); near-tangent origins, whose clusters multipleRootWindow covers, keep g / s.
+// Error bounds (Higham, Sec. 3.1, for the recurrence; r's own uncertainty dr, g's noise at r over
 // |g'(r)|, enters every q_k through dq_k/dr ~ q_(k+1); the remainder g(r), within g's
 // noise, is dropped with its size added to the constant term's bound).
 // g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term and its bound.
@@ -582,13 +581,6 @@ void searchSpan(RayRoots& rr) {
 }  // namespace
 
 // ---- Polish ----------------------------------------------------------------------------
-// Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
-// (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred
-// expansion lost. A step is kept only if the iterate stays inside the span, within 1e-4 of
-// the region's span (maxMove) of where it started, and lowers |f| (so an ill-conditioned
-// root never jumps to a neighbour); then last steps on f's compensated value (below).
-// Returns whether |f| ended within its bound (evaluate()'s, at the last double step): the
-// root is confirmed on f. `last`, if given, receives f at that step (settleFirstRoot).
 namespace {
 // The sign of f's compensated value at o + t d where it clears its bound (magnitude: an
 // upper bound of sum |terms| near there), else 0.
@@ -640,6 +632,13 @@ double crossingByBisection(const HornerForm& f, const glm::dvec3& o, const glm::
 }
 }  // namespace
 
+// Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
+// (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred
+// expansion lost. A step is kept only if the iterate stays inside the span, within 1e-4 of
+// the region's span (maxMove) of where it started, and lowers |f| (so an ill-conditioned
+// root never jumps to a neighbour); then last steps on f's compensated value (below).
+// Returns whether |f| ended within its bound (evaluate()'s, at the last double step): the
+// root is confirmed on f. `last`, if given, receives f at that step (settleFirstRoot).
 bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo, double hi,
             double regionSpan, KernelHit& hit, Polynomial::Evaluation* last) {
   const double maxMove = 1e-4 * regionSpan;
@@ -700,12 +699,11 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
   // Where f's noise region about the hit is wider than 2^-20 of the span and Newton on the
   // compensated value does not converge as at a simple root (a multiple root of f, or f ~
   // dist^3 where its gradient vanishes along a smooth part of the surface: Taubin's heart's
-  // equator, whose hits lay up to 1.5e-5 radii off and whose normals, taken there, up to 55
-  // degrees off; session 46's audit), a sign change of the compensated value about t, clear
-  // of its bound (exact to the square of evaluate()'s, horner_form.h), is bisected down to
-  // that bound or 2^-40 of the span: f ~ dist^3 then places the crossing within ~(u^2)^(1/3).
-  // Only where the compensated values clear their bound with opposite signs on both sides
-  // (a crossing; an even root's touching keeps t).
+  // equator, whose hits lay up to 1.5e-5 radii off; session 46's audit), a sign change of
+  // the compensated value about t, clear of its bound (exact to the square of evaluate()'s,
+  // horner_form.h), is bisected down to that bound or 2^-40 of the span: f ~ dist^3 then
+  // places the crossing within ~(u^2)^(1/3). Only where the compensated values clear their
+  // bound with opposite signs on both sides (a crossing; an even root's touching keeps t).
   if (multiple && window > 0x1p-20 * regionSpan && std::abs(e.value) <= e.valueError) [[unlikely]] {
     const double tc =
         crossingByBisection(f, o, d, std::max(lo, hit.t - maxMove), std::min(hi, hit.t + maxMove),
