@@ -86,9 +86,9 @@ struct RootOptions {
 // c has degree+1 <= kMaxDegree+1 entries (more throws Error, as do options outside their
 // ranges: a method that is no RootMethod, relTolerance NaN or outside [0, 1]); c[degree]
 // may be rounding noise: leading coefficients negligible against the others, by the rule
-// documented in roots.cpp, are dropped. err, if not empty, has the same size (else Error) and bounds the
-// absolute error of each c[i]; it enters the noise bound of the tangent and end rules
-// above. Non-finite input gives "no root", never a hang.
+// documented in roots.cpp, are dropped. err, if not empty, has the same size (else Error)
+// and bounds the absolute error of each c[i]; it enters the noise bound of the tangent and
+// end rules above. Non-finite input gives "no root", never a hang.
 //
 // solveFirstRoot is firstRoot's answer as a flag and an out-parameter (true and root = the
 // first root, or false); firstRoot is it, inline. (A std::optional<double> returned by a
