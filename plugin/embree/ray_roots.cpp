@@ -581,57 +581,6 @@ void searchSpan(RayRoots& rr) {
 }  // namespace
 
 // ---- Polish ----------------------------------------------------------------------------
-namespace {
-// The sign of f's compensated value at o + t d where it clears its bound (magnitude: an
-// upper bound of sum |terms| near there), else 0.
-int compensatedSign(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double t,
-                    double magnitude) {
-  const glm::dvec3 p = o + t * d;
-  const double fc = f.valueCompensated(p);
-  if (!(std::abs(fc) > f.compensatedBound(fc, magnitude, p))) return 0;
-  return fc < 0 ? -1 : 1;
-}
-
-// polish's last step (below): the crossing of f's compensated value nearest t within
-// reach, inside [lo, hi], bisected; t where none is found. Steps out from reach / 64,
-// doubling, on both sides until each side's value clears its bound.
-double crossingByBisection(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double lo,
-                           double hi, double t, double reach, double magnitude, double regionSpan) {
-  // f must change sign across the whole reach (an odd crossing): a ray touching a surface,
-  // or an even root (a double torus), whose rounded values may dip below 0 somewhere inside
-  // it, keeps its tangent point (a torus's top circle touched at t = 2 moved to 1.99987).
-  const int signLo = compensatedSign(f, o, d, std::max(lo, t - reach), magnitude),
-            signHi = compensatedSign(f, o, d, std::min(hi, t + reach), magnitude);
-  if (signLo == 0 || signHi != -signLo) return t;
-  int signT = compensatedSign(f, o, d, t, magnitude);
-  double a = t, b = t;
-  int signA = signT, signB = signT;
-  for (double h = reach * 0x1p-6; h <= reach && (signA == 0 || signB == 0 || signA == signB);
-       h *= 2.0) {
-    if (signA == 0 || signA == signB) {
-      const double x = std::max(lo, t - h);
-      if (x < a) a = x, signA = compensatedSign(f, o, d, a, magnitude);
-    }
-    if (signB == 0 || signB == signA) {
-      const double x = std::min(hi, t + h);
-      if (x > b) b = x, signB = compensatedSign(f, o, d, b, magnitude);
-    }
-  }
-  if (signA == 0 || signB == 0 || signA == signB) return t;
-  // The bracket [a, b] holds a sign change; t on one side narrows it for free.
-  if (signT == signA) a = t;
-  if (signT == signB) b = t;
-  for (int it = 0; it < 64 && b - a > 0x1p-40 * regionSpan; ++it) {
-    const double m = 0.5 * (a + b);
-    if (!(m > a && m < b)) break;
-    const int sm = compensatedSign(f, o, d, m, magnitude);
-    if (sm == 0) return m;  // within the compensated value's own noise
-    (sm == signA ? a : b) = m;
-  }
-  return 0.5 * (a + b);
-}
-}  // namespace
-
 // Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
 // (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred
 // expansion lost. A step is kept only if the iterate stays inside the span, within 1e-4 of
@@ -672,7 +621,6 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
   // time for errors already 15 times below the target; verifying each step there cost 5 %.)
   const double slope = glm::dot(e.gradient, d);
   const double window = e.valueError / std::abs(slope);
-  bool multiple = !(window <= 0x1p-10 * regionSpan);  // (NaN: a zero slope)
   if (window > 0x1p-35 * regionSpan && window <= 0x1p-10 * regionSpan) [[unlikely]] {
     const bool narrow = window <= 0x1p-20 * regionSpan;
     double fc = f.valueCompensated(o + t * d);
@@ -687,30 +635,9 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
         break;
       }
       const double fn = f.valueCompensated(o + tn * d);
-      if (!(16.0 * std::abs(fn) <= std::abs(fc))) {
-        multiple = true;
-        break;
-      }
+      if (!(16.0 * std::abs(fn) <= std::abs(fc))) break;
       t = tn;
       fc = fn;
-    }
-  }
-  // ---- A crossing in a wide noise region: bisection on the compensated value -------------
-  // Where f's noise region about the hit is wider than 2^-20 of the span and Newton on the
-  // compensated value does not converge as at a simple root (a multiple root of f, or f ~
-  // dist^3 where its gradient vanishes along a smooth part of the surface: Taubin's heart's
-  // equator, whose hits lay up to 1.5e-5 radii off; session 46's audit), a sign change of
-  // the compensated value about t, clear of its bound (exact to the square of evaluate()'s,
-  // horner_form.h), is bisected down to that bound or 2^-40 of the span: f ~ dist^3 then
-  // places the crossing within ~(u^2)^(1/3). Only where the compensated values clear their
-  // bound with opposite signs on both sides (a crossing; an even root's touching keeps t).
-  if (multiple && window > 0x1p-20 * regionSpan && std::abs(e.value) <= e.valueError) [[unlikely]] {
-    const double tc =
-        crossingByBisection(f, o, d, std::max(lo, hit.t - maxMove), std::min(hi, hit.t + maxMove),
-                            t, std::min(16.0 * window, maxMove), 2.0 * e.magnitude, regionSpan);
-    if (tc != t) {
-      t = tc;
-      e = f.evaluate(o + t * d);
     }
   }
   hit.t = t;
