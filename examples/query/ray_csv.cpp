@@ -10,7 +10,9 @@
 #include <cstdlib>
 #include <istream>
 #include <ostream>
+#include <string>
 #include <string_view>
+#include <utility>
 
 namespace algray::query {
 
@@ -27,17 +29,52 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> fields;
-  size_t start = 0;
+// The fields of a line as RFC 4180 writes them: separated by commas, each either plain
+// (spaces and tabs around it trimmed) or in double quotes, inside which a comma is text and
+// "" is one quote (spreadsheets and R's write.csv quote headers and text columns: "ox" was
+// "no column 'ox'", a quoted comment with a comma "expected 9 fields, found 10"). A quote
+// left open is refused (a field across lines is not a ray's). Returns false with `error`.
+bool split(std::string_view line, std::vector<std::string>& fields, std::string& error) {
+  fields.clear();
+  size_t i = 0;
   while (true) {
-    const size_t comma = line.find(',', start);
-    fields.push_back(trim(line.substr(
-        start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    std::string field;
+    if (i < line.size() && line[i] == '"') {
+      const size_t open = i++;
+      while (true) {
+        if (i >= line.size()) {
+          error = "field " + std::to_string(fields.size() + 1) + ": the quote at character " +
+                  std::to_string(open + 1) + " is not closed on its line";
+          return false;
+        }
+        if (line[i] == '"') {
+          if (i + 1 < line.size() && line[i + 1] == '"') {
+            field += '"';
+            i += 2;
+            continue;
+          }
+          ++i;
+          break;
+        }
+        field += line[i++];
+      }
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+      if (i < line.size() && line[i] != ',') {
+        error = "field " + std::to_string(fields.size() + 1) +
+                ": text after its closing quote at character " + std::to_string(i + 1);
+        return false;
+      }
+    } else {
+      const size_t comma = line.find(',', i);
+      field = std::string(trim(
+          line.substr(i, comma == std::string_view::npos ? std::string_view::npos : comma - i)));
+      i = comma == std::string_view::npos ? line.size() : comma;
+    }
+    fields.push_back(std::move(field));
+    if (i >= line.size()) return true;
+    ++i;  // the comma
   }
-  return fields;
 }
 
 // A field as a message shows it: control bytes as \xHH (a NUL byte cut the message short,
@@ -72,13 +109,15 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
   std::array<int, kColumns.size()> where;
   where.fill(-1);
   size_t fieldCount = 0;
+  std::vector<std::string> fields;
+  std::string error;
   while (lines.next(text)) {
     lineNo = lines.number();
     // A UTF-8 byte order mark, as Excel writes it, is not part of the first column name
     // (nor after blank lines, where joining files puts it).
     if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
     if (trim(text).empty()) continue;
-    const auto fields = split(text);
+    if (!split(text, fields, error)) fail(name, lineNo, "header, " + error);
     fieldCount = fields.size();
     for (size_t f = 0; f < fields.size(); ++f)
       for (size_t c = 0; c < kColumns.size(); ++c)
@@ -106,7 +145,7 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
   while (lines.next(text)) {
     lineNo = lines.number();
     if (trim(text).empty()) continue;
-    const auto fields = split(text);
+    if (!split(text, fields, error)) fail(name, lineNo, error);
     if (fields.size() != fieldCount)
       fail(name, lineNo,
            "expected " + std::to_string(fieldCount) + " fields, found " +
@@ -114,7 +153,7 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
     double v[kColumns.size()] = {};
     for (size_t c = 0; c < kColumns.size(); ++c) {
       if (where[c] < 0) continue;  // the optional column, absent
-      const std::string field(fields[where[c]]);
+      const std::string& field = fields[where[c]];
       const std::string at =
           "column '" + std::string(kColumns[c]) + "' (field " + std::to_string(where[c] + 1) + ")";
       char* end = nullptr;

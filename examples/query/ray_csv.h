@@ -3,8 +3,9 @@
 //   rays: header naming ox,oy,oz,dx,dy,dz,tnear,tfar in any order (other columns are
 //         ignored), then one ray per line; numbers as strtod reads them, within double's
 //         range; a non-zero direction and 0 <= tnear <= tfar ("inf" allowed for tfar
-//         only). A leading UTF-8 byte order mark is skipped. An optional column org_error
-//         is the origin's uncertainty (RayD::orgError: finite, >= 0).
+//         only). A leading UTF-8 byte order mark is skipped. Fields may be quoted as RFC
+//         4180 writes them ("ox", "a, b", "say ""hi"""), on one line. An optional column
+//         org_error is the origin's uncertainty (RayD::orgError: finite, >= 0).
 //   hits: hit,t,nx,ny,nz, one row per ray in input order; zeros on a miss.
 #include "algray/embree.h"
 

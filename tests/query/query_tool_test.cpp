@@ -1043,6 +1043,33 @@ TEST(RayCsv, EveryLineEndingEndsALine) {
             "t.csv:5: column 'tfar' (field 8): must be >= tnear");
 }
 
+// Quoted fields as RFC 4180 writes them (R's write.csv quotes the header, spreadsheets a text
+// column with a comma): "ox" was "the header has no column 'ox'", a quoted comment with a
+// comma "expected 9 fields, found 10".
+TEST(RayCsv, QuotedFieldsAreRead) {
+  std::istringstream in(
+      "\"ox\",\"oy\",\"oz\",\"dx\",\"dy\",\"dz\",\"tnear\",\"tfar\",\"note\"\n"
+      "0,0,-5,0,0,1,0,inf,\"a, b\"\n"
+      " \"1\" ,0,-5,0,0,1,0,\"inf\",\"say \"\"hi\"\", then, go\"\n"
+      "2,0,-5,0,0,1,0,inf,\"\"\n");
+  const auto rays = algray::query::readRays(in, "q.csv");
+  ASSERT_EQ(rays.size(), 3u);
+  EXPECT_EQ(rays[0].org, glm::dvec3(0, 0, -5));
+  EXPECT_EQ(rays[1].org, glm::dvec3(1, 0, -5));
+  EXPECT_TRUE(std::isinf(rays[1].tfar));
+  EXPECT_EQ(rays[2].org, glm::dvec3(2, 0, -5));
+  const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar,note\n";
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,inf,\"open\n"),
+            "t.csv:2: field 9: the quote at character 20 is not closed on its line");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,inf,\"a\"b\n"),
+            "t.csv:2: field 9: text after its closing quote at character 23");
+  EXPECT_EQ(csvError("\"ox,oy,oz,dx,dy,dz,tnear,tfar\n"),
+            "t.csv:1: header, field 1: the quote at character 1 is not closed on its line");
+  // A quoted number is read as the number; a quoted non-number is named as before.
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,\"x1\",0,inf,\n"),
+            "t.csv:2: column 'dz' (field 6): not a number: 'x1'");
+}
+
 // Control bytes in a bad field are shown, not passed on: a NUL cut the message short.
 TEST(RayCsv, ControlBytesInAFieldAreShown) {
   const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
