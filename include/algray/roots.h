@@ -62,6 +62,9 @@ constexpr bool validRootMethod(RootMethod m) {
          m == RootMethod::Sturm || m == RootMethod::Bernstein;
 }
 
+// Whether t is a RootOptions::relTolerance the solvers take: in [0, 1] (not NaN).
+constexpr bool validRelTolerance(double t) { return t >= 0.0 && t <= 1.0; }
+
 struct RootOptions {
   RootMethod method = RootMethod::Auto;
   // Relative tolerance on a root, relative to the interval length, in [0, 1] (else the

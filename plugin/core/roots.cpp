@@ -56,8 +56,7 @@ void checkArguments(std::span<const T> c, std::span<const T> err, const RootOpti
                     const char* where) {
   if (c.size() > static_cast<size_t>(kMaxDegree + 1) || (!err.empty() && err.size() != c.size()))
     throwSizeError(c.size(), err.size(), where);
-  if (!validRootMethod(o.method) || !(o.relTolerance >= 0.0 && o.relTolerance <= 1.0))
-    throwOptionsError(o, where);
+  if (!validRootMethod(o.method) || !validRelTolerance(o.relTolerance)) throwOptionsError(o, where);
 }
 
 // piece(a, b, options) on the pieces of (lo, hi] at -split and split in increasing order,

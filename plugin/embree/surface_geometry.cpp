@@ -89,7 +89,7 @@ void validate(const SurfaceDesc& desc) {
   if (const RootOptions& r = desc.options.roots; !validRootMethod(r.method))
     fail("options.roots.method " + std::to_string(static_cast<int>(r.method)) +
          " is not a RootMethod");
-  else if (!(r.relTolerance >= 0.0 && r.relTolerance <= 1.0)) {
+  else if (!validRelTolerance(r.relTolerance)) {
     std::ostringstream os;
     os << "options.roots.relTolerance must be in [0, 1], got " << r.relTolerance;
     fail(os.str());
