@@ -401,11 +401,11 @@ CacheEntry* restrictOutside(const SurfaceData& data, const KernelRay& ray, doubl
 // (ray.orgError, with a deferred float term added).
 CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double orgError, double r0,
                           double r1, double closest, RayPolynomial& g, double& selfWindow,
-                          double& originSlack) {
+                          double& zeroedConstant) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
   selfWindow = 0.0;
-  originSlack = -1.0;
+  zeroedConstant = -1.0;
   if (data.quadric) {
     // (A quadric in cells: the quadric path's functions read the bound from the ray.)
     KernelRay whole = ray;
@@ -424,7 +424,7 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
     restrictToRay(data.horner, o, d, 0.0, g);
     selfWindow = selfRootWindow(data, ray, orgError);
     const double c0 = g.coeff[0], e0 = g.error[0];
-    originSlack = std::abs(c0);
+    zeroedConstant = std::abs(c0);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     if (g.degree > 0) {
       const double cluster =
@@ -433,7 +433,7 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
       // A simple root at the origin (no cluster): divided out where it lies, not at 0.
       if (cluster == 0.0 && originRootMatters(data, ray, c0, g.coeff[0]) &&
           divideByOriginRoot(g, c0, e0))
-        originSlack = -1.0;  // (g is no longer g / s; c0 was clear of its bound anyway)
+        zeroedConstant = -1.0;  // (g is no longer g / s: nothing was zeroed)
       selfWindow = std::max(selfWindow, cluster);
     }
     return nullptr;
@@ -453,16 +453,16 @@ bool surelyOutsideClipBall(const SurfaceData& data, const KernelRay& ray) {
 // for every float ray in the bridge, its square root cost the Barth sextic's primary rays
 // 2-3 % (2.85 -> 2.92-2.94 Mrays/s deferred).
 CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
-                     double closest, RayPolynomial& g, double& selfWindow, double& originSlack) {
+                     double closest, RayPolynomial& g, double& selfWindow, double& zeroedConstant) {
   if (!ray.orgErrorDeferred)
-    return restrictWhole(data, ray, ray.orgError, r0, r1, closest, g, selfWindow, originSlack);
+    return restrictWhole(data, ray, ray.orgError, r0, r1, closest, g, selfWindow, zeroedConstant);
   if (!data.quadric && surelyOutsideClipBall(data, ray)) {
     selfWindow = 0.0;
-    originSlack = -1.0;
+    zeroedConstant = -1.0;
     return restrictOutside(data, ray, r0, r1, closest, g);
   }
   const double orgError = wholeOrgError(data, ray);
-  return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow, originSlack);
+  return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow, zeroedConstant);
 }
 
 // The solver's options for a clip-region span: its start is the region's boundary, not a
@@ -691,12 +691,12 @@ void solveFirstInSpan(const SurfaceData& data, RayRoots& rr) {
 // too, is a surface (shells 3e-8 to 1e-3 wide, grazing re-entries: the review's cases).
 // Where c_0 is 0, no root of q is skipped.
 bool inOriginNoise(const RayRoots& rr, double s) {
-  const double slack = rr.originSlack, a = std::abs(s);
+  const double c0 = rr.zeroedConstant, a = std::abs(s);
   const RayPolynomial& g = rr.g;
-  if (!(a * std::abs(g.coeff[0]) <= slack)) return false;  // the common case: one product
+  if (!(a * std::abs(g.coeff[0]) <= c0)) return false;  // the common case: one product
   double sum = 0.0;
   for (int k = g.degree; k >= 0; --k) sum = sum * a + std::abs(g.coeff[k]);
-  return a * sum <= slack;
+  return a * sum <= c0;
 }
 
 // The first root of rr.g in the search span (rr.count = 0 or 1), past the origin's noise
@@ -704,7 +704,7 @@ bool inOriginNoise(const RayRoots& rr, double s) {
 void solveFirst(const SurfaceData& data, RayRoots& rr) {
   searchSpan(rr);
   solveFirstInSpan(data, rr);
-  if (!(rr.originSlack > 0.0)) return;
+  if (!(rr.zeroedConstant > 0.0)) return;
   for (int i = 0; i < 8 && rr.count == 1 && inOriginNoise(rr, rr.roots[0]); ++i) {
     rr.slo = rr.roots[0];
     rr.closedLo = false;
@@ -721,7 +721,7 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
   rr.r0 = r0;
   rr.r1 = r1;
   rr.tnear = ray.tnear;
-  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow, rr.originSlack);
+  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow, rr.zeroedConstant);
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
     ++entry->failures;

@@ -37,8 +37,8 @@ struct RayRoots {
   double tnear = 0;         // the ray's (searchSpan, with selfWindow)
   double selfWindow = 0;    // > 0: the self-root rule applied (selfRootWindow)
   // With it and g = g0 / s: |g0(0)|, the constant the rule set to 0, which a root of g
-  // must outgrow to be a surface's (inOriginNoise, ray_roots.cpp); else negative.
-  double originSlack = -1;
+  // must outgrow to be a surface's (inOriginNoise, ray_roots.cpp); else -1.
+  double zeroedConstant = -1;
   bool closedLo = true;  // slo is the region's start (regionRoots), not the window
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
