@@ -1,13 +1,12 @@
 #include "ray_csv.h"
 
+#include "number_text.h"
 #include "text_lines.h"
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <istream>
 #include <ostream>
 #include <string>
@@ -156,16 +155,15 @@ std::vector<RayD> readRays(std::istream& in, const std::string& name, bool* hasO
       const std::string& field = fields[where[c]];
       const std::string at =
           "column '" + std::string(kColumns[c]) + "' (field " + std::to_string(where[c] + 1) + ")";
-      char* end = nullptr;
-      errno = 0;
-      v[c] = field.empty() ? 0.0 : std::strtod(field.c_str(), &end);
-      if (field.empty() || end != field.c_str() + field.size())
+      // As the tools read an option's number (number_text.h): a literal outside double's
+      // range is named, a subnormal one is its value.
+      const algray::cli::Number number = algray::cli::readNumber(field);
+      v[c] = number.value;
+      if (number.problem == algray::cli::NumberProblem::kNotANumber)
         fail(name, lineNo, at + ": not a number: '" + shown(field) + "'");
-      // strtod reports a literal outside double's range with ERANGE: an overflow returns
-      // inf, an underflow 0 or a subnormal. Only the subnormal is the literal's value.
-      if (errno == ERANGE && std::isinf(v[c]))
+      if (number.problem == algray::cli::NumberProblem::kOverflows)
         fail(name, lineNo, at + ": '" + shown(field) + "' overflows double");
-      if (errno == ERANGE && v[c] == 0.0)
+      if (number.problem == algray::cli::NumberProblem::kUnderflows)
         fail(name, lineNo, at + ": '" + shown(field) + "' underflows to 0 in double");
       if (std::isnan(v[c])) fail(name, lineNo, at + ": NaN is not a valid value");
       const bool isTfar = kColumns[c] == "tfar";
