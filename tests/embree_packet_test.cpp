@@ -155,7 +155,8 @@ class EmbreePacket : public ::testing::Test {
 
   // Rays of every kind the packet kernel decides or hands back: a camera's (shared eye,
   // near or very far), random ones, from inside, leaving the surface (tnear = 0, the
-  // self-root rule; also from outside the clip ball), grazing, cut short by tfar or
+  // self-root rule; also from outside the clip ball; also nearly tangentially), grazing,
+  // cut short by tfar or
   // starting beyond the hit, and
   // degenerate ones (zero or tiny direction, inverted or empty span). (No NaN or infinite
   // lanes: Embree 3 asserts on them before any user geometry sees them.)
@@ -163,7 +164,7 @@ class EmbreePacket : public ::testing::Test {
     auto target = [&] {
       return glm::vec3(world * glm::vec4(uniform(-1.3f, 1.3f) * randomDir(), 1));
     };
-    const int kind = std::uniform_int_distribution<int>(0, 13)(rng);
+    const int kind = std::uniform_int_distribution<int>(0, 14)(rng);
     glm::vec3 o = eye, d = target() - eye;
     float tnear = 0.0f, tfar = kInf;
     switch (kind) {
@@ -202,6 +203,15 @@ class EmbreePacket : public ::testing::Test {
       case 10:
         d *= 1e-30f;
         break;
+      case 13: {  // leaving a hit of the camera nearly tangentially (1e-4 .. 1e-2 rad)
+        RTCRayHit rh = intersect1(scene, makeRay(eye, d));
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        o = eye + rh.ray.tfar * d;
+        const glm::vec3 n = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+        const glm::vec3 along = glm::normalize(glm::cross(n, randomDir()));
+        d = along + std::pow(10.0f, uniform(-4.0f, -2.0f)) * (uniform(0.0f, 1.0f) < 0.5f ? n : -n);
+        break;
+      }
       case 12:
         if (std::isnan(node.x)) break;  // else: leaving the case's singular point
         o = node;

@@ -249,6 +249,85 @@ TEST(EmbreeShadowOffset, ThinShellsAndGrazingReentriesAreHits) {
   }
 }
 
+// A thin shell's other sheet is not the origin's cluster: a ray leaving the inner sheet of
+// (|x|^2 - 1)(|x|^2 - (1 + w)^2) outwards, from an origin off that sheet towards the outer
+// one by delta, with orgError 1-3 delta, meets the outer sheet at its exact distance. The
+// shell's mid-surface, where grad f vanishes, is then within the origin's uncertainty's
+// reach, so the self-root rule asked whether c_1 (and c_2) are zero within it, as on a
+// squared sphere, and took the crossings for a multiple root: its window swallowed the
+// outer sheet along grazing rays (multipleRootWindow's splitCluster now tells sheets apart
+// by f's sign changes). Shells w = 1e-5..1e-3, delta 0.02-0.45 w, orgError up to a fourth
+// of the outer sheet's distance w - delta (an origin within about twice orgError of it may
+// be taken for one of its points), directions 0.01-0.5 rad out of the tangent plane; the
+// outer sheet beyond the self-root window 2 orgError; closest hit and occlusion, double
+// channel. Reference: the sphere of radius 1 + w along the ray (stable formula in long
+// double).
+TEST(EmbreeShadowOffset, AShellsOuterSheetIsNotTheOriginsCluster) {
+  Device device;
+  std::mt19937 rng(4747);
+  std::normal_distribution<double> n;
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto randomUnit = [&] { return glm::normalize(glm::dvec3(n(rng), n(rng), n(rng))); };
+  int rays = 0, crossing = 0, passing = 0;
+  for (const double w : {1e-5, 1e-4, 1e-3}) {
+    const double outer = (1.0 + w) * (1.0 + w);
+    char equation[128];
+    std::snprintf(equation, sizeof equation, "(x^2+y^2+z^2-1)*(x^2+y^2+z^2-%.17g)", outer);
+    SurfaceDesc desc;
+    desc.polynomial = parsePolynomial(equation);
+    desc.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+    const SurfaceScene scene(device, desc);
+    for (int i = 0; i < 120; ++i) {
+      const glm::dvec3 normal = randomUnit();
+      const double delta = (0.02 + 0.43 * u(rng)) * w;
+      const double orgError = std::min((1.0 + 2.0 * u(rng)) * delta, (w - delta) / 4.5);
+      const glm::dvec3 o = (1.0 + delta) * normal;
+      const double sinA = std::pow(10.0, -2.0 + 1.7 * u(rng));
+      glm::dvec3 side = randomUnit();
+      side = glm::normalize(side - glm::dot(side, normal) * normal);
+      const glm::dvec3 dir = std::sqrt(1.0 - sinA * sinA) * side + sinA * normal;
+      // The outer sphere's root ahead: |o + t d|^2 = outer with |o|^2 < outer (c < 0).
+      using L = long double;
+      const L b = L(o.x) * dir.x + L(o.y) * dir.y + L(o.z) * dir.z,
+              a = L(dir.x) * dir.x + L(dir.y) * dir.y + L(dir.z) * dir.z,
+              c = L(o.x) * o.x + L(o.y) * o.y + L(o.z) * o.z - L(outer);
+      const double t = static_cast<double>((-b + std::sqrt(b * b - a * c)) / a);
+      if (!(t > 4.0 * orgError)) continue;  // within the self-root window's reach
+      ++rays;
+      const RayD ray{o, dir, 0.0, 10.0, orgError};
+      const HitD hit = intersectD(scene, ray);
+      SCOPED_TRACE(testing::Message() << "w " << w << " ray " << i << " delta " << delta
+                                      << " orgError " << orgError << " sin " << sinA);
+      EXPECT_TRUE(hit.hit);
+      // Where the ray crosses the inner sphere (its origin's sheet; b^2 - a c' >= 0, c' =
+      // |o|^2 - 1): at t to the root's conditioning, 64 u times |f|'s scale (|p|^2 +
+      // 1)(|p|^2 + outer) ~ 4 over |G'(t)| = (outer - 1) 2 |p . d| (p the sheet's point;
+      // plus 1e-9 t). Where it passes its sheet by, no root is the origin's and the rule
+      // keeps g / s, whose roots are f = f(o)'s: the hit within 2 orgError of the sheet.
+      const L innerC = L(o.x) * o.x + L(o.y) * o.y + L(o.z) * o.z - 1;
+      const bool crossesInner = b * b - a * innerC >= 0;
+      ++(crossesInner ? crossing : passing);
+      const glm::dvec3 p = o + t * dir;
+      const double slope = (outer - 1.0) * 2.0 * std::abs(glm::dot(p, dir));
+      if (hit.hit && crossesInner) {
+        EXPECT_NEAR(hit.t, t, 1e-9 * t + 64.0 * 0x1p-53 * 4.0 / slope);
+      } else if (hit.hit) {
+        EXPECT_NEAR(glm::length(o + hit.t * dir), 1.0 + w, 2.0 * orgError);
+      }
+      RayD shadow = ray;
+      shadow.tfar = (1.0 + 1e-6) * (hit.hit ? hit.t : t);
+      HitD occ;
+      IntersectContext ctx;
+      initIntersectContext(&ctx, &shadow, &occ);
+      RTCRay r = makeRayHit(ctx).ray;
+      rtcOccluded1(scene, &ctx.base, &r);
+      EXPECT_TRUE(occ.hit);
+    }
+  }
+  EXPECT_GT(rays, 300);
+  std::printf("%d rays crossing their origin's sheet, %d passing it by\n", crossing, passing);
+}
+
 // Surfaces of multiplicity m (f = h^m: a double or triple plane, a squared sphere): a ray
 // leaving a point of the surface outwards meets nothing, in either channel, for closest hit
 // and occlusion in either order; one leaving the sphere inwards meets its far side. The
@@ -429,6 +508,55 @@ TEST_P(EmbreeShadowOffset, FarSideFromAnOriginOffTheSurfaceIsWhereTheRayMeetsIt)
   }
   EXPECT_EQ(rays, 600);
   std::printf("worst relative error of the far side %.3g (ray %d)\n", worstError, worst);
+}
+
+// The same for rays leaving nearly tangentially (sin of the angle to the tangent plane
+// 1.45-2.5 sqrt(delta), where the ray crosses the sphere at all: 1.41), where -c_0 / c_1 is
+// no estimate of the origin's root (rho above 1/8: divideNearTangentRoot finds it among the
+// crossings near the origin; the quadric path by its stable formula, nearTangentRootsApart):
+// g / s moved the far side by the origin's root, delta / sin ~ sqrt(delta) (3e-3 from 1e-6
+// off with orgError 1e-6). Origins outside by delta (1e-10 .. 1e-5) heading in, and inside
+// by delta heading along; clip radius 1.25. Reference: the exact sphere's far root along
+// the ray, to its conditioning (64 u times |f|'s scale, 8, over |G'(t)| = |grad f . d| at
+// the root).
+TEST_P(EmbreeShadowOffset, GrazingFarSideFromAnOriginOffTheSurface) {
+  const OffsetCase& k = GetParam();
+  Device device;
+  std::mt19937 rng(4748);
+  std::normal_distribution<double> n;
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto randomUnit = [&] { return glm::normalize(glm::dvec3(n(rng), n(rng), n(rng))); };
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial(k.equation);
+  desc.clip = ClipSphere{glm::dvec3(0.0), 1.25};
+  desc.options.quadricPath = k.quadricPath;
+  const SurfaceScene scene(device, desc);
+  for (int i = 0; i < 400; ++i) {
+    const glm::dvec3 normal = randomUnit();
+    const double delta = std::pow(10.0, -10.0 + 5.0 * u(rng));
+    const double side = i % 2 ? 1.0 : -1.0;
+    const double orgError = delta * (0.6 + 1.4 * u(rng));
+    const glm::dvec3 o = (1.0 + side * delta) * normal;
+    const double sinA = (1.45 + 1.05 * u(rng)) * std::sqrt(delta);
+    glm::dvec3 w = randomUnit();
+    w = glm::normalize(w - glm::dot(w, normal) * normal);
+    const glm::dvec3 dir = std::sqrt(1.0 - sinA * sinA) * w - sinA * normal;
+    using L = long double;
+    const L b = L(o.x) * dir.x + L(o.y) * dir.y + L(o.z) * dir.z,
+            a = L(dir.x) * dir.x + L(dir.y) * dir.y + L(dir.z) * dir.z,
+            c = L(o.x) * o.x + L(o.y) * o.y + L(o.z) * o.z - 1;
+    const double farT = static_cast<double>((-b + std::sqrt(b * b - a * c)) / a);
+    const glm::dvec3 p = o + farT * dir;
+    const double slope = std::abs(glm::dot(desc.polynomial.gradient(p), dir));
+    const RayD ray{o, dir, 0.0, 10.0, orgError};
+    const HitD hit = intersectD(scene, ray);
+    SCOPED_TRACE(testing::Message() << "ray " << i << " delta " << delta << " side " << side
+                                    << " orgError " << orgError << " sin " << sinA);
+    EXPECT_TRUE(hit.hit);
+    if (hit.hit) {
+      EXPECT_NEAR(hit.t, farT, 1e-9 * farT + 64.0 * 0x1p-53 * 8.0 / slope);
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Paths, EmbreeShadowOffset,

@@ -208,19 +208,36 @@ namespace {
 // moved the far root by r, ray_roots.cpp, divideByOriginRoot, says why). With g = c2 (s -
 // r)(s - R), the quotient is c2 s - c2 R, and -c2 R = -q for the stable formula's q = -(c1
 // + sign(c1) sqrt(c1^2 - 4 c2 v)) / 2 (R = q / c2): (c1 + sign(c1) root) / 2, one square
-// root and no division. Only where the roots are well apart, 8 |c2 v| <= c1^2 (root >=
-// |c1| / sqrt 2: no cancellation); near-tangent origins keep g / s and the cluster rules.
-// k0 = c1, k1 = c2 (the s-deflated coefficients).
-inline bool originRootApart(double v, double ve, double k0, double k1) {
-  return std::abs(v) > 4.0 * ve && k0 != 0.0 && 8.0 * std::abs(k1 * v) <= k0 * k0;
+// root and no division; the root divided out, v / q, is the nearer. Where the roots are well
+// apart, 8 |c2 v| <= c1^2 (root >= |c1| / sqrt 2: no cancellation), and, for a ray leaving
+// nearly tangentially (session 47: g / s moved a sphere's far side by the origin's root,
+// ~ sqrt(delta) from delta off), where the discriminant is clear of its rounding and of
+// what the coefficients' bounds move it by (two real roots; a ray passing its origin's
+// sheet by keeps g / s, whose roots are those of f = f(o), and the cluster rules).
+// k0 = c1, k1 = c2 (the s-deflated coefficients), ke0, ke1 their bounds.
+inline bool nearTangentRootsApart(double v, double ve, double k0, double ke0, double k1,
+                                  double ke1) {
+  const double disc = k0 * k0 - 4.0 * (k1 * v);
+  return disc > 4.0 * (gamma(3) * (k0 * k0 + 4.0 * std::abs(k1 * v)) + 2.0 * std::abs(k0) * ke0 +
+                       4.0 * (std::abs(k1) * ve + std::abs(v) * ke1));
 }
-// The quotient's constant term's bound: d/dc1 = (1 + |c1| / root) / 2 <= 1.21, d/dv =
-// |c2| / root, d/dc2 = |v| / root, and the rounding of the square root's argument (relative
-// <= 4.5 u with root^2 >= c1^2 / 2), the root and the sum, gamma(8) (|c1| + root).
+inline bool originRootApart(double v, double ve, double k0, double ke0, double k1, double ke1) {
+  return std::abs(v) > 4.0 * ve && k0 != 0.0 &&
+         (8.0 * std::abs(k1 * v) <= k0 * k0 || nearTangentRootsApart(v, ve, k0, ke0, k1, ke1));
+}
+// The quotient's constant term's bound: d/dc1 = (1 + |c1| / root) / 2 (<= 1.21 where the
+// roots are well apart), d/dv = |c2| / root, d/dc2 = |v| / root, and the rounding of the
+// square root's argument (relative <= 4.5 u with root^2 >= c1^2 / 2; gamma(2) (c1^2 + 4
+// |c2 v|) absolute, over 2 root, nearly tangent), the root and the sum, gamma(8) (|c1| +
+// root).
 inline double originQuotientError(double v, double ve, double k0, double ke0, double k1, double ke1,
                                   double root) {
-  return 1.25 * ke0 + (std::abs(k1) * ve + std::abs(v) * ke1) / root +
-         gamma(8) * (std::abs(k0) + root);
+  if (8.0 * std::abs(k1 * v) <= k0 * k0)
+    return 1.25 * ke0 + (std::abs(k1) * ve + std::abs(v) * ke1) / root +
+           gamma(8) * (std::abs(k0) + root);
+  return 0.5 * (1.0 + std::abs(k0) / root) * ke0 + (std::abs(k1) * ve + std::abs(v) * ke1) / root +
+         gamma(8) * (std::abs(k0) + root) +
+         gamma(2) * (k0 * k0 + 4.0 * std::abs(k1 * v)) / (2.0 * root);
 }
 
 template <bool kDiagonal, bool kNonNegDiagonal, bool kNonNegCentred, bool kUnitA>
@@ -339,8 +356,8 @@ void restrictQuadricRayOf(const SurfaceData& data, const KernelRay& ray, double 
       c0 = c1, c1 = 0.0;
       e0 = e1, e1 = 0.0;
       degree = 0;
-    } else if (originRootMatters(data, ray, v, c0, pSum, dSum) && originRootApart(v, ve, c0, c1))
-        [[unlikely]] {
+    } else if (originRootMatters(data, ray, v, c0, pSum, dSum) &&
+               originRootApart(v, ve, c0, e0, c1, e1)) [[unlikely]] {
       // (In this order, as the packet kernel computes it: bit for bit the same.)
       const double root = std::sqrt(c0 * c0 - 4.0 * (c1 * v));
       e0 = originQuotientError(v, ve, c0, e0, c1, e1, root);

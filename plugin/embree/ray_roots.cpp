@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <span>
 #include <type_traits>
@@ -152,6 +153,18 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray, double orgEr
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
 
+// A sign change of G = f(o + s d) in (lo, hi); lo = hi = 0: none.
+struct OwnRootBracket {
+  double lo = 0.0, hi = 0.0;
+};
+// splitCluster's answer: apart, the cluster is sheets apart, and own the origin's crossing
+// among them (none: the ray does not cross the origin's sheet).
+struct ClusterSplit {
+  bool apart = false;
+  OwnRootBracket own;
+  int changes = 0;  // G's sign changes seen
+};
+
 // ---- Multiple roots at the origin -----------------------------------------------------------
 // On a surface of multiplicity m (f = h^m q: a double plane, a squared sphere) the origin
 // lies off h = 0 by up to its uncertainty, so g = f(o + s d) has m roots clustered around
@@ -190,17 +203,105 @@ glm::dvec3 homogeneousGradient(const Polynomial& shifted, int n, const glm::dvec
   return grad;
 }
 
+// The crossings of G(s) = f(o + s d) near the origin, where the self-root rule cannot take
+// the origin's root from g's coefficients alone: G's clear sign changes on a grid over
+// +-window (16 steps) and at the extra points, and among them the origin's own crossing,
+// the one whose tangent plane lies nearest the origin, |s| |d . n| (n the unit normal
+// there), if within 4 dist (the rule takes origins up to about twice dist off their
+// sheet). Along a grazing ray that crossing can lie far from the origin, and a ray leaving
+// nearly tangentially may not cross the origin's sheet at all, or cross it twice within a
+// step of the grid (the halvings towards the origin below). g is deflated (g.coeff[i] =
+// c_(i+1)); c0, e0: G's constant and its rounding bound; dist: the origin's uncertainty.
+ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, double dist,
+                                 double c0, double e0, const RayPolynomial& g, double window,
+                                 std::initializer_list<double> extra) {
+  constexpr int kSteps = 8, kHalvings = 12;
+  std::array<double, 2 * kSteps + 2 * kHalvings + 4> at{};
+  int count = 0;
+  for (int j = -kSteps; j <= kSteps; ++j) at[count++] = window * j / kSteps;
+  // (and at +-window 2^-k, k = 4 .. 15, for the pair a ray nearly tangent to the origin's
+  // sheet crosses it in, which can lie within one step)
+  for (int k = 4; k < 4 + kHalvings; ++k) {
+    const double x = std::ldexp(window, -k);
+    at[count++] = -x, at[count++] = x;
+  }
+  for (const double x : extra)
+    if (std::isfinite(x) && count < static_cast<int>(at.size())) at[count++] = x;
+  std::sort(at.begin(), at.begin() + count);
+  // G at x, and its sign where G is clear of its noise (g's bound at x, the two roundings
+  // of c0 + x g(x), c0's own), else 0.
+  auto valueAt = [&](double x) { return c0 + x * g.evaluate(x); };
+  auto clearSign = [&](double x) {
+    double bound;
+    const double tail = x * g.evaluateWithBound(x, bound), value = c0 + tail;
+    const double noise = e0 + std::abs(x) * bound + gamma(2) * (std::abs(c0) + std::abs(tail));
+    return std::abs(value) > 4.0 * noise ? (value > 0.0 ? 1 : -1) : 0;
+  };
+  ClusterSplit split;
+  int lastSign = 0;
+  double last = 0.0, nearest = 4.0 * dist;
+  for (int i = 0; i < count; ++i) {
+    const int sign = clearSign(at[i]);
+    if (sign == 0) continue;
+    if (lastSign == -sign) {
+      ++split.changes;
+      // The crossing to a few digits (bisection on G's computed sign), its tangent plane's
+      // distance from the origin.
+      double lo = last, hi = at[i];
+      for (int k = 0; k < 24; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        ((valueAt(mid) > 0.0) == (lastSign > 0) ? lo : hi) = mid;
+      }
+      const double s = 0.5 * (lo + hi);
+      const glm::dvec3 n = data.horner.evaluate(ray.org + s * ray.dir).gradient;
+      const double length = safeLength(n);
+      const double distance = length > 0.0 ? std::abs(s * glm::dot(ray.dir, n)) / length
+                                           : std::numeric_limits<double>::infinity();
+      if (distance <= nearest) nearest = distance, split.own = {last, at[i]};
+    }
+    lastSign = sign, last = at[i];
+  }
+  return split;
+}
+
+// Whether a cluster that the origin's uncertainty made (c_1 .. c_m zero within it) is
+// sheets apart instead: on f = h^k q (q != 0 near the origin) G(s) = h(o + s d)^k q(o + s
+// d) changes sign at most once through the cluster, wherever the origin lies (never for
+// even k), so two clear sign changes of G over its window say it crosses sheets apart. A
+// thin shell (x^2+y^2+z^2-1)(x^2+y^2+z^2-1.00008) left from 2.8e-6 off its inner sheet,
+// with an orgError twice that, took c_1 for zero (the shell's mid-surface, where grad f
+// vanishes, is within 4 times the move) and the window, 4 |c_1 / c_2|, swallowed the outer
+// sheet 4.4e-4 along a grazing ray (a miss); with orgError near the shell's width c_2 too.
+// For a pair (m = 1) whose quadratic c_0 + c_1 s + c_2 s^2 has real roots G is also looked
+// at in their middle and as far again beyond each.
+ClusterSplit splitCluster(const SurfaceData& data, const KernelRay& ray, double dist, double c0,
+                          double e0, const RayPolynomial& g, int m, double window) {
+  const double c1 = g.coeff[0], c2 = g.coeff[1];
+  const double middle = -c1 / (2.0 * c2), half = std::sqrt(c1 * c1 - 4.0 * c0 * c2) / (2.0 * c2);
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  ClusterSplit split = m == 1
+                           ? crossingsNearOrigin(data, ray, dist, c0, e0, g, window,
+                                                 {middle - 2.0 * half, middle, middle + 2.0 * half})
+                           : crossingsNearOrigin(data, ray, dist, c0, e0, g, window, {none});
+  split.apart = split.changes >= 2;
+  if (!split.apart) split.own = {};
+  return split;
+}
+
 // The window over the origin's cluster of roots, for g after deflateAtZero (so g's c_i is
 // the Taylor coefficient c_(i + 1) at o), or 0 when g's constant term is clear. orgError:
 // the ray's whole bound; originValue, originValueError, gradient: f(o), its error bound, grad
-// f(o).
+// f(o); c0, e0: g's constant before deflateAtZero and its rounding bound. split: where a
+// cluster the uncertainty made is sheets apart (splitCluster; the window is then 0).
 double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double orgError,
                           double originValue, double originValueError, const glm::dvec3& gradient,
-                          const RayPolynomial& g) {
+                          double c0, double e0, const RayPolynomial& g, ClusterSplit& split) {
+  split = {};
   // Coefficients zero within their rounding bound (a ray tangent at its origin, a node)
   // need no expansion.
   int m = 0;
   while (m <= g.degree && std::abs(g.coeff[m]) <= 4.0 * g.error[m]) ++m;
+  const int roundingM = m;
   // Beyond those, only where the origin may be a singular point of f (elsewhere its root is
   // simple: a ray grazing a simple surface keeps the rule of before). The expansion below
   // for every leaving ray cost Sarti's shadow rays 7x their time, so two gates first.
@@ -279,7 +380,12 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
   const double top = std::abs(g.coeff[m]);
   for (int i = 0; i < m; ++i)
     bound = std::max(bound, std::pow(std::abs(g.coeff[i]) / top, 1.0 / (m - i)));
-  return 4.0 * bound;
+  const double window = 4.0 * bound;
+  if (roundingM == 0) {
+    split = splitCluster(data, ray, dist, c0, e0, g, m, window);
+    if (split.apart) return 0.0;
+  }
+  return window;
 }
 
 // ---- The origin's own root, when it is not 0 -------------------------------------------------
@@ -300,19 +406,23 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
 // Error bounds (Higham, Sec. 3.1, for the recurrence; r's own uncertainty dr, g's noise at r over
 // |g'(r)|, enters every q_k through dq_k/dr ~ q_(k+1); the remainder g(r), within g's
 // noise, is dropped with its size added to the constant term's bound).
-// g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term and its bound.
-bool divideByOriginRoot(RayPolynomial& g, double c0, double e0) {
+// A near-tangent origin whose cluster splitCluster told apart (a thin shell's
+// sheets; rho above 1/8 there) has a bracket of its root instead, own: Newton safeguarded
+// by bisection in it, to a step or bracket within 2^-50 |r|, and g evaluated again at r
+// for the bounds. g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term
+// and its bound; own: lo = hi = 0 for the simple root's rule.
+bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket own) {
   const int n = g.degree + 1;  // g's degree before the division by s
   const double c1 = g.coeff[0];
   if (!(std::abs(c0) > 4.0 * e0) || !(std::abs(c1) > 4.0 * g.error[0])) return false;
   const double noiseFactor = gamma(2 * n + 1);
-  double r = -c0 / c1, value = 0.0, slope = 0.0, noise = 0.0, predicted = 0.0;
-  for (int step = 0; step < 6; ++step) {
-    // g(r), g'(r), sum (e_i + gamma(2n + 1) |c_i|) |r|^i and sum_(i>=2) |c_i| |r|^(i-1)
-    // in one pass (c_(k+1) = coeff[k]).
+  double value = 0.0, slope = 0.0, noise = 0.0, rest = 0.0;
+  // g(r), g'(r), sum (e_i + gamma(2n + 1) |c_i|) |r|^i and sum_(i>=2) |c_i| |r|^(i-1) in one
+  // pass (c_(k+1) = coeff[k]).
+  auto horner = [&](double r) {
     const double ar = std::abs(r);
     value = g.coeff[n - 1], slope = 0.0, noise = g.error[n - 1] + noiseFactor * std::abs(value);
-    double rest = std::abs(value);
+    rest = std::abs(value);
     for (int k = n - 2; k >= -1; --k) {
       const double ck = k >= 0 ? g.coeff[k] : c0, ek = k >= 0 ? g.error[k] : e0;
       slope = slope * r + value;
@@ -320,15 +430,39 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0) {
       noise = noise * ar + ek + noiseFactor * std::abs(ck);
       if (k >= 1) rest = rest * ar + std::abs(ck);
     }
-    if (step == 0) {
-      predicted = rest * ar / std::abs(c1);  // rho, r0's relative error at most
-      if (!(predicted <= 0.125)) return false;
+  };
+  double r = -c0 / c1;
+  if (!(own.lo < own.hi)) {
+    double predicted = 0.0;
+    for (int step = 0; step < 6; ++step) {
+      horner(r);
+      if (step == 0) {
+        predicted = rest * std::abs(r) / std::abs(c1);  // rho, r0's relative error at most
+        if (!(predicted <= 0.125)) return false;
+      }
+      r -= value / slope;
+      // Newton's relative error e_(k+1) <= rho e_k^2 <= e_k^2 (the review of session 46: a
+      // test of rho alone, which does not shrink with the steps, ran all six every time).
+      predicted *= predicted;
+      if (predicted <= 0x1p-54) break;
     }
-    r -= value / slope;
-    // Newton's relative error e_(k+1) <= rho e_k^2 <= e_k^2 (the review of session 46: a
-    // test of rho alone, which does not shrink with the steps, ran all six every time).
-    predicted *= predicted;
-    if (predicted <= 0x1p-54) break;
+  } else {
+    horner(own.lo);
+    const bool loNegative = value < 0.0;
+    double lo = own.lo, hi = own.hi;
+    if (!(r > lo && r < hi)) r = 0.5 * (lo + hi);
+    bool converged = false;
+    for (int step = 0; step < 128 && !converged; ++step) {
+      horner(r);
+      ((value < 0.0) == loNegative ? lo : hi) = r;
+      double next = r - value / slope;
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      converged =
+          std::abs(next - r) <= 0x1p-50 * std::abs(next) || hi - lo <= 0x1p-50 * std::abs(next);
+      r = next;
+    }
+    if (!converged) return false;
+    horner(r);
   }
   if (!std::isfinite(r) || !(slope != 0.0)) return false;
   const double ar = std::abs(r);
@@ -342,6 +476,27 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0) {
   }
   g.error[0] += std::abs(value);
   return true;
+}
+
+// A near-tangent origin off its surface (divideByOriginRoot's rho above 1/8, where
+// -c_0 / c_1 is no estimate of the root): the origin's crossing among those near it
+// (crossingsNearOrigin, over twice the quadratic c_0 + c_1 s + c_2 s^2's nearer root),
+// divided out from its bracket; none (the quadratic's roots complex, or no crossing near
+// enough): g / s stays. From an origin 0.06 w off a thin shell's inner sheet (w = 1e-3,
+// orgError 7e-5), leaving at 0.012 rad, g / s moved the outer sheet's root by the origin's,
+// 1.2e-3 of 0.033.
+bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, double orgError,
+                           double c0, double e0, RayPolynomial& g) {
+  const double c1 = g.coeff[0], c2 = g.degree >= 1 ? g.coeff[1] : 0.0;
+  const double disc = c1 * c1 - 4.0 * c0 * c2;
+  if (!(disc >= 0.0)) return false;
+  const double nearRoot = c0 / (-0.5 * (c1 + std::copysign(std::sqrt(disc), c1)));
+  if (!std::isfinite(nearRoot) || nearRoot == 0.0) return false;
+  const glm::dvec3& o = ray.org;
+  const double dist = ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)) + orgError;
+  const ClusterSplit near =
+      crossingsNearOrigin(data, ray, dist, c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
+  return near.own.lo < near.own.hi && divideByOriginRoot(g, c0, e0, near.own);
 }
 
 // ---- Quadrics --------------------------------------------------------------------------
@@ -427,13 +582,21 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
     zeroedConstant = std::abs(c0);
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     if (g.degree > 0) {
+      ClusterSplit split;
       const double cluster =
           multipleRootWindow(data, ray, orgError, tlsOriginValue.value, tlsOriginValue.valueError,
-                             tlsOriginValue.gradient, g);
-      // A simple root at the origin (no cluster): divided out where it lies, not at 0.
-      if (cluster == 0.0 && originRootMatters(data, ray, c0, g.coeff[0]) &&
-          divideByOriginRoot(g, c0, e0))
-        zeroedConstant = -1.0;  // (g is no longer g / s: nothing was zeroed)
+                             tlsOriginValue.gradient, c0, e0, g, split);
+      if (split.apart && !(split.own.lo < split.own.hi)) {
+        // Sheets apart, none of them crossed near enough to be the origin's (a ray leaving
+        // nearly tangentially past its sheet): g / s stays, its roots those of f = f(o).
+      } else if (cluster == 0.0 && (split.apart || originRootMatters(data, ray, c0, g.coeff[0]))) {
+        // A simple root at the origin (no cluster, or the origin's among sheets apart, a
+        // rare path that skips the gate): divided out where it lies, not at 0. (g is then
+        // no longer g / s: nothing was zeroed.)
+        if (divideByOriginRoot(g, c0, e0, split.own) ||
+            (!split.apart && divideNearTangentRoot(data, ray, orgError, c0, e0, g)))
+          zeroedConstant = -1.0;
+      }
       selfWindow = std::max(selfWindow, cluster);
     }
     return nullptr;
