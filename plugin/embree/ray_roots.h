@@ -36,6 +36,9 @@ struct RayRoots {
   double slo = 0, shi = 0;  // the same in s
   double tnear = 0;         // the ray's (searchSpan, with selfWindow)
   double selfWindow = 0;    // > 0: the self-root rule applied (selfRootWindow)
+  // > 0: a double ray with the host's orgError whose origin the rule did not take for a
+  // surface point; roots with |t| within it are still the origin's (deriveRayRoots).
+  double originWindow = 0;
   // With it and g = g0 / s: |g0(0)|, the constant the rule set to 0, which a root of g
   // must outgrow to be a surface's (inOriginNoise, ray_roots.cpp); else -1.
   double zeroedConstant = -1;

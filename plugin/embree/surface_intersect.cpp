@@ -433,6 +433,8 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     // Behind an origin on the surface (tnear < 0): the search span kept the window, whose
     // roots are the origin's own (searchSpan).
     if (rr.selfWindow > 0.0 && std::abs(s) <= rr.selfWindow) continue;
+    if (rr.originWindow > 0.0 && std::abs(g.tShift + s) <= rr.originWindow) [[unlikely]]
+      continue;
     // The solver reports a root within noise of an end of the region's span at that end
     // (roots.h; the start is closed, regionRoots): nothing beyond the region could report
     // it, so it counts there, inside (tnear, tfar) (a triple factor seen through a
