@@ -32,6 +32,7 @@
 #include "roots_problems.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -74,8 +75,16 @@ struct Floor {
     for (int k = 0; k < N; ++k)
 #pragma GCC unroll 24
       for (int i = N - 1; i >= k; --i) cur.b[i] += lo * cur.b[i + 1];
+    // C(N, j) from a compile-time table: GCC 12 does not unroll this loop at N = 12 and
+    // then computed binomial(N, j) at run time, j divisions each (session 47: the floor's
+    // change of basis 89 ns instead of 39, its whole rays 245 ns instead of ~200).
+    static constexpr auto kBinomial = [] {
+      std::array<double, N + 1> b{};
+      for (int j = 0; j <= N; ++j) b[j] = binomial(N, j);
+      return b;
+    }();
     double p = 1;
-    for (int j = 0; j <= N; ++j, p *= w) cur.b[j] = cur.b[j] * p / binomial(N, j);
+    for (int j = 0; j <= N; ++j, p *= w) cur.b[j] = cur.b[j] * p / kBinomial[j];
 #pragma GCC unroll 24
     for (int k = 1; k <= N; ++k)
 #pragma GCC unroll 24
