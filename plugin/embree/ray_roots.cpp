@@ -153,6 +153,13 @@ bool originOnSurface(const SurfaceData& data, const KernelRay& ray, double orgEr
   return std::abs(v.value) <= 4.0 * v.valueError + 2.0 * move;
 }
 
+// deflateAtZero undone: g / s (degree n - 1) is G again, its constant c0 (bound e0).
+void undeflate(RayPolynomial& g, double c0, double e0) {
+  ++g.degree;
+  for (int i = g.degree; i > 0; --i) g.coeff[i] = g.coeff[i - 1], g.error[i] = g.error[i - 1];
+  g.coeff[0] = c0, g.error[0] = e0;
+}
+
 // A sign change of G = f(o + s d) in (lo, hi); lo = hi = 0: none.
 struct OwnRootBracket {
   double lo = 0.0, hi = 0.0;
@@ -163,6 +170,7 @@ struct ClusterSplit {
   bool apart = false;
   OwnRootBracket own;
   int changes = 0;  // G's sign changes seen
+  int unclear = 0;  // points where G was within its noise
 };
 
 // ---- Multiple roots at the origin -----------------------------------------------------------
@@ -242,7 +250,10 @@ ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, 
   double last = 0.0, nearest = 4.0 * dist;
   for (int i = 0; i < count; ++i) {
     const int sign = clearSign(at[i]);
-    if (sign == 0) continue;
+    if (sign == 0) {
+      ++split.unclear;
+      continue;
+    }
     if (lastSign == -sign) {
       ++split.changes;
       // The crossing to a few digits (bisection on G's computed sign), its tangent plane's
@@ -481,22 +492,41 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket o
 // A near-tangent origin off its surface (divideByOriginRoot's rho above 1/8, where
 // -c_0 / c_1 is no estimate of the root): the origin's crossing among those near it
 // (crossingsNearOrigin, over twice the quadratic c_0 + c_1 s + c_2 s^2's nearer root),
-// divided out from its bracket; none (the quadratic's roots complex, or no crossing near
-// enough): g / s stays. From an origin 0.06 w off a thin shell's inner sheet (w = 1e-3,
-// orgError 7e-5), leaving at 0.012 rad, g / s moved the outer sheet's root by the origin's,
-// 1.2e-3 of 0.033.
+// divided out from its bracket; no crossing near enough: g / s stays. From an origin 0.06 w
+// off a thin shell's inner sheet (w = 1e-3, orgError 7e-5), leaving at 0.012 rad, g / s
+// moved the outer sheet's root by the origin's, 1.2e-3 of 0.033.
+// A ray that passes its origin's sheet by (the quadratic's discriminant clearly negative,
+// and G clear of its noise with c_0's sign at every point over four times the distance to
+// the quadratic's vertex): no root is the origin's, and g is G again (g / s had the roots of
+// f = f(o), up to 23 % off in t along such a ray leaving a thin shell's inner sheet at 0.01
+// rad). Returns whether g is no longer g / s.
 bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, double orgError,
                            double c0, double e0, RayPolynomial& g) {
+  if (!(std::abs(c0) > 4.0 * e0)) return false;
   const double c1 = g.coeff[0], c2 = g.degree >= 1 ? g.coeff[1] : 0.0;
   const double disc = c1 * c1 - 4.0 * c0 * c2;
-  if (!(disc >= 0.0)) return false;
-  const double nearRoot = c0 / (-0.5 * (c1 + std::copysign(std::sqrt(disc), c1)));
-  if (!std::isfinite(nearRoot) || nearRoot == 0.0) return false;
   const glm::dvec3& o = ray.org;
   const double dist = ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)) + orgError;
+  if (disc >= 0.0) {
+    const double nearRoot = c0 / (-0.5 * (c1 + std::copysign(std::sqrt(disc), c1)));
+    if (!std::isfinite(nearRoot) || nearRoot == 0.0) return false;
+    const ClusterSplit near =
+        crossingsNearOrigin(data, ray, dist, c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
+    return near.own.lo < near.own.hi && divideByOriginRoot(g, c0, e0, near.own);
+  }
+  // disc's rounding and what the coefficients' bounds move it by (as the quadric path's
+  // nearTangentRootsApart).
+  const double e1 = g.error[0], e2 = g.degree >= 1 ? g.error[1] : 0.0;
+  const double discNoise =
+      4.0 * (gamma(3) * (c1 * c1 + 4.0 * std::abs(c0 * c2)) + 2.0 * std::abs(c1) * e1 +
+             4.0 * (std::abs(c2) * e0 + std::abs(c0) * e2));
+  const double vertex = -c1 / (2.0 * c2);
+  if (!(disc < -discNoise) || !std::isfinite(vertex) || vertex == 0.0) return false;
   const ClusterSplit near =
-      crossingsNearOrigin(data, ray, dist, c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
-  return near.own.lo < near.own.hi && divideByOriginRoot(g, c0, e0, near.own);
+      crossingsNearOrigin(data, ray, dist, c0, e0, g, 4.0 * std::abs(vertex), {vertex});
+  if (near.changes != 0 || near.unclear != 0) return false;
+  undeflate(g, c0, e0);
+  return true;
 }
 
 // ---- Quadrics --------------------------------------------------------------------------
@@ -588,7 +618,14 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
                              tlsOriginValue.gradient, c0, e0, g, split);
       if (split.apart && !(split.own.lo < split.own.hi)) {
         // Sheets apart, none of them crossed near enough to be the origin's (a ray leaving
-        // nearly tangentially past its sheet): g / s stays, its roots those of f = f(o).
+        // nearly tangentially past its sheet): g is G again where G was clear of its noise
+        // at every point looked at (no crossing pair of the origin's sheet can hide
+        // there; g / s had the roots of f = f(o), up to 23 % off in t on a thin shell's
+        // rays leaving at 0.01 rad), else g / s stays.
+        if (split.unclear == 0 && std::abs(c0) > 4.0 * e0) {
+          undeflate(g, c0, e0);
+          zeroedConstant = -1.0;
+        }
       } else if (cluster == 0.0 && (split.apart || originRootMatters(data, ray, c0, g.coeff[0]))) {
         // A simple root at the origin (no cluster, or the origin's among sheets apart, a
         // rare path that skips the gate): divided out where it lies, not at 0. (g is then
