@@ -164,8 +164,9 @@ void undeflate(RayPolynomial& g, double c0, double e0) {
 struct OwnRootBracket {
   double lo = 0.0, hi = 0.0;
 };
-// splitCluster's answer: apart, the cluster is sheets apart, and own the origin's crossing
-// among them (none: the ray does not cross the origin's sheet).
+// crossingsNearOrigin's and splitCluster's answer: own, the origin's crossing among G's
+// sign changes near it (none: the ray does not cross the origin's sheet there), changes and
+// unclear, what the look saw; apart (splitCluster), the cluster is sheets apart.
 struct ClusterSplit {
   bool apart = false;
   OwnRootBracket own;
@@ -417,10 +418,10 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
 // Error bounds (Higham, Sec. 3.1, for the recurrence; r's own uncertainty dr, g's noise at r over
 // |g'(r)|, enters every q_k through dq_k/dr ~ q_(k+1); the remainder g(r), within g's
 // noise, is dropped with its size added to the constant term's bound).
-// A near-tangent origin whose cluster splitCluster told apart (a thin shell's
-// sheets; rho above 1/8 there) has a bracket of its root instead, own: Newton safeguarded
-// by bisection in it, to a step or bracket within 2^-50 |r|, and g evaluated again at r
-// for the bounds. g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term
+// A near-tangent origin (rho above 1/8: a cluster splitCluster told apart, a thin shell's
+// sheets, or divideNearTangentRoot's) has a bracket of its root instead, own: Newton
+// safeguarded by bisection in it, to a step or bracket within 2^-50 |r|, and g evaluated
+// again at r for the bounds. g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term
 // and its bound; own: lo = hi = 0 for the simple root's rule.
 bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket own) {
   const int n = g.degree + 1;  // g's degree before the division by s
