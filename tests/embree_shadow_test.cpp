@@ -577,6 +577,88 @@ TEST_P(EmbreeShadowOffset, FarSideFromAnOriginOffTheSurfaceIsWhereTheRayMeetsIt)
   std::printf("worst relative error of the far side %.3g (ray %d)\n", worstError, worst);
 }
 
+// The review of session 47's first version of the shell split and the nearly tangent
+// division (rays from its repros, references by exact rational restriction and mpmath):
+// (a) a torus shell's far sheet from an origin 3.6e-9 off its sheet, 5.7e-5 rad from its
+// tangent plane, double channel: dividing out the origin's root with r's uncertainty in
+// every quotient coefficient's bound (dr |q_(k+1)|, dr = 6.6e-8 at its tiny slope) put a
+// hit in the gap between the sheets (1.28800 instead of 1.28733); Sarti's float leaving
+// rays likewise hit points on no surface. (b) Cayley's float leaving ray 4.5e-6 rad from
+// its tangent plane crosses its own sheet either side of the origin (-0.0087, +0.0062); the
+// ray from the surface point meets nothing ahead: both crossings are the origin's. (c) A
+// double plane times a sphere, orgError 1.7e-3 and 3e-3: a long cluster window with the
+// sphere's crossings in it; the split reported a point 2.6-3.6 orgError off both surfaces.
+TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
+  Device device;
+  auto hex = [](const char* text) { return std::strtod(text, nullptr); };
+  {  // (a) torus shell, double channel; exact first root 1.2873290181137182
+    SurfaceDesc desc;
+    desc.polynomial = parsePolynomial(
+        "((x^2+y^2+z^2+1-0.16)^2-4*(x^2+y^2))*((x^2+y^2+z^2+1-(0.4+1e-3)^2)^2-4*(x^2+y^2))");
+    desc.clip = ClipSphere{glm::dvec3(0.0), 1.6};
+    const SurfaceScene scene(device, desc);
+    const glm::dvec3 o(hex("-0x1.bfa3dda3882b4p-1"), hex("0x1.5ac408fcec8dap-4"),
+                       hex("-0x1.8748e5a8a26ebp-2"));
+    const glm::dvec3 d(hex("0x1.cb76b52f363b7p-1"), hex("0x1.627a87cb03794p-2"),
+                       hex("0x1.182aa63d81bd1p-2"));
+    for (const double orgError :
+         {2.162179806922718e-09, 6.4865394207681544e-09, 1.9459618262304462e-08}) {
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, 10.0, orgError});
+      EXPECT_TRUE(hit.hit) << "torus shell, orgError " << orgError;
+      if (hit.hit) {
+        EXPECT_NEAR(hit.t, 1.2873290181137182, 1e-9) << "torus shell, orgError " << orgError;
+      }
+    }
+  }
+  {  // (a) Sarti, float channel: no root in the clip span; the second one's at 4.9477537615
+    const GallerySurface* g = findGallerySurface("sarti-dodecic");
+    ASSERT_NE(g, nullptr);
+    SurfaceDesc desc;
+    desc.polynomial = g->build();
+    desc.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
+    const SurfaceScene scene(device, desc);
+    const RTCRayHit none = intersect1(
+        scene,
+        makeRay(glm::vec3(hex("0x1.0bd58p+1"), hex("0x1.8f9038p-1"), hex("-0x1.fe28bcp-1")),
+                glm::vec3(hex("-0x1.d4d0dep-1"), hex("-0x1.0a7a8p-3"), hex("0x1.8572c2p-2"))));
+    EXPECT_EQ(none.hit.geomID, RTC_INVALID_GEOMETRY_ID) << "Sarti: t " << none.ray.tfar;
+    const RTCRayHit far = intersect1(
+        scene,
+        makeRay(glm::vec3(hex("0x1.48829p-1"), hex("-0x1.6de4d4p+0"), hex("0x1.1154ep+1")),
+                glm::vec3(hex("-0x1.23d48p-2"), hex("0x1.ea215ap-2"), hex("-0x1.a93374p-1"))));
+    EXPECT_NE(far.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+    EXPECT_NEAR(far.ray.tfar, 4.9477537615, 1e-5);
+  }
+  {  // (b) Cayley, float channel: nothing ahead before 0.03 (the sheet's pair is the origin's)
+    const GallerySurface* g = findGallerySurface("cayley-cubic");
+    ASSERT_NE(g, nullptr);
+    SurfaceDesc desc;
+    desc.polynomial = g->build();
+    desc.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
+    const SurfaceScene scene(device, desc);
+    const RTCRayHit rh = intersect1(
+        scene,
+        makeRay(glm::vec3(hex("-0x1.7759p-7"), hex("-0x1.fffdap-1"), hex("-0x1.7c61p-5")),
+                glm::vec3(hex("-0x1.e9c7b8p-1"), hex("-0x1.173262p-10"), hex("0x1.2a63c4p-2"))));
+    EXPECT_FALSE(rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < 0.03f)
+        << "Cayley: t " << rh.ray.tfar;
+  }
+  {  // (c) x^2 (x^2 + y^2 + z^2 - 0.7): a miss, or the sphere at 0.24373875335662676
+    SurfaceDesc desc;
+    desc.polynomial = parsePolynomial("x^2*(x^2+y^2+z^2-0.7)");
+    desc.clip = ClipSphere{glm::dvec3(0.0), 1.0};
+    const SurfaceScene scene(device, desc);
+    const glm::dvec3 o(-0.00093932706531650112, -0.37760151702420708, -0.48618107768265229);
+    const glm::dvec3 d(-0.022072911275646433, -0.92122238295583481, -0.38840971631640536);
+    for (const double orgError : {0.0017128587792939762, 0.003}) {
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, 10.0, orgError});
+      if (hit.hit) {
+        EXPECT_NEAR(hit.t, 0.24373875335662676, 1e-9) << "double plane, orgError " << orgError;
+      }
+    }
+  }
+}
+
 // The same for rays leaving nearly tangentially (sin of the angle to the tangent plane
 // 1.45-2.5 sqrt(delta), where the ray crosses the sphere at all: 1.41), where -c_0 / c_1 is
 // no estimate of the origin's root (rho above 1/8: divideNearTangentRoot finds it among the

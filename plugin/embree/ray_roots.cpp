@@ -172,6 +172,7 @@ struct ClusterSplit {
   OwnRootBracket own;
   int changes = 0;  // G's sign changes seen
   int unclear = 0;  // points where G was within its noise
+  int nearby = 0;   // crossings whose tangent plane lies within reach of the origin
 };
 
 // ---- Multiple roots at the origin -----------------------------------------------------------
@@ -212,6 +213,20 @@ glm::dvec3 homogeneousGradient(const Polynomial& shifted, int n, const glm::dvec
   return grad;
 }
 
+// Whether the ray from the origin moved onto the surface (one Newton step along grad f)
+// changes sign, clearly, between s / 2 and 2 s: a crossing near s that is not there only
+// because the origin lies off the surface.
+bool crossesFromSurfacePoint(const SurfaceData& data, const KernelRay& ray, double s) {
+  const Polynomial::Evaluation at = data.horner.evaluate(ray.org);
+  const double gg = glm::dot(at.gradient, at.gradient);
+  if (!(gg > 0.0) || !std::isfinite(gg)) return false;
+  const glm::dvec3 p = ray.org - (at.value / gg) * at.gradient;
+  const Polynomial::Evaluation a = data.horner.evaluate(p + 0.5 * s * ray.dir),
+                               b = data.horner.evaluate(p + 2.0 * s * ray.dir);
+  return std::abs(a.value) > a.valueError && std::abs(b.value) > b.valueError &&
+         (a.value < 0.0) != (b.value < 0.0);
+}
+
 // The crossings of G(s) = f(o + s d) near the origin, where the self-root rule cannot take
 // the origin's root from g's coefficients alone: G's clear sign changes on a grid over
 // +-window (16 steps) and at the extra points, and among them the origin's own crossing,
@@ -248,7 +263,12 @@ ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, 
   };
   ClusterSplit split;
   int lastSign = 0;
-  double last = 0.0, nearest = 4.0 * dist;
+  double last = 0.0;
+  // The two crossings within reach nearest the origin's tangent planes: bracket, s, distance.
+  struct Near {
+    OwnRootBracket bracket;
+    double s = 0.0, distance = std::numeric_limits<double>::infinity();
+  } first, second;
   for (int i = 0; i < count; ++i) {
     const int sign = clearSign(at[i]);
     if (sign == 0) {
@@ -260,7 +280,7 @@ ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, 
       // The crossing to a few digits (bisection on G's computed sign), its tangent plane's
       // distance from the origin.
       double lo = last, hi = at[i];
-      for (int k = 0; k < 24; ++k) {
+      for (int k = 0; k < 16; ++k) {
         const double mid = 0.5 * (lo + hi);
         ((valueAt(mid) > 0.0) == (lastSign > 0) ? lo : hi) = mid;
       }
@@ -269,10 +289,26 @@ ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, 
       const double length = safeLength(n);
       const double distance = length > 0.0 ? std::abs(s * glm::dot(ray.dir, n)) / length
                                            : std::numeric_limits<double>::infinity();
-      if (distance <= nearest) nearest = distance, split.own = {last, at[i]};
+      if (distance <= 4.0 * dist) {
+        ++split.nearby;
+        const Near here{{last, at[i]}, s, distance};
+        if (distance < first.distance)
+          second = first, first = here;
+        else if (distance < second.distance)
+          second = here;
+      }
     }
     lastSign = sign, last = at[i];
   }
+  // One crossing within reach is the origin's. Of two, the nearer is where the other is a
+  // crossing of the ray from the origin moved onto the surface too (one Newton step along
+  // grad f; a ray from a point inside a sphere near its surface, nearly tangent: the
+  // origin's crossing behind it, the far side ahead); else both are the origin's (the pair
+  // a ray nearly tangent at its origin crosses its own sheet in where the origin lies off
+  // it, one either side: dividing out one reported the other, 6e-3 ahead on the Cayley
+  // cubic where the ray from the surface point meets nothing; the review of session 47).
+  if (split.nearby == 1 || (split.nearby == 2 && crossesFromSurfacePoint(data, ray, second.s)))
+    split.own = first.bracket;
   return split;
 }
 
@@ -295,7 +331,15 @@ ClusterSplit splitCluster(const SurfaceData& data, const KernelRay& ray, double 
                            ? crossingsNearOrigin(data, ray, dist, c0, e0, g, window,
                                                  {middle - 2.0 * half, middle, middle + 2.0 * half})
                            : crossingsNearOrigin(data, ray, dist, c0, e0, g, window, {none});
-  split.apart = split.changes >= 2;
+  // Sheets apart where the origin's crossing is told (crossingsNearOrigin), or no crossing
+  // is within its reach and G is clear of its noise everywhere looked at with c_0 clear
+  // (the ray passes its sheet by). A cluster whose G is within its noise
+  // somewhere and with no crossing in reach is the multiple surface the rule is for (a
+  // double plane x^2 q with a sphere's crossings in its long window: g / s with window 0
+  // reported a point 2.6-3.6 orgError off both surfaces; the review).
+  const bool own = split.own.lo < split.own.hi;
+  split.apart = split.changes >= 2 &&
+                (own || (split.nearby == 0 && split.unclear == 0 && std::abs(c0) > 4.0 * e0));
   if (!split.apart) split.own = {};
   return split;
 }
@@ -415,9 +459,13 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
 // 1/8 (g within 1/8 of its tangent line over [0, 2 r0], so Newton converges there,
 // quadratically: the relative error after k steps is at most rho^(2^k), one step where rho
 // <= 2^-27); near-tangent origins, whose clusters multipleRootWindow covers, keep g / s.
-// Error bounds (Higham, Sec. 3.1, for the recurrence; r's own uncertainty dr, g's noise at r over
-// |g'(r)|, enters every q_k through dq_k/dr ~ q_(k+1); the remainder g(r), within g's
-// noise, is dropped with its size added to the constant term's bound).
+// Error bounds (Higham, Sec. 3.1, for the recurrence; the remainder g(r), within g's noise,
+// is dropped with its size and g's noise at r added to the constant term's bound). Whatever
+// r is, g(s) = (s - r) q(s) + g(r), so q's roots are g's others up to the remainder: r's
+// own error needs no term (session 46 added dr |q_(k+1)| to every q_k, with dr = g's noise
+// at r over |g'(r)|; the review of session 47 found that, at the tiny slopes of a thin
+// shell's or a nearly tangent origin's root, it raised q's bound over a shell's gap, and
+// the noise rule reported points there, on no surface: 10-22 of 1776 grazing float rays).
 // A near-tangent origin (rho above 1/8: a cluster splitCluster told apart, a thin shell's
 // sheets, or divideNearTangentRoot's) has a bracket of its root instead, own: Newton
 // safeguarded by bisection in it, to a step or bracket within 2^-50 |r|, and g evaluated
@@ -478,15 +526,12 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket o
   }
   if (!std::isfinite(r) || !(slope != 0.0)) return false;
   const double ar = std::abs(r);
-  // r's uncertainty: g's noise at r over the slope, and the last step's own error at most.
-  const double dr = 2.0 * noise / std::abs(slope) + 0x1p-52 * ar;
   for (int k = n - 2; k >= 0; --k) {
     const double q = g.coeff[k + 1], term = r * q;
     g.coeff[k] += term;
-    g.error[k] +=
-        ar * g.error[k + 1] + dr * std::abs(q) + gamma(2) * (std::abs(g.coeff[k]) + std::abs(term));
+    g.error[k] += ar * g.error[k + 1] + gamma(2) * (std::abs(g.coeff[k]) + std::abs(term));
   }
-  g.error[0] += std::abs(value);
+  g.error[0] += std::abs(value) + noise;
   return true;
 }
 
@@ -619,14 +664,11 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
                              tlsOriginValue.gradient, c0, e0, g, split);
       if (split.apart && !(split.own.lo < split.own.hi)) {
         // Sheets apart, none of them crossed near enough to be the origin's (a ray leaving
-        // nearly tangentially past its sheet): g is G again where G was clear of its noise
-        // at every point looked at (no crossing pair of the origin's sheet can hide
-        // there; g / s had the roots of f = f(o), up to 23 % off in t on a thin shell's
-        // rays leaving at 0.01 rad), else g / s stays.
-        if (split.unclear == 0 && std::abs(c0) > 4.0 * e0) {
-          undeflate(g, c0, e0);
-          zeroedConstant = -1.0;
-        }
+        // nearly tangentially past its sheet; G was clear of its noise at every point looked
+        // at, splitCluster): g is G again (g / s had the roots of f = f(o), up to 23 % off
+        // in t on a thin shell's rays leaving at 0.01 rad).
+        undeflate(g, c0, e0);
+        zeroedConstant = -1.0;
       } else if (cluster == 0.0 && (split.apart || originRootMatters(data, ray, c0, g.coeff[0]))) {
         // A simple root at the origin (no cluster, or the origin's among sheets apart, a
         // rare path that skips the gate): divided out where it lies, not at 0. (g is then
