@@ -534,6 +534,31 @@ TEST_F(EmbreePacket, PacketLanesMatchTheScalarKernel) {
 
 // The same rays with the packet kernel switched off (SurfaceOptions::packetSimd): the
 // lane loop, which the comparison above checks against rtcIntersect1 as well.
+// The origin window (a double ray whose host states orgError > 0: roots within twice it of
+// the origin are the origin's, ray_roots.cpp deriveRayRoots and quadricLane) asks for the
+// host's own bound: the object-space orgError of a transformed surface is never 0 (the map's
+// rounding), and with it the window took hits 1.3-3.4 u |o| from origins with orgError 0
+// (a transformed Whitney umbrella, 72 of 960 leaving rays; the review of session 47).
+TEST_F(EmbreePacket, OnlyTheHostsOwnBoundOpensTheOriginWindow) {
+  SurfaceDesc desc = sphereDesc(1.0, 1.6);
+  desc.transform = glm::dmat4(1.0);
+  desc.transform[1][1] = 0.01;
+  desc.transform[3] = glm::dvec4(0.0, 300.0, 0.0, 1.0);
+  for (const bool transformed : {false, true}) {
+    const SurfaceScene scene(device, transformed ? desc : sphereDesc(1.0, 1.6));
+    const SurfaceData& data = surfaceData(scene);
+    const glm::dvec3 o = transformed ? glm::dvec3(0.0, 300.01, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
+    const glm::dvec3 d(1.0, 0.0, 0.0);
+    const double inf = std::numeric_limits<double>::infinity();
+    SCOPED_TRACE(transformed);
+    EXPECT_FALSE(hostObjectRay(data, o, d, 0.0, inf, kUnitRoundoff, 0.0).hostBound);
+    EXPECT_TRUE(hostObjectRay(data, o, d, 0.0, inf, kUnitRoundoff, 1e-12).hostBound);
+    EXPECT_FALSE(hostObjectRay(data, o, d, 0.0, inf, 0x1p-24, 1e-12).hostBound);  // a float ray
+    EXPECT_GT(hostObjectRay(data, o, d, 0.0, inf, kUnitRoundoff, 0.0).orgError,
+              transformed ? 0.0 : -1.0);
+  }
+}
+
 TEST_F(EmbreePacket, PacketSwitchKeepsTheHits) {
   SurfaceDesc on = sphereDesc(1.0, 1.2), off = on;
   off.options.packetSimd = false;

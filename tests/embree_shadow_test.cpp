@@ -185,7 +185,9 @@ TEST(EmbreeShadowHeart, LeavingRaysNearTheEquatorDoNotFindTheirOrigin) {
 // (session 47's audit: 37-86 of 330-1280 such rays on these surfaces; originOnSurface's
 // second-order term). Primary rays from 3 clip radii at the pinch points and at points of
 // the double lines (offset 1e-12..1e-8 radii), rays leaving each hit with pbrt's bound in
-// random directions, double channel: no hit and no occlusion within the window.
+// random directions, double channel: no hit and no occlusion within the window. (And a
+// pair of planes through a line, on the quadric path: the review found quadricLane without
+// the window, 9 of 1440 such rays within it.)
 TEST(EmbreeShadowSingular, LeavingRaysNextToPinchPointsSkipTheSelfRootWindow) {
   struct SingularCase {
     const char* equation;  // or a gallery name
@@ -197,6 +199,8 @@ TEST(EmbreeShadowSingular, LeavingRaysNextToPinchPointsSkipTheSelfRootWindow) {
       {"z*(x^2+y^2) - 2*x*y", 1.5, {{0, 0, 1}, {0, 0, -1}, {0, 0, 0.4}}},
       {"x^2 - y^2*z", 1.0, {{0, 0, 0}, {0, 0, 1e-6}, {0, 0, 0.5}}},
       {"4*x^2*(x^2+y^2+z^2+z) + y^2*(y^2+z^2-1)", 1.5, {{0, 0, 0}, {0, 0, -1}, {0, 0, -0.5}}},
+      // A pair of planes 0.2 rad apart through the z axis, on the quadric path (quadricLane).
+      {"x^2 - 1e-2*y^2", 1.0, {{0, 0, 0}, {0, 0, 0.5}, {0, 0, -0.3}}},
   };
   Device device;
   std::mt19937 rng(4749);
@@ -588,6 +592,7 @@ TEST_P(EmbreeShadowOffset, FarSideFromAnOriginOffTheSurfaceIsWhereTheRayMeetsIt)
 // ray from the surface point meets nothing ahead: both crossings are the origin's. (c) A
 // double plane times a sphere, orgError 1.7e-3 and 3e-3: a long cluster window with the
 // sphere's crossings in it; the split reported a point 2.6-3.6 orgError off both surfaces.
+// (d) The second review: the quadric path kept no origin window (faad847's, the walk's).
 TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
   Device device;
   auto hex = [](const char* text) { return std::strtod(text, nullptr); };
@@ -642,6 +647,36 @@ TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
                 glm::vec3(hex("-0x1.e9c7b8p-1"), hex("-0x1.173262p-10"), hex("0x1.2a63c4p-2"))));
     EXPECT_FALSE(rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar < 0.03f)
         << "Cayley: t " << rh.ray.tfar;
+  }
+  {  // (d) quadric path (quadricLane): nothing within 2 orgError of origins between two
+     // planes through a line (the exact roots of line 1 are -1.845e-15 and 2.137e-15)
+    struct PlanePair {
+      const char* equation;
+      const char* o[3];
+      const char* d[3];
+      const char* orgError;
+    };
+    const PlanePair pairs[] = {
+        {"x^2-1e-2*y^2",
+         {"-0x1p-52", "0x1.34p-46", "0x1.eap-44"},
+         {"0x1.b5d7711f54607p-1", "-0x1.f544a0bb34635p-2", "-0x1.5d337bb9db2f9p-3"},
+         "0x1.1ffffffffffa7p-49"},
+        {"x^2-1e-6*y^2",
+         {"0", "0x1.2944p-39", "0x1.0e81ebp-27"},
+         {"-0x1.c332575b35434p-1", "0x1.386266b8142cap-4", "-0x1.ddaa1ae21e2f5p-2"},
+         "0x1.1ffffffe34d3fp-49"},
+    };
+    for (const PlanePair& c : pairs) {
+      SurfaceDesc desc;
+      desc.polynomial = parsePolynomial(c.equation);
+      desc.clip = ClipSphere{glm::dvec3(0.0), 1.0};
+      const SurfaceScene scene(device, desc);
+      const glm::dvec3 o(hex(c.o[0]), hex(c.o[1]), hex(c.o[2]));
+      const glm::dvec3 d(hex(c.d[0]), hex(c.d[1]), hex(c.d[2]));
+      const double orgError = hex(c.orgError);
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, 10.0, orgError});
+      EXPECT_FALSE(hit.hit && hit.t <= 2.0 * orgError) << c.equation << ": t " << hit.t;
+    }
   }
   {  // (c) x^2 (x^2 + y^2 + z^2 - 0.7): a miss, or the sphere at 0.24373875335662676
     SurfaceDesc desc;

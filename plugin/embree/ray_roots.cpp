@@ -538,41 +538,28 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket o
 // A near-tangent origin off its surface (divideByOriginRoot's rho above 1/8, where
 // -c_0 / c_1 is no estimate of the root): the origin's crossing among those near it
 // (crossingsNearOrigin, over twice the quadratic c_0 + c_1 s + c_2 s^2's nearer root),
-// divided out from its bracket; no crossing near enough: g / s stays. From an origin 0.06 w
-// off a thin shell's inner sheet (w = 1e-3, orgError 7e-5), leaving at 0.012 rad, g / s
-// moved the outer sheet's root by the origin's, 1.2e-3 of 0.033.
-// A ray that passes its origin's sheet by (the quadratic's discriminant clearly negative,
-// and G clear of its noise with c_0's sign at every point over four times the distance to
-// the quadratic's vertex): no root is the origin's, and g is G again (g / s had the roots of
-// f = f(o), up to 23 % off in t along such a ray leaving a thin shell's inner sheet at 0.01
-// rad). Returns whether g is no longer g / s.
+// divided out from its bracket; no crossing near enough, or the quadratic's roots complex:
+// g / s stays. From an origin 0.06 w off a thin shell's inner sheet (w = 1e-3, orgError
+// 7e-5), leaving at 0.012 rad, g / s moved the outer sheet's root by the origin's, 1.2e-3
+// of 0.033. (Where the ray passes its sheet by, g = G itself was tried (f58089f) and taken
+// out: from a float hit 7.4e-8 inside a torus, 1.4e-4 rad from the tangent plane, the ray
+// from the exact hit point re-crosses the sheet 4.4e-4 ahead, which g / s, whose roots are
+// f = f(o)'s, finds and G from the rounded origin does not: 426 of 445 differing grazing
+// float rays on 14 gallery surfaces lost such a hit, and the look cost grazing rays 17-30
+// %; the review of session 47.) Returns whether g is no longer g / s.
 bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, double orgError,
                            double c0, double e0, RayPolynomial& g) {
   if (!(std::abs(c0) > 4.0 * e0)) return false;
   const double c1 = g.coeff[0], c2 = g.degree >= 1 ? g.coeff[1] : 0.0;
   const double disc = c1 * c1 - 4.0 * c0 * c2;
+  if (!(disc >= 0.0)) return false;
+  const double nearRoot = c0 / (-0.5 * (c1 + std::copysign(std::sqrt(disc), c1)));
+  if (!std::isfinite(nearRoot) || nearRoot == 0.0) return false;
   const glm::dvec3& o = ray.org;
   const double dist = ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)) + orgError;
-  if (disc >= 0.0) {
-    const double nearRoot = c0 / (-0.5 * (c1 + std::copysign(std::sqrt(disc), c1)));
-    if (!std::isfinite(nearRoot) || nearRoot == 0.0) return false;
-    const ClusterSplit near =
-        crossingsNearOrigin(data, ray, dist, c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
-    return near.own.lo < near.own.hi && divideByOriginRoot(g, c0, e0, near.own);
-  }
-  // disc's rounding and what the coefficients' bounds move it by (as the quadric path's
-  // nearTangentRootsApart).
-  const double e1 = g.error[0], e2 = g.degree >= 1 ? g.error[1] : 0.0;
-  const double discNoise =
-      4.0 * (gamma(3) * (c1 * c1 + 4.0 * std::abs(c0 * c2)) + 2.0 * std::abs(c1) * e1 +
-             4.0 * (std::abs(c2) * e0 + std::abs(c0) * e2));
-  const double vertex = -c1 / (2.0 * c2);
-  if (!(disc < -discNoise) || !std::isfinite(vertex) || vertex == 0.0) return false;
   const ClusterSplit near =
-      crossingsNearOrigin(data, ray, dist, c0, e0, g, 4.0 * std::abs(vertex), {vertex});
-  if (near.changes != 0 || near.unclear != 0) return false;
-  undeflate(g, c0, e0);
-  return true;
+      crossingsNearOrigin(data, ray, dist, c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
+  return near.own.lo < near.own.hi && divideByOriginRoot(g, c0, e0, near.own);
 }
 
 // ---- Quadrics --------------------------------------------------------------------------
@@ -977,10 +964,8 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
   // bound, or off the surface by more than it (a hit from a noise region, 5e-10 off beside
   // pbrt's 3e-15) with a tangent-rule root 5e-16 away that f confirmed within 2^10 times
   // what the bound moves it by (clearlyOffSurface).
-  rr.originWindow = rr.selfWindow == 0.0 && ray.orgError > 0.0 && !ray.orgErrorDeferred &&
-                            ray.orgRoundoff == kUnitRoundoff
-                        ? selfRootWindow(data, ray, ray.orgError)
-                        : 0.0;
+  rr.originWindow =
+      rr.selfWindow == 0.0 && ray.hostBound ? selfRootWindow(data, ray, ray.orgError) : 0.0;
   if (entry && !keepsDigits(rr.g, r0, r1)) {
     ++entry->uses;
     ++entry->failures;
