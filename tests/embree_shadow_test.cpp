@@ -592,7 +592,8 @@ TEST_P(EmbreeShadowOffset, FarSideFromAnOriginOffTheSurfaceIsWhereTheRayMeetsIt)
 // ray from the surface point meets nothing ahead: both crossings are the origin's. (c) A
 // double plane times a sphere, orgError 1.7e-3 and 3e-3: a long cluster window with the
 // sphere's crossings in it; the split reported a point 2.6-3.6 orgError off both surfaces.
-// (d) The second review: the quadric path kept no origin window (faad847's, the walk's).
+// (d) The second review: the quadric path kept no origin window (faad847's, the walk's);
+// (e) G restored for rays passing their sheet by lost the sheet's re-crossing (f58089f).
 TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
   Device device;
   auto hex = [](const char* text) { return std::strtod(text, nullptr); };
@@ -677,6 +678,38 @@ TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
       const HitD hit = intersectD(scene, RayD{o, d, 0.0, 10.0, orgError});
       EXPECT_FALSE(hit.hit && hit.t <= 2.0 * orgError) << c.equation << ": t " << hit.t;
     }
+  }
+  {  // (e) nearly tangent rays that pass their origin's sheet by: the ray from the exact hit
+     // point re-crosses the sheet just ahead, which g / s finds (g = G from the rounded
+     // origin found the far side: the second review). Torus, float, from a float hit 7.4e-8
+     // inside, 1.4e-4 rad: 4.3549e-4 (from p0); Roman surface, double, 3.7e-9 rad: 1.20987e-8.
+    const GallerySurface* torus = findGallerySurface("torus");
+    ASSERT_NE(torus, nullptr);
+    SurfaceDesc desc;
+    desc.polynomial = torus->build();
+    desc.clip = ClipSphere{glm::dvec3(0.0), torus->clipRadius};
+    const SurfaceScene scene(device, desc);
+    const RTCRayHit rh = intersect1(
+        scene,
+        makeRay(glm::vec3(hex("-0x1.950f7p-1"), hex("-0x1.767adcp-4"), hex("0x1.6091acp-2")),
+                glm::vec3(hex("0x1.322844p-3"), hex("-0x1.fa232cp-1"), hex("-0x1.50a4fcp-6"))));
+    EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+    EXPECT_NEAR(rh.ray.tfar, 4.3549e-4, 1e-7) << "torus";
+    const GallerySurface* roman = findGallerySurface("roman-surface");
+    ASSERT_NE(roman, nullptr);
+    SurfaceDesc romanDesc;
+    romanDesc.polynomial = roman->build();
+    romanDesc.clip = ClipSphere{glm::dvec3(0.0), roman->clipRadius};
+    const SurfaceScene romanScene(device, romanDesc);
+    const RayD ray{
+        {hex("-0x1.793d04b105e6p-5"), hex("0x1.379bb4facce7p-4"), hex("-0x1.cedf2f326p-9")},
+        {hex("0x1.e61885d11fe16p-1"), hex("-0x1.34ea885cd3433p-2"), hex("0x1.658e09284a2dfp-4")},
+        0.0,
+        10.0,
+        hex("0x1.a904ad61f9b48p-50")};
+    const HitD hit = intersectD(romanScene, ray);
+    EXPECT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 1.2098654957501098e-08, 1e-13) << "Roman surface";
   }
   {  // (c) x^2 (x^2 + y^2 + z^2 - 0.7): a miss, or the sphere at 0.24373875335662676
     SurfaceDesc desc;
