@@ -597,6 +597,15 @@ TEST_P(EmbreeShadowOffset, FarSideFromAnOriginOffTheSurfaceIsWhereTheRayMeetsIt)
 TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
   Device device;
   auto hex = [](const char* text) { return std::strtod(text, nullptr); };
+  // A gallery surface in its clip sphere.
+  auto gallery = [](const char* name) {
+    const GallerySurface* g = findGallerySurface(name);
+    SurfaceDesc desc;
+    if (g == nullptr) return desc;
+    desc.polynomial = g->build();
+    desc.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
+    return desc;
+  };
   {  // (a) torus shell, double channel; exact first root 1.2873290181137182
     SurfaceDesc desc;
     desc.polynomial = parsePolynomial(
@@ -617,12 +626,7 @@ TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
     }
   }
   {  // (a) Sarti, float channel: no root in the clip span; the second one's at 4.9477537615
-    const GallerySurface* g = findGallerySurface("sarti-dodecic");
-    ASSERT_NE(g, nullptr);
-    SurfaceDesc desc;
-    desc.polynomial = g->build();
-    desc.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
-    const SurfaceScene scene(device, desc);
+    const SurfaceScene scene(device, gallery("sarti-dodecic"));
     const RTCRayHit none = intersect1(
         scene,
         makeRay(glm::vec3(hex("0x1.0bd58p+1"), hex("0x1.8f9038p-1"), hex("-0x1.fe28bcp-1")),
@@ -636,12 +640,7 @@ TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
     EXPECT_NEAR(far.ray.tfar, 4.9477537615, 1e-5);
   }
   {  // (b) Cayley, float channel: nothing ahead before 0.03 (the sheet's pair is the origin's)
-    const GallerySurface* g = findGallerySurface("cayley-cubic");
-    ASSERT_NE(g, nullptr);
-    SurfaceDesc desc;
-    desc.polynomial = g->build();
-    desc.clip = ClipSphere{glm::dvec3(0.0), g->clipRadius};
-    const SurfaceScene scene(device, desc);
+    const SurfaceScene scene(device, gallery("cayley-cubic"));
     const RTCRayHit rh = intersect1(
         scene,
         makeRay(glm::vec3(hex("-0x1.7759p-7"), hex("-0x1.fffdap-1"), hex("-0x1.7c61p-5")),
@@ -683,24 +682,14 @@ TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
      // point re-crosses the sheet just ahead, which g / s finds (g = G from the rounded
      // origin found the far side: the second review). Torus, float, from a float hit 7.4e-8
      // inside, 1.4e-4 rad: 4.3549e-4 (from p0); Roman surface, double, 3.7e-9 rad: 1.20987e-8.
-    const GallerySurface* torus = findGallerySurface("torus");
-    ASSERT_NE(torus, nullptr);
-    SurfaceDesc desc;
-    desc.polynomial = torus->build();
-    desc.clip = ClipSphere{glm::dvec3(0.0), torus->clipRadius};
-    const SurfaceScene scene(device, desc);
+    const SurfaceScene scene(device, gallery("torus"));
     const RTCRayHit rh = intersect1(
         scene,
         makeRay(glm::vec3(hex("-0x1.950f7p-1"), hex("-0x1.767adcp-4"), hex("0x1.6091acp-2")),
                 glm::vec3(hex("0x1.322844p-3"), hex("-0x1.fa232cp-1"), hex("-0x1.50a4fcp-6"))));
     EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
     EXPECT_NEAR(rh.ray.tfar, 4.3549e-4, 1e-7) << "torus";
-    const GallerySurface* roman = findGallerySurface("roman-surface");
-    ASSERT_NE(roman, nullptr);
-    SurfaceDesc romanDesc;
-    romanDesc.polynomial = roman->build();
-    romanDesc.clip = ClipSphere{glm::dvec3(0.0), roman->clipRadius};
-    const SurfaceScene romanScene(device, romanDesc);
+    const SurfaceScene romanScene(device, gallery("roman-surface"));
     const RayD ray{
         {hex("-0x1.793d04b105e6p-5"), hex("0x1.379bb4facce7p-4"), hex("-0x1.cedf2f326p-9")},
         {hex("0x1.e61885d11fe16p-1"), hex("-0x1.34ea885cd3433p-2"), hex("0x1.658e09284a2dfp-4")},
