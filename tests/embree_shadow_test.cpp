@@ -593,7 +593,8 @@ TEST_P(EmbreeShadowOffset, FarSideFromAnOriginOffTheSurfaceIsWhereTheRayMeetsIt)
 // double plane times a sphere, orgError 1.7e-3 and 3e-3: a long cluster window with the
 // sphere's crossings in it; the split reported a point 2.6-3.6 orgError off both surfaces.
 // (d) The second review: the quadric path kept no origin window (faad847's, the walk's);
-// (e) G restored for rays passing their sheet by lost the sheet's re-crossing (f58089f).
+// (e) G restored for rays passing their sheet by lost the sheet's re-crossing (f58089f);
+// (f) the third review: a nearly tangent division where the quadratic models G badly.
 TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
   Device device;
   auto hex = [](const char* text) { return std::strtod(text, nullptr); };
@@ -699,6 +700,24 @@ TEST(EmbreeShadowOffset, ReviewedNearlyTangentLeavingRays) {
     const HitD hit = intersectD(romanScene, ray);
     EXPECT_TRUE(hit.hit);
     EXPECT_NEAR(hit.t, 1.2098654957501098e-08, 1e-13) << "Roman surface";
+  }
+  {  // (f) Clebsch cubic, float: the sheet's re-crossing ahead (from the exact hit point
+     // 0.0098623 and 0.0126923; g / s: 0.0098833, 0.0127886), where the quadratic's root
+     // was no model of G and a crossing behind was divided out (a miss: the third review)
+    const SurfaceScene scene(device, gallery("clebsch-cubic"));
+    const float rays[2][6] = {
+        {-0.03516697883605957f, 1.0245974063873291f, -0.72387957572937012f, -0.79485493898391724f,
+         -0.58844220638275146f, -0.14812642335891724f},
+        {0.66413140296936035f, -0.13439583778381348f, -0.44172382354736328f, -0.66937160491943359f,
+         -0.73940908908843994f, 0.072220750153064728f}};
+    const double expected[2] = {0.0098623039, 0.01269225};
+    for (int i = 0; i < 2; ++i) {
+      const RTCRayHit rh =
+          intersect1(scene, makeRay(glm::vec3(rays[i][0], rays[i][1], rays[i][2]),
+                                    glm::vec3(rays[i][3], rays[i][4], rays[i][5])));
+      EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << "Clebsch ray " << i;
+      EXPECT_NEAR(rh.ray.tfar, expected[i], 2e-4) << "Clebsch ray " << i;
+    }
   }
   {  // (c) x^2 (x^2 + y^2 + z^2 - 0.7): a miss, or the sphere at 0.24373875335662676
     SurfaceDesc desc;

@@ -555,11 +555,18 @@ bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, double
   if (!(disc >= 0.0)) return false;
   const double nearRoot = c0 / (-0.5 * (c1 + std::copysign(std::sqrt(disc), c1)));
   if (!std::isfinite(nearRoot) || nearRoot == 0.0) return false;
+  // The quadratic must model g there (|c_3 r| <= |c_2| / 2) and the crossing found lie on
+  // its root's side: on the Clebsch cubic c_3 = 94 against c_2 = -0.63 predicted a root
+  // 0.005 ahead where G had none, the crossing found 0.006 behind was divided out, and
+  // the sheet's re-crossing ahead that g / s keeps was lost (the third review).
+  const double c3 = g.degree >= 2 ? g.coeff[2] : 0.0;
+  if (!(std::abs(c3 * nearRoot) <= 0.5 * std::abs(c2))) return false;
   const glm::dvec3& o = ray.org;
   const double dist = ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)) + orgError;
   const ClusterSplit near =
       crossingsNearOrigin(data, ray, dist, c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
-  return near.own.lo < near.own.hi && divideByOriginRoot(g, c0, e0, near.own);
+  const bool sameSide = nearRoot > 0.0 ? near.own.lo >= 0.0 : near.own.hi <= 0.0;
+  return near.own.lo < near.own.hi && sameSide && divideByOriginRoot(g, c0, e0, near.own);
 }
 
 // ---- Quadrics --------------------------------------------------------------------------

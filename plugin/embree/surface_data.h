@@ -166,14 +166,15 @@ struct KernelRay {
   // wholeOrgError; its square root cost every primary ray, see ray_roots.cpp's
   // restrict).
   bool orgErrorDeferred = false;
+  // A double ray whose host stated orgError > 0 (objectRay; the origin window of
+  // deriveRayRoots and quadricLane: orgError above is always > 0 for a transformed
+  // surface). (Beside the other flags, in their padding: KernelRay is copied per ray.)
+  bool hostBound = false;
   // A transformed surface's orgError in two parts: W, the world-space bound objectRay maps
   // through |A^-1|_F (the host's bound, a float origin's rounding: world lengths), and the
   // object-space rest (without a deferred float term). The self-root rule weighs W along
   // the gradient and the ray instead (originMove, selfRootWindow). 0, 0: the identity.
   double orgErrorWorld = 0, orgErrorObject = 0;
-  // A double ray whose host stated orgError > 0 (objectRay; the origin window of
-  // deriveRayRoots and quadricLane: orgError above is always > 0 for a transformed surface).
-  bool hostBound = false;
   std::uint64_t trace = 0;  // the double channel's IntersectContext::trace (0: none)
   glm::dvec3 travOrg{0.0}, travDir{0.0};
 };
