@@ -216,11 +216,12 @@ glm::dvec3 homogeneousGradient(const Polynomial& shifted, int n, const glm::dvec
 // Whether the ray from the origin moved onto the surface (one Newton step along grad f)
 // changes sign, clearly, between s / 2 and 2 s: a crossing near s that is not there only
 // because the origin lies off the surface.
-bool crossesFromSurfacePoint(const SurfaceData& data, const KernelRay& ray, double s) {
-  const Polynomial::Evaluation at = data.horner.evaluate(ray.org);
-  const double gg = glm::dot(at.gradient, at.gradient);
+// origin: f and grad f at the origin (originOnSurface's).
+bool crossesFromSurfacePoint(const SurfaceData& data, const KernelRay& ray,
+                             const OriginValue& origin, double s) {
+  const double gg = glm::dot(origin.gradient, origin.gradient);
   if (!(gg > 0.0) || !std::isfinite(gg)) return false;
-  const glm::dvec3 p = ray.org - (at.value / gg) * at.gradient;
+  const glm::dvec3 p = ray.org - (origin.value / gg) * origin.gradient;
   const Polynomial::Evaluation a = data.horner.evaluate(p + 0.5 * s * ray.dir),
                                b = data.horner.evaluate(p + 2.0 * s * ray.dir);
   return std::abs(a.value) > a.valueError && std::abs(b.value) > b.valueError &&
@@ -235,9 +236,11 @@ bool crossesFromSurfacePoint(const SurfaceData& data, const KernelRay& ray, doub
 // sheet). Along a grazing ray that crossing can lie far from the origin, and a ray leaving
 // nearly tangentially may not cross the origin's sheet at all, or cross it twice within a
 // step of the grid (the halvings towards the origin below). g is deflated (g.coeff[i] =
-// c_(i+1)); c0, e0: G's constant and its rounding bound; dist: the origin's uncertainty.
-ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, double dist,
-                                 double c0, double e0, const RayPolynomial& g, double window,
+// c_(i+1)); c0, e0: G's constant and its rounding bound; dist: the origin's uncertainty
+// (originDistance); origin: f and grad f at the origin (originOnSurface's).
+ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray,
+                                 const OriginValue& origin, double dist, double c0, double e0,
+                                 const RayPolynomial& g, double window,
                                  std::initializer_list<double> extra) {
   constexpr int kSteps = 8, kHalvings = 12;
   std::array<double, 2 * kSteps + 2 * kHalvings + 4> at{};
@@ -307,7 +310,8 @@ ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, 
   // a ray nearly tangent at its origin crosses its own sheet in where the origin lies off
   // it, one either side: dividing out one reported the other, 6e-3 ahead on the Cayley
   // cubic where the ray from the surface point meets nothing; the review of session 47).
-  if (split.nearby == 1 || (split.nearby == 2 && crossesFromSurfacePoint(data, ray, second.s)))
+  if (split.nearby == 1 ||
+      (split.nearby == 2 && crossesFromSurfacePoint(data, ray, origin, second.s)))
     split.own = first.bracket;
   return split;
 }
@@ -322,15 +326,16 @@ ClusterSplit crossingsNearOrigin(const SurfaceData& data, const KernelRay& ray, 
 // sheet 4.4e-4 along a grazing ray (a miss); with orgError near the shell's width c_2 too.
 // For a pair (m = 1) whose quadratic c_0 + c_1 s + c_2 s^2 has real roots G is also looked
 // at in their middle and as far again beyond each.
-ClusterSplit splitCluster(const SurfaceData& data, const KernelRay& ray, double dist, double c0,
-                          double e0, const RayPolynomial& g, int m, double window) {
+ClusterSplit splitCluster(const SurfaceData& data, const KernelRay& ray, const OriginValue& origin,
+                          double dist, double c0, double e0, const RayPolynomial& g, int m,
+                          double window) {
   const double c1 = g.coeff[0], c2 = g.coeff[1];
   const double middle = -c1 / (2.0 * c2), half = std::sqrt(c1 * c1 - 4.0 * c0 * c2) / (2.0 * c2);
   const double none = std::numeric_limits<double>::quiet_NaN();
-  ClusterSplit split = m == 1
-                           ? crossingsNearOrigin(data, ray, dist, c0, e0, g, window,
-                                                 {middle - 2.0 * half, middle, middle + 2.0 * half})
-                           : crossingsNearOrigin(data, ray, dist, c0, e0, g, window, {none});
+  ClusterSplit split =
+      m == 1 ? crossingsNearOrigin(data, ray, origin, dist, c0, e0, g, window,
+                                   {middle - 2.0 * half, middle, middle + 2.0 * half})
+             : crossingsNearOrigin(data, ray, origin, dist, c0, e0, g, window, {none});
   // Sheets apart where the origin's crossing is told (crossingsNearOrigin), or no crossing
   // is within its reach and G is clear of its noise everywhere looked at with c_0 clear
   // (the ray passes its sheet by). A cluster whose G is within its noise
@@ -346,13 +351,15 @@ ClusterSplit splitCluster(const SurfaceData& data, const KernelRay& ray, double 
 
 // The window over the origin's cluster of roots, for g after deflateAtZero (so g's c_i is
 // the Taylor coefficient c_(i + 1) at o), or 0 when g's constant term is clear. orgError:
-// the ray's whole bound; originValue, originValueError, gradient: f(o), its error bound, grad
-// f(o); c0, e0: g's constant before deflateAtZero and its rounding bound. split: where a
+// the ray's whole bound; origin: f(o), its error bound and grad f(o) (originOnSurface's);
+// c0, e0: g's constant before deflateAtZero and its rounding bound. split: where a
 // cluster the uncertainty made is sheets apart (splitCluster; the window is then 0).
 double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double orgError,
-                          double originValue, double originValueError, const glm::dvec3& gradient,
-                          double c0, double e0, const RayPolynomial& g, ClusterSplit& split) {
+                          const OriginValue& origin, double c0, double e0, const RayPolynomial& g,
+                          ClusterSplit& split) {
   split = {};
+  const double originValue = origin.value, originValueError = origin.valueError;
+  const glm::dvec3& gradient = origin.gradient;
   // Coefficients zero within their rounding bound (a ray tangent at its origin, a node)
   // need no expansion.
   int m = 0;
@@ -383,8 +390,7 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
   // shadow ray of Chmutov-16 expanded f, 13x their time.) Where grad f is rounding noise,
   // c_1 is within its rounding bound too, which the first loop takes.
   const glm::dvec3& o = ray.org;
-  const double oSum = std::abs(o.x) + std::abs(o.y) + std::abs(o.z);
-  const double dist = ray.orgRoundoff * oSum + orgError;
+  const double dist = originDistance(ray, orgError);
   const double gradMax =
       std::max({std::abs(gradient.x), std::abs(gradient.y), std::abs(gradient.z)});
   const glm::dvec3& d = ray.dir;
@@ -438,7 +444,7 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
     bound = std::max(bound, std::pow(std::abs(g.coeff[i]) / top, 1.0 / (m - i)));
   const double window = 4.0 * bound;
   if (roundingM == 0) {
-    split = splitCluster(data, ray, dist, c0, e0, g, m, window);
+    split = splitCluster(data, ray, origin, dist, c0, e0, g, m, window);
     if (split.apart) return 0.0;
   }
   return window;
@@ -547,8 +553,8 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket o
 // f = f(o)'s, finds and G from the rounded origin does not: 426 of 445 differing grazing
 // float rays on 14 gallery surfaces lost such a hit, and the look cost grazing rays 17-30
 // %; the review of session 47.) Returns whether g is no longer g / s.
-bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, double orgError,
-                           double c0, double e0, RayPolynomial& g) {
+bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, const OriginValue& origin,
+                           double orgError, double c0, double e0, RayPolynomial& g) {
   if (!(std::abs(c0) > 4.0 * e0)) return false;
   const double c1 = g.coeff[0], c2 = g.degree >= 1 ? g.coeff[1] : 0.0;
   const double disc = c1 * c1 - 4.0 * c0 * c2;
@@ -561,10 +567,8 @@ bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, double
   // the sheet's re-crossing ahead that g / s keeps was lost (the third review).
   const double c3 = g.degree >= 2 ? g.coeff[2] : 0.0;
   if (!(std::abs(c3 * nearRoot) <= 0.5 * std::abs(c2))) return false;
-  const glm::dvec3& o = ray.org;
-  const double dist = ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z)) + orgError;
-  const ClusterSplit near =
-      crossingsNearOrigin(data, ray, dist, c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
+  const ClusterSplit near = crossingsNearOrigin(data, ray, origin, originDistance(ray, orgError),
+                                                c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
   const bool sameSide = nearRoot > 0.0 ? near.own.lo >= 0.0 : near.own.hi <= 0.0;
   return near.own.lo < near.own.hi && sameSide && divideByOriginRoot(g, c0, e0, near.own);
 }
@@ -654,8 +658,7 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
     if (g.degree > 0) {
       ClusterSplit split;
       const double cluster =
-          multipleRootWindow(data, ray, orgError, tlsOriginValue.value, tlsOriginValue.valueError,
-                             tlsOriginValue.gradient, c0, e0, g, split);
+          multipleRootWindow(data, ray, orgError, tlsOriginValue, c0, e0, g, split);
       if (split.apart && !(split.own.lo < split.own.hi)) {
         // Sheets apart, none of them crossed near enough to be the origin's (a ray leaving
         // nearly tangentially past its sheet; G was clear of its noise at every point looked
@@ -668,7 +671,7 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
         // rare path that skips the gate): divided out where it lies, not at 0. (g is then
         // no longer g / s: nothing was zeroed.)
         if (divideByOriginRoot(g, c0, e0, split.own) ||
-            (!split.apart && divideNearTangentRoot(data, ray, orgError, c0, e0, g)))
+            (!split.apart && divideNearTangentRoot(data, ray, tlsOriginValue, orgError, c0, e0, g)))
           zeroedConstant = -1.0;
       }
       selfWindow = std::max(selfWindow, cluster);
