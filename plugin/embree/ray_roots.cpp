@@ -477,7 +477,7 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
 // safeguarded by bisection in it, to a step or bracket within 2^-50 |r|, and g evaluated
 // again at r for the bounds. g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term
 // and its bound; own: lo = hi = 0 for the simple root's rule.
-bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket own) {
+bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket own, RayRoots& rr) {
   const int n = g.degree + 1;  // g's degree before the division by s
   const double c1 = g.coeff[0];
   if (!(std::abs(c0) > 4.0 * e0) || !(std::abs(c1) > 4.0 * g.error[0])) return false;
@@ -538,6 +538,8 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket o
     g.error[k] += ar * g.error[k + 1] + gamma(2) * (std::abs(g.coeff[k]) + std::abs(term));
   }
   g.error[0] += std::abs(value) + noise;
+  rr.divisionRoot = r;
+  rr.divisionRemainder = std::abs(value) + noise;
   return true;
 }
 
@@ -554,7 +556,8 @@ bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket o
 // float rays on 14 gallery surfaces lost such a hit, and the look cost grazing rays 17-30
 // %; the review of session 47.) Returns whether g is no longer g / s.
 bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, const OriginValue& origin,
-                           double orgError, double c0, double e0, RayPolynomial& g) {
+                           double orgError, double c0, double e0, RayRoots& rr) {
+  RayPolynomial& g = rr.g;
   if (!(std::abs(c0) > 4.0 * e0)) return false;
   const double c1 = g.coeff[0], c2 = g.degree >= 1 ? g.coeff[1] : 0.0;
   const double disc = c1 * c1 - 4.0 * c0 * c2;
@@ -570,7 +573,7 @@ bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, const 
   const ClusterSplit near = crossingsNearOrigin(data, ray, origin, originDistance(ray, orgError),
                                                 c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
   const bool sameSide = nearRoot > 0.0 ? near.own.lo >= 0.0 : near.own.hi <= 0.0;
-  return near.own.lo < near.own.hi && sameSide && divideByOriginRoot(g, c0, e0, near.own);
+  return near.own.lo < near.own.hi && sameSide && divideByOriginRoot(g, c0, e0, near.own, rr);
 }
 
 // ---- Quadrics --------------------------------------------------------------------------
@@ -625,14 +628,17 @@ CacheEntry* restrictOutside(const SurfaceData& data, const KernelRay& ray, doubl
   return nullptr;
 }
 
-// Returns the cache entry when g came from it; selfWindow > 0 when the self-root rule
-// divided out the origin's root (selfRootWindow), else 0. orgError: the ray's whole bound
-// (ray.orgError, with a deferred float term added).
+// Sets rr.g, rr.selfWindow, rr.zeroedConstant and the division's terms; returns the cache
+// entry when g came from it. selfWindow > 0 when the self-root rule divided out the
+// origin's root (selfRootWindow), else 0. orgError: the ray's whole bound (ray.orgError,
+// with a deferred float term added).
 CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double orgError, double r0,
-                          double r1, double closest, RayPolynomial& g, double& selfWindow,
-                          double& zeroedConstant) {
+                          double r1, double closest, RayRoots& rr) {
   const glm::dvec3& o = ray.org;
   const glm::dvec3& d = ray.dir;
+  RayPolynomial& g = rr.g;
+  double& selfWindow = rr.selfWindow;
+  double& zeroedConstant = rr.zeroedConstant;
   selfWindow = 0.0;
   zeroedConstant = -1.0;
   if (data.quadric) {
@@ -654,6 +660,8 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
     selfWindow = selfRootWindow(data, ray, orgError);
     const double c0 = g.coeff[0], e0 = g.error[0];
     zeroedConstant = std::abs(c0);
+    rr.divisionRoot = 0.0;
+    rr.divisionRemainder = std::abs(c0) + e0;
     if (g.degree > 0) deflateAtZero(g.degree, g.coeff, g.error);
     if (g.degree > 0) {
       ClusterSplit split;
@@ -666,12 +674,14 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
         // in t on a thin shell's rays leaving at 0.01 rad).
         undeflate(g, c0, e0);
         zeroedConstant = -1.0;
+        rr.divisionRemainder = -1.0;
       } else if (cluster == 0.0 && (split.apart || originRootMatters(data, ray, c0, g.coeff[0]))) {
         // A simple root at the origin (no cluster, or the origin's among sheets apart, a
         // rare path that skips the gate): divided out where it lies, not at 0. (g is then
         // no longer g / s: nothing was zeroed.)
-        if (divideByOriginRoot(g, c0, e0, split.own) ||
-            (!split.apart && divideNearTangentRoot(data, ray, tlsOriginValue, orgError, c0, e0, g)))
+        if (divideByOriginRoot(g, c0, e0, split.own, rr) ||
+            (!split.apart &&
+             divideNearTangentRoot(data, ray, tlsOriginValue, orgError, c0, e0, rr)))
           zeroedConstant = -1.0;
       }
       selfWindow = std::max(selfWindow, cluster);
@@ -693,16 +703,15 @@ bool surelyOutsideClipBall(const SurfaceData& data, const KernelRay& ray) {
 // for every float ray in the bridge, its square root cost the Barth sextic's primary rays
 // 2-3 % (2.85 -> 2.92-2.94 Mrays/s deferred).
 CacheEntry* restrict(const SurfaceData& data, const KernelRay& ray, double r0, double r1,
-                     double closest, RayPolynomial& g, double& selfWindow, double& zeroedConstant) {
-  if (!ray.orgErrorDeferred)
-    return restrictWhole(data, ray, ray.orgError, r0, r1, closest, g, selfWindow, zeroedConstant);
+                     double closest, RayRoots& rr) {
+  if (!ray.orgErrorDeferred) return restrictWhole(data, ray, ray.orgError, r0, r1, closest, rr);
   if (!data.quadric && surelyOutsideClipBall(data, ray)) {
-    selfWindow = 0.0;
-    zeroedConstant = -1.0;
-    return restrictOutside(data, ray, r0, r1, closest, g);
+    rr.selfWindow = 0.0;
+    rr.zeroedConstant = -1.0;
+    return restrictOutside(data, ray, r0, r1, closest, rr.g);
   }
   const double orgError = wholeOrgError(data, ray);
-  return restrictWhole(data, ray, orgError, r0, r1, closest, g, selfWindow, zeroedConstant);
+  return restrictWhole(data, ray, orgError, r0, r1, closest, rr);
 }
 
 // The solver's options for a clip-region span: its start is the region's boundary, not a
@@ -958,10 +967,11 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
                          double closest, bool occlusion) {
   RayRoots& rr = tlsRayRoots;
   rr.id = 0;  // invalid until complete (restriction may throw)
+  rr.divisionRemainder = -1.0;
   rr.r0 = r0;
   rr.r1 = r1;
   rr.tnear = ray.tnear;
-  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr.g, rr.selfWindow, rr.zeroedConstant);
+  CacheEntry* entry = restrict(data, ray, r0, r1, closest, rr);
   // A double ray whose host states an uncertainty of its origin (orgError > 0, pbrt-v4's
   // pError, by which pbrt offsets its spawned rays) but whose origin the rule took for a
   // point off the surface: a root within twice that of the origin is the origin's too, as

@@ -42,6 +42,10 @@ struct RayRoots {
   // With it and g = g0 / s: |g0(0)|, the constant the rule set to 0, which a root of g
   // must outgrow to be a surface's (inOriginNoise, ray_roots.cpp); else -1.
   double zeroedConstant = -1;
+  // The rule's division of G, the restriction about the origin, by its root there r (0:
+  // by s, G(0) = c_0 set to 0), g = (G - G(r)) / (s - r), and a bound of |G(r)| with G's
+  // noise at r (-1: no division; divisionNoise).
+  double divisionRoot = 0, divisionRemainder = -1;
   bool closedLo = true;  // slo is the region's start (regionRoots), not the window
   std::array<double, kMaxDegree> roots{};  // in s, increasing
   int count = 0;
@@ -118,15 +122,44 @@ inline bool exactRoots(const SurfaceOptions& opt, const RayRoots& rr) {
   return opt.roots.relTolerance == 0.0 && !opt.singlePrecision && !(rr.selfWindow > 0.0);
 }
 
+// What the self-root rule's division adds to g's noise bound at s, as a bound on f (0
+// where it made none). With G(s) = (s - r) g(s) + G(r) and |G(r)| <= K (divisionRoot r,
+// divisionRemainder K), f(o + s d) = (s - r) g(s) + G(r) within |s - r| bound(s) (g's
+// coefficient bounds carry G's): f's sign at s is that of (s - r) g(s) only where |g(s)|
+// clears bound(s) + K / |s - r|, and g's roots lie up to that over |g'| from f's. Not
+// small: on a float ray leaving a hit, K = |c_0| + e_0 is the float origin's offset from
+// the surface (g / s stays where that moves the roots by a few float roundings,
+// originRootMatters), and occlusion, which keeps g's root where g's bound proves it
+// (occlusionRootCertain), put f's root on the other side of a tfar one float step from
+// the closest hit on 47-88 % of the gallery's float rays leaving a hit (StressShadow.
+// ColdOcclusionOfALeavingFloatRayAgreesWithTheClosestHit); and where r is a
+// nearly tangent origin's root, divideByOriginRoot's constant bound K (not over |s - r|)
+// left a root 1.6e-4 from r 2.8e-6 off (Chmutov-16; session 48).
+inline double divisionNoise(const RayRoots& rr, double s) {
+  return rr.divisionRemainder >= 0.0 ? rr.divisionRemainder / std::abs(s - rr.divisionRoot) : 0.0;
+}
+
 // How far g's noise region reaches about its root s, to first order: 4 |bound / g'(s)|
 // (the factor covers the curvature and the solver's error), at least 2^-50 of `scale`, the
-// size of the parameters it is compared with. Not finite where g' is 0 (NaN where the bound
-// is 0 too): the callers then place the root on f. One formula for occlusionRootCertain
-// and the walk's endWithinReach (surface_intersect.cpp), so that they agree.
-inline double noiseReach(const RayPolynomial& g, double s, double scale) {
+// size of the parameters it is compared with; bound with the self-root rule's division
+// (divisionNoise). Not finite where g' is 0 (NaN where the bound is 0 too): the callers then
+// place the root on f. One formula for occlusionRootCertain and the walk's endWithinReach
+// (surface_intersect.cpp), so that they agree.
+inline double noiseReach(const RayRoots& rr, double s, double scale) {
   double bound, slope;
-  g.evaluateWithBound(s, bound, slope);
-  return std::max(4.0 * bound / std::abs(slope), 0x1p-50 * scale);
+  rr.g.evaluateWithBound(s, bound, slope);
+  return std::max(4.0 * (bound + divisionNoise(rr, s)) / std::abs(slope), 0x1p-50 * scale);
+}
+
+// How far from an end at t the root must lie for the end's side to be the root's: a plain
+// float ray's host compares t rounded to float with its float tnear and tfar (embree_bridge
+// .cpp, candidateTfar), so an end one float step from the root decides by that rounding,
+// on which g's root and f's (the closest hit's) can differ. Occlusion then places the root
+// on f too (occlusionRootCertain, endWithinReach): with tfar one float step past the
+// closest hit, 9 of ~40,000 of the gallery's rays said "not occluded", or occluded with it
+// one step before (session 48).
+inline double floatEndReach(const KernelRay& ray, double t) {
+  return ray.orgRoundoff > kUnitRoundoff ? 0x1p-23 * std::abs(t) : 0.0;
 }
 
 // ---- ray_settle.cpp ------------------------------------------------------------------------

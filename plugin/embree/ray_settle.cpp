@@ -118,6 +118,7 @@ bool polishFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
     const double from = rr.g.tShift + clearBefore(rr.g, s, rr.slo);
     const double centre = rr.g.tShift + s;
     restrictAbout(data.horner, ray.org, ray.dir, centre, rr.g);
+    rr.divisionRemainder = -1.0;
     rr.slo = from - centre;
     rr.shi = rr.r1 - centre;
     rr.closedLo = true;
@@ -227,7 +228,9 @@ void settleFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // Whether an occlusion query can keep g's first root, a sign change, without placing it on
 // f (the closest hit does that anyway, settleFirst): f's root must be on the same side of
 // tnear and of tfar as g's. g's rigorous noise bound proves a root of f wherever g clears
-// it with opposite signs, so that holds where g does so at two points a < s < b with
+// it with opposite signs (the bound with the self-root rule's division, divisionNoise, and
+// a and b on one side of the root it divided out), so that holds where g does so at two
+// points a < s < b with
 // neither tnear nor tfar in [a, b]: trivially when the whole search span lies in (tnear,
 // tfar) (the solver's own bracket lies in it), else at s -+ 4 |bound / g'(s)|, the
 // first-order reach of the noise bound (the factor covers the curvature and the solver's
@@ -245,13 +248,16 @@ bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray) {
   const RayPolynomial& g = rr.g;
   if (g.tShift + rr.slo > ray.tnear && g.tShift + rr.shi < ray.tfar) return true;
   const double s = rr.roots[0];
-  const double h = noiseReach(g, s, std::abs(s));
+  const double h = noiseReach(rr, s, std::abs(s)) + floatEndReach(ray, g.tShift + s);
   const double a = s - h, b = s + h;
   const auto outside = [&](double t) { return t < g.tShift + a || t > g.tShift + b; };
   if (!(h < kInf) || !outside(ray.tnear) || !outside(ray.tfar)) return false;
   double boundA, boundB;
   const double ga = g.evaluateWithBound(a, boundA), gb = g.evaluateWithBound(b, boundB);
-  return std::abs(ga) > boundA && std::abs(gb) > boundB && std::signbit(ga) != std::signbit(gb);
+  if (rr.divisionRemainder >= 0.0 && (a - rr.divisionRoot < 0.0) != (b - rr.divisionRoot < 0.0))
+    return false;
+  return std::abs(ga) > boundA + divisionNoise(rr, a) &&
+         std::abs(gb) > boundB + divisionNoise(rr, b) && std::signbit(ga) != std::signbit(gb);
 }
 
 // A first root settled behind tnear (a ray from inside the clip region searches from the
@@ -280,6 +286,7 @@ namespace {
 [[gnu::noinline, gnu::cold]] void searchFromTnear(const SurfaceData& data, const KernelRay& ray,
                                                   RayRoots& rr) {
   restrictAbout(data.horner, ray.org, ray.dir, ray.tnear, rr.g);
+  rr.divisionRemainder = -1.0;
   rr.fromCache = false;
   rr.firstPolished = false;
   solveFirst(data, rr);

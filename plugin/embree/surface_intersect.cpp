@@ -338,9 +338,9 @@ namespace {
 // past a hit (tnear = its t) and asking whether the next root lies before t (1 + 1e-12) was
 // told no on 0.1-0.5 % of the steps through the Chmutov and Sarti surfaces (the next root's
 // g, expanded about a point near tnear, placed it up to 1e-8 late).
-[[gnu::noinline]] bool endWithinReach(const RayPolynomial& g, double s, const KernelRay& ray) {
-  const double t = g.tShift + s;
-  const double h = noiseReach(g, s, std::abs(s) + std::abs(t));
+[[gnu::noinline]] bool endWithinReach(const RayRoots& rr, double s, const KernelRay& ray) {
+  const double t = rr.g.tShift + s;
+  const double h = noiseReach(rr, s, std::abs(s) + std::abs(t)) + floatEndReach(ray, t);
   return !(std::abs(ray.tfar - t) > h && std::abs(t - ray.tnear) > h);  // a NaN reach: polish
 }
 
@@ -428,7 +428,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     const RayPolynomial& g = rr.g;
     const double slo = lo - g.tShift, shi = hi - g.tShift;
     double s = rr.roots[i];
-    if (occlusion && i > 0 && !data.quadric && endWithinReach(g, s, ray)) [[unlikely]]
+    if (occlusion && i > 0 && !data.quadric && endWithinReach(rr, s, ray)) [[unlikely]]
       s = polishedRoot(data, ray, g.tShift, s, r0, r1);
     // Behind an origin on the surface (tnear < 0): the search span kept the window, whose
     // roots are the origin's own (searchSpan).
