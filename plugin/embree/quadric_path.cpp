@@ -628,8 +628,15 @@ bool quadricSpan(const SurfaceData& data, const KernelRay& ray, QuadricSpan& q) 
     // restriction or solve (a quarter of a camera's rays at the gallery sphere, measured).
     if (covered && !meetsQuadricBall(box, o, d, ball)) return false;
   }
-  const double lo = std::max(c0, ray.tnear), hi = std::min(c1, ray.tfar);
-  if (!(lo < hi)) return false;
+  // The solve's span ends where the region (or the cell) does, not at tfar, which
+  // offerQuadricRoots compares the roots with (embree_bridge.cpp): the solver reports a
+  // root within noise of its span's end at that end, which is no hit (the span is open
+  // there), so a span ending at tfar dropped a root just before it. A double ray's closest
+  // hit with tfar = nextafter(t) past its own hit t missed the sphere on every ray, and
+  // with t (1 + 2e-15) on a third of them (session 48; the generic walk solves over the
+  // region). (The packet kernel alike, quadric_packet_group.inc.)
+  const double lo = std::max(c0, ray.tnear), hi = c1;
+  if (!(lo < hi) || !(lo < ray.tfar)) return false;
   restrictQuadricRay(data, ray, r0, r1, q.g, closest, centreOc2);
   // A constant g has no isolated root (no intersection, or a ruling of the surface), and
   // neither has a g whose coefficients are all exactly 0, whatever their rounding bounds: the
