@@ -132,7 +132,7 @@ inline bool exactRoots(const SurfaceOptions& opt, const RayRoots& rr) {
 // originRootMatters), and occlusion, which keeps g's root where g's bound proves it
 // (occlusionRootCertain), put f's root on the other side of a tfar one float step from
 // the closest hit on 47-88 % of the gallery's float rays leaving a hit (StressShadow.
-// ColdOcclusionOfALeavingFloatRayAgreesWithTheClosestHit); and where r is a
+// ColdQueriesOfALeavingFloatRayAgreeWithTheClosestHit); and where r is a
 // nearly tangent origin's root, divideByOriginRoot's constant bound K (not over |s - r|)
 // left a root 1.6e-4 from r 2.8e-6 off (Chmutov-16; session 48).
 inline double divisionNoise(const RayRoots& rr, double s) {

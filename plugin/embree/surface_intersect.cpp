@@ -332,12 +332,15 @@ namespace {
 }
 
 // Whether tnear or tfar lies within the reach of g's noise about its root s (as in
-// occlusionRootCertain, which checks the first root): occlusion keeps the later roots
-// unpolished, and where an end lies within that reach it polishes them on f as the closest
-// hit does, so that both queries put the root on the same side of that end. A host stepping
-// past a hit (tnear = its t) and asking whether the next root lies before t (1 + 1e-12) was
+// occlusionRootCertain, which checks the first root): the walk takes a later root's side
+// of the ends from g, and where an end lies within that reach both queries first polish
+// it on f up to the region's end, so that they put it where f has it. A host stepping past
+// a hit (tnear = its t) and asking whether the next root lies before t (1 + 1e-12) was
 // told no on 0.1-0.5 % of the steps through the Chmutov and Sarti surfaces (the next root's
-// g, expanded about a point near tnear, placed it up to 1e-8 late).
+// g, expanded about a point near tnear, placed it up to 1e-8 late); the closest hit, whose
+// own polish comes after those tests, lost a later root with tfar just past it (t (1 +
+// 1e-12) to t (1 + 1e-9): 18 of 4,462 second roots of the gallery's leaving double rays;
+// the review of session 48).
 [[gnu::noinline]] bool endWithinReach(const RayRoots& rr, double s, const KernelRay& ray) {
   const double t = rr.g.tShift + s;
   const double h = noiseReach(rr, s, std::abs(s) + std::abs(t)) + floatEndReach(ray, t);
@@ -428,7 +431,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     const RayPolynomial& g = rr.g;
     const double slo = lo - g.tShift, shi = hi - g.tShift;
     double s = rr.roots[i];
-    if (occlusion && i > 0 && !data.quadric && endWithinReach(rr, s, ray)) [[unlikely]]
+    if (i > 0 && !data.quadric && endWithinReach(rr, s, ray)) [[unlikely]]
       s = polishedRoot(data, ray, g.tShift, s, r0, r1);
     // Behind an origin on the surface (tnear < 0): the search span kept the window, whose
     // roots are the origin's own (searchSpan).
@@ -471,13 +474,17 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
       if (((claim == Claim::kOwner ? seen.shared : seen.offered) & bit) != 0) continue;
     }
     // Polish within the whole span (a root near a cell face may move across it; the
-    // owner was decided on the unpolished value). A cache root was polished already.
+    // owner was decided on the unpolished value), up to the region's end, not tfar, as
+    // polishedRoot: held to tfar, a polish stopped short of f's root just past it and
+    // reported a point before tfar on no surface (the review of session 48: Chmutov-12, a
+    // float ray's later root asked with tfar at its float hit; a labs-septic grazing ray's
+    // 1.3e-5 early). A cache root was polished already.
     if (i == 0 && rr.firstPolished)
       hit.gradient = rr.firstGradient;
     else if (data.quadric)
       hit.gradient = occlusion ? glm::dvec3(0.0) : data.quadric->gradient(hit.point);
     else if (!occlusion)
-      polish(f, o, d, std::max(r0, ray.tnear), std::min(r1, ray.tfar), r1 - r0, hit);
+      polish(f, o, d, std::max(r0, ray.tnear), r1, r1 - r0, hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
     if (hit.t - ray.tnear <= 0x1p-30 * (std::abs(ray.tnear) + std::abs(hit.t)) &&
         withinNoiseAt(f, o, d, ray.tnear, hit.t)) [[unlikely]]
