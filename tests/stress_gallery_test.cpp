@@ -494,6 +494,16 @@ TEST(StressShadow, ColdQueriesOfALeavingFloatRayAgreeWithTheClosestHit) {
   }
 }
 
+// A double ray from the hit o + t d in direction dir, with pbrt-v4's bound on its origin,
+// gamma(3) (|o| + |t d|), as a host computes the hit point; and a ray whose query replaces
+// the thread's record (so that the next query of a ray is asked cold).
+RayD leavingRayD(const glm::dvec3& o, const glm::dvec3& d, double t, const glm::dvec3& dir) {
+  RayD ray = rayD(o + t * d, dir);
+  ray.orgError = gamma(3) * (glm::length(o) + glm::length(t * d));
+  return ray;
+}
+RayD otherRayD(double radius) { return rayD(glm::dvec3(5.0 * radius), glm::dvec3(-1.0)); }
+
 // The same for double rays leaving a double hit with pbrt-v4's bound on the hit point
 // (orgError = gamma(3) (|o| + |t d|)), with tfar one double step past the hit or before
 // it; and the closest hit, asked again with tfar one step past it (primary rays too),
@@ -505,11 +515,10 @@ TEST(StressShadow, ColdQueriesOfALeavingFloatRayAgreeWithTheClosestHit) {
 // noise of the span's end at the end, which is no hit: every such query on the sphere
 // and the ellipsoid missed (session 48; quadricSpan).
 TEST(StressShadow, ColdQueriesOfADoubleRayAgreeWithTheClosestHit) {
-  const double g3 = 3.0 * kUnitRoundoff / (1.0 - 3.0 * kUnitRoundoff);
   for (const GallerySurface& g : gallery()) {
+    OneSurface s(describe(g.build(), g.clipRadius));
+    const RayD other = otherRayD(g.clipRadius);
     const double radius = g.clipRadius;
-    OneSurface s(describe(g.build(), radius));
-    const RayD other = rayD(glm::dvec3(5.0 * radius), glm::dvec3(-1.0));
     std::mt19937_64 rng(5);
     std::normal_distribution<double> normal;
     int compared = 0, disagree = 0;
@@ -530,8 +539,8 @@ TEST(StressShadow, ColdQueriesOfADoubleRayAgreeWithTheClosestHit) {
       const auto primary = s.intersect(rayD(o, d), g.name.data());
       if (!primary) continue;
       sameHitJustBefore(k, rayD(o, d), primary->t);
-      RayD leaving = rayD(o + primary->t * d, glm::dvec3{normal(rng), normal(rng), normal(rng)});
-      leaving.orgError = g3 * (glm::length(o) + glm::length(primary->t * d));
+      const RayD leaving =
+          leavingRayD(o, d, primary->t, glm::dvec3{normal(rng), normal(rng), normal(rng)});
       const auto hit = s.intersect(leaving, g.name.data());
       if (!hit) continue;
       ++compared;
@@ -557,12 +566,11 @@ TEST(StressShadow, ColdQueriesOfADoubleRayAgreeWithTheClosestHit) {
 // f's root just past it and the hit was lost (18 of 4,462 such roots on the gallery, up
 // to t (1 + 1e-9); the review of session 48).
 TEST(StressShadow, ALaterRootOfADoubleRayLiesOnOneSideOfTfarForBothQueries) {
-  const double g3 = 3.0 * kUnitRoundoff / (1.0 - 3.0 * kUnitRoundoff);
   int roots = 0;
   for (const GallerySurface& g : gallery()) {
     const double radius = g.clipRadius;
     OneSurface s(describe(g.build(), radius));
-    const RayD other = rayD(glm::dvec3(5.0 * radius), glm::dvec3(-1.0));
+    const RayD other = otherRayD(radius);
     std::mt19937_64 rng(5);
     std::normal_distribution<double> normal;
     int disagree = 0;
@@ -575,8 +583,7 @@ TEST(StressShadow, ALaterRootOfADoubleRayLiesOnOneSideOfTfarForBothQueries) {
         if (leaving) {
           const auto primary = s.intersect(ray, g.name.data());
           if (!primary) break;
-          ray = rayD(o + primary->t * d, glm::dvec3{normal(rng), normal(rng), normal(rng)});
-          ray.orgError = g3 * (glm::length(o) + glm::length(primary->t * d));
+          ray = leavingRayD(o, d, primary->t, glm::dvec3{normal(rng), normal(rng), normal(rng)});
         }
         const auto first = s.intersect(ray, g.name.data());
         if (!first) continue;
