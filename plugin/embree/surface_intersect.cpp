@@ -347,17 +347,19 @@ namespace {
   return !(std::abs(ray.tfar - t) > h && std::abs(t - ray.tnear) > h);  // a NaN reach: polish
 }
 
-// The root s of g (about tShift) polished on f as the closest hit polishes it, in g's
-// parameter: the cell's span and claim then decide on the value the closest hit reports.
-// Up to the region's end, not tfar: f's root may lie past tfar, where a polish held to
-// tfar would stop short of it, inside.
-[[gnu::noinline, gnu::cold]] double polishedRoot(const SurfaceData& data, const KernelRay& ray,
-                                                 double tShift, double s, double r0, double r1) {
+// The root at t polished on f as the closest hit polishes it: the cell's span and claim
+// then decide on the value the hit reports, which is this one (polished once: a second
+// polish from its rounded value moved a grazing or ill-conditioned root by ulps up to
+// 76,000 of them, so that re-asking with tfar just past the hit lost it; the second review
+// of session 48). Up to the region's end, not tfar: f's root may lie past tfar, where a
+// polish held to tfar would stop short of it, inside.
+[[gnu::noinline, gnu::cold]] KernelHit polishedRoot(const SurfaceData& data, const KernelRay& ray,
+                                                    double t, double r0, double r1) {
   KernelHit hit;
-  hit.t = tShift + s;
-  hit.point = ray.org + hit.t * ray.dir;
+  hit.t = t;
+  hit.point = ray.org + t * ray.dir;
   polish(data.horner, ray.org, ray.dir, std::max(r0, ray.tnear), r1, r1 - r0, hit);
-  return hit.t - tShift;
+  return hit;
 }
 
 // clipRegionSpan, and closest: closestParameter(o, d, 0) for restrictRecentred when the
@@ -431,8 +433,12 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     const RayPolynomial& g = rr.g;
     const double slo = lo - g.tShift, shi = hi - g.tShift;
     double s = rr.roots[i];
-    if (i > 0 && !data.quadric && endWithinReach(rr, s, ray)) [[unlikely]]
-      s = polishedRoot(data, ray, g.tShift, s, r0, r1);
+    KernelHit polished;
+    const bool prepolished = i > 0 && !data.quadric && endWithinReach(rr, s, ray);
+    if (prepolished) [[unlikely]] {
+      polished = polishedRoot(data, ray, g.tShift + s, r0, r1);
+      s = polished.t - g.tShift;
+    }
     // Behind an origin on the surface (tnear < 0): the search span kept the window, whose
     // roots are the origin's own (searchSpan).
     if (rr.selfWindow > 0.0 && std::abs(s) <= rr.selfWindow) continue;
@@ -479,7 +485,9 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     // reported a point before tfar on no surface (the review of session 48: Chmutov-12, a
     // float ray's later root asked with tfar at its float hit; a labs-septic grazing ray's
     // 1.3e-5 early). A cache root was polished already.
-    if (i == 0 && rr.firstPolished)
+    if (prepolished) [[unlikely]]
+      hit = polished;
+    else if (i == 0 && rr.firstPolished)
       hit.gradient = rr.firstGradient;
     else if (data.quadric)
       hit.gradient = occlusion ? glm::dvec3(0.0) : data.quadric->gradient(hit.point);
