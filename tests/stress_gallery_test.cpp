@@ -594,6 +594,47 @@ TEST(StressShadow, AGrazingRaysSecondCrossingWithTfarJustPastIt) {
   EXPECT_GT(pairs, 1000);
 }
 
+// A host stepping through the gallery's surfaces from inside the clip region (0.3 radii
+// from its centre, where the restriction's re-centring point lies far behind the origin)
+// asks again for each hit with tfar one double past it, and whether the ray is occluded up
+// to it and up to the next double: the same hit, "no" and "yes". s = t - tShift keeps only
+// |tShift|'s ulps, so a root one double before tfar tied tfar in s and was dropped (213 of
+// 1,033 such hits; the third review of session 48).
+TEST(StressShadow, ARootJustBeforeTfarSeenFromInsideTheClipRegion) {
+  int steps = 0;
+  for (const GallerySurface& g : gallery()) {
+    const double radius = g.clipRadius;
+    OneSurface s(describe(g.build(), radius));
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> normal;
+    int disagree = 0;
+    for (int k = 0; k < 60; ++k) {
+      const glm::dvec3 o =
+          0.3 * radius * glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+      RayD ray = rayD(o, 0.35 * radius * glm::dvec3{normal(rng), normal(rng), normal(rng)} - o);
+      for (int step = 0; step < 8; ++step) {
+        const auto hit = s.intersect(ray, g.name.data());
+        if (!hit) break;
+        ++steps;
+        RayD just = ray;
+        just.tfar = std::nextafter(hit->t, kInfD);
+        const auto again = s.intersect(just, g.name.data());
+        const bool occludedPast = s.occluded(just);
+        just.tfar = hit->t;
+        const bool occludedAt = s.occluded(just);
+        if ((!again || again->t != hit->t || !occludedPast || occludedAt) && ++disagree <= 3)
+          ADD_FAILURE() << g.name << " ray " << k << " step " << step << ": hit at t = " << hit->t
+                        << "; with tfar one double past it "
+                        << (again ? std::to_string(again->t) : "none") << ", occluded "
+                        << occludedPast << "; occluded up to t " << occludedAt;
+        ray.tnear = hit->t;
+      }
+    }
+    EXPECT_EQ(disagree, 0) << g.name;
+  }
+  EXPECT_GT(steps, 1000);
+}
+
 // A double ray from the hit o + t d in direction dir, with pbrt-v4's bound on its origin,
 // gamma(3) (|o| + |t d|), as a host computes the hit point; and a ray whose query replaces
 // the thread's record (so that the next query of a ray is asked cold).

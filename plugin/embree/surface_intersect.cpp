@@ -449,8 +449,17 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     // it, so it counts there, inside (tnear, tfar) (a triple factor seen through a
     // degree-16 product was within noise over the last 1 % of a ray's span: the root came
     // back as r1 and was dropped).
-    const bool inSpan = (s > slo || (s == rr.slo && lo == r0 && r0 > ray.tnear)) &&
-                        (s < shi || (s == rr.shi && hi == r1 && r1 < ray.tfar));
+    // A root that ties tnear or tfar in s is decided in t: s = t - tShift keeps only
+    // |tShift|'s ulps, which put a root one double before tfar on tfar's side where |tShift|
+    // >> |t| (an origin inside the clip region, tShift the point nearest its centre: 213 of
+    // 1,033 gallery hits from 0.3 radii lost at tfar = nextafter(t); the third review of
+    // session 48). The polished root's own t where it has one (tShift + (t - tShift) can
+    // round back onto tfar).
+    const double tRoot = prepolished ? polished.t : g.tShift + s;
+    const bool inSpan = (s > slo || (s == rr.slo && lo == r0 && r0 > ray.tnear) ||
+                         (s == slo && lo == ray.tnear && tRoot > ray.tnear)) &&
+                        (s < shi || (s == rr.shi && hi == r1 && r1 < ray.tfar) ||
+                         (s == shi && hi == ray.tfar && tRoot < ray.tfar));
     if (!inSpan && !ray.hasTraversalRay && !(s > slo - window && s < shi + window)) {
       if (s >= shi) break;
       continue;
