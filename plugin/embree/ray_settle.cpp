@@ -230,12 +230,12 @@ void settleFirst(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
 // tnear and of tfar as g's. g's rigorous noise bound proves a root of f wherever g clears
 // it with opposite signs (the bound with the self-root rule's division, divisionNoise, and
 // a and b on one side of the root it divided out), so that holds where g does so at two
-// points a < s < b with
-// neither tnear nor tfar in [a, b]: trivially when the whole search span lies in (tnear,
-// tfar) (the solver's own bracket lies in it), else at s -+ 4 |bound / g'(s)|, the
-// first-order reach of the noise bound (the factor covers the curvature and the solver's
-// error). Where g cannot show it there (a wide noise region, as where g's terms are far
-// larger than f's: the sign change placed anywhere inside it), or tnear or tfar lies in
+// points a < s < b with neither tnear nor tfar in [a, b]: trivially when the whole search
+// span lies in (tnear, tfar) (the solver's own bracket lies in it), else at s -+ 4 |bound
+// / g'(s)|, the first-order reach of the noise bound (the factor covers the curvature and
+// the solver's error), and a float step more for a float ray (floatEndReach). Where g
+// cannot show it there (a wide noise region, as where g's terms are far larger than f's:
+// the sign change placed anywhere inside it), or tnear or tfar lies in
 // [a, b], the root is settled on f as the closest hit's is. Why: on 1e143 z^7 + x^2 + y^2 +
 // z^2 = 1 (the plane z = 0 to 1e-20, g's noise region about it 1e-3 wide) rays ending up
 // to 1e-4 before the closest hit were occluded, or rays ending just past it not: 43 of
