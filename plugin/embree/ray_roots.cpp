@@ -475,9 +475,11 @@ double multipleRootWindow(const SurfaceData& data, const KernelRay& ray, double 
 // A near-tangent origin (rho above 1/8: a cluster splitCluster told apart, a thin shell's
 // sheets, or divideNearTangentRoot's) has a bracket of its root instead, own: Newton
 // safeguarded by bisection in it, to a step or bracket within 2^-50 |r|, and g evaluated
-// again at r for the bounds. g: after deflateAtZero (coeff[k] = c_(k+1)); c0, e0: g's constant term
-// and its bound; own: lo = hi = 0 for the simple root's rule.
-bool divideByOriginRoot(RayPolynomial& g, double c0, double e0, OwnRootBracket own, RayRoots& rr) {
+// again at r for the bounds. rr.g: after deflateAtZero (coeff[k] = c_(k+1)), divided in
+// place, and rr's division terms set (divisionNoise); c0, e0: g's constant term and its
+// bound; own: lo = hi = 0 for the simple root's rule.
+bool divideByOriginRoot(RayRoots& rr, double c0, double e0, OwnRootBracket own) {
+  RayPolynomial& g = rr.g;
   const int n = g.degree + 1;  // g's degree before the division by s
   const double c1 = g.coeff[0];
   if (!(std::abs(c0) > 4.0 * e0) || !(std::abs(c1) > 4.0 * g.error[0])) return false;
@@ -573,7 +575,7 @@ bool divideNearTangentRoot(const SurfaceData& data, const KernelRay& ray, const 
   const ClusterSplit near = crossingsNearOrigin(data, ray, origin, originDistance(ray, orgError),
                                                 c0, e0, g, 2.0 * std::abs(nearRoot), {nearRoot});
   const bool sameSide = nearRoot > 0.0 ? near.own.lo >= 0.0 : near.own.hi <= 0.0;
-  return near.own.lo < near.own.hi && sameSide && divideByOriginRoot(g, c0, e0, near.own, rr);
+  return near.own.lo < near.own.hi && sameSide && divideByOriginRoot(rr, c0, e0, near.own);
 }
 
 // ---- Quadrics --------------------------------------------------------------------------
@@ -679,7 +681,7 @@ CacheEntry* restrictWhole(const SurfaceData& data, const KernelRay& ray, double 
         // A simple root at the origin (no cluster, or the origin's among sheets apart, a
         // rare path that skips the gate): divided out where it lies, not at 0. (g is then
         // no longer g / s: nothing was zeroed.)
-        if (divideByOriginRoot(g, c0, e0, split.own, rr) ||
+        if (divideByOriginRoot(rr, c0, e0, split.own) ||
             (!split.apart &&
              divideNearTangentRoot(data, ray, tlsOriginValue, orgError, c0, e0, rr)))
           zeroedConstant = -1.0;

@@ -252,10 +252,10 @@ bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray) {
   const double a = s - h, b = s + h;
   const auto outside = [&](double t) { return t < g.tShift + a || t > g.tShift + b; };
   if (!(h < kInf) || !outside(ray.tnear) || !outside(ray.tfar)) return false;
-  double boundA, boundB;
-  const double ga = g.evaluateWithBound(a, boundA), gb = g.evaluateWithBound(b, boundB);
   if (rr.divisionRemainder >= 0.0 && (a - rr.divisionRoot < 0.0) != (b - rr.divisionRoot < 0.0))
     return false;
+  double boundA, boundB;
+  const double ga = g.evaluateWithBound(a, boundA), gb = g.evaluateWithBound(b, boundB);
   return std::abs(ga) > boundA + divisionNoise(rr, a) &&
          std::abs(gb) > boundB + divisionNoise(rr, b) && std::signbit(ga) != std::signbit(gb);
 }

@@ -321,6 +321,14 @@ inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, 
   return originOutsideClipBall(data, glm::dot(oc, oc), orgError);
 }
 
+// How far the origin may lie from the point it stands for: the bound plus its coordinates'
+// own rounding (orgRoundoff |o|_1). (The self-root rule's distance; orgError: the ray's
+// whole bound.)
+inline double originDistance(const KernelRay& ray, double orgError) {
+  const glm::dvec3& o = ray.org;
+  return orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z));
+}
+
 // After the self-root rule divided out the root at an origin judged on the surface, the
 // ray parameter below which a root is still that origin's own: within the origin's
 // uncertainty (orgError plus the rounding of its coordinates), twice over. Near a singular
@@ -339,13 +347,6 @@ inline bool originOutsideClipBall(const SurfaceData& data, const glm::dvec3& o, 
 // object 1e4 from the world origin (diag(1, 1, 1e-3)) had a window of five radii over the
 // object-space |d| and skipped the object's far side (tests/embree_transform_test.cpp).
 // (A d rounds to d_world within a relative O(kappa(A) u), well below the 2^-20 added.)
-// How far the origin may lie from the point it stands for: the bound plus its coordinates'
-// own rounding (orgRoundoff |o|_1). (The self-root rule's distance; orgError: the ray's
-// whole bound.)
-inline double originDistance(const KernelRay& ray, double orgError) {
-  const glm::dvec3& o = ray.org;
-  return orgError + ray.orgRoundoff * (std::abs(o.x) + std::abs(o.y) + std::abs(o.z));
-}
 inline double selfRootDistance(const KernelRay& ray, double orgError) {
   return 2.0 * originDistance(ray, orgError);
 }
