@@ -169,8 +169,25 @@ double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign =
 bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray);
 // Whether the first root settled behind tnear, where the walk's later roots get no check.
 bool firstBehindTnear(const RayRoots& rr);
-// Places rr's first root on f (polish, search again, look behind), and from tnear again
-// where it settled behind it.
+// A root within f's rounding noise of tnear counts as at tnear and is not reported (README,
+// "by design"; the search starts before tnear, searchSpan), as a host stepping on from a hit
+// (tnear = its t) has it: whether the root t, past tnear by at most kTnearWindow of their
+// size, is tnear's own, within f's noise reach of tnear or placed past it by g (the walk
+// skips either; settleAfterTnear searches past the second).
+enum class AtTnear { kNo, kWithinReach, kFallsBack };
+inline constexpr double kTnearWindow = 0x1p-30;
+AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                    double t, double r0, double r1);
+inline bool tnearsOwnRoot(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d,
+                          double tnear, double t, double r0, double r1) {
+  return t - tnear <= kTnearWindow * (std::abs(tnear) + std::abs(t)) &&
+         rootAtTnear(f, o, d, tnear, t, r0, r1) != AtTnear::kNo;
+}
+// Places rr's first root on f (polish, search again, look behind), then settleBesideTnear.
 void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr);
+// rr's first root on f (settled, or a cached one confirmed on f) searched for again from
+// tnear where it lies behind it, and past it where it is tnear's own though the ray's
+// polynomial placed it past f's noise reach of tnear (AtTnear::kFallsBack).
+void settleBesideTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr);
 
 }  // namespace algray

@@ -311,26 +311,6 @@ bool walkRoots(const SurfaceData& data, unsigned cell, const KernelRay& ray, boo
 
 namespace {
 
-// A root within f's rounding noise of tnear counts as at tnear and is not reported (README,
-// "by design"; the walk's search starts before tnear, searchSpan): f at o + tnear d is within
-// its evaluation bound plus what the rounding of that point moves it by, and the root t
-// lies within that noise's reach along the ray (its width over f's slope there) and 4 ulps.
-// A host stepping past a hit with tnear = its t (the double nearest the root, which may lie
-// below it) met the same root again one double on (1152 of 14313 double-channel rays through
-// a torus with hits). Without the reach, any root within 2^-30 of tnear went (a second plane
-// 1e-8 on; the far side of a torus seen from 1e9 radii).
-[[gnu::noinline, gnu::cold]] bool withinNoiseAt(const HornerForm& f, const glm::dvec3& o,
-                                                const glm::dvec3& d, double tnear, double t) {
-  const glm::dvec3 p = o + tnear * d;
-  const Polynomial::Evaluation e = f.evaluate(p);
-  const glm::dvec3 pointError = gamma(2) * (glm::abs(o) + std::abs(tnear) * glm::abs(d));
-  const double noise = e.valueError + glm::dot(glm::abs(e.gradient), pointError);
-  if (!(std::abs(e.value) <= noise)) return false;
-  const double a = std::max(std::abs(tnear), std::abs(t));
-  const double reach = noise / std::abs(glm::dot(e.gradient, d));  // inf at a zero slope
-  return t - tnear <= 4.0 * (std::nextafter(a, kInf) - a) + reach;
-}
-
 // Whether tnear or tfar lies within the reach of g's noise about its root s (as in
 // occlusionRootCertain, which checks the first root): the walk takes a later root's side
 // of the ends from g, and where an end lies within that reach both queries first polish
@@ -503,8 +483,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), r1, r1 - r0, hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
-    if (hit.t - ray.tnear <= 0x1p-30 * (std::abs(ray.tnear) + std::abs(hit.t)) &&
-        withinNoiseAt(f, o, d, ray.tnear, hit.t)) [[unlikely]]
+    if (tnearsOwnRoot(f, o, d, ray.tnear, hit.t, r0, r1)) [[unlikely]]
       continue;
     if (!occlusion)
       hit.gradient = hitGradient(data, d, hit.point, hit.gradient, hitPointError(o, d, hit.t));
