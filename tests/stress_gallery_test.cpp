@@ -661,50 +661,57 @@ std::vector<double> steppingHits(OneSurface& s, RayD ray, int degree, const std:
   return hits;
 }
 
+// Steps along ray (its k-th) and counts it in `over` where it meets more roots than the
+// degree, reporting the first three.
+void expectEachRootOnce(OneSurface& s, const RayD& ray, int degree, const std::string& what, int k,
+                        int& over) {
+  const std::vector<double> hits = steppingHits(s, ray, degree, what);
+  if (static_cast<int>(hits.size()) <= degree || ++over > 3) return;
+  std::string list;
+  for (const double t : hits) list += " " + std::to_string(t);
+  ADD_FAILURE() << what << " ray " << k << ": more hits than the degree " << degree << ":" << list;
+}
+
 const glm::dmat4 kSteppingTransform =
     glm::rotate(glm::translate(glm::dmat4(1.0), glm::dvec3(0.3, -0.2, 0.1)), 0.7,
                 glm::dvec3(1.0, 2.0, 3.0)) *
     glm::scale(glm::dmat4(1.0), glm::dvec3(1.3));
+
+// o + t d in object space moved to world space by kSteppingTransform where `transformed`.
+RayD steppingRay(glm::dvec3 o, glm::dvec3 d, bool transformed) {
+  if (transformed) {
+    o = glm::dvec3(kSteppingTransform * glm::dvec4(o, 1.0));
+    d = glm::dvec3(kSteppingTransform * glm::dvec4(d, 0.0));
+  }
+  return rayD(o, d);
+}
 
 // A host stepping along a ray (tnear = the previous hit) through every hit meets each root
 // once: a line meets a surface of degree m at most m times. The gallery from 3 radii, from
 // its hits (leaving rays) and from 0.3 radii inside, plain and under a transform; rays near
 // double lines below (ASteppingHostNearDoubleLinesMeetsEachRootOnce).
 TEST(StressShadow, ASteppingHostMeetsEachRootOnce) {
-  const glm::dmat4& transform = kSteppingTransform;
   std::mt19937_64 rng(3);
   std::normal_distribution<double> normal;
   auto gaussian = [&] { return glm::dvec3{normal(rng), normal(rng), normal(rng)}; };
-  const auto steps = steppingHits;
   for (const GallerySurface& g : gallery()) {
     for (const bool transformed : {false, true}) {
       SurfaceDesc desc = describe(g.build(), g.clipRadius);
-      if (transformed) desc.transform = transform;
+      if (transformed) desc.transform = kSteppingTransform;
       const int degree = desc.polynomial.degree();
       const std::string what = std::string(g.name) + (transformed ? " (transformed)" : "");
       OneSurface s(desc);
       int over = 0;
       for (int k = 0; k < 150; ++k) {
         const double radius = g.clipRadius;
-        glm::dvec3 o = (k % 3 == 2 ? 0.3 : 3.0) * radius * glm::normalize(gaussian());
-        glm::dvec3 d = 0.35 * radius * gaussian() - o;
-        if (transformed) {
-          o = glm::dvec3(transform * glm::dvec4(o, 1.0));
-          d = glm::dvec3(transform * glm::dvec4(d, 0.0));
-        }
-        RayD ray = rayD(o, d);
+        const glm::dvec3 o = (k % 3 == 2 ? 0.3 : 3.0) * radius * glm::normalize(gaussian());
+        RayD ray = steppingRay(o, 0.35 * radius * gaussian() - o, transformed);
         if (k % 3 == 1) {
           const auto first = s.intersect(ray, what);
           if (!first) continue;
-          ray = leavingRayD(o, d, first->t, gaussian());
+          ray = leavingRayD(ray.org, ray.dir, first->t, gaussian());
         }
-        const std::vector<double> hits = steps(s, ray, degree, what);
-        if (static_cast<int>(hits.size()) > degree && ++over <= 3) {
-          std::string list;
-          for (const double t : hits) list += " " + std::to_string(t);
-          ADD_FAILURE() << what << " ray " << k << ": more hits than the degree " << degree << ":"
-                        << list;
-        }
+        expectEachRootOnce(s, ray, degree, what, k, over);
       }
       EXPECT_EQ(over, 0) << what;
     }
@@ -746,18 +753,7 @@ TEST(StressShadow, ASteppingHostNearDoubleLinesMeetsEachRootOnce) {
         target[c.axis] = 0.8 * (2.0 * u(rng) - 1.0);
         off[c.axis] = 0.0;
         target += std::pow(10.0, -1.0 - 11.0 * u(rng)) * glm::normalize(off);
-        glm::dvec3 d = target - o;
-        if (transformed) {
-          o = glm::dvec3(kSteppingTransform * glm::dvec4(o, 1.0));
-          d = glm::dvec3(kSteppingTransform * glm::dvec4(d, 0.0));
-        }
-        const std::vector<double> hits = steppingHits(s, rayD(o, d), degree, what);
-        if (static_cast<int>(hits.size()) > degree && ++over <= 3) {
-          std::string list;
-          for (const double t : hits) list += " " + std::to_string(t);
-          ADD_FAILURE() << what << " ray " << k << ": more hits than the degree " << degree << ":"
-                        << list;
-        }
+        expectEachRootOnce(s, steppingRay(o, target - o, transformed), degree, what, k, over);
       }
       EXPECT_EQ(over, 0) << what;
     }
