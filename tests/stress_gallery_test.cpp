@@ -792,6 +792,60 @@ TEST(StressShadow, PastARootPlacedBeyondTnearTheNextHitIsTheNextRoot) {
   }
 }
 
+// A camera with the origin cache inside the clip region (the rays of the second review of
+// session 49, the cache primed by two rays from the camera first). (1) The closest hit asked
+// again at once, and occlusion, agree with it: a ray from inside completes its root list in
+// a cell before the hit (completeRoots), which moved the cached first root onto the
+// re-centred restriction, where tShift + roots[0] lay 25 ulps from the t reported (a hit
+// 0.022 from the camera, tShift ~0.6): the same query asked again got that other value, and
+// in the review's harness occlusion with tfar one double past the hit said "no" (3,344 such
+// checks on the gallery disagreed, none without the cache; RayRoots::firstT).
+// (2) A host stepping on from a hit meets the next root, not the same one again: the walk's
+// polish had left a Chmutov-8 hit at the near edge of f's noise region (f within its bound
+// there), and the next query placed the root at its far edge, 2.1e-14 (191 ulps) on, past
+// f's reach at tnear (rootAtTnear: f within its noise at both). Expected: the MPFR
+// reference's first root past the hit (tests/support/reference.h).
+TEST(StressShadow, CachedCameraRaysFromInsideTheClipRegion) {
+  auto primed = [](const char* name) {
+    SurfaceDesc desc =
+        describe(findGallerySurface(name)->build(), findGallerySurface(name)->clipRadius);
+    desc.options.originCache = true;
+    return desc;
+  };
+  {
+    const SurfaceDesc desc = primed("clebsch-cubic");
+    OneSurface s(desc);
+    const glm::dvec3 o(0x1.6f10def12a8bbp-2, 0x1.d32cbea74d6bep-3, 0x1.b1ce1ebfec769p-2);
+    const glm::dvec3 d(0x1.3657a830c599cp-1, 0x1.82e55b76d1eb4p-3, -0x1.a79bf1b82c058p+0);
+    s.intersect(rayD(o, -o));
+    s.intersect(rayD(o, -o));
+    const auto hit = s.intersect(rayD(o, d), "clebsch");
+    ASSERT_TRUE(hit);
+    EXPECT_TRUE(s.occluded(rayD(o, d, 0.0, std::nextafter(hit->t, kInfD)))) << hit->t;
+    EXPECT_FALSE(s.occluded(rayD(o, d, 0.0, hit->t))) << hit->t;
+    const auto again = s.intersect(rayD(o, d), "clebsch");
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->t, hit->t);
+  }
+  {
+    const SurfaceDesc desc = primed("chmutov-8");
+    OneSurface s(desc);
+    const glm::dvec3 o(0x1.412ec313053a4p-2, 0x1.98c726d263be7p-3, 0x1.7b945ae7eee7cp-2);
+    const glm::dvec3 d(-0x1.be8d3c11cfba1p-1, -0x1.d7138c5a26fccp-2, -0x1.cc36b2d74a05fp+0);
+    s.intersect(rayD(o, -o));
+    s.intersect(rayD(o, -o));
+    const auto first = s.intersect(rayD(o, d, 0x1.b75516ac6c949p-5), "chmutov-8");
+    ASSERT_TRUE(first);
+    const auto next = s.intersect(rayD(o, d, first->t), "chmutov-8");
+    const RayRef want =
+        referenceFirstHit(desc.polynomial, o, d, first->t * (1 + 1e-9), kInfD, glm::dvec3(0.0),
+                          findGallerySurface("chmutov-8")->clipRadius);
+    ASSERT_TRUE(want.hit);
+    ASSERT_TRUE(next) << "after " << first->t;
+    EXPECT_NEAR(next->t, want.t, 1e-9) << "after " << first->t;
+  }
+}
+
 // The same for double rays leaving a double hit with pbrt-v4's bound on the hit point
 // (orgError = gamma(3) (|o| + |t d|)), with tfar one double step past the hit or before
 // it; and the closest hit, asked again with tfar one step past it (primary rays too),

@@ -56,6 +56,10 @@ struct RayRoots {
   bool firstPolished = false;
   glm::dvec3 firstGradient{0.0};
   bool firstAtNoise = false;  // the first root came from the solver's noise rules (roots.h)
+  // completeRoots moved a cached first root onto the re-centred restriction: its t as the
+  // cache had it, which the walk reports (tShift + roots[0] can be ulps off it).
+  bool firstRebased = false;
+  double firstT = 0;
 };
 // Kept per thread without a registered destructor (see threadOriginCache, ray_roots.cpp).
 static_assert(std::is_trivially_destructible_v<RayRoots>);

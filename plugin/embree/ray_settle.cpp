@@ -305,16 +305,16 @@ double noiseAt(const Polynomial::Evaluation& e, const glm::dvec3& o, const glm::
 // Whitney's umbrella, Pluecker's conoid and the cross-cap). Not g's reach in place of f's
 // (session 48, reverted): g expanded far away reaches over real roots past tnear (4e-13 to
 // 2e-3 on random extreme surfaces).
+// (e: f at o + t d, clear of its noise there.)
 [[gnu::noinline, gnu::cold]] bool fallsBackOnTnear(const HornerForm& f, const glm::dvec3& o,
                                                    const glm::dvec3& d, double limit, double t,
-                                                   double r0, double r1) {
+                                                   const Polynomial::Evaluation& e, double r0,
+                                                   double r1) {
   KernelHit back;
   back.t = t;
   Polynomial::Evaluation atBack;
   polish(f, o, d, r0, r1, r1 - r0, back, &atBack);
   if (!(back.t <= limit && std::abs(atBack.value) <= noiseAt(atBack, o, d, back.t))) return false;
-  const Polynomial::Evaluation e = f.evaluate(o + t * d);
-  if (!(std::abs(e.value) > noiseAt(e, o, d, t))) return false;
   const double ratio = e.value / (glm::dot(atBack.gradient, d) * (t - back.t));
   return ratio >= 0.5 && ratio <= 2.0;
 }
@@ -337,7 +337,18 @@ AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& 
   const double reach = noise / std::abs(glm::dot(e.gradient, d));  // inf at a zero slope
   const double width = 4.0 * (std::nextafter(a, kInf) - a) + reach;
   if (t - tnear <= width) return AtTnear::kWithinReach;
-  return fallsBackOnTnear(f, o, d, tnear + width, t, r0, r1) ? AtTnear::kFallsBack : AtTnear::kNo;
+  // f within its noise at t too: t may lie at the far edge of the noise region whose near
+  // edge tnear is (a hit the walk's polish left where f first came within its bound; the
+  // next query placed the root 2.1e-14 on, at the far edge, 191 ulps: a Chmutov-8 ray from a
+  // camera inside the clip region, with the origin cache, met its root twice; the second
+  // review of session 49), so the region's width there counts as well.
+  const Polynomial::Evaluation et = f.evaluate(o + t * d);
+  const double noiseT = noiseAt(et, o, d, t);
+  if (!(std::abs(et.value) > noiseT))
+    return t - tnear <= width + noiseT / std::abs(glm::dot(et.gradient, d)) ? AtTnear::kWithinReach
+                                                                            : AtTnear::kNo;
+  return fallsBackOnTnear(f, o, d, tnear + width, t, et, r0, r1) ? AtTnear::kFallsBack
+                                                                 : AtTnear::kNo;
 }
 
 namespace {

@@ -435,7 +435,8 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     // 1,033 gallery hits from 0.3 radii lost at tfar = nextafter(t); the third review of
     // session 48). The polished root's own t where it has one (tShift + (t - tShift) can
     // round back onto tfar).
-    const double tRoot = prepolished ? polished.t : g.tShift + s;
+    const bool rebased = i == 0 && rr.firstRebased;  // completeRoots: report the cache's t
+    const double tRoot = prepolished ? polished.t : rebased ? rr.firstT : g.tShift + s;
     const bool inSpan = (s > slo || (s == rr.slo && lo == r0 && r0 > ray.tnear) ||
                          (s == slo && lo == ray.tnear && tRoot > ray.tnear)) &&
                         (s < shi || (s == rr.shi && hi == r1 && r1 < ray.tfar) ||
@@ -445,7 +446,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
       continue;
     }
     KernelHit hit;
-    hit.t = g.tShift + s;
+    hit.t = rebased ? rr.firstT : g.tShift + s;
     hit.point = o + hit.t * d;
     const Claim claim = claimsRoot(data, cell, hit.point, ray, inSpan);
     if (claim == Claim::kNone) {
