@@ -846,6 +846,32 @@ TEST(StressShadow, CachedCameraRaysFromInsideTheClipRegion) {
   }
 }
 
+// A sheet grazed just past the last hit is met (rootAtTnear's far-edge rule takes t's noise
+// over the slope of tnear's root, not over the slope at t, which is 0 where the ray touches a
+// sheet): the plane x = 0, then the unit sphere about (2^-30, 1, 0), which touches the x axis
+// at x = 2^-30, along that axis from x = -1 (tnear = the plane's hit, t = 1); and the same
+// with the sphere about (2^-20, 1, 0) from x = -1000. Without it the touching point went (the third review of
+// session 49; 139 of 600 random planes with a sphere grazed just past them, f clear of its
+// noise between the two). Expected: the touching point, exactly 1 + 2^-30 (or 1000 + 2^-20).
+TEST(StressShadow, ASheetGrazedJustPastTheLastHitIsMet) {
+  const struct {
+    const char* equation;
+    double from;  // the ray starts at x = -from along the x axis
+  } cases[] = {{"x*((x-9.313225746154785e-10)^2+y^2-2*y+z^2)", 1.0},
+               {"x*((x-9.5367431640625e-07)^2+y^2-2*y+z^2)", 1000.0}};
+  for (const auto& c : cases) {
+    OneSurface s(describe(parsePolynomial(c.equation), 2.0));
+    const glm::dvec3 o(-c.from, 0.0, 0.0), d(1.0, 0.0, 0.0);
+    const auto plane = s.intersect(rayD(o, d), c.equation);
+    ASSERT_TRUE(plane) << c.equation;
+    EXPECT_EQ(plane->t, c.from) << c.equation;
+    const auto touch = s.intersect(rayD(o, d, plane->t), c.equation);
+    ASSERT_TRUE(touch) << c.equation << ": no hit past the plane";
+    const double want = c.from + (c.from == 1.0 ? 0x1p-30 : 0x1p-20);
+    EXPECT_NEAR(touch->t, want, 1e-9 * c.from) << c.equation;
+  }
+}
+
 // The same for double rays leaving a double hit with pbrt-v4's bound on the hit point
 // (orgError = gamma(3) (|o| + |t d|)), with tfar one double step past the hit or before
 // it; and the closest hit, asked again with tfar one step past it (primary rays too),

@@ -1054,7 +1054,7 @@ void completeRoots(const SurfaceData& data, RayRoots& rr) {
     // and a query of the same ray after the first (which found the whole list from a camera
     // inside the clip region) reported, or occluded with, that other value (the second
     // review of session 49: 3,344 warm occlusion checks on the gallery disagreed with the
-    // closest hit; StressShadow.WarmQueriesOfACachedRayAgreeWithItsHit).
+    // closest hit; StressShadow.CachedCameraRaysFromInsideTheClipRegion).
     const double tFirst = rr.g.tShift + rr.roots[0];
     restrictRecentred(data, rr.org, rr.dir, rr.r0, rr.r1, rr.g);
     rr.fromCache = false;

@@ -176,8 +176,9 @@ bool firstBehindTnear(const RayRoots& rr);
 // A root within f's rounding noise of tnear counts as at tnear and is not reported (README,
 // "by design"; the search starts before tnear, searchSpan), as a host stepping on from a hit
 // (tnear = its t) has it: whether the root t, past tnear by at most kTnearWindow of their
-// size, is tnear's own, within f's noise reach of tnear or placed past it by g (the walk
-// skips either; settleAfterTnear searches past the second).
+// size, is tnear's own, within f's noise reach of tnear (or of both ends, f within its noise
+// at each) or placed past it by g (the walk skips either; settleBesideTnear searches past
+// the second).
 enum class AtTnear { kNo, kWithinReach, kFallsBack };
 inline constexpr double kTnearWindow = 0x1p-30;
 AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tnear,

@@ -322,8 +322,9 @@ double noiseAt(const Polynomial::Evaluation& e, const glm::dvec3& o, const glm::
 }  // namespace
 
 // f at o + tnear d is within its noise (noiseAt), and t lies within that noise's reach
-// along the ray (its width over f's slope there) and 4 ulps, or f's Newton steps from t
-// fall back there (fallsBackOnTnear). A host stepping past a hit with tnear = its t (the
+// along the ray (its width over f's slope there) and 4 ulps, or f is within its noise at t
+// too and the two reaches together span the gap, or f's Newton steps from t fall back
+// there (fallsBackOnTnear). A host stepping past a hit with tnear = its t (the
 // double nearest the root, which may lie below it) met the same root again one double on
 // (1152 of 14313 double-channel rays through a torus with hits). Without the reach, any
 // root within 2^-30 of tnear went (a second plane 1e-8 on; the far side of a torus seen
@@ -334,19 +335,26 @@ AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& 
   const double noise = noiseAt(e, o, d, tnear);
   if (!(std::abs(e.value) <= noise)) return AtTnear::kNo;
   const double a = std::max(std::abs(tnear), std::abs(t));
-  const double reach = noise / std::abs(glm::dot(e.gradient, d));  // inf at a zero slope
+  const double slope = std::abs(glm::dot(e.gradient, d));
+  const double reach = noise / slope;  // inf at a zero slope
   const double width = 4.0 * (std::nextafter(a, kInf) - a) + reach;
   if (t - tnear <= width) return AtTnear::kWithinReach;
   // f within its noise at t too: t may lie at the far edge of the noise region whose near
   // edge tnear is (a hit the walk's polish left where f first came within its bound; the
   // next query placed the root 2.1e-14 on, at the far edge, 191 ulps: a Chmutov-8 ray from a
   // camera inside the clip region, with the origin cache, met its root twice; the second
-  // review of session 49), so the region's width there counts as well.
+  // review of session 49), so t's noise counts as well, over the slope of tnear's root, and
+  // f must stay within its noise between them (halfway). Not over the slope at t: a ray
+  // grazing another sheet just past tnear has none there, and its pair of roots, clear of
+  // f's noise from tnear, went (the third review: a plane, then a sphere grazed 4.3e-4 on).
   const Polynomial::Evaluation et = f.evaluate(o + t * d);
   const double noiseT = noiseAt(et, o, d, t);
-  if (!(std::abs(et.value) > noiseT))
-    return t - tnear <= width + noiseT / std::abs(glm::dot(et.gradient, d)) ? AtTnear::kWithinReach
-                                                                            : AtTnear::kNo;
+  if (!(std::abs(et.value) > noiseT)) {
+    if (!(t - tnear <= width + noiseT / slope)) return AtTnear::kNo;
+    const double mid = tnear + 0.5 * (t - tnear);
+    const Polynomial::Evaluation em = f.evaluate(o + mid * d);
+    return std::abs(em.value) <= noiseAt(em, o, d, mid) ? AtTnear::kWithinReach : AtTnear::kNo;
+  }
   return fallsBackOnTnear(f, o, d, tnear + width, t, et, r0, r1) ? AtTnear::kFallsBack
                                                                  : AtTnear::kNo;
 }
