@@ -850,9 +850,10 @@ TEST(StressShadow, CachedCameraRaysFromInsideTheClipRegion) {
 // over the slope of tnear's root, not over the slope at t, which is 0 where the ray touches a
 // sheet): the plane x = 0, then the unit sphere about (2^-30, 1, 0), which touches the x axis
 // at x = 2^-30, along that axis from x = -1 (tnear = the plane's hit, t = 1); and the same
-// with the sphere about (2^-20, 1, 0) from x = -1000. Without it the touching point went (the third review of
-// session 49; 139 of 600 random planes with a sphere grazed just past them, f clear of its
-// noise between the two). Expected: the touching point, exactly 1 + 2^-30 (or 1000 + 2^-20).
+// with the sphere about (2^-20, 1, 0) from x = -1000. Without it the touching point went
+// (the third review of session 49; 139 of 600 random planes with a sphere grazed just past
+// them, f clear of its noise between the two). Expected: the touching point, exactly
+// 1 + 2^-30 (or 1000 + 2^-20).
 TEST(StressShadow, ASheetGrazedJustPastTheLastHitIsMet) {
   const struct {
     const char* equation;
