@@ -175,18 +175,19 @@ bool occlusionRootCertain(const RayRoots& rr, const KernelRay& ray);
 bool firstBehindTnear(const RayRoots& rr);
 // A root within f's rounding noise of tnear counts as at tnear and is not reported (README,
 // "by design"; the search starts before tnear, searchSpan), as a host stepping on from a hit
-// (tnear = its t) has it: whether the root t, past tnear by at most kTnearWindow of their
-// size, is tnear's own, within f's noise reach of tnear (or of both ends, f within its noise
-// at each) or placed past it by g (the walk skips either; settleBesideTnear searches past
-// the second).
+// (tnear = its t) has it: whether the root t, past tnear by at most 2^-30 of their size
+// (withinTnearWindow), is tnear's own, within f's noise reach of tnear (or of both ends, f
+// within its noise at each) or placed past it by g (the walk skips either;
+// settleBesideTnear searches past the second).
 enum class AtTnear { kNo, kWithinReach, kFallsBack };
-inline constexpr double kTnearWindow = 0x1p-30;
+inline bool withinTnearWindow(double tnear, double t) {
+  return t - tnear <= 0x1p-30 * (std::abs(tnear) + std::abs(t));
+}
 AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tnear,
                     double t, double r0, double r1);
 inline bool tnearsOwnRoot(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d,
                           double tnear, double t, double r0, double r1) {
-  return t - tnear <= kTnearWindow * (std::abs(tnear) + std::abs(t)) &&
-         rootAtTnear(f, o, d, tnear, t, r0, r1) != AtTnear::kNo;
+  return withinTnearWindow(tnear, t) && rootAtTnear(f, o, d, tnear, t, r0, r1) != AtTnear::kNo;
 }
 // Places rr's first root on f (polish, search again, look behind), then settleBesideTnear.
 void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr);

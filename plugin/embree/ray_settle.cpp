@@ -361,12 +361,18 @@ AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& 
 
 namespace {
 
-[[gnu::noinline, gnu::cold]] void searchFromTnear(const SurfaceData& data, const KernelRay& ray,
-                                                  RayRoots& rr) {
-  restrictAbout(data.horner, ray.org, ray.dir, ray.tnear, rr.g);
+// rr's g restricted again about the ray's point at t, a record of none of the first
+// expansion's kinds (no division, no cache, nothing polished).
+void restrictAgainAbout(const SurfaceData& data, const KernelRay& ray, double t, RayRoots& rr) {
+  restrictAbout(data.horner, ray.org, ray.dir, t, rr.g);
   rr.divisionRemainder = -1.0;
   rr.fromCache = false;
   rr.firstPolished = false;
+}
+
+[[gnu::noinline, gnu::cold]] void searchFromTnear(const SurfaceData& data, const KernelRay& ray,
+                                                  RayRoots& rr) {
+  restrictAgainAbout(data, ray, ray.tnear, rr);
   solveFirst(data, rr);
   if (rr.count == 1) settleFirst(data, ray, rr);
 }
@@ -378,7 +384,7 @@ namespace {
 bool firstFallsBackOnTnear(const SurfaceData& data, const KernelRay& ray, const RayRoots& rr) {
   if (rr.count != 1 || rr.selfWindow > 0.0) return false;
   const double t = rr.g.tShift + rr.roots[0];
-  return t > ray.tnear && t - ray.tnear <= kTnearWindow * (std::abs(ray.tnear) + std::abs(t)) &&
+  return t > ray.tnear && withinTnearWindow(ray.tnear, t) &&
          rootAtTnear(data.horner, ray.org, ray.dir, ray.tnear, t, rr.r0, rr.r1) ==
              AtTnear::kFallsBack;
 }
@@ -395,10 +401,7 @@ bool firstFallsBackOnTnear(const SurfaceData& data, const KernelRay& ray, const 
 [[gnu::noinline, gnu::cold]] void searchPast(const SurfaceData& data, const KernelRay& ray,
                                              RayRoots& rr) {
   const double t = rr.g.tShift + rr.roots[0];
-  restrictAbout(data.horner, ray.org, ray.dir, t, rr.g);
-  rr.divisionRemainder = -1.0;
-  rr.fromCache = false;
-  rr.firstPolished = false;
+  restrictAgainAbout(data, ray, t, rr);
   rr.slo = t - rr.g.tShift;
   rr.shi = rr.r1 - rr.g.tShift;
   rr.closedLo = false;
