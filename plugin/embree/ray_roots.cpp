@@ -1023,7 +1023,7 @@ RayRoots& deriveRayRoots(const SurfaceData& data, const KernelRay& ray, double r
   // tnear (searchFromTnear), or where g cannot tell on which side of tnear or tfar it lies
   // (walkRootsOf, occlusionRootCertain). A cached root was confirmed above; a quadric's
   // closed form is accurate to its conditioning. A root settled behind tnear is searched
-  // for again from tnear, and one that is tnear's own past it (settleBesideTnear), a cached
+  // for again from tnear, and past one the walk would skip (settleBesideTnear), a cached
   // one too: its polish, over the whole span, may take a root g placed past tnear back to
   // it or before it, and the walk then took the cache's next root unchecked (a stepping
   // host met a point on no surface near a double line of the Roman surface, 2.6e-7 from f's

@@ -176,24 +176,24 @@ bool firstBehindTnear(const RayRoots& rr);
 // A root within f's rounding noise of tnear counts as at tnear and is not reported (README,
 // "by design"; the search starts before tnear, searchSpan), as a host stepping on from a hit
 // (tnear = its t) has it: whether the root t, past tnear by at most 2^-30 of their size
-// (withinTnearWindow), is tnear's own, within f's noise reach of tnear (or of both ends, f
-// within its noise at each) or placed past it by g (the walk skips either;
-// settleBesideTnear searches past the second).
+// (withinTnearWindow), is tnear's own: within f's noise reach of tnear (or of both ends, f
+// within its noise at each), one grazing point with a tnear where f is clear of its noise
+// but not clearly off the surface, or placed past it by g (kFallsBack). The walk skips
+// either kind; settleBesideTnear searches past both.
 enum class AtTnear { kNo, kWithinReach, kFallsBack };
 inline bool withinTnearWindow(double tnear, double t) {
   return t - tnear <= 0x1p-30 * (std::abs(tnear) + std::abs(t));
 }
-AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tnear,
-                    double t, double r0, double r1);
-inline bool tnearsOwnRoot(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d,
-                          double tnear, double t, double r0, double r1) {
-  return withinTnearWindow(tnear, t) && rootAtTnear(f, o, d, tnear, t, r0, r1) != AtTnear::kNo;
+AtTnear rootAtTnear(const HornerForm& f, const KernelRay& ray, double t, double r0, double r1);
+inline bool tnearsOwnRoot(const HornerForm& f, const KernelRay& ray, double t, double r0,
+                          double r1) {
+  return withinTnearWindow(ray.tnear, t) && rootAtTnear(f, ray, t, r0, r1) != AtTnear::kNo;
 }
 // Places rr's first root on f (polish, search again, look behind), then settleBesideTnear.
 void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr);
 // rr's first root on f (settled, or a cached one confirmed on f) searched for again from
-// tnear where it lies behind it, and past it where it is tnear's own though the ray's
-// polynomial placed it past f's noise reach of tnear (AtTnear::kFallsBack).
+// tnear where it lies behind it, and past it wherever the walk would skip it (at or behind
+// tnear, or tnear's own: rootAtTnear), so that the next root is settled on f as well.
 void settleBesideTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr);
 
 }  // namespace algray

@@ -42,6 +42,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // finds the root). Only rays whose root f rejects take them.
 constexpr int kReexpansions = 8;
 
+// How far beyond what its evaluation and its point's rounding allow f may be at a root that
+// stands (clearlyOffSurface): a grazing hit of the tangent rule, f's minimum along the ray
+// within this factor of its noise, is a hit.
+constexpr double kOffSurface = 0x1p10;
+
 }  // namespace
 
 // The last point before s (towards slo) where g is clear of its noise bound, or slo; with
@@ -85,10 +90,10 @@ bool clearlyOffSurface(const HornerForm& f, const KernelRay& ray, const KernelHi
   const glm::dvec3 spread = ray.orgRoundoff * (absv(ray.org) + std::abs(hit.t) * absv(ray.dir)) +
                             glm::dvec3(ray.orgError);
   const double moved = glm::dot(absv(e.gradient), spread);
-  if (std::abs(e.value) > 0x1p10 * (e.valueError + moved)) return true;
+  if (std::abs(e.value) > kOffSurface * (e.valueError + moved)) return true;
   if (!(std::abs(e.value) > e.valueError)) return false;
   const double fc = f.valueCompensated(hit.point);
-  return std::abs(fc) > 0x1p10 * (f.compensatedBound(fc, e.magnitude, hit.point) + moved);
+  return std::abs(fc) > kOffSurface * (f.compensatedBound(fc, e.magnitude, hit.point) + moved);
 }
 
 // Polishes rr's first root on f; returns whether f is clearly non-zero at the result.
@@ -319,6 +324,29 @@ double noiseAt(const Polynomial::Evaluation& e, const glm::dvec3& o, const glm::
   return ratio >= 0.5 && ratio <= 2.0;
 }
 
+// Whether tnear and t, f clear of its noise at tnear, are one grazing point: f at both, and
+// halfway, is not clearly off the surface (the test a settled root passes, so that a graze
+// of the tangent rule is a hit) and has tnear's sign, and is clear of its noise at t (t is
+// then no root within f's noise, such as a sign change just past the graze). Why (session
+// 50): near the double lines of the Roman surface and the cross-cap a ray passes a minimum
+// of f 100-2,500 times its noise (within what a transform's rounding of the origin allows),
+// a grazing hit; a host stepping on from it met it again 1-3 ulps on, where f's rounding
+// moved the polish (AGrazingPointIsMetOnce: five hits for degree 4).
+[[gnu::noinline, gnu::cold]] bool oneGrazingPoint(const HornerForm& f, const KernelRay& ray,
+                                                  double t, const Polynomial::Evaluation& e) {
+  const auto grazing = [&](double x, const Polynomial::Evaluation& at) {
+    KernelHit hit;
+    hit.t = x;
+    hit.point = ray.org + x * ray.dir;
+    return std::signbit(at.value) == std::signbit(e.value) && !clearlyOffSurface(f, ray, hit, at);
+  };
+  if (!grazing(ray.tnear, e)) return false;
+  const Polynomial::Evaluation et = f.evaluate(ray.org + t * ray.dir);
+  if (!(std::abs(et.value) > noiseAt(et, ray.org, ray.dir, t) && grazing(t, et))) return false;
+  const double mid = ray.tnear + 0.5 * (t - ray.tnear);
+  return grazing(mid, f.evaluate(ray.org + mid * ray.dir));
+}
+
 }  // namespace
 
 // f at o + tnear d is within its noise (noiseAt), and t lies within that noise's reach
@@ -328,12 +356,16 @@ double noiseAt(const Polynomial::Evaluation& e, const glm::dvec3& o, const glm::
 // double nearest the root, which may lie below it) met the same root again one double on
 // (1152 of 14313 double-channel rays through a torus with hits). Without the reach, any
 // root within 2^-30 of tnear went (a second plane 1e-8 on; the far side of a torus seen
-// from 1e9 radii).
-AtTnear rootAtTnear(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tnear,
-                    double t, double r0, double r1) {
+// from 1e9 radii). Where f at tnear is clear of its noise, t is tnear's own only as the same
+// grazing point (oneGrazingPoint).
+AtTnear rootAtTnear(const HornerForm& f, const KernelRay& ray, double t, double r0, double r1) {
+  const glm::dvec3& o = ray.org;
+  const glm::dvec3& d = ray.dir;
+  const double tnear = ray.tnear;
   const Polynomial::Evaluation e = f.evaluate(o + tnear * d);
   const double noise = noiseAt(e, o, d, tnear);
-  if (!(std::abs(e.value) <= noise)) return AtTnear::kNo;
+  if (!(std::abs(e.value) <= noise))
+    return oneGrazingPoint(f, ray, t, e) ? AtTnear::kWithinReach : AtTnear::kNo;
   const double a = std::max(std::abs(tnear), std::abs(t));
   const double slope = std::abs(glm::dot(e.gradient, d));
   const double reach = noise / slope;  // inf at a zero slope
@@ -377,42 +409,54 @@ void restrictAgainAbout(const SurfaceData& data, const KernelRay& ray, double t,
   if (rr.count == 1) settleFirst(data, ray, rr);
 }
 
-// Whether the settled first root is tnear's own though g placed it past f's noise reach of
-// tnear (AtTnear::kFallsBack): the walk would skip it for the next root of the list, from a
-// g that placed this one wrongly. (Within the reach g placed it as f has it; the list's next
-// root then stands, as after any first root.)
-bool firstFallsBackOnTnear(const SurfaceData& data, const KernelRay& ray, const RayRoots& rr) {
-  if (rr.count != 1 || rr.selfWindow > 0.0) return false;
+// Whether the walk would skip the settled first root as tnear's own (rootAtTnear) or as one
+// at or behind tnear (kWithinReach), and take the next root of the list, which gets no
+// check on f.
+AtTnear firstSkippedAtTnear(const SurfaceData& data, const KernelRay& ray, const RayRoots& rr) {
+  if (rr.count != 1 || rr.selfWindow > 0.0) return AtTnear::kNo;
   const double t = rr.g.tShift + rr.roots[0];
-  return t > ray.tnear && withinTnearWindow(ray.tnear, t) &&
-         rootAtTnear(data.horner, ray.org, ray.dir, ray.tnear, t, rr.r0, rr.r1) ==
-             AtTnear::kFallsBack;
+  if (t <= ray.tnear) return AtTnear::kWithinReach;
+  return withinTnearWindow(ray.tnear, t) ? rootAtTnear(data.horner, ray, t, rr.r0, rr.r1)
+                                         : AtTnear::kNo;
 }
 
-// The first root is tnear's own, placed past f's reach: the ray is restricted again about
-// it and searched from it, open (the solver leaves a root within noise of an open start,
-// the one the host has), and the root found there is settled, as for a host stepping on
-// from it. Not the rest of the list: its roots get no check on f, and the g that placed
-// tnear's root past f's reach need not place the next one (near a double line of the
-// Roman surface, g about the region's middle placed tnear's root 1e-13 past it and listed
-// 1.00000026 next, where f has roots at 1.0000000048 and 1.0000005193: the walk skipped
-// the one and reported a point on no surface; session 49,
-// PastARootPlacedBeyondTnearTheNextHitIsTheNextRoot).
+// The first root is one the walk skips: the ray is searched on from it, open (the solver
+// leaves a root within noise of an open start, the one the host has), and the root found
+// there is settled, as for a host stepping on from it. Not the rest of the list: its roots
+// get no check on f (near the double lines of the Roman surface and the cross-cap the list
+// held points between two roots 1e-8 apart, or beside a complex pair 4e-9 from the axis;
+// PastARootSettledBehindTnearTheNextHitIsFsNextRoot). With `reexpand` (a root tnear's own
+// though g placed it past f's reach, AtTnear::kFallsBack) about the root itself: the g that
+// placed it wrongly need not place the next one (near a Roman double line, g about the
+// region's middle placed tnear's root 1e-13 past it and listed 1.00000026 next, where f has
+// roots at 1.0000000048 and 1.0000005193; session 49,
+// PastARootPlacedBeyondTnearTheNextHitIsTheNextRoot); so also a cached expansion, which
+// settling does not search again. Otherwise g stays: re-expanding about every root a
+// stepping host had just met took its steps 1.4-1.6x the time on the gallery (session 50).
 [[gnu::noinline, gnu::cold]] void searchPast(const SurfaceData& data, const KernelRay& ray,
-                                             RayRoots& rr) {
+                                             RayRoots& rr, bool reexpand) {
   const double t = rr.g.tShift + rr.roots[0];
-  restrictAgainAbout(data, ray, t, rr);
+  if (reexpand || rr.fromCache) restrictAgainAbout(data, ray, t, rr);
   rr.slo = t - rr.g.tShift;
   rr.shi = rr.r1 - rr.g.tShift;
   rr.closedLo = false;
   solveFirstInSpan(data, rr);
+  // A root g places within half a double of t (within its noise of the open start, which
+  // the solver excludes only where g is within its bound there) is t itself: the search goes
+  // on from t's next double. Without it the search found t again, eight times, and the walk
+  // then took the list's next root, a point where f was 1e10 times its noise (a random
+  // surface of degree 14 with terms of 1e69, session 50).
+  if (rr.count == 1 && rr.g.tShift + rr.roots[0] <= t) {
+    rr.slo = std::nextafter(t, kInf) - rr.g.tShift;
+    solveFirstInSpan(data, rr);
+  }
   if (rr.count == 1) settleFirst(data, ray, rr);
 }
 
 }  // namespace
 
-// settleFirst, the search from tnear where the root settled behind it, and past it where it
-// is tnear's own: the same path for occlusion, wherever it settles the root (rayRoots,
+// settleFirst, the search from tnear where the root settled behind it, and past it where
+// the walk would skip it: the same path for occlusion, wherever it settles the root (rayRoots,
 // walkRootsOf), as for the closest hit.
 void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
   settleFirst(data, ray, rr);
@@ -422,8 +466,11 @@ void settleAfterTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& r
 void settleBesideTnear(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
   if (firstBehindTnear(rr)) [[unlikely]]
     searchFromTnear(data, ray, rr);
-  for (int k = 0; k < kReexpansions && firstFallsBackOnTnear(data, ray, rr); ++k)
-    searchPast(data, ray, rr);
+  for (int k = 0; k < kReexpansions; ++k) {
+    const AtTnear skipped = firstSkippedAtTnear(data, ray, rr);
+    if (skipped == AtTnear::kNo) break;
+    searchPast(data, ray, rr, skipped == AtTnear::kFallsBack);
+  }
 }
 
 }  // namespace algray

@@ -484,7 +484,7 @@ bool walkRootsOf(const SurfaceData& data, unsigned cell, const KernelRay& ray, b
     else if (!occlusion)
       polish(f, o, d, std::max(r0, ray.tnear), r1, r1 - r0, hit);
     if (!(hit.t > ray.tnear && hit.t < ray.tfar)) continue;
-    if (tnearsOwnRoot(f, o, d, ray.tnear, hit.t, r0, r1)) [[unlikely]]
+    if (tnearsOwnRoot(f, ray, hit.t, r0, r1)) [[unlikely]]
       continue;
     if (!occlusion)
       hit.gradient = hitGradient(data, d, hit.point, hit.gradient, hitPointError(o, d, hit.t));
