@@ -761,6 +761,29 @@ TEST(StressShadow, ASteppingHostNearDoubleLinesMeetsEachRootOnce) {
   }
 }
 
+// The ray o + t d through f (clip sphere of radius 1), asked again with tnear = its first
+// hit, or one double past it (`doublePast`), with and without the origin cache, meets the
+// MPFR reference's first root past tnear (tests/support/reference.h), within 1e-9.
+void expectNextHitIsFsNextRoot(const Polynomial& f, const glm::dvec3& o, const glm::dvec3& d,
+                               bool doublePast, const std::string& name) {
+  for (const bool cache : {false, true}) {
+    SurfaceDesc desc = describe(f, 1.0);
+    desc.options.originCache = cache;
+    OneSurface s(desc);
+    const std::string what = name + (cache ? ", origin cache" : "");
+    const auto first = s.intersect(rayD(o, d), what);
+    ASSERT_TRUE(first) << what;
+    const double tnear = doublePast ? std::nextafter(first->t, kInfD) : first->t;
+    const RayRef want = referenceFirstHit(f, o, d, tnear, kInfD, glm::dvec3(0.0), 1.0);
+    ASSERT_TRUE(want.hit);
+    // The reference after tnear is f's root past the one just met (tnear lies after it).
+    ASSERT_GT(want.t, first->t + 1e-9);
+    const auto next = s.intersect(rayD(o, d, tnear), what);
+    ASSERT_TRUE(next) << what;
+    EXPECT_NEAR(next->t, want.t, 1e-9) << what << ", first hit " << first->t;
+  }
+}
+
 // Past a root the restriction placed past f's noise reach of tnear (the host's last hit),
 // the next hit is f's next root: the ray is searched again from that root, not the rest of
 // g's list taken (settleBesideTnear's searchPast). A ray from inside the Roman surface's
@@ -773,24 +796,9 @@ TEST(StressShadow, ASteppingHostNearDoubleLinesMeetsEachRootOnce) {
 // review). Expected: the MPFR reference's first root past tnear
 // (tests/support/reference.h), within its conditioning; with and without the cache.
 TEST(StressShadow, PastARootPlacedBeyondTnearTheNextHitIsTheNextRoot) {
-  const Polynomial f = findGallerySurface("roman-surface")->build();
   const glm::dvec3 o(0x1.a7674d7f6de37p-4, -0x1.f41a8b95f7f56p-5, -0x1.1987deeb5a44fp-2);
   const glm::dvec3 d(-0x1.a7674dab2d815p-4, -0x1.1764c0ff37012p-2, 0x1.1987dedc11a79p-2);
-  for (const bool cache : {false, true}) {
-    SurfaceDesc desc = describe(f, 1.0);
-    desc.options.originCache = cache;
-    OneSurface s(desc);
-    const std::string what = cache ? "roman, origin cache" : "roman";
-    const auto first = s.intersect(rayD(o, d), what);
-    ASSERT_TRUE(first) << what;
-    const RayRef want = referenceFirstHit(f, o, d, first->t, kInfD, glm::dvec3(0.0), 1.0);
-    ASSERT_TRUE(want.hit);
-    // The reference after tnear is f's root past the one just met (tnear lies after it).
-    ASSERT_GT(want.t, first->t + 1e-9);
-    const auto next = s.intersect(rayD(o, d, first->t), what);
-    ASSERT_TRUE(next) << what;
-    EXPECT_NEAR(next->t, want.t, 1e-9) << what << ", first hit " << first->t;
-  }
+  expectNextHitIsFsNextRoot(findGallerySurface("roman-surface")->build(), o, d, false, "roman");
 }
 
 // A grazing point is met once: a ray through the transformed Roman surface passes 1.2e-11
@@ -831,24 +839,11 @@ TEST(StressShadow, AGrazingPointIsMetOnce) {
 // reference root is ill-conditioned (cond >= 1e-11), or within 1e-9 of tnear, are not
 // compared.
 TEST(StressShadow, PastARootSettledBehindTnearTheNextHitIsFsNextRoot) {
-  const Polynomial crossCap = parsePolynomial("4*x^2*(x^2+y^2+z^2+z) + y^2*(y^2+z^2-1)");
   {
     const glm::dvec3 o(0x1.040148957e22fp+0, 0x1.4aea5c612c2c7p-1, 0x1.334755c7f2295p+0);
     const glm::dvec3 d(-0x1.040148d0259cbp+0, -0x1.4aea5c5c94b2bp-1, -0x1.35eb965b389cdp+0);
-    for (const bool cache : {false, true}) {
-      SurfaceDesc desc = describe(crossCap, 1.0);
-      desc.options.originCache = cache;
-      OneSurface s(desc);
-      const std::string what = cache ? "cross-cap, origin cache" : "cross-cap";
-      const auto first = s.intersect(rayD(o, d), what);
-      ASSERT_TRUE(first) << what;
-      const double tnear = std::nextafter(first->t, kInfD);
-      const RayRef want = referenceFirstHit(crossCap, o, d, tnear, kInfD, glm::dvec3(0.0), 1.0);
-      ASSERT_TRUE(want.hit);
-      const auto next = s.intersect(rayD(o, d, tnear), what);
-      ASSERT_TRUE(next) << what;
-      EXPECT_NEAR(next->t, want.t, 1e-9) << what << ", tnear " << tnear;
-    }
+    expectNextHitIsFsNextRoot(parsePolynomial("4*x^2*(x^2+y^2+z^2+z) + y^2*(y^2+z^2-1)"), o, d,
+                              true, "cross-cap");
   }
   struct Singular {
     const char* equation;
