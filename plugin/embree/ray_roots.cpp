@@ -831,6 +831,11 @@ void searchSpan(RayRoots& rr) {
 
 }  // namespace
 
+void restrictWithoutCache(const SurfaceData& data, const KernelRay& ray, RayRoots& rr) {
+  restrictRecentred(data, ray.org, ray.dir, rr.r0, rr.r1, rr.g);
+  rr.fromCache = false;
+}
+
 // ---- Polish ----------------------------------------------------------------------------
 // Newton steps on f(o + t d) evaluated directly, until |f| is within its evaluation bound
 // (at most 8; quadratic convergence needs 2-4): repairs digits a cached or far-centred

@@ -114,6 +114,8 @@ bool polish(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, doubl
 // (restrictAbout, ray_roots.cpp): every restriction about a point of the ray other than o.
 void restrictAbout(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double tShift,
                    RayPolynomial& g);
+// rr.g restricted as for a ray without the origin cache (re-centred; rr.fromCache false).
+void restrictWithoutCache(const SurfaceData& data, const KernelRay& ray, RayRoots& rr);
 // The first root of rr.g in [rr.slo, rr.shi] (rr.count = 0 or 1); solveFirst sets that
 // search span first.
 void solveFirstInSpan(const SurfaceData& data, RayRoots& rr);

@@ -74,6 +74,27 @@ double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign) 
 
 namespace {
 
+// The first point after s (towards shi) where g is clear of its noise bound, or shi; the
+// steps double from the first-order reach of the bound at s, bound / |g'(s)|, where that is
+// below 2^-30 of the span (past a simple root: one or two evaluations; doubling from 2 ulps,
+// as clearBefore, took a host's steps 1.04-1.13x the time), else from 2 ulps (a multiple
+// root, whose reach is no distance: from it, a quintic cylinder's first crossing, the
+// first step went past the second crossing, 0.25 on).
+double clearAfter(const RayPolynomial& g, double s, double shi) {
+  double boundAtS, slope;
+  g.evaluateWithBound(s, boundAtS, slope);
+  const double reach = boundAtS / std::abs(slope);
+  double step = std::max(0x1p-51 * std::abs(s), std::numeric_limits<double>::min());
+  if (reach > step && reach < 0x1p-30 * (shi - s)) step = reach;
+  for (int i = 0; i < 2200; ++i, step *= 2.0) {  // (as clearBefore)
+    const double y = s + step;
+    if (!(y < shi)) break;
+    double bound;
+    if (std::abs(g.evaluateWithBound(y, bound)) > bound) return y;
+  }
+  return shi;
+}
+
 // Whether f at the polished point x = o + t d is beyond 2^10 times what its evaluation and
 // the point's own rounding allow: x_i errs by up to u (|o_i| + |t d_i|) plus the origin's
 // error bound, which moves f by up to |grad f| times as much (from a far origin, 1e5
@@ -409,43 +430,78 @@ void restrictAgainAbout(const SurfaceData& data, const KernelRay& ray, double t,
   if (rr.count == 1) settleFirst(data, ray, rr);
 }
 
-// Whether the walk would skip the settled first root as tnear's own (rootAtTnear) or as one
-// at or behind tnear (kWithinReach), and take the next root of the list, which gets no
-// check on f.
+// Whether f is within its noise at tnear, at t and halfway (the checks in the order that
+// rejects a clear point soonest), as across the noise region of a root of odd multiplicity.
+[[gnu::noinline]] bool inTnearsNoiseRegion(const HornerForm& f, const KernelRay& ray, double t) {
+  const auto withinNoise = [&](double x) {
+    const Polynomial::Evaluation e = f.evaluate(ray.org + x * ray.dir);
+    return std::abs(e.value) <= noiseAt(e, ray.org, ray.dir, x);
+  };
+  return withinNoise(ray.tnear + 0.5 * (t - ray.tnear)) && withinNoise(ray.tnear) && withinNoise(t);
+}
+
+// Whether the settled first root is one the walk would skip, at or behind tnear
+// (kWithinReach) or tnear's own (rootAtTnear), and take the next root of the list, which
+// gets no check on f; or one in the noise region of f that holds tnear, past the window of
+// rootAtTnear (an m-fold root whose noise region holds tnear counts as at tnear, README):
+// a host stepping through the noise region of a triple cylinder (x^2 + y^2 - 1/4)^3, 6e-6
+// wide, met it five times, each step's settled root (searchFromTnear, searchBefore) a point
+// further in the region, where the list's next root had lain past it (the review of session
+// 50). Only for a tnear inside the clip region, where it can be a root (a camera's rays from
+// outside do not pay the evaluation).
 AtTnear firstSkippedAtTnear(const SurfaceData& data, const KernelRay& ray, const RayRoots& rr) {
   if (rr.count != 1 || rr.selfWindow > 0.0) return AtTnear::kNo;
   const double t = rr.g.tShift + rr.roots[0];
   if (t <= ray.tnear) return AtTnear::kWithinReach;
-  return withinTnearWindow(ray.tnear, t) ? rootAtTnear(data.horner, ray, t, rr.r0, rr.r1)
-                                         : AtTnear::kNo;
+  if (withinTnearWindow(ray.tnear, t)) return rootAtTnear(data.horner, ray, t, rr.r0, rr.r1);
+  if (!(ray.tnear > rr.r0)) return AtTnear::kNo;
+  // g clear of twice its bound halfway: f is clear there too where g keeps f's digits (a
+  // gate that costs one evaluation of g, not f's: a host's steps took 1.09-1.14x the time
+  // with f's; where f's noise exceeds g's bound it errs towards reporting the root).
+  double bound;
+  const double mid = 0.5 * (ray.tnear + t) - rr.g.tShift;
+  if (std::abs(rr.g.evaluateWithBound(mid, bound)) > 2.0 * bound) return AtTnear::kNo;
+  return inTnearsNoiseRegion(data.horner, ray, t) ? AtTnear::kWithinReach : AtTnear::kNo;
 }
 
-// The first root is one the walk skips: the ray is searched on from it, open (the solver
-// leaves a root within noise of an open start, the one the host has), and the root found
-// there is settled, as for a host stepping on from it. Not the rest of the list: its roots
-// get no check on f (near the double lines of the Roman surface and the cross-cap the list
-// held points between two roots 1e-8 apart, or beside a complex pair 4e-9 from the axis;
-// PastARootSettledBehindTnearTheNextHitIsFsNextRoot). With `reexpand` (a root tnear's own
-// though g placed it past f's reach, AtTnear::kFallsBack) about the root itself: the g that
-// placed it wrongly need not place the next one (near a Roman double line, g about the
-// region's middle placed tnear's root 1e-13 past it and listed 1.00000026 next, where f has
-// roots at 1.0000000048 and 1.0000005193; session 49,
-// PastARootPlacedBeyondTnearTheNextHitIsTheNextRoot); so also a cached expansion, which
-// settling does not search again. Otherwise g stays: re-expanding about every root a
-// stepping host had just met took its steps 1.4-1.6x the time on the gallery (session 50).
+// The first root is one the walk skips: the ray is searched on from the first point past it
+// where g is clear of its noise (the list's next root lies past that region too: g's noise
+// region of a root of odd multiplicity holds sign changes of noise, and a search from the
+// root itself met them one by one, five hits for a triple cylinder's one crossing; the
+// review of session 50), and the root found there is settled on f, as for a host stepping on
+// from it. Not the rest of the list: its roots get no check on f (near the double lines of
+// the Roman surface and the cross-cap the list held points between two roots 1e-8 apart, or
+// beside a complex pair 4e-9 from the axis; PastARootSettledBehindTnearTheNextHitIsFsNextRoot).
+// With `reexpand` (a root tnear's own though g placed it past f's reach,
+// AtTnear::kFallsBack) g is restricted again about the root: the g that placed it wrongly
+// need not place the next one (near a Roman double line, g about the region's middle placed
+// tnear's root 1e-13 past it and listed 1.00000026 next, where f has roots at 1.0000000048
+// and 1.0000005193; session 49, PastARootPlacedBeyondTnearTheNextHitIsTheNextRoot).
+// Otherwise g stays (re-expanding about every root a stepping host had just met took its
+// steps 1.4-1.6x the time on the gallery), but for the origin cache's expansion, which
+// settling does not search again: the record takes the re-centred restriction a ray gets
+// without the cache (about the skipped root instead, a filter's walk on from the next root
+// took the later roots from that expansion: points beside a complex pair 5e-8 from the axis
+// of the Roman surface; the review of session 50).
 [[gnu::noinline, gnu::cold]] void searchPast(const SurfaceData& data, const KernelRay& ray,
                                              RayRoots& rr, bool reexpand) {
   const double t = rr.g.tShift + rr.roots[0];
-  if (reexpand || rr.fromCache) restrictAgainAbout(data, ray, t, rr);
-  rr.slo = t - rr.g.tShift;
+  if (reexpand) {
+    restrictAgainAbout(data, ray, t, rr);
+  } else if (rr.fromCache) {
+    restrictWithoutCache(data, ray, rr);
+    rr.firstPolished = false;
+  }
   rr.shi = rr.r1 - rr.g.tShift;
+  rr.slo = clearAfter(rr.g, t - rr.g.tShift, rr.shi);
   rr.closedLo = false;
-  solveFirstInSpan(data, rr);
-  // A root g places within half a double of t (within its noise of the open start, which
-  // the solver excludes only where g is within its bound there) is t itself: the search goes
-  // on from t's next double. Without it the search found t again, eight times, and the walk
-  // then took the list's next root, a point where f was 1e10 times its noise (a random
-  // surface of degree 14 with terms of 1e69, session 50).
+  rr.count = 0;
+  rr.complete = true;
+  if (rr.slo < rr.shi) solveFirstInSpan(data, rr);
+  // A root g places within half a double of t is t itself: the search goes on from t's next
+  // double. Without it a search from the root found t again, eight times, and the walk then
+  // took the list's next root, a point where f was 1e10 times its noise (a random surface of
+  // degree 14 with terms of 1e69, session 50).
   if (rr.count == 1 && rr.g.tShift + rr.roots[0] <= t) {
     rr.slo = std::nextafter(t, kInf) - rr.g.tShift;
     solveFirstInSpan(data, rr);

@@ -77,12 +77,29 @@ class OneSurface {
            rh.ray.tfar == -std::numeric_limits<float>::infinity();
   }
   const SurfaceGeometry& geometry() const { return *geometry_; }
+  // Installs `filter` as the geometry's intersection and occlusion filter (nullptr: none).
+  void setFilter(RTCFilterFunctionN filter) {
+    rtcSetGeometryIntersectFilterFunction(geometry_->geometry(), filter);
+    rtcSetGeometryOccludedFilterFunction(geometry_->geometry(), filter);
+    rtcCommitGeometry(geometry_->geometry());
+    scene_.commit();
+  }
 
  private:
   Device device_;
   std::optional<SurfaceGeometry> geometry_;
   Scene scene_;
 };
+
+// A double ray from the hit o + t d in direction dir, with pbrt-v4's bound on its origin,
+// gamma(3) (|o| + |t d|), as a host computes the hit point; and a ray whose query replaces
+// the thread's record (so that the next query of a ray is asked cold).
+inline RayD leavingRayD(const glm::dvec3& o, const glm::dvec3& d, double t, const glm::dvec3& dir) {
+  RayD ray = rayD(o + t * d, dir);
+  ray.orgError = gamma(3) * (glm::length(o) + glm::length(t * d));
+  return ray;
+}
+inline RayD otherRayD(double radius) { return rayD(glm::dvec3(5.0 * radius), glm::dvec3(-1.0)); }
 
 inline SurfaceDesc describe(Polynomial f, double clipRadius, glm::dvec3 centre = glm::dvec3(0.0)) {
   SurfaceDesc desc;
