@@ -91,6 +91,27 @@ TEST(StressShadow, ASteppingHostMeetsEachRootOnce) {
   }
 }
 
+// Surfaces with a double line along a coordinate axis: Steiner's Roman surface (x), Whitney's
+// umbrella, Pluecker's conoid and the cross-cap (z).
+struct DoubleLine {
+  const char* equation;
+  int axis;
+};
+constexpr DoubleLine kDoubleLines[] = {{"x^2*y^2 + y^2*z^2 + z^2*x^2 - x*y*z", 0},
+                                       {"x^2 - y^2*z", 2},
+                                       {"x^2*z - y^2*z - 2*x*y", 2},
+                                       {"4*x^2*(x^2+y^2+z^2+z) + y^2*(y^2+z^2-1)", 2}};
+
+// A point of the double line in (-0.8, 0.8) moved 1e-12..1e-1 off it in a random direction.
+glm::dvec3 nearDoubleLine(const DoubleLine& c, std::mt19937_64& rng,
+                          std::normal_distribution<double>& normal,
+                          std::uniform_real_distribution<double>& u) {
+  glm::dvec3 target(0.0), off{normal(rng), normal(rng), normal(rng)};
+  target[c.axis] = 0.8 * (2.0 * u(rng) - 1.0);
+  off[c.axis] = 0.0;
+  return target + std::pow(10.0, -1.0 - 11.0 * u(rng)) * glm::normalize(off);
+}
+
 // The same for rays aimed 1e-12..1e-1 from the double lines of Steiner's Roman surface,
 // Whitney's umbrella, Pluecker's conoid and the cross-cap (from 3 and 0.3 clip radii, plain
 // and under a transform). There the restriction placed the root just reported, 0.5 ulp
@@ -99,18 +120,9 @@ TEST(StressShadow, ASteppingHostMeetsEachRootOnce) {
 // plain or transformed, had more hits than the degree; the third review of session 48,
 // session 49).
 TEST(StressShadow, ASteppingHostNearDoubleLinesMeetsEachRootOnce) {
-  struct Singular {
-    const char* equation;  // or a gallery name
-    int axis;              // the double line lies along this coordinate axis
-  };
-  const Singular cases[] = {{"roman-surface", 0},
-                            {"x^2 - y^2*z", 2},
-                            {"x^2*z - y^2*z - 2*x*y", 2},
-                            {"4*x^2*(x^2+y^2+z^2+z) + y^2*(y^2+z^2-1)", 2}};
-  for (const Singular& c : cases) {
+  for (const DoubleLine& c : kDoubleLines) {
     for (const bool transformed : {false, true}) {
-      const GallerySurface* g = findGallerySurface(c.equation);
-      SurfaceDesc desc = describe(g ? g->build() : parsePolynomial(c.equation), 1.0);
+      SurfaceDesc desc = describe(parsePolynomial(c.equation), 1.0);
       if (transformed) desc.transform = kSteppingTransform;
       const int degree = desc.polynomial.degree();
       const std::string what = std::string(c.equation) + (transformed ? " (transformed)" : "");
@@ -121,11 +133,8 @@ TEST(StressShadow, ASteppingHostNearDoubleLinesMeetsEachRootOnce) {
       auto gaussian = [&] { return glm::dvec3{normal(rng), normal(rng), normal(rng)}; };
       int over = 0;
       for (int k = 0; k < 300; ++k) {
-        glm::dvec3 o = (k % 2 == 1 ? 0.3 : 3.0) * glm::normalize(gaussian());
-        glm::dvec3 target(0.0), off = gaussian();
-        target[c.axis] = 0.8 * (2.0 * u(rng) - 1.0);
-        off[c.axis] = 0.0;
-        target += std::pow(10.0, -1.0 - 11.0 * u(rng)) * glm::normalize(off);
+        const glm::dvec3 o = (k % 2 == 1 ? 0.3 : 3.0) * glm::normalize(gaussian());
+        const glm::dvec3 target = nearDoubleLine(c, rng, normal, u);
         expectEachRootOnce(s, steppingRay(o, target - o, transformed), degree, what, k, over);
       }
       EXPECT_EQ(over, 0) << what;
@@ -217,15 +226,7 @@ TEST(StressShadow, PastARootSettledBehindTnearTheNextHitIsFsNextRoot) {
     expectNextHitIsFsNextRoot(parsePolynomial("4*x^2*(x^2+y^2+z^2+z) + y^2*(y^2+z^2-1)"), o, d,
                               true, "cross-cap");
   }
-  struct Singular {
-    const char* equation;
-    int axis;  // the double line lies along this coordinate axis
-  };
-  const Singular cases[] = {{"x^2*y^2 + y^2*z^2 + z^2*x^2 - x*y*z", 0},
-                            {"x^2 - y^2*z", 2},
-                            {"x^2*z - y^2*z - 2*x*y", 2},
-                            {"4*x^2*(x^2+y^2+z^2+z) + y^2*(y^2+z^2-1)", 2}};
-  for (const Singular& c : cases) {
+  for (const DoubleLine& c : kDoubleLines) {
     const Polynomial f = parsePolynomial(c.equation);
     OneSurface s(describe(f, 1.0));
     std::mt19937_64 rng(11);
@@ -234,11 +235,7 @@ TEST(StressShadow, PastARootSettledBehindTnearTheNextHitIsFsNextRoot) {
     const glm::dvec3 o = 1.7 * glm::normalize(glm::dvec3(1.1, 0.7, 1.3));
     int compared = 0, wrong = 0;
     for (int k = 0; k < 200; ++k) {
-      glm::dvec3 target(0.0), off{normal(rng), normal(rng), normal(rng)};
-      target[c.axis] = 0.8 * (2.0 * u(rng) - 1.0);
-      off[c.axis] = 0.0;
-      target += std::pow(10.0, -1.0 - 11.0 * u(rng)) * glm::normalize(off);
-      const glm::dvec3 d = target - o;
+      const glm::dvec3 d = nearDoubleLine(c, rng, normal, u) - o;
       const auto first = s.intersect(rayD(o, d), c.equation);
       if (!first) continue;
       const double tnear = std::nextafter(first->t, kInfD);
