@@ -461,5 +461,29 @@ TEST(StressShadow, AHostSteppingThroughARootOfOddMultiplicityMeetsItOnce) {
   }
 }
 
+// A simple root just past a many-fold root's noise region is met, once, by a host stepping
+// from the noise region's start: the planes x = 0.3 (6-, 7- and 9-fold) and x = 0.31, 0.32,
+// 0.35, along the x axis from x = -1. f between the regions rises to 10-110 times its noise,
+// but is within it at tnear, halfway and at the simple root: with only those three checks,
+// inTnearsNoiseRegion took the simple root for tnear's and the host lost it (the second
+// review of session 50). Expected: two hits, the second the simple root (closed form),
+// within its conditioning (f' there is only 1e-12 for the 6-fold case).
+TEST(StressShadow, ASimpleRootJustPastAManyFoldRootIsMet) {
+  const struct {
+    const char* equation;
+    double simple;  // the simple root's x
+  } cases[] = {
+      {"(x-0.3)^7*(x-0.32)", 0.32}, {"(x-0.3)^9*(x-0.35)", 0.35}, {"(x-0.3)^6*(x-0.31)", 0.31}};
+  for (const auto& c : cases) {
+    OneSurface s(describe(parsePolynomial(c.equation), 2.0));
+    const glm::dvec3 o(-1.0, 0.1, 0.2), d(1.0, 0.0, 0.0);
+    const std::vector<double> hits = steppingHits(s, rayD(o, d), 10, c.equation);
+    ASSERT_EQ(hits.size(), 2u) << c.equation << (hits.empty() ? "" : ", first hit ")
+                               << (hits.empty() ? 0.0 : hits[0]);
+    EXPECT_NEAR(hits[0], 1.3, 0.02) << c.equation;
+    EXPECT_NEAR(hits[1], 1.0 + c.simple, 1e-4) << c.equation;  // (its conditioning: ~4e-5)
+  }
+}
+
 }  // namespace
 }  // namespace algray::test

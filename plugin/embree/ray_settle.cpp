@@ -74,27 +74,6 @@ double clearBefore(const RayPolynomial& g, double s, double slo, bool keepSign) 
 
 namespace {
 
-// The first point after s (towards shi) where g is clear of its noise bound, or shi; the
-// steps double from the first-order reach of the bound at s, bound / |g'(s)|, where that is
-// below 2^-30 of the span (past a simple root: one or two evaluations; doubling from 2 ulps,
-// as clearBefore, took a host's steps 1.04-1.13x the time), else from 2 ulps (a multiple
-// root, whose reach is no distance: from it, a quintic cylinder's first crossing, the
-// first step went past the second crossing, 0.25 on).
-double clearAfter(const RayPolynomial& g, double s, double shi) {
-  double boundAtS, slope;
-  g.evaluateWithBound(s, boundAtS, slope);
-  const double reach = boundAtS / std::abs(slope);
-  double step = std::max(0x1p-51 * std::abs(s), std::numeric_limits<double>::min());
-  if (reach > step && reach < 0x1p-30 * (shi - s)) step = reach;
-  for (int i = 0; i < 2200; ++i, step *= 2.0) {  // (as clearBefore)
-    const double y = s + step;
-    if (!(y < shi)) break;
-    double bound;
-    if (std::abs(g.evaluateWithBound(y, bound)) > bound) return y;
-  }
-  return shi;
-}
-
 // Whether f at the polished point x = o + t d is beyond 2^10 times what its evaluation and
 // the point's own rounding allow: x_i errs by up to u (|o_i| + |t d_i|) plus the origin's
 // error bound, which moves f by up to |grad f| times as much (from a far origin, 1e5
@@ -430,14 +409,23 @@ void restrictAgainAbout(const SurfaceData& data, const KernelRay& ray, double t,
   if (rr.count == 1) settleFirst(data, ray, rr);
 }
 
-// Whether f is within its noise at tnear, at t and halfway (the checks in the order that
-// rejects a clear point soonest), as across the noise region of a root of odd multiplicity.
+// Whether f is within its noise at tnear, at t and at 15 points evenly between (halfway, the
+// ends, then the rest: the checks that reject a clear stretch soonest), as across the noise
+// region of a root of odd multiplicity. Not halfway alone: f between a 7-fold root's noise
+// region and a simple root 0.02 past it rises to 28 times its noise, and a host stepping
+// from the region's start lost the simple root ((x - 0.3)^7 (x - 0.32); the second review
+// of session 50). The cost falls on the rare roots that pass the first checks.
 [[gnu::noinline]] bool inTnearsNoiseRegion(const HornerForm& f, const KernelRay& ray, double t) {
   const auto withinNoise = [&](double x) {
     const Polynomial::Evaluation e = f.evaluate(ray.org + x * ray.dir);
     return std::abs(e.value) <= noiseAt(e, ray.org, ray.dir, x);
   };
-  return withinNoise(ray.tnear + 0.5 * (t - ray.tnear)) && withinNoise(ray.tnear) && withinNoise(t);
+  const double step = (t - ray.tnear) / 16.0;
+  if (!(withinNoise(ray.tnear + 8.0 * step) && withinNoise(ray.tnear) && withinNoise(t)))
+    return false;
+  for (int j = 1; j < 16; ++j)
+    if (j != 8 && !withinNoise(ray.tnear + j * step)) return false;
+  return true;
 }
 
 // Whether the settled first root is one the walk would skip, at or behind tnear
@@ -464,12 +452,10 @@ AtTnear firstSkippedAtTnear(const SurfaceData& data, const KernelRay& ray, const
   return inTnearsNoiseRegion(data.horner, ray, t) ? AtTnear::kWithinReach : AtTnear::kNo;
 }
 
-// The first root is one the walk skips: the ray is searched on from the first point past it
-// where g is clear of its noise (the list's next root lies past that region too: g's noise
-// region of a root of odd multiplicity holds sign changes of noise, and a search from the
-// root itself met them one by one, five hits for a triple cylinder's one crossing; the
-// review of session 50), and the root found there is settled on f, as for a host stepping on
-// from it. Not the rest of the list: its roots get no check on f (near the double lines of
+// The first root is one the walk skips: the ray is searched on from it, open (the solver
+// leaves a root within noise of an open start, the one the host has), and the root found
+// there is settled on f, as for a host stepping on from it (one found in tnear's noise
+// region of f is skipped in turn: firstSkippedAtTnear). Not the rest of the list: its roots get no check on f (near the double lines of
 // the Roman surface and the cross-cap the list held points between two roots 1e-8 apart, or
 // beside a complex pair 4e-9 from the axis; PastARootSettledBehindTnearTheNextHitIsFsNextRoot).
 // With `reexpand` (a root tnear's own though g placed it past f's reach,
@@ -492,12 +478,10 @@ AtTnear firstSkippedAtTnear(const SurfaceData& data, const KernelRay& ray, const
     restrictWithoutCache(data, ray, rr);
     rr.firstPolished = false;
   }
+  rr.slo = t - rr.g.tShift;
   rr.shi = rr.r1 - rr.g.tShift;
-  rr.slo = clearAfter(rr.g, t - rr.g.tShift, rr.shi);
   rr.closedLo = false;
-  rr.count = 0;
-  rr.complete = true;
-  if (rr.slo < rr.shi) solveFirstInSpan(data, rr);
+  solveFirstInSpan(data, rr);
   // A root g places within half a double of t is t itself: the search goes on from t's next
   // double. Without it a search from the root found t again, eight times, and the walk then
   // took the list's next root, a point where f was 1e10 times its noise (a random surface of
