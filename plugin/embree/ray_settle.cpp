@@ -444,8 +444,8 @@ AtTnear firstSkippedAtTnear(const SurfaceData& data, const KernelRay& ray, const
   if (withinTnearWindow(ray.tnear, t)) return rootAtTnear(data.horner, ray, t, rr.r0, rr.r1);
   if (!(ray.tnear > rr.r0)) return AtTnear::kNo;
   // g clear of twice its bound halfway: f is clear there too where g keeps f's digits (a
-  // gate that costs one evaluation of g, not f's: a host's steps took 1.09-1.14x the time
-  // with f's; where f's noise exceeds g's bound it errs towards reporting the root).
+  // gate of one evaluation of g before up to 17 of f; where f's noise exceeds g's bound it
+  // errs towards reporting the root).
   double bound;
   const double mid = 0.5 * (ray.tnear + t) - rr.g.tShift;
   if (std::abs(rr.g.evaluateWithBound(mid, bound)) > 2.0 * bound) return AtTnear::kNo;
@@ -455,9 +455,10 @@ AtTnear firstSkippedAtTnear(const SurfaceData& data, const KernelRay& ray, const
 // The first root is one the walk skips: the ray is searched on from it, open (the solver
 // leaves a root within noise of an open start, the one the host has), and the root found
 // there is settled on f, as for a host stepping on from it (one found in tnear's noise
-// region of f is skipped in turn: firstSkippedAtTnear). Not the rest of the list: its roots get no check on f (near the double lines of
-// the Roman surface and the cross-cap the list held points between two roots 1e-8 apart, or
-// beside a complex pair 4e-9 from the axis; PastARootSettledBehindTnearTheNextHitIsFsNextRoot).
+// region of f is skipped in turn: firstSkippedAtTnear). Not the rest of the list: its roots
+// get no check on f (near the double lines of the Roman surface and the cross-cap the list
+// held points between two roots 1e-8 apart, or beside a complex pair 4e-9 from the axis;
+// PastARootSettledBehindTnearTheNextHitIsFsNextRoot).
 // With `reexpand` (a root tnear's own though g placed it past f's reach,
 // AtTnear::kFallsBack) g is restricted again about the root: the g that placed it wrongly
 // need not place the next one (near a Roman double line, g about the region's middle placed
