@@ -296,6 +296,12 @@ double noiseAt(const Polynomial::Evaluation& e, const glm::dvec3& o, const glm::
   return e.valueError + glm::dot(glm::abs(e.gradient), pointError);
 }
 
+// Whether f at o + t d is within its noise there (noiseAt).
+bool withinNoiseAt(const HornerForm& f, const glm::dvec3& o, const glm::dvec3& d, double t) {
+  const Polynomial::Evaluation e = f.evaluate(o + t * d);
+  return std::abs(e.value) <= noiseAt(e, o, d, t);
+}
+
 // Whether the root at t, which the restriction placed past f's noise reach of tnear, is
 // tnear's own all the same (rootAtTnear): Newton on f from t, free to cross tnear, lands
 // within that reach (`limit`) on f's noise, and f at t is clear of its noise and on f's
@@ -384,8 +390,7 @@ AtTnear rootAtTnear(const HornerForm& f, const KernelRay& ray, double t, double 
   if (!(std::abs(et.value) > noiseT)) {
     if (!(t - tnear <= width + noiseT / slope)) return AtTnear::kNo;
     const double mid = tnear + 0.5 * (t - tnear);
-    const Polynomial::Evaluation em = f.evaluate(o + mid * d);
-    return std::abs(em.value) <= noiseAt(em, o, d, mid) ? AtTnear::kWithinReach : AtTnear::kNo;
+    return withinNoiseAt(f, o, d, mid) ? AtTnear::kWithinReach : AtTnear::kNo;
   }
   return fallsBackOnTnear(f, o, d, tnear + width, t, et, r0, r1) ? AtTnear::kFallsBack
                                                                  : AtTnear::kNo;
@@ -416,10 +421,7 @@ void restrictAgainAbout(const SurfaceData& data, const KernelRay& ray, double t,
 // from the region's start lost the simple root ((x - 0.3)^7 (x - 0.32); the second review
 // of session 50). The cost falls on the rare roots that pass the first checks.
 [[gnu::noinline]] bool inTnearsNoiseRegion(const HornerForm& f, const KernelRay& ray, double t) {
-  const auto withinNoise = [&](double x) {
-    const Polynomial::Evaluation e = f.evaluate(ray.org + x * ray.dir);
-    return std::abs(e.value) <= noiseAt(e, ray.org, ray.dir, x);
-  };
+  const auto withinNoise = [&](double x) { return withinNoiseAt(f, ray.org, ray.dir, x); };
   const double step = (t - ray.tnear) / 16.0;
   if (!(withinNoise(ray.tnear + 8.0 * step) && withinNoise(ray.tnear) && withinNoise(t)))
     return false;
