@@ -1391,6 +1391,55 @@ TEST_F(EmbreeHits, DoubleSurfaceNormalsFaceTheRayBesideAnotherSheet) {
   }
 }
 
+// A simple surface's hit 1e-8 to 1e-5 from another sheet of f, where |grad f| is that
+// small and turns fast along the ray: (x^2+y^2+z^2-1)(x+y-0.5), rays entering the sphere at
+// points q just on the plane's far side (x + y - 0.5 = eps > 0), from outside and from that
+// side, so that q is the first root (within its conditioning, f's rounding over a slope of
+// ~eps). Reference: grad f at the reported point in long double
+// (2 p (x + y - 0.5) + (|p|^2 - 1) (1, 1, 0)). The polish's last steps (on f's compensated
+// value) moved the hit by up to 4e-10 and its normal stayed the gradient of the point
+// before: 4.5e-5 rad off at eps = 1e-6, 1e-2 at 1e-7, ~1 rad at 1e-8 (the audit of session 51).
+TEST_F(EmbreeHits, NormalsBesideAnotherSheetAreTheGradientAtTheHit) {
+  SurfaceDesc desc;
+  desc.polynomial = parsePolynomial("(x^2+y^2+z^2-1)*(x+y-0.5)");
+  desc.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+  SurfaceScene scene(device, desc);
+  std::mt19937_64 gen(5101);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  using LD = long double;
+  for (const double eps : {1e-5, 1e-6, 1e-7, 1e-8}) {
+    int hits = 0;
+    double worst = 0;
+    for (int k = 0; k < 200; ++k) {
+      // q on the circle x + y = 0.5 + eps of the unit sphere: its centre c (0.5 + eps) / 2 (1,
+      // 1, 0), radius rho, in the plane spanned by (1, -1, 0) / sqrt 2 and (0, 0, 1).
+      const double a = 0.5 * (0.5 + eps), rho = std::sqrt(1.0 - 2.0 * a * a);
+      const double phi = 3.14159265358979 * uniform(gen);
+      const glm::dvec3 q =
+          glm::dvec3(a, a, 0.0) +
+          rho * std::cos(phi) * glm::dvec3(0.70710678118654752, -0.70710678118654752, 0.0) +
+          rho * std::sin(phi) * glm::dvec3(0.0, 0.0, 1.0);
+      // From outside along m: outward at q and on the plane's far side.
+      glm::dvec3 m = glm::normalize(q + 0.4 * glm::dvec3(uniform(gen), uniform(gen), uniform(gen)));
+      if (glm::dot(m, q) < 0.3 || m.x + m.y < 0.1) continue;
+      const glm::dvec3 o = q + 2.0 * m, d = -m;
+      const HitD hit = intersectD(scene, unboundedRay(o, d));
+      ASSERT_TRUE(hit.hit) << eps << " ray " << k;
+      ++hits;
+      // The root's conditioning: f's rounding (~u sum |terms|, ~4u here) over its slope.
+      const double slope = 2.0 * eps * std::abs(glm::dot(q, d));
+      EXPECT_NEAR(hit.t, 2.0, 1e-12 + 64 * 0x1p-53 * 4.0 / slope) << eps << " ray " << k;
+      const glm::dvec3 p = o + hit.t * d;
+      const LD h = LD(p.x) * p.x + LD(p.y) * p.y + LD(p.z) * p.z - 1, side = LD(p.x) + p.y - 0.5L;
+      const glm::dvec3 exact = glm::normalize(glm::dvec3(
+          double(2 * p.x * side + h), double(2 * p.y * side + h), double(2 * p.z * side)));
+      worst = std::max(worst, glm::length(glm::normalize(hit.Ng) - exact));
+    }
+    EXPECT_GT(hits, 50) << eps;
+    EXPECT_LT(worst, 1e-6) << eps;
+  }
+}
+
 TEST_F(EmbreeHits, MultipleSurfaceNormalsIgnoreSheetsOutsideTheClipRegion) {
   const Polynomial x = X(), y = Y(), z = Z(), one(1.0);
   const Polynomial r2 = x * x + y * y + z * z;

@@ -389,6 +389,39 @@ void expectFarRays(const Polynomial& f, double radius, const char* name) {
 TEST(StressFar, SphereFrom1e3To1e6Radii) { expectFarRays(spherePolynomial(1.0), 1.5, "sphere"); }
 TEST(StressFar, TorusFrom1e3To1e6Radii) { expectFarRays(torusPolynomial(1.0, 0.4), 1.6, "torus"); }
 
+// Rays grazing a unit sphere from 1e3 to 1e6 clip radii, chords 2e-4 to 2e-2 long (the
+// roots well apart, f's slope along the ray small): the MPFR reference of the same double
+// ray, within the contract plus t's own rounding. Before the double channel re-based such
+// origins (kFarOrigin 2^40 until session 51), the points o + t d of the restriction and the
+// polish rounded by u |o|, which the slope turned into 1.2e-9 (1e4 radii) to 1.8e-7 radii
+// (1e6) along the ray (the audit of session 51).
+TEST(StressFar, GrazingRaysFrom1e3To1e6Radii) {
+  const Polynomial f = spherePolynomial(1.0);
+  const double radius = 1.5;
+  OneSurface s(describe(f, radius));
+  std::mt19937_64 rng(51);
+  std::normal_distribution<double> normal;
+  int compared = 0;
+  for (double dist : {1e3, 1e4, 1e5, 1e6})
+    for (double halfChord : {1e-4, 1e-3, 1e-2})
+      for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 d = glm::normalize(glm::dvec3{normal(rng), normal(rng), normal(rng)});
+        const glm::dvec3 e =
+            glm::normalize(glm::cross(d, glm::dvec3{normal(rng), normal(rng), normal(rng)}));
+        const glm::dvec3 o = std::sqrt(1.0 - halfChord * halfChord) * e - dist * radius * d;
+        const RayD ray = rayD(o, d);
+        const RayRef ref =
+            referenceFirstHit(f, ray.org, ray.dir, 0.0, kInfD, glm::dvec3(0.0), radius);
+        ASSERT_TRUE(ref.hit) << dist << " " << halfChord << " " << k;
+        const auto hit = s.intersect(ray, "grazed sphere");
+        ASSERT_TRUE(hit) << dist << " " << halfChord << " " << k;
+        ++compared;
+        EXPECT_NEAR(hit->t, ref.t, kContract * radius + 4 * 0x1p-53 * ref.t)
+            << dist << " radii, half chord " << halfChord << ", ray " << k;
+      }
+  EXPECT_EQ(compared, 96);
+}
+
 // From 1e9 to 1e150 clip radii, where t = |o| / |d| resolves the clip region coarsely or
 // (beyond ~1e15) not at all: the double channel re-bases such rays near the surface
 // (rebaseFarOrigin, embree_bridge.cpp). Expected: the MPFR reference of the same double

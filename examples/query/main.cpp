@@ -128,6 +128,34 @@ query::QueryHit trace(RTCScene scene, unsigned geomID, const RayD& ray, bool use
   return out;
 }
 
+// Without the column org_error, a user's o + t d of a hit carries gamma(3) (|o| + |t d|)
+// from the ray that found it, not the rounding of its own coordinates (orgError = 0): a
+// ray leaving a cylinder from a hit point of a ray that started 10 clip radii away found
+// its own origin at t = 2.5e-15. Every origin is then taken to be such a point, of a ray
+// that started within 32 object sizes of the clip centre; it only matters to an origin
+// within about 1e-14 object sizes of the surface. The object's size: the farthest corner
+// of the scene's bounds (the surface's cells, as Embree holds them) from the clip centre,
+// at most the clip radius. (The clip radius itself gave a unit sphere clipped to a ball of
+// radius 1e14 an uncertainty of 2.1 at every origin, and every ray from 5 away missed it:
+// the audit of session 51.) Origins beyond 4 clip radii keep 0: the self-root rule ignores
+// them, and the far-ray paths read orgError. With the column, each ray's own bound is used
+// as given (hit points of rays from farther away).
+void setDefaultOrgErrors(std::vector<RayD>& rays, const glm::dvec3& centre, double radius,
+                         RTCScene scene) {
+  RTCBounds b;
+  rtcGetSceneBounds(scene, &b);
+  const glm::dvec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
+  const glm::dvec3 corner = glm::max(glm::max(centre - lo, hi - centre), glm::dvec3(0.0));
+  const double m = std::max({corner.x, corner.y, corner.z});
+  const double farthest = m > 0.0 ? m * glm::length(corner / m) : 0.0;  // (no overflow)
+  const double size = farthest > 0.0 && farthest < radius ? farthest : radius;
+  for (RayD& ray : rays) {
+    const glm::dvec3 oc = glm::abs(ray.org - centre);
+    if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius)
+      ray.orgError = gamma(3) * (glm::length(oc) + 64.0 * size);
+  }
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"Trace rays from a CSV file against an algebraic surface (algray + Embree)"};
   std::string equation, raysPath, outPath, clipBox;
@@ -233,15 +261,7 @@ int run(int argc, char** argv) {
                          "of a float origin near the clip region): trace it without --float");
       }
 
-  // Without the column org_error, a user's o + t d of a hit carries gamma(3) (|o| + |t d|)
-  // from the ray that found it, not the rounding of its own coordinates (orgError = 0): a
-  // ray leaving a cylinder from a hit point of a ray that started 10 clip radii away found
-  // its own origin at t = 2.5e-15. Every origin is then taken to be such a point, of a ray
-  // that started within 32 clip radii of the clip centre; it only matters to an origin
-  // within about 1e-14 radii of the surface. (Origins beyond 4 radii keep 0: the self-root
-  // rule ignores them, and the far-ray paths read orgError.) With the column, each ray's
-  // own bound is used as given (hit points of rays from farther away).
-  // (Halves first, the half-diagonal's length scaled: a box beyond the plugin's range,
+  // (The clip region's centre and radius: halves first, the half-diagonal's length scaled: a box beyond the plugin's range,
   // -1e200..1e200, overflowed here to an infinite radius, and the check below blamed the
   // rays' directions instead of letting the plugin name the box's size.)
   auto length = [](const glm::dvec3& v) {
@@ -251,13 +271,6 @@ int run(int argc, char** argv) {
   const ClipBox* box = std::get_if<ClipBox>(&desc.clip);
   const glm::dvec3 centre = box ? 0.5 * box->lo + 0.5 * box->hi : glm::dvec3(0.0);
   const double radius = box ? length(0.5 * box->hi - 0.5 * box->lo) : clipSphere[0];
-  if (!givenOrgErrors) {
-    for (RayD& ray : rays) {
-      const glm::dvec3 oc = glm::abs(ray.org - centre);
-      if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius)
-        ray.orgError = gamma(3) * (glm::length(oc) + 64.0 * radius);
-    }
-  }
 
   // A direction so short that the clip region's far side is beyond double's range of t
   // (1e-310 from 3 radii away: t = 2e310) has hits whose t cannot be written; it was
@@ -331,6 +344,7 @@ int run(int argc, char** argv) {
     RTCScene scene = rtcNewScene(device);
     const unsigned geomID = rtcAttachGeometry(scene, surface->geometry());
     rtcCommitScene(scene);
+    if (!givenOrgErrors) setDefaultOrgErrors(rays, centre, radius, scene);
 
     // ---- Trace (timed: tracing only) -----------------------------------------------------
     const int workers = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();

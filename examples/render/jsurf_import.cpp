@@ -230,7 +230,11 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     const glm::dvec3 irradiance = color * (intensity * 3.14159265358979323846);
     if (!isFloatColor(irradiance))
       fail(f, "light_intensity_" + n, "colour times intensity beyond 3.4e38");
-    if (f.get("light_status_" + n).value_or("OFF") != "ON") continue;
+    // ON or OFF, as camera_type's values are checked ("MAYBE" rendered the light off).
+    const std::string status = f.get("light_status_" + n).value_or("OFF");
+    if (status != "ON" && status != "OFF")
+      fail(f, "light_status_" + n, "'" + status + "' is not ON or OFF");
+    if (status != "ON") continue;
     glm::dvec3 pos = vec3Of(f, "light_position_" + n, glm::dvec3(0.0));
     if (pos == glm::dvec3(0.0)) continue;
     // safeNormalize: glm::normalize of 1e-200 or 1e308 components gave NaN rays.

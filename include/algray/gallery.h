@@ -27,7 +27,8 @@ struct GallerySurface {
 
 std::span<const GallerySurface> gallery();
 // nullptr if there is no such name. Names match as people type them: ASCII letters in
-// either case, and '_' or ' ' for '-' ("Barth_Sextic" finds "barth-sextic").
+// either case, and '_' or ' ' for '-' ("Barth_Sextic" finds "barth-sextic"), blanks
+// around the name ignored.
 const GallerySurface* findGallerySurface(std::string_view name);
 // For messages about a name that is not in the gallery: the gallery's names close to it
 // (one begins with the other, or at most a third of its letters edited), in gallery order;

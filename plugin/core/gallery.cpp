@@ -320,6 +320,11 @@ namespace {
 
 // A name as the gallery spells it: lower case, '-' between words.
 std::string canonicalName(std::string_view name) {
+  // Without the blanks around it (" torus" was an unknown name, "did you mean the gallery
+  // surface 'torus'?": the audit of session 51).
+  const auto blank = [](char ch) { return ch == ' ' || ch == '\t'; };
+  while (!name.empty() && blank(name.front())) name.remove_prefix(1);
+  while (!name.empty() && blank(name.back())) name.remove_suffix(1);
   std::string out(name);
   for (char& ch : out) {
     if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');

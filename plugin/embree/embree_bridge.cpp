@@ -124,14 +124,20 @@ glm::dvec3 lanePoint(float x, float y, float z) { return {x, y, z}; }
 // ---- Far origins of double rays ----------------------------------------------------------
 // The kernels work in t, which resolves a position along the ray only to u |t d|: from
 // ~1e15 clip radii away the clip region's span rounds away and the ray missed (a torus
-// seen from 1e30). A double ray from beyond kFarOrigin world radii is re-based first: its
+// seen from 1e30), and the point o + t d of the restriction's centre and of each polish
+// step rounds by u |o|, which along a ray grazing the surface (f's slope along it small)
+// moves the root by that over the slope (a unit sphere grazed from 1e6 radii, its chord
+// 1.9e-4: 2.6e-7 off, 2,300 ulps of t; from 1e4 radii 1.15e-9 radii; the audit of session
+// 51, when kFarOrigin was 2^40). A double ray from beyond kFarOrigin world radii is re-based first: its
 // origin moves along the line to o' = o + T d, four radii before the point closest to the
 // clip centre, the kernels trace o' + s d, and a hit reports t = T + s. Each move computes
 // o + t d with error-free transformations (pointOnLine, double_channel.h), so o' stays on
 // the line to u |o'| + u^2 |t d|; the rounding of t only moves o' along the line, by up to
 // u |t d|, and the next move takes that up (a few moves from any finite origin). What
 // remains is the interface's own limit: the reported t = T + s is rounded to u |t|.
-constexpr double kFarOrigin = 0x1p40;
+// From 2^8 radii on, where that rounding reaches 2^-44 of the radius, and the moves (one or
+// two pointOnLine) cost little against a ray's solve.
+constexpr double kFarOrigin = 0x1p8;
 
 // Moves o to o' as above and returns T as an unevaluated sum tBase + tBaseLow (Knuth's
 // TwoSum of the moves: T keeps the digits the kernels' t adds to); both 0, o unchanged,
@@ -219,6 +225,7 @@ struct Lane {
   // kernel t), for far origins (rebaseFarOrigin) and directions far from unit length.
   double tBase = 0.0, tBaseLow = 0.0;
   int tExp = 0;
+  double tnearScaled = 0.0;  // 2^tExp host tnear (the kernel's tnear before the re-basing)
 };
 // A lane of a packet through quadric_packet.cpp: surfaceUVFloat's u, v (before the cast)
 // of the hit at t = uvT and its float normal at t = nT, computed with the packet's lanes
@@ -243,13 +250,25 @@ double hostParameter(const Lane& L, double t) {
   return static_cast<double>(std::ldexp(static_cast<long double>(shifted), -L.tExp));
 }
 
+// Whether a double-channel kernel t lies past the host's tnear: the kernels keep kernel t
+// in (tnear, tfar), but a re-based ray's t = T + s rounds to the host's resolution, and a
+// host stepping past a hit 1e9 radii along its ray (tnear = its t) met each root twice, s
+// just past the kernel's tnear and T + s on the host's (session 51, with re-basing from 2^8
+// radii). Compared before the scaling by 2^-tExp, exact but for subnormal t, which Embree's
+// threads read as 0.
+bool pastHostTnear(const Lane& L, double t) {
+  return L.tBase == 0.0 || L.tBase + (L.tBaseLow + t) > L.tnearScaled;
+}
+
 // The candidate's float tfar, and whether it lies inside the ray's current interval: in
 // the double channel against the double far end (the float ray is only Embree's
-// traversal proxy), otherwise against the float ray's own (tnear, tfar).
-bool candidateTfar(const Lane& L, RTCRayN* ray, unsigned n, unsigned lane, double t, float& tf) {
+// traversal proxy) and the host's tnear (pastHostTnear), otherwise against the float ray's
+// own (tnear, tfar).
+bool candidateTfar(const Lane& L, RTCRayN* ray, unsigned n, unsigned lane, double kernelT, double t,
+                   float& tf) {
   if (L.dctx) {
     tf = roundUp(((t - L.dctx->floatShift) - L.dctx->floatShiftLow) / L.dctx->floatScale);
-    return t < L.tfarD;
+    return t < L.tfarD && pastHostTnear(L, kernelT);
   }
   tf = static_cast<float>(t);
   return tf > RTCRayN_tnear(ray, n, lane) && tf < RTCRayN_tfar(ray, n, lane);
@@ -340,7 +359,7 @@ bool acceptIntersectionOf(void* user, const KernelHit& h) {
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
   const double t = L.dctx ? hostParameter(L, h.t) : h.t;  // (nothing added on a float ray's path)
   float tf;
-  if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
+  if (!candidateTfar(L, ray, n, lane, h.t, t, tf)) return false;
   // ---- The candidate, as Embree would write it ---------------------------------------
   glm::dvec3 ng(0.0);
   glm::vec3 ngFloat;
@@ -449,7 +468,7 @@ bool acceptOcclusion(void* user, const KernelHit& h) {
   RTCRayN* ray = args->ray;
   const double t = L.dctx ? hostParameter(L, h.t) : h.t;  // (nothing added on a float ray's path)
   float tf;
-  if (!candidateTfar(L, ray, n, lane, t, tf)) return false;
+  if (!candidateTfar(L, ray, n, lane, h.t, t, tf)) return false;
   // Occlusion computes no normal: Ng is zero for the filter. u, v are the intersection's
   // (an alpha-textured shadow reads them in its occlusion filter, as Embree's triangles
   // give them).
@@ -518,6 +537,7 @@ template <class Args>
   }
   glm::dvec3 org = r.org;
   double orgError = r.orgError;
+  L.tnearScaled = tnear;
   L.tBase = rebaseFarOrigin(data, org, dir, orgError, L.tBaseLow);
   KernelRay kr = objectRay(data, org, dir, (tnear - L.tBase) - L.tBaseLow,
                            (tfar - L.tBase) - L.tBaseLow, kUnitRoundoff, orgError);

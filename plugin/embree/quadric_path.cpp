@@ -491,6 +491,9 @@ bool boundedQuadricBox(const SurfaceData& data, QuadricBox& box) {
 
   box.lo = glm::max(x0 - e, clipLo);
   box.hi = glm::min(x0 + e, clipHi);
+  const glm::dvec3 e0 = halfExtent(0.0);
+  box.surfaceLo = x0 - e0;
+  box.surfaceHi = x0 + e0;
   // The ball about x0: |z|^2 <= K' lambda_max(A^-1) <= K' |A^-1|_inf (an induced norm
   // bounds the spectral radius; equal for a diagonal A) and |y| <= |shift| + |z|, padded
   // as the half-extents, and once more by 2^-20 for the rounding of a ray's squared

@@ -353,6 +353,25 @@ double sampledHessian(const HornerForm& f, const ClipRegion& clip) {
                                                  : std::numeric_limits<double>::infinity();
 }
 
+// SurfaceData::objectRadius: the farthest corner of any cell from the clip centre (of an
+// ellipsoid's own box where its one cell is the ellipsoid's padded box, whose padding for
+// float origins anywhere in the clip region grows with that region: +-4.6e11 about a unit
+// sphere in a clip box 2e14 long), at most the clip radius (the clip radius with no cells:
+// no ray reaches the kernels then). Each corner's distance as |c - lo| or |hi - c| per
+// axis, the larger one: a safeLength of differences within the clip box, so no overflow
+// where the radius itself is in range.
+double objectRadius(const SurfaceData& data, const QuadricBox* ellipsoid) {
+  const auto farCorner = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
+    const glm::dvec3 corner = glm::max(data.centre - lo, hi - data.centre);
+    return safeLength(glm::max(corner, glm::dvec3(0.0)));
+  };
+  double farthest = 0.0;
+  for (const SurfaceCell& c : data.cells) farthest = std::max(farthest, farCorner(c.lo, c.hi));
+  if (ellipsoid)
+    farthest = std::min(farthest, farCorner(ellipsoid->surfaceLo, ellipsoid->surfaceHi));
+  return farthest > 0.0 && farthest < data.radius ? farthest : data.radius;
+}
+
 }  // namespace
 
 QuadricForm QuadricForm::fromPolynomial(const Polynomial& f) {
@@ -451,12 +470,18 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   }
   data->absHorner = HornerForm(absPoly);
   data->gradientGamma = gamma(4 * degree + 8);
+  // (Over the ball of radius `ball` about the centre: max |c_i| + ball.)
+  const auto slopeNoiseWithin = [&](double ball) {
+    const glm::dvec3 corner = absv(data->centre) + glm::dvec3(ball);
+    const double r = std::max({corner.x, corner.y, corner.z});
+    double bound = 0;
+    for (size_t i = weights.size(); i-- > 0;) bound = bound * r + weights[i];
+    const double slopeNoise = 0x1p10 * data->gradientGamma * bound;
+    return std::isfinite(slopeNoise) ? slopeNoise : 0.0;
+  };
+  data->hitSlopeNoise = slopeNoiseWithin(data->radius * (1.0 + 0x1p-20));
   const glm::dvec3 farCorner = absv(data->centre) + glm::dvec3(data->radius * (1.0 + 0x1p-20));
   const double r = std::max({farCorner.x, farCorner.y, farCorner.z});
-  double bound = 0;
-  for (size_t i = weights.size(); i-- > 0;) bound = bound * r + weights[i];
-  const double slopeNoise = 0x1p10 * data->gradientGamma * bound;
-  data->hitSlopeNoise = std::isfinite(slopeNoise) ? slopeNoise : 0.0;
   // How far grad f moves when the point moves: sum_j |d_i d_j f| <= sum_d d (d - 1) A_d
   // R^(d - 2) over the clip ball (each monomial's second derivatives summed over j are at
   // most e_i (|e| - 1) of it over R^2), times 2^10 as the slope's own noise (hitPointNoise).
@@ -513,10 +538,12 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   // An ellipsoid's one cell shrinks to the ellipsoid's own padded box (quadric_path.cpp,
   // boundedQuadricBox): Embree then sends the callbacks only the rays near it, as for a
   // native sphere. A grid of cells keeps its boxes (the ownership rule needs the grid).
+  std::optional<QuadricBox> ellipsoid;
   if (data->cells.size() == 1 && opt.quadricBounds) {
     SurfaceCell& cell = data->cells.front();
     QuadricBox box;
     if (boundedQuadricBox(*data, box)) {
+      ellipsoid = box;
       const glm::dvec3 lo = glm::max(box.lo, cell.lo), hi = glm::min(box.hi, cell.hi);
       if (glm::all(glm::lessThan(lo, hi))) {
         cell = SurfaceCell{lo, hi, worldBounds(*data, lo, hi)};
@@ -527,6 +554,13 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
     }
   }
   data->quadricCellClip = data->cells.size() == 1 && !cellHoldsClipRegion(*data);
+  data->objectRadius = objectRadius(*data, ellipsoid ? &*ellipsoid : nullptr);
+  // Hits lie in the cells: where those lie well inside the clip ball, the slope test is
+  // bounded over the object's ball instead (2^-10 over it for the hits a cell's span and
+  // the walk's window let past its faces). Over the clip ball a unit sphere clipped to a
+  // ball of radius 1e14 had no hit with a clear slope (all went to gradientBesideNoise).
+  if (data->objectRadius < data->radius)
+    data->hitSlopeNoise = slopeNoiseWithin(data->objectRadius * (1.0 + 0x1p-10));
   indexGrid(*data, boxLo, boxHi);
   checkEmbreeRange(*data);
 

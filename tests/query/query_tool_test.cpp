@@ -125,6 +125,53 @@ TEST_F(QueryTool, SphereMatchesClosedFormInAnyColumnOrder) {
   }
 }
 
+// A clip region far larger than the surface (a unit sphere in clip balls and boxes of
+// 1e3 to 1e14 radii): every ray hits as the closed form says, in both channels, without an
+// org_error column (whose default, the rounding of a hit point of a ray from up to 32
+// object sizes away, took the clip radius for the object's size: from 1e14 an uncertainty
+// of 2.1 at every origin, and every ray missed; --float, whose origins carry 16 float ulps
+// of that size, missed from 3e6 on; the audit of session 51). The third ray starts inside
+// the sphere, whose normal there faced inwards from clip radius 1e14 (the normal's search
+// beside the hit looked 2.3e4 away).
+TEST_F(QueryTool, AClipRegionFarLargerThanTheSurfaceKeepsItsHits) {
+  const double rays[][8] = {{0, 0, -5, 0, 0, 1, 0, 1e300},
+                            {3, 0, 0, -1, 0, 0, 0, 10},
+                            {0, 0, 0.5, 1, 0, 0, 0, 1e300},
+                            {0.3, -5, 0.1, 0, 1, 0, 0, 1e300},
+                            {-2, 1.5, 0.25, 1, -0.7, 0.1, 0, 1e300}};
+  std::string csv = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  char buf[512];
+  for (const auto& r : rays) {
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", r[0], r[1],
+                  r[2], r[3], r[4], r[5], r[6], r[7]);
+    csv += buf;
+  }
+  const fs::path file = write("rays.csv", csv);
+  for (const std::string clip :
+       {"--clip-sphere 1e3", "--clip-sphere 1e7", "--clip-sphere 1e14",
+        "--clip-box=-1e14,-1.5,-1.5,1e14,1.5,1.5", "--clip-box=-1e6,-1e6,-2,1e6,1e6,2"})
+    for (const bool useFloat : {false, true}) {
+      // (The float channel's origins carry 16 float ulps of the object's size: its cells
+      // reach ~1e-3 of a clip ball's radius, too coarse beyond ~1e8.)
+      if (useFloat && clip.find("1e14") != std::string::npos) continue;
+      SCOPED_TRACE(clip + (useFloat ? " --float" : ""));
+      const RunResult r = run("--surface \"x^2 + y^2 + z^2 - 1\" " + clip +
+                              (useFloat ? " --float " : " ") + common(file));
+      ASSERT_EQ(r.exitCode, 0) << r.err;
+      ASSERT_EQ(r.rows.size(), std::size(rays));
+      for (size_t i = 0; i < std::size(rays); ++i) {
+        const double t = sphereT(rays[i], rays[i] + 3, 1.0, 0.0);
+        ASSERT_GT(t, 0.0);
+        EXPECT_EQ(r.rows[i][0], 1.0) << i;
+        EXPECT_NEAR(r.rows[i][1], t, (useFloat ? 1e-6 : 1e-14) * t) << i;
+        double p[3], dot = 0;
+        for (int k = 0; k < 3; ++k) p[k] = rays[i][k] + t * rays[i][3 + k];
+        for (int k = 0; k < 3; ++k) dot += r.rows[i][2 + k] * p[k];
+        EXPECT_NEAR(dot, 1.0, useFloat ? 1e-6 : 1e-12) << i << ": the normal is the outward p";
+      }
+    }
+}
+
 TEST_F(QueryTool, HitPointsAsOriginsDoNotHitThemselves) {
   // First pass: hits on a torus from outside. Second pass: rays from those hit points
   // (o + t d, as a user computes them from OUT.csv) with tnear = 0, towards the centre

@@ -192,6 +192,9 @@ TEST(JsurfImport, BadValuesAreErrorsAtTheirLine) {
       {"light_position_0=0 0 1\nlight_intensity_0=-100", ":4: light_intensity_0"},
       {"light_position_0=0 0 1\nlight_color_0=1e308 1 1", ":4: light_color_0"},
       {"light_color_0=1e38 1 1\nlight_intensity_0=100", ":4: light_intensity_0"},
+      // Anything but ON was OFF (session 51's audit: "MAYBE", "on").
+      {"light_status_0=MAYBE", ":3: light_status_0"},
+      {"light_status_4=on", ":3: light_status_4"},
       // jsurf's own view keys were ignored; a bad one was too.
       {"transform_matrix=1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1", ":3: transform_matrix"},
       {"transform_matrix=1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1", ":3: transform_matrix"},

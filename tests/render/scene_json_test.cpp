@@ -396,6 +396,16 @@ TEST(SceneJson, NulBytesAndUnderflowingNumbersAreErrors) {
   EXPECT_EQ(e.line(), 2);
   EXPECT_EQ(e.column(), 1);
   EXPECT_NE(e.message().find("NUL byte"), std::string::npos) << e.what();
+  // The same escaped in a string: file names ended at it (a.obj\u0000junk loaded a.obj), and
+  // so did names in messages (session 51's audit).
+  const std::pair<std::string, std::string> escaped[] = {
+      {R"({"meshes": [{"obj": "a.obj\u0000junk"}]})", "\"a.obj"},
+      {R"({"surfaces": [{"gallery": "torus\u0000x"}]})", "\"torus"}};
+  for (const auto& [text, value] : escaped) {
+    SceneError g = errorOf(text);
+    EXPECT_EQ(g.column(), columnOf(text, value)) << g.what();
+    EXPECT_NE(g.message().find("NUL character"), std::string::npos) << g.what();
+  }
   const std::string under =
       R"({"surfaces": [{"equation": "x^2+y^2+z^2-a", "parameters": {"a": 1e-400}, "clip": {"sphere": {"radius": 2}}}]})";
   SceneError f = errorOf(under);
