@@ -576,6 +576,63 @@ TEST(CellsTest, CellsHugTheSphere) {
   EXPECT_GT(cells.size(), 5720u / 4);
 }
 
+// surfaceReach bounds the distance of every surface point from the given point, and within
+// 1.5 times it where its search converges (quadrics and quartics in regions up to 1e9 times
+// their size, where the capped cells reach ~1e-3 of the region; the quartics not at 1e50). References: the
+// farthest points in closed form (a sphere's radius; a torus's R + r; an offset sphere's
+// |centre| + r), and surface points found along random lines (sign changes of f, bisected)
+// that must all lie within the bound. A surface outside the region gives 0.
+TEST(CellsTest, SurfaceReachBoundsEverySurfacePoint) {
+  struct Case {
+    const char* name;
+    Polynomial f;
+    double farthest;
+  };
+  const Case cases[] = {{"sphere", sphere({0, 0, 0}, 1.0), 1.0},
+                        {"torus", torus(1.0, 0.4), 1.4},
+                        {"offset sphere", sphere({60, 0, 80}, 1.0), 101.0},
+                        {"quartic", parsePolynomial("x^4+y^4+z^4-1"), std::pow(3.0, 0.25)}};
+  std::mt19937_64 gen(51);
+  std::normal_distribution<double> normal;
+  for (const Case& c : cases)
+    for (const double R : {200.0, 1e4, 1e9, 1e50}) {
+      SCOPED_TRACE(std::string(c.name) + " in a region of " + std::to_string(R));
+      const glm::dvec3 lo(-R), hi(R);
+      const double ball =
+          surfaceReach(c.f, lo, hi, CellSphere{glm::dvec3(0.0), R}, glm::dvec3(0.0));
+      const double box = surfaceReach(c.f, lo, hi, std::nullopt, glm::dvec3(0.0));
+      for (const double reach : {ball, box}) {
+        EXPECT_GE(reach, c.farthest);
+        if (R < 1e10 || c.f.degree() == 2) {
+          EXPECT_LE(reach, 1.5 * c.farthest);
+        }
+      }
+      // Points of the surface: sign changes along lines through it.
+      for (int k = 0; k < 200; ++k) {
+        const glm::dvec3 a = c.farthest * glm::dvec3(normal(gen), normal(gen), normal(gen));
+        const glm::dvec3 b = c.farthest * glm::dvec3(normal(gen), normal(gen), normal(gen));
+        double s0 = 0, s1 = 1;
+        const double f0 = c.f.evaluate(a), f1 = c.f.evaluate(b);
+        if (!(f0 * f1 < 0)) continue;
+        for (int i = 0; i < 60; ++i) {
+          const double m = 0.5 * (s0 + s1);
+          (c.f.evaluate(a + m * (b - a)) * f0 > 0 ? s0 : s1) = m;
+        }
+        EXPECT_LE(glm::length(a + s0 * (b - a)), ball * (1 + 1e-12));
+      }
+    }
+  // A surface wholly outside the region: 0; a bad point or work: an error.
+  EXPECT_EQ(surfaceReach(sphere({100, 0, 0}, 1.0), glm::dvec3(-10), glm::dvec3(10), std::nullopt,
+                         glm::dvec3(0.0)),
+            0.0);
+  EXPECT_THROW(surfaceReach(sphere({0, 0, 0}, 1.0), glm::dvec3(-2), glm::dvec3(2), std::nullopt,
+                            glm::dvec3(std::nan(""))),
+               Error);
+  EXPECT_THROW(surfaceReach(sphere({0, 0, 0}, 1.0), glm::dvec3(-2), glm::dvec3(2), std::nullopt,
+                            glm::dvec3(0.0), -1.0),
+               Error);
+}
+
 TEST(CellsTest, MaxCellsCapsTheLevel) {
   const Polynomial f = torus(1.0, 0.3);
   CellStats stats;

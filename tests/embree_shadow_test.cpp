@@ -118,6 +118,65 @@ TEST_P(EmbreeShadow, LeavingRaysNeverHitTheirOrigin) {
               dbl.closest, flt.closest);
 }
 
+// Float hosts in a clip region larger than the object (the clip sphere 100 or 20 times
+// the gallery's): a camera 4.55 clip radii away (algray-render's quick view), rays leaving
+// its float hit points in every direction. Session 51 first sized a float origin's assumed
+// uncertainty by the object alone (its cells' reach, 1.2-1.7 radii here), which covered
+// cameras within ~8 of those: 49 of ~110 lit-side shadow rays of the sphere met their own
+// origin, 24 of the torus's, 23 of the heart's (the review of session 51); now the scene's
+// radius, the clip radius up to 2^10 object radii (SurfaceData::sceneRadius).
+TEST(EmbreeShadowLargeClip, FloatLeavingRaysOfACameraFarAwayNeverHitTheirOrigin) {
+  struct Case {
+    const char* surface;
+    double clipFactor;
+  };
+  for (const Case c : {Case{"sphere", 100.0}, Case{"torus", 20.0}, Case{"heart", 20.0}}) {
+    const GallerySurface* g = findGallerySurface(c.surface);
+    ASSERT_NE(g, nullptr);
+    Device device;
+    const Polynomial f = g->build();
+    const double R = c.clipFactor * g->clipRadius;
+    SurfaceDesc desc;
+    desc.polynomial = f;
+    desc.clip = ClipSphere{glm::dvec3(0.0), R};
+    SurfaceGeometry surface(device, desc);
+    Scene scene(device);
+    const unsigned id = scene.attach(surface.geometry());
+    scene.commit();
+    std::mt19937 rng(51);
+    std::normal_distribution<double> n;
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    auto randomUnit = [&] { return glm::normalize(glm::dvec3(n(rng), n(rng), n(rng))); };
+    int primary = 0, leaving = 0, selfHits = 0;
+    for (int i = 0; i < 200; ++i) {
+      const glm::dvec3 cam = 4.55 * R * randomUnit();
+      const glm::dvec3 target = 0.8 * g->clipRadius * glm::dvec3(u(rng), u(rng), u(rng));
+      const RTCRayHit fhit = intersect1(scene, makeRay(glm::vec3(cam), glm::vec3(target - cam)));
+      if (fhit.hit.geomID != id) continue;
+      ++primary;
+      const glm::vec3 o(fhit.ray.org_x, fhit.ray.org_y, fhit.ray.org_z);
+      const glm::vec3 d(fhit.ray.dir_x, fhit.ray.dir_y, fhit.ray.dir_z);
+      const glm::vec3 p = o + fhit.ray.tfar * d;
+      for (int leave = 0; leave < 8; ++leave) {
+        const glm::vec3 dir(randomUnit());
+        const RTCRayHit s = intersect1(scene, makeRay(p, dir));
+        RTCRay shadow = makeRay(p, dir).ray;
+        const bool occluded = occluded1(scene, shadow);
+        ++leaving;
+        // (Within 1e-3 of the gallery's radius: a float hit point from 4.55 R lies up to
+        // ~1e-5 of it off the surface, and its own root that far along the ray.)
+        const bool near = s.hit.geomID == id && s.ray.tfar < 1e-3 * g->clipRadius;
+        if (near && !genuineReentry(f, glm::dvec3(p), glm::dvec3(dir), s.ray.tfar)) ++selfHits;
+        // Occlusion takes the same path: occluded exactly where the closest hit hits.
+        EXPECT_EQ(occluded, s.hit.geomID == id) << c.surface << " ray " << i << " " << leave;
+      }
+    }
+    EXPECT_GT(primary, 50) << c.surface;
+    EXPECT_EQ(selfHits, 0) << c.surface << ": of " << leaving << " leaving rays";
+    EXPECT_EQ(surface.callbackErrors(), 0u);
+  }
+}
+
 // Taubin's heart along its equator ellipse (z = 0, x^2 + 9/4 y^2 = 1), where f's gradient
 // vanishes though the surface is smooth: f ~ dist^3, so a hit there lies off the surface by
 // more than its rounding, and g of a ray leaving it has a near-triple cluster of roots

@@ -9,6 +9,7 @@
 #include "cli_text.h"
 #include "ray_csv.h"
 
+#include "algray/cells.h"
 #include "algray/embree.h"
 #include "algray/gallery.h"
 #include "algray/parser.h"
@@ -27,6 +28,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -132,23 +134,39 @@ query::QueryHit trace(RTCScene scene, unsigned geomID, const RayD& ray, bool use
 // from the ray that found it, not the rounding of its own coordinates (orgError = 0): a
 // ray leaving a cylinder from a hit point of a ray that started 10 clip radii away found
 // its own origin at t = 2.5e-15. Every origin is then taken to be such a point, of a ray
-// that started within 32 object sizes of the clip centre; it only matters to an origin
-// within about 1e-14 object sizes of the surface. The object's size: the farthest corner
-// of the scene's bounds (the surface's cells, as Embree holds them) from the clip centre,
-// at most the clip radius. (The clip radius itself gave a unit sphere clipped to a ball of
-// radius 1e14 an uncertainty of 2.1 at every origin, and every ray from 5 away missed it:
-// the audit of session 51.) Origins beyond 4 clip radii keep 0: the self-root rule ignores
-// them, and the far-ray paths read orgError. With the column, each ray's own bound is used
-// as given (hit points of rays from farther away).
-void setDefaultOrgErrors(std::vector<RayD>& rays, const glm::dvec3& centre, double radius,
-                         RTCScene scene) {
+// that started within 32 scene radii of the clip centre; it only matters to an origin
+// within about 1e-14 scene radii of the surface. The scene's radius is the plugin's (its
+// SurfaceData::sceneRadius): the clip radius, at most 2^10 object radii, the object's
+// from the scene's bounds (the surface's cells, as Embree holds them) and, where those lie
+// well inside the clip region, surfaceReach (cells.h). (The clip radius alone gave a unit
+// sphere clipped to a ball of radius 1e14 an uncertainty of 2.1 at every origin, and every
+// ray from 5 away missed it; the object's radius alone, hit points of a camera 10 clip
+// radii from a unit sphere in a ball of radius 100 met their own origin: session 51.)
+// Origins beyond 4 clip radii keep 0: the self-root rule ignores them, and the far-ray
+// paths read orgError. With the column, each ray's own bound is used as given (hit points
+// of rays from farther away).
+void setDefaultOrgErrors(std::vector<RayD>& rays, const SurfaceDesc& desc, const glm::dvec3& centre,
+                         double radius, RTCScene scene) {
   RTCBounds b;
   rtcGetSceneBounds(scene, &b);
   const glm::dvec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
   const glm::dvec3 corner = glm::max(glm::max(centre - lo, hi - centre), glm::dvec3(0.0));
   const double m = std::max({corner.x, corner.y, corner.z});
-  const double farthest = m > 0.0 ? m * glm::length(corner / m) : 0.0;  // (no overflow)
-  const double size = farthest > 0.0 && farthest < radius ? farthest : radius;
+  double farthest = m > 0.0 ? m * glm::length(corner / m) : 0.0;  // (no overflow)
+  if (farthest > 0.0 && farthest < radius / 16.0) {
+    std::optional<CellSphere> sphere;
+    glm::dvec3 boxLo, boxHi;
+    if (const auto* box = std::get_if<ClipBox>(&desc.clip)) {
+      boxLo = box->lo, boxHi = box->hi;
+    } else {
+      sphere = CellSphere{centre, radius};
+      boxLo = centre - glm::dvec3(radius), boxHi = centre + glm::dvec3(radius);
+    }
+    const double reach = surfaceReach(desc.polynomial, boxLo, boxHi, sphere, centre);
+    if (reach > 0.0) farthest = std::min(farthest, reach);
+  }
+  const double object = farthest > 0.0 && farthest < radius ? farthest : radius;
+  const double size = std::min(radius, 0x1p10 * object);
   for (RayD& ray : rays) {
     const glm::dvec3 oc = glm::abs(ray.org - centre);
     if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius)
@@ -344,7 +362,7 @@ int run(int argc, char** argv) {
     RTCScene scene = rtcNewScene(device);
     const unsigned geomID = rtcAttachGeometry(scene, surface->geometry());
     rtcCommitScene(scene);
-    if (!givenOrgErrors) setDefaultOrgErrors(rays, centre, radius, scene);
+    if (!givenOrgErrors) setDefaultOrgErrors(rays, desc, centre, radius, scene);
 
     // ---- Trace (timed: tracing only) -----------------------------------------------------
     const int workers = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();

@@ -78,6 +78,20 @@ std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const gl
                              const std::optional<CellSphere>& sphere = std::nullopt,
                              const CellOptions& options = {}, CellStats* stats = nullptr);
 
+// An upper bound of the distance from `from` to every point of {f = 0} inside the clip box
+// [lo, hi] (and the sphere, if given): the object's reach, where the clip region may be far
+// larger than the object (a unit sphere clipped to a ball of radius 1e14, whose cells,
+// capped in number, reach ~1e-3 of it). Best-first subdivision, farthest box first, with
+// buildCells' emptiness tests (RangeBound::Bernstein), until the farthest box left is
+// within 2^-3 of its distance (the bound then at most 1.28 times the farthest point's,
+// where that box holds one) or `work` interval multiply-adds are spent (the bound is then
+// the farthest box left's: at worst the region's farthest corner). 0 when the surface
+// provably misses the region.
+// Throws Error as buildCells does, and for negative work or a non-finite `from`.
+double surfaceReach(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+                    const std::optional<CellSphere>& sphere, const glm::dvec3& from,
+                    double work = 4e6);
+
 // The ray's parameter span inside a closed box: [t0, t1] within [tMin, tMax], or nothing.
 // Slab test as pbrt-v4's Bounds3::IntersectP: each slab's far parameter is enlarged by
 // a factor 1 + 2 gamma(3) so that the rounding of (bound - o) / d never loses a grazing

@@ -80,17 +80,17 @@ bool clearOf(const glm::dvec3& g, const glm::dvec3& noise) {
 bool facingOf(const glm::dvec3& g, const glm::dvec3& noise, const glm::dvec3& u) {
   return glm::dot(g, u) < -kClear * glm::dot(noise, absv(u));
 }
-// The distances looked at before (and after) the hit: 2^-32 to 2^-6 object radii
-// (SurfaceData::objectRadius: the clip radius unless the cells lie well inside the clip
-// ball; a unit sphere clipped to a ball of radius 1e14 looked 2.3e4 away from its hits and
-// turned a normal inside out) by factors
+// The distances looked at before (and after) the hit: 2^-32 to 2^-6 scene radii
+// (SurfaceData::sceneRadius: the clip radius, at most 2^10 object radii; a unit sphere
+// clipped to a ball of radius 1e14 looked 2.3e4 away from its hits and turned a normal
+// inside out) by factors
 // of 4 (kRungs), then on to 2^-2 by factors of 2 for the search alone (kSearchRungs): f =
 // h^m q is within its noise for |h| up to ~(u E)^(1/m), and its gradient, m h^(m-1) q grad
 // h, clears its own noise 2^10-fold only farther out: on (x^2 + y^2 + z^2 - 1)^m in a ball
 // of radius 1.5, ~2^-6 radii for m = 6, 2^-5 for m = 7, 2^-4 for m = 8 (session 43).
 constexpr int kRungs = 14, kSearchRungs = kRungs + 4;
 double rung(const SurfaceData& data, int k) {
-  return std::ldexp(data.objectRadius, k < kRungs ? -32 + 2 * k : -6 + (k - kRungs + 1));
+  return std::ldexp(data.sceneRadius, k < kRungs ? -32 + 2 * k : -6 + (k - kRungs + 1));
 }
 
 // grad f at p - delta u, combined with grad f at p + delta u where that is clear and

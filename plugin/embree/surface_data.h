@@ -122,14 +122,20 @@ struct SurfaceData {
   glm::dvec3 centre{0.0};
   double radius = 1.0;
   double selfRootRadius2 = 1.0;  // (radius (1 + 2^-9))^2: see restrictQuadricRay
-  // The radius about centre of a ball holding every cell (at most radius): the size of the
-  // object as Embree's BVH holds it, the scale of a float origin's assumed uncertainty
-  // (floatOriginError, originRootMatters). Not the clip radius: a unit sphere clipped to a
-  // ball of radius 1e7 (its cells within 4883 of the centre) gave every float origin
-  // within the ball an uncertainty of 9.5, so a camera 5 away took itself for a point of
-  // the sphere and the self-root rule removed the sphere (algray-render drew nothing from
-  // clip radius 3e6 on; the audit of session 51).
+  // The radius about centre of a ball holding every point of the surface in the clip region
+  // (at most radius; objectRadiusOf, surface_geometry.cpp): the object's size.
   double objectRadius = 1.0;
+  // The scale of the scene a host's hit point comes from: the clip radius, but at most 2^10
+  // object radii. It sizes a float origin's assumed uncertainty (floatOriginError,
+  // originRootMatters) and the normal's search beside a hit (hit_normal.cpp). Not the clip
+  // radius alone: a unit sphere clipped to a ball of radius 1e7 gave every float origin in
+  // the ball an uncertainty of 9.5, so a camera 5 away took itself for a point of the
+  // sphere and the self-root rule removed the sphere (algray-render drew nothing from clip
+  // radius 3e6 on; the audit of session 51). Not the object's radius alone: that assumed
+  // cameras within ~8 object radii, and rays leaving a unit sphere clipped to a ball of
+  // radius 100, hit points of a camera 455 away (4.55 clip radii, algray-render's quick
+  // view), met their own origin (the review of session 51).
+  double sceneRadius = 1.0;
   double floatOriginNear2 = 0.0;  // (256 radius)^2 (0: unused): see surelyOutsideClipBall
   std::vector<SurfaceCell> cells;
   // The cells' grid (they are one level of a regular subdivision of the box around the
@@ -201,12 +207,12 @@ KernelRay hostObjectRay(const SurfaceData& data, const glm::dvec3& o, const glm:
                         bool deferFloatTerm = false);
 
 // The term a float ray's orgError gets for its origin's own rounding (objectRay,
-// embree_bridge.cpp): 16 u_float (|o - c| + R_o) for its object-space origin o, roundoff
-// its unit roundoff, R_o the object's radius (SurfaceData::objectRadius): a hit point of a
-// ray that started within a few object sizes. One expression for the bridge and the walk's
+// embree_bridge.cpp): 16 u_float (|o - c| + R_s) for its object-space origin o, roundoff
+// its unit roundoff, R_s the scene's radius (SurfaceData::sceneRadius): a hit point of a
+// ray that started within a few such radii. One expression for the bridge and the walk's
 // deferred form (bit for bit).
 inline double floatOriginError(const SurfaceData& data, const glm::dvec3& o, double roundoff) {
-  return 16.0 * roundoff * (glm::length(o - data.centre) + data.objectRadius);
+  return 16.0 * roundoff * (glm::length(o - data.centre) + data.sceneRadius);
 }
 
 // A ray's whole orgError (with its deferred term added, KernelRay::orgErrorDeferred).
@@ -654,7 +660,7 @@ inline bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const g
 
 // Whether the self-root rule's division by s instead of by the origin's root r ~ -c0 / c1
 // (ray_roots.cpp, divideByOriginRoot; quadric_path.cpp, originRootApart) would move the
-// ray's other roots by more than its resolution, 16 roundings of |o|_1 + R_o: |r| |d|_1
+// ray's other roots by more than its resolution, 16 roundings of |o|_1 + R_s: |r| |d|_1
 // beyond that. For a float ray that is the uncertainty its channel gives every origin
 // (README), for a double ray 2^-49 of the scale. Below it, g / s stays: on a float shadow
 // ray c0 clears double's rounding whenever the float origin is off the surface, and the
@@ -664,7 +670,7 @@ inline bool clipRegionSpan(const SurfaceData& data, const glm::dvec3& o, const g
 // oSum, dSum: |o|_1 and |d|_1 (summed x, y, z in that order).
 inline bool originRootMatters(const SurfaceData& data, const KernelRay& ray, double c0, double c1,
                               double oSum, double dSum) {
-  return std::abs(c0) * dSum > 16.0 * ray.orgRoundoff * (oSum + data.objectRadius) * std::abs(c1);
+  return std::abs(c0) * dSum > 16.0 * ray.orgRoundoff * (oSum + data.sceneRadius) * std::abs(c1);
 }
 inline bool originRootMatters(const SurfaceData& data, const KernelRay& ray, double c0, double c1) {
   const glm::dvec3& o = ray.org;

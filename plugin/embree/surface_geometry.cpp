@@ -357,10 +357,17 @@ double sampledHessian(const HornerForm& f, const ClipRegion& clip) {
 // ellipsoid's own box where its one cell is the ellipsoid's padded box, whose padding for
 // float origins anywhere in the clip region grows with that region: +-4.6e11 about a unit
 // sphere in a clip box 2e14 long), at most the clip radius (the clip radius with no cells:
-// no ray reaches the kernels then). Each corner's distance as |c - lo| or |hi - c| per
+// no ray reaches the kernels then). Where that is below 1/16 of the clip radius (cells well
+// inside the clip region), also surfaceReach's bound (cells.h): the cells, capped in number,
+// reach ~1e-3 of a large region's radius (a unit sphere in a clip ball of radius 1e7: 8458),
+// the search about 1.3 object radii (a sphere's 1.2, a torus's 1.7, for any region up to
+// 1e50 radii; a torus from 1e7 on, where the centred form needs more boxes than its work
+// allows, ~1e-5 of the region's radius). Each corner's distance as |c - lo| or |hi - c| per
 // axis, the larger one: a safeLength of differences within the clip box, so no overflow
-// where the radius itself is in range.
-double objectRadius(const SurfaceData& data, const QuadricBox* ellipsoid) {
+// where the radius itself is in range. (A surface's construction pays the search, 1-30 ms,
+// only in such regions.)
+double objectRadiusOf(const SurfaceData& data, const QuadricBox* ellipsoid, const glm::dvec3& boxLo,
+                      const glm::dvec3& boxHi, const std::optional<CellSphere>& sphere) {
   const auto farCorner = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
     const glm::dvec3 corner = glm::max(data.centre - lo, hi - data.centre);
     return safeLength(glm::max(corner, glm::dvec3(0.0)));
@@ -369,6 +376,10 @@ double objectRadius(const SurfaceData& data, const QuadricBox* ellipsoid) {
   for (const SurfaceCell& c : data.cells) farthest = std::max(farthest, farCorner(c.lo, c.hi));
   if (ellipsoid)
     farthest = std::min(farthest, farCorner(ellipsoid->surfaceLo, ellipsoid->surfaceHi));
+  if (farthest > 0.0 && farthest < data.radius / 16.0) {
+    const double reach = surfaceReach(data.desc.polynomial, boxLo, boxHi, sphere, data.centre);
+    if (reach > 0.0) farthest = std::min(farthest, reach);
+  }
   return farthest > 0.0 && farthest < data.radius ? farthest : data.radius;
 }
 
@@ -554,8 +565,10 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
     }
   }
   data->quadricCellClip = data->cells.size() == 1 && !cellHoldsClipRegion(*data);
-  data->objectRadius = objectRadius(*data, ellipsoid ? &*ellipsoid : nullptr);
-  // Hits lie in the cells: where those lie well inside the clip ball, the slope test is
+  data->objectRadius =
+      objectRadiusOf(*data, ellipsoid ? &*ellipsoid : nullptr, boxLo, boxHi, sphere);
+  data->sceneRadius = std::min(data->radius, 0x1p10 * data->objectRadius);
+  // Hits lie on the surface: where it lies well inside the clip ball, the slope test is
   // bounded over the object's ball instead (2^-10 over it for the hits a cell's span and
   // the walk's window let past its faces). Over the clip ball a unit sphere clipped to a
   // ball of radius 1e14 had no hit with a clear slope (all went to gradientBesideNoise).
