@@ -135,13 +135,14 @@ query::QueryHit trace(RTCScene scene, unsigned geomID, const RayD& ray, bool use
 // ray leaving a cylinder from a hit point of a ray that started 10 clip radii away found
 // its own origin at t = 2.5e-15. Every origin is then taken to be such a point, of a ray
 // that started within 32 scene radii of the clip centre; it only matters to an origin
-// within about 1e-14 scene radii of the surface. The scene's radius is the plugin's (its
-// SurfaceData::sceneRadius): the clip radius, at most 2^10 object radii, the object's
-// from the scene's bounds (the surface's cells, as Embree holds them) and, where those lie
-// well inside the clip region, surfaceReach (cells.h). (The clip radius alone gave a unit
-// sphere clipped to a ball of radius 1e14 an uncertainty of 2.1 at every origin, and every
-// ray from 5 away missed it; the object's radius alone, hit points of a camera 10 clip
-// radii from a unit sphere in a ball of radius 100 met their own origin: session 51.)
+// within about 1e-14 scene radii of the surface. The scene's radius: the clip radius, at
+// most 2^24 object radii (the window then stays below ~4e-7 of the object's radius), the
+// object's from the scene's bounds (the surface's cells, as Embree holds them) and
+// surfaceReach (cells.h). (The clip radius alone gave a unit sphere clipped to a ball of
+// radius 1e14 an uncertainty of 2.1 at every origin, and every ray from 5 away missed it;
+// the object's radius alone, hit points of a camera 10 clip radii from a unit sphere in a
+// ball of radius 100 met their own origin; 2^10 object radii, those of a camera 1e6 away
+// from one in a ball of radius 1e6: session 51's reviews.)
 // Origins beyond 4 clip radii keep 0: the self-root rule ignores them, and the far-ray
 // paths read orgError. With the column, each ray's own bound is used as given (hit points
 // of rays from farther away).
@@ -153,7 +154,8 @@ void setDefaultOrgErrors(std::vector<RayD>& rays, const SurfaceDesc& desc, const
   const glm::dvec3 corner = glm::max(glm::max(centre - lo, hi - centre), glm::dvec3(0.0));
   const double m = std::max({corner.x, corner.y, corner.z});
   double farthest = m > 0.0 ? m * glm::length(corner / m) : 0.0;  // (no overflow)
-  if (farthest > 0.0 && farthest < radius / 16.0) {
+  constexpr double kSceneObjects = 0x1p24;
+  if (farthest > 0.0 && kSceneObjects * farthest > radius) {
     std::optional<CellSphere> sphere;
     glm::dvec3 boxLo, boxHi;
     if (const auto* box = std::get_if<ClipBox>(&desc.clip)) {
@@ -162,11 +164,12 @@ void setDefaultOrgErrors(std::vector<RayD>& rays, const SurfaceDesc& desc, const
       sphere = CellSphere{centre, radius};
       boxLo = centre - glm::dvec3(radius), boxHi = centre + glm::dvec3(radius);
     }
-    const double reach = surfaceReach(desc.polynomial, boxLo, boxHi, sphere, centre);
+    const double reach =
+        surfaceReach(desc.polynomial, boxLo, boxHi, sphere, centre, 1.6e7, radius / kSceneObjects);
     if (reach > 0.0) farthest = std::min(farthest, reach);
   }
   const double object = farthest > 0.0 && farthest < radius ? farthest : radius;
-  const double size = std::min(radius, 0x1p10 * object);
+  const double size = std::min(radius, kSceneObjects * object);
   for (RayD& ray : rays) {
     const glm::dvec3 oc = glm::abs(ray.org - centre);
     if (std::max({oc.x, oc.y, oc.z}) <= 4.0 * radius)

@@ -86,11 +86,15 @@ std::vector<Cell> buildCells(const Polynomial& f, const glm::dvec3& lo, const gl
 // within 2^-3 of its distance (the bound then at most 1.28 times the farthest point's,
 // where that box holds one) or `work` interval multiply-adds are spent (the bound is then
 // the farthest box left's: at worst the region's farthest corner). 0 when the surface
-// provably misses the region.
+// provably misses the region. With `enough` > 0 a caller that only needs to know whether the
+// reach is below it is answered first by a 9 x 9 x 9 lattice over the box: a sign change
+// of f (both ends clear of f's rounding bound, both in the region) along an edge that keeps
+// at least `enough` from `from` proves a surface point that far, and the region's farthest
+// corner is returned without the search (a surface that fills its region does so at once).
 // Throws Error as buildCells does, and for negative work or a non-finite `from`.
 double surfaceReach(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
                     const std::optional<CellSphere>& sphere, const glm::dvec3& from,
-                    double work = 4e6);
+                    double work = 4e6, double enough = 0.0);
 
 // The ray's parameter span inside a closed box: [t0, t1] within [tMin, tMax], or nothing.
 // Slab test as pbrt-v4's Bounds3::IntersectP: each slab's far parameter is enlarged by

@@ -168,6 +168,9 @@ class Builder {
       return nextUp(std::sqrt(d2) * (1.0 + 0x1p-50));
     };
     const Node root;
+    // (A budget below one split buys nothing: the root's corner without its test, which
+    // alone costs up to 4e6 multiply-adds at degree 40.)
+    if (maxTests < 3) return farCorner(root);
     if (!keep(root, rootPoly_)) return 0.0;
     std::vector<Item> heap = {{farCorner(root), root}};
     BoxPolynomial parent, child;
@@ -441,8 +444,52 @@ double probedCoverage(const Polynomial& poly, const glm::dvec3& lo, const glm::d
 
 }  // namespace
 
+namespace {
+
+// surfaceReach's `enough` (cells.h): a sign change of f along a lattice edge at least `dist`
+// from `from`, both ends in the region.
+bool reachesBeyond(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+                   const std::optional<CellSphere>& sphere, const glm::dvec3& from, double dist) {
+  constexpr int n = 9;
+  std::vector<double> value(n * n * n);
+  std::vector<glm::dvec3> point(n * n * n);
+  const auto index = [](int i, int j, int k) { return (i * n + j) * n + k; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const glm::dvec3 w = glm::dvec3(i, j, k) / double(n - 1);
+        const glm::dvec3 p = glm::mix(lo, hi, w);
+        const Polynomial::Evaluation e = f.evaluateWithBound(p);
+        const bool inside = !sphere || glm::length(p - sphere->center) <= sphere->radius;
+        // 0: no sign known (outside the region, within f's rounding, or not finite).
+        value[index(i, j, k)] = inside && std::abs(e.value) > e.valueError ? e.value : 0.0;
+        point[index(i, j, k)] = p;
+      }
+  // The distance from `from` to the segment [a, b] (a lower bound of its points').
+  const auto segmentDistance = [&](const glm::dvec3& a, const glm::dvec3& b) {
+    const glm::dvec3 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double s = len2 > 0.0 ? std::clamp(glm::dot(from - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(a + s * ab - from) * (1.0 - 0x1p-20);
+  };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const int a = index(i, j, k);
+        for (const int b :
+             {i + 1 < n ? index(i + 1, j, k) : -1, j + 1 < n ? index(i, j + 1, k) : -1,
+              k + 1 < n ? index(i, j, k + 1) : -1})
+          if (b >= 0 && value[a] * value[b] < 0.0 && segmentDistance(point[a], point[b]) >= dist)
+            return true;
+      }
+  return false;
+}
+
+}  // namespace
+
 double surfaceReach(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
-                    const std::optional<CellSphere>& sphere, const glm::dvec3& from, double work) {
+                    const std::optional<CellSphere>& sphere, const glm::dvec3& from, double work,
+                    double enough) {
   const GradualUnderflow gradual;  // the range test's interval arithmetic needs it
   validate(f, lo, hi, sphere, CellOptions{});
   if (!(work >= 0.0) || !std::isfinite(from.x) || !std::isfinite(from.y) || !std::isfinite(from.z))
@@ -450,6 +497,8 @@ double surfaceReach(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3&
   if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return 0.0;
   if (sphere && sphere->radius < 0) return 0.0;
   Builder builder(f, lo, hi, sphere, RangeBound::Bernstein);
+  if (enough > 0.0 && reachesBeyond(f, lo, hi, sphere, from, enough))
+    return builder.reach(from, 0);  // the root box's farthest corner
   // A popped box costs its sub-box (three halvings) and two halvings and Bernstein
   // enclosures for its halves.
   const double perTest = 2.5 * static_cast<double>(std::max(builder.tables().splitCost(), 1L)) +

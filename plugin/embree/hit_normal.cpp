@@ -81,7 +81,7 @@ bool facingOf(const glm::dvec3& g, const glm::dvec3& noise, const glm::dvec3& u)
   return glm::dot(g, u) < -kClear * glm::dot(noise, absv(u));
 }
 // The distances looked at before (and after) the hit: 2^-32 to 2^-6 scene radii
-// (SurfaceData::sceneRadius: the clip radius, at most 2^10 object radii; a unit sphere
+// (SurfaceData::sceneRadius: the clip radius, at most 2^13 object radii; a unit sphere
 // clipped to a ball of radius 1e14 looked 2.3e4 away from its hits and turned a normal
 // inside out) by factors
 // of 4 (kRungs), then on to 2^-2 by factors of 2 for the search alone (kSearchRungs): f =

@@ -125,8 +125,8 @@ struct SurfaceData {
   // The radius about centre of a ball holding every point of the surface in the clip region
   // (at most radius; objectRadiusOf, surface_geometry.cpp): the object's size.
   double objectRadius = 1.0;
-  // The scale of the scene a host's hit point comes from: the clip radius, but at most 2^10
-  // object radii. It sizes a float origin's assumed uncertainty (floatOriginError,
+  // The scale of the scene a host's hit point comes from: the clip radius, but at most 2^13
+  // object radii (kSceneObjects, surface_geometry.cpp). It sizes a float origin's assumed uncertainty (floatOriginError,
   // originRootMatters) and the normal's search beside a hit (hit_normal.cpp). Not the clip
   // radius alone: a unit sphere clipped to a ball of radius 1e7 gave every float origin in
   // the ball an uncertainty of 9.5, so a camera 5 away took itself for a point of the

@@ -326,6 +326,20 @@ void indexGrid(SurfaceData& data, const glm::dvec3& boxLo, const glm::dvec3& box
 
 std::atomic<std::uint64_t> nextSurfaceId{1};
 constexpr int kMaxAutoCells = 4096;
+// SurfaceData::sceneRadius: the clip radius, at most this many object radii. A float host's
+// hit points are taken to come from rays that started within ~8 scene radii, and its
+// origins are uncertain by 16 u_float of it: up to 2^13 object radii that is at most ~1 %
+// of the object's radius (8e-3), beyond which the self-root rule's window would swallow
+// the object's own features (a unit sphere in a clip ball of radius 1e7: a camera 5 away
+// saw nothing). So cameras up to ~8e4 object radii send leaving rays that do not meet their
+// origin; farther, a float host's hit points err by more than 1 % of the object (at 1e6
+// object radii, 6 %), and such leaving rays can (the second review of session 51: with
+// the clip radius, inward rays there lost the far side instead). At 2^10 (the first
+// review) cameras 4e4-1e5 object radii away in a clip ball of 1e4 already met their origin.
+constexpr double kSceneObjects = 0x1p13;
+// surfaceReach's budget here (interval multiply-adds, ~60 ms at most): enough for quadrics
+// and quartics in regions up to 1e14 times their size.
+constexpr double kReachWork = 1.6e7;
 
 // The Hessian's size as sampled: 4 times the largest change of grad f over a step of 2^-8
 // of the clip box along an axis, divided by the step, at the 9^3 grid points of the box (for
@@ -357,15 +371,17 @@ double sampledHessian(const HornerForm& f, const ClipRegion& clip) {
 // ellipsoid's own box where its one cell is the ellipsoid's padded box, whose padding for
 // float origins anywhere in the clip region grows with that region: +-4.6e11 about a unit
 // sphere in a clip box 2e14 long), at most the clip radius (the clip radius with no cells:
-// no ray reaches the kernels then). Where that is below 1/16 of the clip radius (cells well
-// inside the clip region), also surfaceReach's bound (cells.h): the cells, capped in number,
-// reach ~1e-3 of a large region's radius (a unit sphere in a clip ball of radius 1e7: 8458),
-// the search about 1.3 object radii (a sphere's 1.2, a torus's 1.7, for any region up to
-// 1e50 radii; a torus from 1e7 on, where the centred form needs more boxes than its work
-// allows, ~1e-5 of the region's radius). Each corner's distance as |c - lo| or |hi - c| per
-// axis, the larger one: a safeLength of differences within the clip box, so no overflow
-// where the radius itself is in range. (A surface's construction pays the search, 1-30 ms,
-// only in such regions.)
+// no ray reaches the kernels then); and where the cells lie well inside the region or the
+// degree is at most 4, unless the surface surely reaches out to 1 / kSceneObjects of the
+// clip radius (surfaceReach's `enough`: then sceneRadius is the clip radius anyway),
+// surfaceReach's bound (cells.h): the cells, capped in number, reach ~1e-3 of a
+// large region's radius (a unit sphere in a clip ball of radius 1e7: 8458), the search
+// about 1.2-1.4 object radii for quadrics and quartics in regions up to 1e14 times their
+// size (degree 6-8 surfaces there stop on its work: Taubin's heart ~50, Chmutov-8 ~6000
+// times their size from 1e6 on). Each corner's distance as |c - lo| or |hi - c| per axis,
+// the larger one: a safeLength of differences within the clip box, so no overflow where
+// the radius itself is in range. (A surface's construction pays the search, 1-60 ms, only
+// in such regions.)
 double objectRadiusOf(const SurfaceData& data, const QuadricBox* ellipsoid, const glm::dvec3& boxLo,
                       const glm::dvec3& boxHi, const std::optional<CellSphere>& sphere) {
   const auto farCorner = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
@@ -376,8 +392,15 @@ double objectRadiusOf(const SurfaceData& data, const QuadricBox* ellipsoid, cons
   for (const SurfaceCell& c : data.cells) farthest = std::max(farthest, farCorner(c.lo, c.hi));
   if (ellipsoid)
     farthest = std::min(farthest, farCorner(ellipsoid->surfaceLo, ellipsoid->surfaceHi));
-  if (farthest > 0.0 && farthest < data.radius / 16.0) {
-    const double reach = surfaceReach(data.desc.polynomial, boxLo, boxHi, sphere, data.centre);
+  // Where the cells lie well inside the clip region, or for degrees up to 4 (whose search
+  // converges) unless the lattice shows the surface reaching out: not for every surface, as
+  // Chmutov-12 in its own clip ball (no sign change on the lattice, a search that runs out
+  // of work) took 57 ms to build instead of 1.
+  const int degree = data.desc.polynomial.degree();
+  if (farthest > 0.0 && kSceneObjects * farthest > data.radius &&
+      (farthest < data.radius / 16.0 || degree <= 4)) {
+    const double reach = surfaceReach(data.desc.polynomial, boxLo, boxHi, sphere, data.centre,
+                                      kReachWork, data.radius / kSceneObjects);
     if (reach > 0.0) farthest = std::min(farthest, reach);
   }
   return farthest > 0.0 && farthest < data.radius ? farthest : data.radius;
@@ -567,7 +590,7 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   data->quadricCellClip = data->cells.size() == 1 && !cellHoldsClipRegion(*data);
   data->objectRadius =
       objectRadiusOf(*data, ellipsoid ? &*ellipsoid : nullptr, boxLo, boxHi, sphere);
-  data->sceneRadius = std::min(data->radius, 0x1p10 * data->objectRadius);
+  data->sceneRadius = std::min(data->radius, kSceneObjects * data->objectRadius);
   // Hits lie on the surface: where it lies well inside the clip ball, the slope test is
   // bounded over the object's ball instead (2^-10 over it for the hits a cell's span and
   // the walk's window let past its faces). Over the clip ball a unit sphere clipped to a
