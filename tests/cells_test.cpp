@@ -621,6 +621,16 @@ TEST(CellsTest, SurfaceReachBoundsEverySurfacePoint) {
         EXPECT_LE(glm::length(a + s0 * (b - a)), ball * (1 + 1e-12));
       }
     }
+  // `enough`: where the lattice shows the surface reaching that far, the region's farthest
+  // corner at once (a sphere filling its box); where it cannot (a unit sphere in a box of
+  // 200), the search as without it.
+  const Polynomial unit = sphere({0, 0, 0}, 1.0);
+  EXPECT_GE(surfaceReach(unit, glm::dvec3(-1.5), glm::dvec3(1.5), std::nullopt, glm::dvec3(0.0),
+                         4e6, 1e-3),
+            1.5 * std::sqrt(3.0));
+  EXPECT_EQ(surfaceReach(unit, glm::dvec3(-200), glm::dvec3(200), std::nullopt, glm::dvec3(0.0),
+                         4e6, 0.1),
+            surfaceReach(unit, glm::dvec3(-200), glm::dvec3(200), std::nullopt, glm::dvec3(0.0)));
   // A surface wholly outside the region: 0; a bad point or work: an error.
   EXPECT_EQ(surfaceReach(sphere({100, 0, 0}, 1.0), glm::dvec3(-10), glm::dvec3(10), std::nullopt,
                          glm::dvec3(0.0)),
