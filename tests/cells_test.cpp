@@ -578,10 +578,10 @@ TEST(CellsTest, CellsHugTheSphere) {
 
 // surfaceReach bounds the distance of every surface point from the given point, and within
 // 1.5 times it where its search converges (quadrics and quartics in regions up to 1e9 times
-// their size, where the capped cells reach ~1e-3 of the region; the quartics not at 1e50). References: the
-// farthest points in closed form (a sphere's radius; a torus's R + r; an offset sphere's
-// |centre| + r), and surface points found along random lines (sign changes of f, bisected)
-// that must all lie within the bound. A surface outside the region gives 0.
+// their size, where the capped cells reach ~1e-3 of the region; the quartics not at 1e50).
+// References: the farthest points in closed form (a sphere's radius; a torus's R + r; an
+// offset sphere's |centre| + r), and surface points found along random lines (sign changes
+// of f, bisected) that must all lie within the bound. A surface outside the region gives 0.
 TEST(CellsTest, SurfaceReachBoundsEverySurfacePoint) {
   struct Case {
     const char* name;

@@ -282,9 +282,10 @@ int run(int argc, char** argv) {
                          "of a float origin near the clip region): trace it without --float");
       }
 
-  // (The clip region's centre and radius: halves first, the half-diagonal's length scaled: a box beyond the plugin's range,
-  // -1e200..1e200, overflowed here to an infinite radius, and the check below blamed the
-  // rays' directions instead of letting the plugin name the box's size.)
+  // (The clip region's centre and radius: halves first, the half-diagonal's length scaled:
+  // a box beyond the plugin's range, -1e200..1e200, overflowed here to an infinite radius,
+  // and the check below blamed the rays' directions instead of letting the plugin name the
+  // box's size.)
   auto length = [](const glm::dvec3& v) {
     const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
     return m > 0 ? m * glm::length(v / m) : 0.0;

@@ -128,13 +128,14 @@ glm::dvec3 lanePoint(float x, float y, float z) { return {x, y, z}; }
 // step rounds by u |o|, which along a ray grazing the surface (f's slope along it small)
 // moves the root by that over the slope (a unit sphere grazed from 1e6 radii, its chord
 // 1.9e-4: 2.6e-7 off, 2,300 ulps of t; from 1e4 radii 1.15e-9 radii; the audit of session
-// 51, when kFarOrigin was 2^40). A double ray from beyond kFarOrigin world radii is re-based first: its
-// origin moves along the line to o' = o + T d, four radii before the point closest to the
-// clip centre, the kernels trace o' + s d, and a hit reports t = T + s. Each move computes
-// o + t d with error-free transformations (pointOnLine, double_channel.h), so o' stays on
-// the line to u |o'| + u^2 |t d|; the rounding of t only moves o' along the line, by up to
-// u |t d|, and the next move takes that up (a few moves from any finite origin). What
-// remains is the interface's own limit: the reported t = T + s is rounded to u |t|.
+// 51, when kFarOrigin was 2^40). A double ray from beyond kFarOrigin world radii is re-based
+// first: its origin moves along the line to o' = o + T d, four radii before the point
+// closest to the clip centre, the kernels trace o' + s d, and a hit reports t = T + s.
+// Each move computes o + t d with error-free transformations (pointOnLine,
+// double_channel.h), so o' stays on the line to u |o'| + u^2 |t d|; the rounding of t only
+// moves o' along the line, by up to u |t d|, and the next move takes that up (a few moves
+// from any finite origin). What remains is the interface's own limit: the reported
+// t = T + s is rounded to u |t|.
 // From 2^8 radii on, where that rounding reaches 2^-44 of the radius, and the moves (one or
 // two pointOnLine) cost little against a ray's solve.
 constexpr double kFarOrigin = 0x1p8;

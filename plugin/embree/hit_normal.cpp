@@ -80,11 +80,11 @@ bool clearOf(const glm::dvec3& g, const glm::dvec3& noise) {
 bool facingOf(const glm::dvec3& g, const glm::dvec3& noise, const glm::dvec3& u) {
   return glm::dot(g, u) < -kClear * glm::dot(noise, absv(u));
 }
-// The distances looked at before (and after) the hit: 2^-32 to 2^-6 scene radii
-// (SurfaceData::sceneRadius: the clip radius, at most 2^13 object radii; a unit sphere
-// clipped to a ball of radius 1e14 looked 2.3e4 away from its hits and turned a normal
-// inside out) by factors
-// of 4 (kRungs), then on to 2^-2 by factors of 2 for the search alone (kSearchRungs): f =
+// The distances looked at before (and after) the hit: 2^-32 to 2^-6 scene radii by factors
+// of 4 (kRungs), then on to 2^-2 by factors of 2 for the search alone (kSearchRungs). (The
+// scene radius, SurfaceData::sceneRadius, is the clip radius up to 2^13 object radii: in
+// clip radii a unit sphere clipped to a ball of radius 1e14 looked 2.3e4 away from its hits
+// and turned a normal inside out, the audit of session 51.) f =
 // h^m q is within its noise for |h| up to ~(u E)^(1/m), and its gradient, m h^(m-1) q grad
 // h, clears its own noise 2^10-fold only farther out: on (x^2 + y^2 + z^2 - 1)^m in a ball
 // of radius 1.5, ~2^-6 radii for m = 6, 2^-5 for m = 7, 2^-4 for m = 8 (session 43).

@@ -126,15 +126,15 @@ struct SurfaceData {
   // (at most radius; objectRadiusOf, surface_geometry.cpp): the object's size.
   double objectRadius = 1.0;
   // The scale of the scene a host's hit point comes from: the clip radius, but at most 2^13
-  // object radii (kSceneObjects, surface_geometry.cpp). It sizes a float origin's assumed uncertainty (floatOriginError,
-  // originRootMatters) and the normal's search beside a hit (hit_normal.cpp). Not the clip
-  // radius alone: a unit sphere clipped to a ball of radius 1e7 gave every float origin in
-  // the ball an uncertainty of 9.5, so a camera 5 away took itself for a point of the
-  // sphere and the self-root rule removed the sphere (algray-render drew nothing from clip
-  // radius 3e6 on; the audit of session 51). Not the object's radius alone: that assumed
-  // cameras within ~8 object radii, and rays leaving a unit sphere clipped to a ball of
-  // radius 100, hit points of a camera 455 away (4.55 clip radii, algray-render's quick
-  // view), met their own origin (the review of session 51).
+  // object radii (kSceneObjects, surface_geometry.cpp). It sizes a float origin's assumed
+  // uncertainty (floatOriginError, originRootMatters) and the normal's search beside a hit
+  // (hit_normal.cpp). Not the clip radius alone: a unit sphere clipped to a ball of radius
+  // 1e7 gave every float origin in the ball an uncertainty of 9.5, so a camera 5 away took
+  // itself for a point of the sphere and the self-root rule removed the sphere
+  // (algray-render drew nothing from clip radius 3e6 on; the audit of session 51). Not the
+  // object's radius alone: that assumed cameras within ~8 object radii, and rays leaving a
+  // unit sphere clipped to a ball of radius 100, hit points of a camera 455 away (4.55 clip
+  // radii, algray-render's quick view), met their own origin (the review of session 51).
   double sceneRadius = 1.0;
   double floatOriginNear2 = 0.0;  // (256 radius)^2 (0: unused): see surelyOutsideClipBall
   std::vector<SurfaceCell> cells;
