@@ -184,6 +184,13 @@ TEST(Jsurf, EquationErrorsPointIntoTheFile) {
               g.polynomial();
             }).find("g.jsurf:1: surface_parameter_a: 'abc' is not a finite number"),
             std::string::npos);
+  // A parameter without a name, at its line.
+  const JsurfFile unnamed =
+      JsurfFile::parse("surface_equation=x^2+y^2-1\nsurface_parameter_=1\n", "u.jsurf");
+  EXPECT_NE(expectError([&] {
+              unnamed.polynomial();
+            }).find("u.jsurf:2: surface_parameter_: a parameter needs a name"),
+            std::string::npos);
   // A parameter named after a built-in is reported at its own line, not in the equation.
   const JsurfFile h =
       JsurfFile::parse("surface_equation=x^2+y^2-1\n\nsurface_parameter_x=1\n", "h.jsurf");

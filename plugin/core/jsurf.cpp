@@ -249,9 +249,14 @@ double JsurfFile::getNumber(std::string_view key, double fallback) const {
 std::map<std::string, double, std::less<>> JsurfFile::parameters() const {
   static constexpr std::string_view kPrefix = "surface_parameter_";
   std::map<std::string, double, std::less<>> result;
-  for (const auto& [key, entry] : entries_)
-    if (key.size() > kPrefix.size() && key.compare(0, kPrefix.size(), kPrefix) == 0)
-      result[key.substr(kPrefix.size())] = getNumbers(key, 1)[0];
+  for (const auto& [key, entry] : entries_) {
+    if (key.compare(0, kPrefix.size(), kPrefix) != 0) continue;
+    // (Without a name it was skipped, while "surface_parameter_1a" was refused: the audit of
+    // session 51.)
+    if (key.size() == kPrefix.size())
+      throw Error(where(entry) + ": " + key + ": a parameter needs a name after the '_'");
+    result[key.substr(kPrefix.size())] = getNumbers(key, 1)[0];
+  }
   return result;
 }
 
