@@ -504,18 +504,20 @@ SurfaceGeometry::SurfaceGeometry(RTCDevice device, SurfaceDesc desc) {
   }
   data->absHorner = HornerForm(absPoly);
   data->gradientGamma = gamma(4 * degree + 8);
-  // (Over the ball of radius `ball` about the centre: max |c_i| + ball.)
-  const auto slopeNoiseWithin = [&](double ball) {
+  // The bound of |p_i| over the ball of radius `ball` about the centre: max |c_i| + ball.
+  const auto coordinateBound = [&](double ball) {
     const glm::dvec3 corner = absv(data->centre) + glm::dvec3(ball);
-    const double r = std::max({corner.x, corner.y, corner.z});
+    return std::max({corner.x, corner.y, corner.z});
+  };
+  const auto slopeNoiseWithin = [&](double ball) {
+    const double r = coordinateBound(ball);
     double bound = 0;
     for (size_t i = weights.size(); i-- > 0;) bound = bound * r + weights[i];
     const double slopeNoise = 0x1p10 * data->gradientGamma * bound;
     return std::isfinite(slopeNoise) ? slopeNoise : 0.0;
   };
   data->hitSlopeNoise = slopeNoiseWithin(data->radius * (1.0 + 0x1p-20));
-  const glm::dvec3 farCorner = absv(data->centre) + glm::dvec3(data->radius * (1.0 + 0x1p-20));
-  const double r = std::max({farCorner.x, farCorner.y, farCorner.z});
+  const double r = coordinateBound(data->radius * (1.0 + 0x1p-20));
   // How far grad f moves when the point moves: sum_j |d_i d_j f| <= sum_d d (d - 1) A_d
   // R^(d - 2) over the clip ball (each monomial's second derivatives summed over j are at
   // most e_i (|e| - 1) of it over R^2), times 2^10 as the slope's own noise (hitPointNoise).
