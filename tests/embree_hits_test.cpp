@@ -1156,8 +1156,9 @@ TEST_F(EmbreeHits, MultipleSurfacesGetTheirOwnNormal) {
         else
           EXPECT_GT(cosine, 0.0) << k;
         // Within 1e-5 radians of grad h (measured 6.4e-7) and, on the triple sphere, whose
-        // hits lie only within ~1e-5 of it, README's 1.2e-2 for triple surfaces (measured
-        // 3.7e-4 on this seed, up to 5.9e-3 on others since session 41's code: session 42).
+        // hits lie only within ~1e-5 of it, docs/embedding.md's 1.2e-2 for triple surfaces
+        // (measured 3.7e-4 on this seed, up to 5.9e-3 on others since session 41's code:
+        // session 42).
         const double angle = std::acos(std::min(1.0, std::abs(cosine)));
         EXPECT_LT(angle, c.k == 3 ? 1.2e-2 : 1e-5)
             << k << " normal " << ng.x << " " << ng.y << " " << ng.z;
@@ -1256,7 +1257,7 @@ TEST_F(EmbreeHits, DoubleSurfacesFaceTheRayFromFarAway) {
       const glm::dvec3 o = distance * unit();
       // On the side facing the origin, at least ~0.1 radians from grazing: a grazing ray's
       // normal is taken where the gradient clears its noise, up to 2^-6 radii back, where
-      // the sphere's normal has turned by that much (README's hit record), and may face
+      // the sphere's normal has turned by that much (docs/embedding.md's hit record), and may face
       // either way of a ray that nearly follows the surface.
       glm::dvec3 target;
       do {
@@ -1285,10 +1286,11 @@ TEST_F(EmbreeHits, DoubleSurfacesFaceTheRayFromFarAway) {
 // at each channel's own hit, facing the ray for even m and oriented as sign * grad h (the
 // surface's own) for odd m, within kLimit[m] radians: the gradient is taken where it clears
 // its noise, up to 2^-3 clip radii back for m = 8, where the normal has turned by about that
-// distance times |hess h| / |grad h|. Rays at least 0.3 from tangent (README's hit record).
+// distance times |hess h| / |grad h|. Rays at least 0.3 from tangent (docs/embedding.md's
+// hit record).
 TEST_F(EmbreeHits, HighMultiplicitySurfacesGetTheirOwnNormal) {
   // Measured worst of both surfaces and signs: 1.4e-6, 1.9e-4, 3.8e-3, 5.7e-2, 0.12, 0.21,
-  // 0.34 radians for m = 2..8 (README's hit record).
+  // 0.34 radians for m = 2..8 (docs/embedding.md's hit record).
   constexpr double kLimit[9] = {0, 0, 1e-5, 1e-3, 1e-2, 0.1, 0.2, 0.35, 0.5};
   const double R = 1.0, r = 0.4;
   const Polynomial sphere = spherePolynomial(1.0), torus = torusPolynomial(R, r);

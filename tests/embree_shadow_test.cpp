@@ -479,7 +479,8 @@ struct MultipleCase {
   bool sphere;  // the unit sphere's h, else the plane 0.6 x + 0.8 y - 0.1
   // Rays inwards too. Not for m = 4: the far side's fourfold root at 1e-2 to 1e-1 rad from
   // the tangent plane, within its noise band's reach, is missed by 15 of 100 such rays
-  // (12 before session 43, and 36 more found over 1e-3 off): README's known limitations.
+  // (12 before session 43, and 36 more found over 1e-3 off): README's known limitations
+  // (docs/status.md).
   bool inward = true;
 };
 class EmbreeShadowMultiple : public ::testing::TestWithParam<MultipleCase> {};
