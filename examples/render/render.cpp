@@ -39,6 +39,9 @@ void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, 
   auto pixel = static_cast<size_t>(y) * image.width + x;
   Rng rng(pixel, s.seed);
   glm::dvec3 sum(0.0), normal(0.0), albedo(0.0);
+  // Depth and id are not averaged: a mean of two surfaces' distances (or of a distance
+  // and a miss's 0) is a depth no surface in the pixel has. Both come from one sample,
+  // the one whose camera ray hit nearest (a z-buffer's choice); 0 and 0 if none hit.
   double depth = 0, id = 0;
   for (int i = 0; i < s.spp; ++i) {
     // One sample per pixel looks through the pixel centre (comparable with POV-Ray).
@@ -52,10 +55,9 @@ void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, 
                        : traceDirect(scene, ray, rng, aov, counter);
     // A non-finite sample (should not happen) must not poison the pixel.
     if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) sum += L;
-    depth += aov.depth;
+    if (aov.id > 0 && (id == 0 || aov.depth < depth)) depth = aov.depth, id = aov.id;
     normal += aov.normal;
     albedo += aov.albedo;
-    if (i == 0) id = aov.id;
   }
   double inv = 1.0 / s.spp;
   const glm::dvec3 mean = sum * inv;
@@ -65,7 +67,7 @@ void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, 
   const glm::vec3& c = image.color[pixel];
   if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
     image.overflow[pixel] = std::max({mean.x, mean.y, mean.z});
-  image.depth[pixel] = static_cast<float>(depth * inv);
+  image.depth[pixel] = static_cast<float>(depth);
   double nl = std::sqrt(normal.x * normal.x + normal.y * normal.y + normal.z * normal.z);
   image.normal[pixel] = nl > 0 ? glm::vec3(normal / nl) : glm::vec3(0.0f);
   image.albedo[pixel] = glm::vec3(albedo * inv);

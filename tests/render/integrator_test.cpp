@@ -347,6 +347,59 @@ TEST(SurfaceTexture, UvComeFromTheSurfaceOnlyWhenTextured) {
   }
 }
 
+// The depth and id AOVs of a pixel come from one of its samples, the nearest hit: a unit
+// sphere 6 away and a floor behind it, 16 samples a pixel. Until session 52 depth was the
+// mean over the samples with a miss counted as 0 and id sample 0's: outline pixels read
+// depths in front of everything (0.38 where the nearest surface is 5), and some had a depth
+// with id 0.
+TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
+  SceneDesc s;
+  s.settings.width = 40;
+  s.settings.height = 30;
+  s.settings.spp = 16;
+  s.settings.maxDepth = 1;
+  s.camera.position = {0, -6, 0};
+  s.camera.lookAt = {0, 0, 0};
+  s.camera.fovY = 30;
+  s.addMaterial(Material{});
+  SurfaceItem sphere;
+  sphere.label = "sphere";
+  sphere.polynomial = findGallerySurface("sphere")->build();
+  sphere.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+  s.surfaces.push_back(sphere);
+  // A floor 3 behind the sphere's centre, facing the camera, covering the lower half.
+  s.meshes.push_back(
+      {"floor", makePlane(2.0),
+       glm::rotate(glm::translate(glm::dmat4(1.0), {0, 3, -2}), 0.5 * M_PI, glm::dvec3(1, 0, 0)), 0,
+       -1});
+  Scene scene(s);
+  Image image;
+  render(scene, image);
+  int sphereIds = 0, floorIds = 0, misses = 0;
+  for (size_t i = 0; i < image.depth.size(); ++i) {
+    const double depth = image.depth[i], id = image.id[i];
+    if (id == 0) {
+      EXPECT_EQ(depth, 0.0) << i;
+      ++misses;
+      continue;
+    }
+    // The sphere's points lie 5 to sqrt(35) from the camera (its silhouette), the floor's
+    // at least 9 (its plane, y = 3, is 9 away; the sphere hides nothing nearer).
+    if (depth < 8) {
+      EXPECT_GE(depth, 5.0 * (1 - 1e-6)) << i;
+      EXPECT_LE(depth, std::sqrt(35.0) * (1 + 1e-6)) << i;
+      ++sphereIds;
+    } else {
+      EXPECT_GE(depth, 9.0 * (1 - 1e-6)) << i;
+      ++floorIds;
+    }
+  }
+  // The three kinds of pixel exist (the test could fail), and the sphere's id is one.
+  EXPECT_GT(sphereIds, 50);
+  EXPECT_GT(floorIds, 50);
+  EXPECT_GT(misses, 50);
+}
+
 TEST(Determinism, SameImageForOneAndTwoThreads) {
   SceneDesc s = furnace(0.8);
   addSurface(s, "torus");
