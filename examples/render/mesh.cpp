@@ -136,12 +136,48 @@ MeshData makeIcosphere(int subdivisions) {
     }
     f = std::move(next);
   }
+  // Texture coordinates as the environment reads a lat-long image, and as the renderer
+  // reads an algebraic surface's: u = 1/2 + azimuth / 2pi, v = 1 - polar angle / pi (the
+  // image's top row at +z). Shared vertices cannot hold them everywhere: a triangle across
+  // the seam (azimuth +-pi, where u jumps from 1 to 0) gets copies of its corners on the
+  // u < 1/2 side with u + 1, and a triangle at a pole (no azimuth) a copy of the pole with
+  // its other corners' mean u. Until session 52 the seam's triangles interpolated u across
+  // the whole image (a streak along -x).
   MeshData m;
   m.positions = v;
-  m.normals = v;
   for (const glm::dvec3& p : v)
-    m.uvs.push_back(
-        {0.5 + std::atan2(p.y, p.x) / (2 * kPi), std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi});
+    m.uvs.push_back({0.5 + std::atan2(p.y, p.x) / (2 * kPi),
+                     1.0 - std::acos(std::clamp(p.z, -1.0, 1.0)) / kPi});
+  std::map<std::pair<unsigned, double>, unsigned> copies;
+  auto withU = [&](unsigned i, double u) {
+    auto [it, added] = copies.try_emplace({i, u}, static_cast<unsigned>(m.positions.size()));
+    if (added) {
+      const glm::dvec3 position = m.positions[i];
+      const double texV = m.uvs[i].y;
+      m.positions.push_back(position);
+      m.uvs.push_back({u, texV});
+    }
+    return it->second;
+  };
+  for (auto& tri : f) {
+    bool pole[3];
+    double u[3], lo = 1, hi = 0, sum = 0;
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3& p = v[tri[k]];
+      pole[k] = p.x == 0 && p.y == 0;
+      u[k] = m.uvs[tri[k]].x;
+      if (!pole[k]) lo = std::min(lo, u[k]), hi = std::max(hi, u[k]);
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (pole[k]) continue;
+      if (hi - lo > 0.5 && u[k] < 0.5) tri[k] = withU(tri[k], u[k] += 1);
+      sum += u[k], ++n;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (pole[k] && n > 0) tri[k] = withU(tri[k], sum / n);
+  }
+  m.normals = m.positions;
   m.triangles = std::move(f);
   m.convexClosed = true;
   return m;

@@ -17,6 +17,7 @@ namespace algray::render {
 
 struct Scene::Geom {
   bool isSurface = false;
+  bool surfaceUv = false;  // the surface's hits carry the plugin's u, v (a textured material)
   int material = 0;
   int backMaterial = -1;
   MeshData mesh;  // world space (triangles only)
@@ -131,7 +132,7 @@ void Scene::build() {
     auto textured = [&](int m) {
       return m >= 0 && desc_.materials[static_cast<size_t>(m)].texture != nullptr;
     };
-    sd.options.uv = textured(item.material) || textured(item.backMaterial);
+    sd.options.uv = g->surfaceUv = textured(item.material) || textured(item.backMaterial);
     try {
       g->surface = std::make_unique<SurfaceGeometry>(device_, std::move(sd));
     } catch (const Error& e) {  // the plugin refused the surface: bad input, exit code 2
@@ -244,7 +245,11 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
     double len = glm::length(n);
     hit.ng = len > 0 && std::isfinite(len) ? n / len : -glm::normalize(fdir);
     hit.ns = hit.ng;
-    hit.uv = glm::dvec2(rh.hit.u, rh.hit.v);  // 0, 0 unless a texture asked for them
+    // The plugin's u, v (azimuth / 2pi and polar angle / pi, where a texture asked for
+    // them) read as the environment reads a lat-long image, as the icosphere's: the image's
+    // centre column at +x and top row at +z (v = 0 read the bottom row at +z, the image
+    // upside down, until session 52).
+    if (g->surfaceUv) hit.uv = glm::dvec2(rh.hit.u + 0.5, 1.0 - rh.hit.v);
     return hit;
   }
   const auto& t = g->mesh.triangles[hit.primID];
