@@ -71,7 +71,8 @@ bool shadowed(const Scene& scene, const Hit& hit, const LightSample& ls, RayCoun
   const glm::dvec3 dir = toTarget / distance;
   double gap = kShadowEpsilon * distance;
   if (ls.extent > 0) {
-    const glm::dvec3 a = glm::abs(org), b = glm::abs(target);
+    const glm::dvec3 a = glm::abs(org - scene.frameOrigin()),
+                     b = glm::abs(target - scene.frameOrigin());
     const double coordinates = std::max({a.x, a.y, a.z, b.x, b.y, b.z});
     gap = std::max(std::min(gap, 1e-3 * ls.extent), 0x1p-20 * coordinates);
   }

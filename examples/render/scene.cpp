@@ -4,6 +4,7 @@
 #include "value_checks.h"
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
@@ -12,6 +13,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <variant>
 
 namespace algray::render {
 
@@ -87,6 +89,9 @@ void Scene::build() {
       throw std::runtime_error(label + ": material index out of range");
   };
 
+  chooseFrameOrigin();
+  const glm::dmat4 toFrame = glm::translate(glm::dmat4(1.0), -frameOrigin_);
+
   // ---- Triangle meshes -------------------------------------------------------------
   for (const MeshItem& item : desc_.meshes) {
     checkMaterial(item.material, item.label);
@@ -102,7 +107,8 @@ void Scene::build() {
                                                           RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                                           g->mesh.positions.size()));
     for (size_t i = 0; i < g->mesh.positions.size(); ++i)
-      for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(g->mesh.positions[i][k]);
+      for (int k = 0; k < 3; ++k)
+        v[3 * i + k] = static_cast<float>(g->mesh.positions[i][k] - frameOrigin_[k]);
     auto* idx = static_cast<unsigned*>(
         rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                 3 * sizeof(unsigned), g->mesh.triangles.size()));
@@ -126,7 +132,7 @@ void Scene::build() {
     SurfaceDesc sd;
     sd.polynomial = item.polynomial;
     sd.clip = item.clip;
-    sd.transform = item.transform;
+    sd.transform = toFrame * item.transform;
     // The surface's u, v (its spherical parametrisation) only where a texture reads them:
     // an untextured surface skips the atan2/acos of every hit.
     auto textured = [&](int m) {
@@ -196,6 +202,34 @@ void Scene::build() {
   }
 }
 
+void Scene::chooseFrameOrigin() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  glm::dvec3 lo(kInf), hi(-kInf);
+  auto include = [&](const glm::dmat4& m, const glm::dvec3& p) {
+    const glm::dvec3 q(m * glm::dvec4(p, 1.0));
+    lo = glm::min(lo, q), hi = glm::max(hi, q);
+  };
+  for (const MeshItem& item : desc_.meshes)
+    for (const glm::dvec3& p : item.mesh.positions) include(item.transform, p);
+  // A surface by its clip region's centre: the region may be far larger than the surface.
+  for (const SurfaceItem& item : desc_.surfaces)
+    include(item.transform, std::visit(
+                                [](const auto& clip) -> glm::dvec3 {
+                                  if constexpr (requires { clip.center; })
+                                    return clip.center;
+                                  else
+                                    return 0.5 * (clip.lo + clip.hi);
+                                },
+                                item.clip));
+  const glm::dvec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  const glm::dvec3 a = glm::abs(center);
+  // Nearer than its size to the world origin, moving the frame gains at most a bit (and
+  // such scenes keep their exact images).
+  if (std::isfinite(center.x + center.y + center.z + half.x + half.y + half.z) &&
+      std::max({a.x, a.y, a.z}) > std::max({half.x, half.y, half.z}))
+    frameOrigin_ = center;
+}
+
 Scene::~Scene() { release(); }
 
 void Scene::release() noexcept {
@@ -210,9 +244,10 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
                                     RayCounter& counter) const {
   ++counter.rays;
   RTCRayHit rh{};
-  rh.ray.org_x = static_cast<float>(org.x);
-  rh.ray.org_y = static_cast<float>(org.y);
-  rh.ray.org_z = static_cast<float>(org.z);
+  const glm::dvec3 local = org - frameOrigin_;
+  rh.ray.org_x = static_cast<float>(local.x);
+  rh.ray.org_y = static_cast<float>(local.y);
+  rh.ray.org_z = static_cast<float>(local.z);
   rh.ray.dir_x = static_cast<float>(dir.x);
   rh.ray.dir_y = static_cast<float>(dir.y);
   rh.ray.dir_z = static_cast<float>(dir.z);
@@ -240,7 +275,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
     // The point on the ray Embree traced; the adapter's Ng is the world-space gradient
     // (object gradient through the inverse transpose), i.e. the surface normal.
     hit.isSurface = true;
-    hit.p = forg + hit.t * fdir;
+    hit.p = frameOrigin_ + (forg + hit.t * fdir);
     glm::dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     double len = glm::length(n);
     hit.ng = len > 0 && std::isfinite(len) ? n / len : -glm::normalize(fdir);
@@ -278,7 +313,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
   // conversion of the spawned origin.
   double scale = 0;
   for (int k = 0; k < 3; ++k)
-    scale = std::max({scale, std::abs(P[t[0]][k]), std::abs(P[t[1]][k]), std::abs(P[t[2]][k])});
+    for (int j = 0; j < 3; ++j) scale = std::max(scale, std::abs(P[t[j]][k] - frameOrigin_[k]));
   hit.offset = 64.0 * kFloatEps * scale;
   return hit;
 }
@@ -287,9 +322,10 @@ bool Scene::occluded(const glm::dvec3& org, const glm::dvec3& dir, double tnear,
                      RayCounter& counter) const {
   ++counter.rays;
   RTCRay ray{};
-  ray.org_x = static_cast<float>(org.x);
-  ray.org_y = static_cast<float>(org.y);
-  ray.org_z = static_cast<float>(org.z);
+  const glm::dvec3 local = org - frameOrigin_;
+  ray.org_x = static_cast<float>(local.x);
+  ray.org_y = static_cast<float>(local.y);
+  ray.org_z = static_cast<float>(local.z);
   ray.dir_x = static_cast<float>(dir.x);
   ray.dir_y = static_cast<float>(dir.y);
   ray.dir_z = static_cast<float>(dir.z);
