@@ -43,7 +43,7 @@ Shading makeShading(const Hit& hit, const glm::dvec3& wo) {
 void fillAov(SampleAov& aov, const Hit& hit, const Shading& sh, const Material& m) {
   aov.depth = hit.t;
   aov.normal = sh.frame.n;
-  aov.albedo = m.type == MaterialType::Emissive ? m.emission : m.albedo(hit.uv);
+  aov.albedo = m.type == MaterialType::Emissive ? m.emission : m.albedo(hit.uv, hit.latLongUv);
   aov.id = hit.geomID + 1.0;
 }
 
@@ -71,8 +71,7 @@ bool shadowed(const Scene& scene, const Hit& hit, const LightSample& ls, RayCoun
   const glm::dvec3 dir = toTarget / distance;
   double gap = kShadowEpsilon * distance;
   if (ls.extent > 0) {
-    const glm::dvec3 a = glm::abs(org - scene.frameOrigin()),
-                     b = glm::abs(target - scene.frameOrigin());
+    const glm::dvec3 a = glm::abs(org), b = glm::abs(target);
     const double coordinates = std::max({a.x, a.y, a.z, b.x, b.y, b.z});
     gap = std::max(std::min(gap, 1e-3 * ls.extent), 0x1p-20 * coordinates);
   }
@@ -139,7 +138,7 @@ glm::dvec3 tracePath(const Scene& scene, const CameraRay& cameraRay, Rng& rng, S
       break;
     }
     if (depth >= maxDepth) break;
-    glm::dvec3 albedo = m.albedo(hit->uv);
+    glm::dvec3 albedo = m.albedo(hit->uv, hit->latLongUv);
     // ---- Next-event estimation --------------------------------------------------------
     if (!m.isSpecular()) {
       for (int light = 0; light < scene.lightCount(); ++light) {
@@ -188,7 +187,7 @@ glm::dvec3 traceDirect(const Scene& scene, const CameraRay& cameraRay, Rng& rng,
     const Material& m = scene.material(*hit, sh.frontFace);
     if (depth == 0) fillAov(aov, *hit, sh, m);
     if (m.type == MaterialType::Emissive) return beta * m.emission;
-    glm::dvec3 albedo = m.albedo(hit->uv);
+    glm::dvec3 albedo = m.albedo(hit->uv, hit->latLongUv);
     if (m.isSpecular()) {  // follow the glass
       auto bs = sampleBsdf(m, albedo, sh.woLocal, sh.frontFace, rng.uniform(), rng.uniform2());
       if (!bs) return glm::dvec3(0.0);

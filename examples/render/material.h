@@ -60,7 +60,11 @@ struct Material {
 
   // True when the BSDF is a Dirac delta (no light sampling, no MIS).
   bool isSpecular() const { return type == MaterialType::Dielectric; }
-  glm::dvec3 albedo(glm::dvec2 uv) const { return texture ? color * texture->lookup(uv) : color; }
+  // latLong: uv are a sphere's latitude-longitude coordinates (Hit::latLongUv), whose rows
+  // clamp at the poles as the environment's do instead of repeating.
+  glm::dvec3 albedo(glm::dvec2 uv, bool latLong = false) const {
+    return texture ? color * (latLong ? texture->lookupLatLong(uv) : texture->lookup(uv)) : color;
+  }
 };
 
 struct BsdfSample {

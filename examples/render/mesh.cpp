@@ -180,6 +180,7 @@ MeshData makeIcosphere(int subdivisions) {
   m.normals = m.positions;
   m.triangles = std::move(f);
   m.convexClosed = true;
+  m.latLongUv = true;
   return m;
 }
 

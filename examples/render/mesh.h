@@ -19,6 +19,8 @@ struct MeshData {
   // The boundary of a convex solid (box, icosphere; kept by affine transforms): an emissive
   // one hides its far side from points outside it, and its light sampling says so.
   bool convexClosed = false;
+  // uv are latitude-longitude coordinates (the icosphere's): rows clamp at the poles.
+  bool latLongUv = false;
 
   // Throws std::runtime_error when an index is out of range or a value is not finite.
   void validate(const std::string& what) const;

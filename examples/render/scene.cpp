@@ -89,8 +89,7 @@ void Scene::build() {
       throw std::runtime_error(label + ": material index out of range");
   };
 
-  chooseFrameOrigin();
-  const glm::dmat4 toFrame = glm::translate(glm::dmat4(1.0), -frameOrigin_);
+  moveToFrame();
 
   // ---- Triangle meshes -------------------------------------------------------------
   for (const MeshItem& item : desc_.meshes) {
@@ -107,8 +106,7 @@ void Scene::build() {
                                                           RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                                           g->mesh.positions.size()));
     for (size_t i = 0; i < g->mesh.positions.size(); ++i)
-      for (int k = 0; k < 3; ++k)
-        v[3 * i + k] = static_cast<float>(g->mesh.positions[i][k] - frameOrigin_[k]);
+      for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(g->mesh.positions[i][k]);
     auto* idx = static_cast<unsigned*>(
         rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                 3 * sizeof(unsigned), g->mesh.triangles.size()));
@@ -132,7 +130,7 @@ void Scene::build() {
     SurfaceDesc sd;
     sd.polynomial = item.polynomial;
     sd.clip = item.clip;
-    sd.transform = toFrame * item.transform;
+    sd.transform = item.transform;
     // The surface's u, v (its spherical parametrisation) only where a texture reads them:
     // an untextured surface skips the atan2/acos of every hit.
     auto textured = [&](int m) {
@@ -202,7 +200,8 @@ void Scene::build() {
   }
 }
 
-void Scene::chooseFrameOrigin() {
+void Scene::moveToFrame() {
+  // ---- Bounds of the geometry: mesh vertices, surfaces' clip regions -----------------
   constexpr double kInf = std::numeric_limits<double>::infinity();
   glm::dvec3 lo(kInf), hi(-kInf);
   auto include = [&](const glm::dmat4& m, const glm::dvec3& p) {
@@ -211,23 +210,37 @@ void Scene::chooseFrameOrigin() {
   };
   for (const MeshItem& item : desc_.meshes)
     for (const glm::dvec3& p : item.mesh.positions) include(item.transform, p);
-  // A surface by its clip region's centre: the region may be far larger than the surface.
-  for (const SurfaceItem& item : desc_.surfaces)
-    include(item.transform, std::visit(
-                                [](const auto& clip) -> glm::dvec3 {
-                                  if constexpr (requires { clip.center; })
-                                    return clip.center;
-                                  else
-                                    return 0.5 * (clip.lo + clip.hi);
-                                },
-                                item.clip));
+  for (const SurfaceItem& item : desc_.surfaces) {
+    const auto [clipLo, clipHi] = std::visit(
+        [](const auto& clip) -> std::pair<glm::dvec3, glm::dvec3> {
+          if constexpr (requires { clip.radius; })
+            return {clip.center - clip.radius, clip.center + clip.radius};
+          else
+            return {clip.lo, clip.hi};
+        },
+        item.clip);
+    for (int corner = 0; corner < 8; ++corner)
+      include(item.transform, {corner & 1 ? clipHi.x : clipLo.x, corner & 2 ? clipHi.y : clipLo.y,
+                               corner & 4 ? clipHi.z : clipLo.z});
+  }
+  // ---- The frame: the bounds' centre where every point gains 3 bits ------------------
+  // About their centre c, the bounds' points p have |p - c| <= sqrt(3) h (h the largest
+  // half extent), and |p| >= |c| - sqrt(3) h: from |c| > 16 h on, every point's distance
+  // to the frame shrinks 8-fold or more. Nearer, a point near the world origin could lose
+  // what the others gain (a small object at the origin beside a floor 1e4 long); such
+  // scenes keep their images exactly.
   const glm::dvec3 center = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-  const glm::dvec3 a = glm::abs(center);
-  // Nearer than its size to the world origin, moving the frame gains at most a bit (and
-  // such scenes keep their exact images).
-  if (std::isfinite(center.x + center.y + center.z + half.x + half.y + half.z) &&
-      std::max({a.x, a.y, a.z}) > std::max({half.x, half.y, half.z}))
-    frameOrigin_ = center;
+  const double h = std::max({half.x, half.y, half.z});
+  if (!std::isfinite(glm::length(center) + h) || !(glm::length(center) > 16.0 * h)) return;
+  frameOrigin_ = center;
+
+  // ---- Everything placed in the world moves by -c ---------------------------------
+  const glm::dmat4 shift = glm::translate(glm::dmat4(1.0), -center);
+  desc_.camera.position -= center;
+  desc_.camera.lookAt -= center;
+  for (PointLight& light : desc_.pointLights) light.position -= center;
+  for (MeshItem& item : desc_.meshes) item.transform = shift * item.transform;
+  for (SurfaceItem& item : desc_.surfaces) item.transform = shift * item.transform;
 }
 
 Scene::~Scene() { release(); }
@@ -244,10 +257,9 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
                                     RayCounter& counter) const {
   ++counter.rays;
   RTCRayHit rh{};
-  const glm::dvec3 local = org - frameOrigin_;
-  rh.ray.org_x = static_cast<float>(local.x);
-  rh.ray.org_y = static_cast<float>(local.y);
-  rh.ray.org_z = static_cast<float>(local.z);
+  rh.ray.org_x = static_cast<float>(org.x);
+  rh.ray.org_y = static_cast<float>(org.y);
+  rh.ray.org_z = static_cast<float>(org.z);
   rh.ray.dir_x = static_cast<float>(dir.x);
   rh.ray.dir_y = static_cast<float>(dir.y);
   rh.ray.dir_z = static_cast<float>(dir.z);
@@ -275,7 +287,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
     // The point on the ray Embree traced; the adapter's Ng is the world-space gradient
     // (object gradient through the inverse transpose), i.e. the surface normal.
     hit.isSurface = true;
-    hit.p = frameOrigin_ + (forg + hit.t * fdir);
+    hit.p = forg + hit.t * fdir;
     glm::dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     double len = glm::length(n);
     hit.ng = len > 0 && std::isfinite(len) ? n / len : -glm::normalize(fdir);
@@ -284,7 +296,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
     // them) read as the environment reads a lat-long image, as the icosphere's: the image's
     // centre column at +x and top row at +z (v = 0 read the bottom row at +z, the image
     // upside down, until session 52).
-    if (g->surfaceUv) hit.uv = glm::dvec2(rh.hit.u + 0.5, 1.0 - rh.hit.v);
+    if (g->surfaceUv) hit.uv = glm::dvec2(rh.hit.u + 0.5, 1.0 - rh.hit.v), hit.latLongUv = true;
     return hit;
   }
   const auto& t = g->mesh.triangles[hit.primID];
@@ -304,6 +316,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
   if (!g->mesh.uvs.empty()) {
     const auto& T = g->mesh.uvs;
     hit.uv = w * T[t[0]] + u * T[t[1]] + v * T[t[2]];
+    hit.latLongUv = g->mesh.latLongUv;
   }
   // Error bound of the hit point: Embree intersects in float, so the point it found may
   // be off the plane of the triangle by a few float ulps of the vertex magnitude (pbrt-v4
@@ -313,7 +326,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
   // conversion of the spawned origin.
   double scale = 0;
   for (int k = 0; k < 3; ++k)
-    for (int j = 0; j < 3; ++j) scale = std::max(scale, std::abs(P[t[j]][k] - frameOrigin_[k]));
+    scale = std::max({scale, std::abs(P[t[0]][k]), std::abs(P[t[1]][k]), std::abs(P[t[2]][k])});
   hit.offset = 64.0 * kFloatEps * scale;
   return hit;
 }
@@ -322,10 +335,9 @@ bool Scene::occluded(const glm::dvec3& org, const glm::dvec3& dir, double tnear,
                      RayCounter& counter) const {
   ++counter.rays;
   RTCRay ray{};
-  const glm::dvec3 local = org - frameOrigin_;
-  ray.org_x = static_cast<float>(local.x);
-  ray.org_y = static_cast<float>(local.y);
-  ray.org_z = static_cast<float>(local.z);
+  ray.org_x = static_cast<float>(org.x);
+  ray.org_y = static_cast<float>(org.y);
+  ray.org_z = static_cast<float>(org.z);
   ray.dir_x = static_cast<float>(dir.x);
   ray.dir_y = static_cast<float>(dir.y);
   ray.dir_z = static_cast<float>(dir.z);

@@ -20,6 +20,7 @@ struct Hit {
   glm::dvec3 ng{0.0};  // unit geometric normal as stored (not flipped towards the ray)
   glm::dvec3 ns{0.0};  // unit shading normal, same hemisphere as ng
   glm::dvec2 uv{0.0};
+  bool latLongUv = false;  // uv are lat-long coordinates (a surface's, the icosphere's)
   unsigned geomID = RTC_INVALID_GEOMETRY_ID;
   unsigned primID = RTC_INVALID_GEOMETRY_ID;
   bool isSurface = false;  // algebraic surface: rays leave exactly from p
@@ -78,11 +79,13 @@ class Scene {
   // Same for a ray that escaped to the environment.
   double environmentPdf() const;
   double sceneRadius() const { return radius_; }
-  // The world point Embree's float coordinates are taken from: the centre of the geometry's
-  // bounds where the scene lies farther from the world origin than its own size, else 0.
-  // Float's resolution is then relative to the scene's size, not to its distance from the
-  // world origin (a unit sphere on a floor moved 1e5 away cast shadows 0.38 off: mesh
-  // hits pushed spawned origins 64 float ulps of 1e5 off the floor).
+  // The world point the scene is built and rendered about: the centre of the geometry's
+  // bounds where the scene lies more than 16 times its own size from the world origin,
+  // else 0. desc() is the described scene moved by -frameOrigin() (camera, point lights,
+  // meshes and surfaces), so hit points, spawned rays and Embree's float coordinates are
+  // relative to the scene's size, not to its distance from the world origin (a unit sphere
+  // on a floor moved 1e5 away cast shadows 0.38 off: mesh hits pushed spawned origins 64
+  // float ulps of 1e5 off the floor; from 1e8 most pixels were wrong).
   const glm::dvec3& frameOrigin() const { return frameOrigin_; }
   // The labels of the algebraic surfaces with no point in their clip region (the plugin's
   // range bounds proved every cell empty: SurfaceGeometry::primitiveCount() is 0), so
@@ -92,9 +95,9 @@ class Scene {
  private:
   struct Geom;
   struct Light;
-  void build();              // the constructor's work
-  void chooseFrameOrigin();  // frameOrigin_ from the meshes' and surfaces' world bounds
-  void release() noexcept;   // the destructor's, also when build() throws
+  void build();             // the constructor's work
+  void moveToFrame();       // chooses frameOrigin_ and moves desc_ by it
+  void release() noexcept;  // the destructor's, also when build() throws
   SceneDesc desc_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;

@@ -367,6 +367,46 @@ TEST(SurfaceTexture, SpheresReadALatLongImageAsTheEnvironmentDoes) {
   }
 }
 
+// At the poles a textured sphere reads the image's edge rows as the environment does
+// (rows clamped, Texture::lookupLatLong): a 1x2 image, top row red, bottom row blue, seen
+// straight down on +z and straight up at -z, on the algebraic sphere and the icosphere.
+// Until session 52 the rows repeated there, and the pole read half of the other edge row.
+TEST(SurfaceTexture, PolesReadTheImagesEdgeRowsAsTheEnvironmentDoes) {
+  for (const bool icosphere : {false, true})
+    for (const double side : {1.0, -1.0}) {
+      SceneDesc s;
+      s.settings.width = s.settings.height = 9;
+      s.settings.spp = 1;
+      s.settings.integrator = IntegratorType::Direct;
+      s.camera.position = {0, 0, 4 * side};
+      s.camera.lookAt = {0, 0, 0};
+      s.camera.up = {0, 1, 0};
+      s.camera.fovY = 10;
+      Material m;
+      m.color = glm::dvec3(1.0);
+      m.texture = std::make_shared<const Texture>(
+          1, 2, std::vector<glm::vec3>{glm::vec3(1, 0, 0), glm::vec3(0, 0, 1)});
+      s.addMaterial(m);
+      if (icosphere) {
+        s.meshes.push_back({"icosphere", makeIcosphere(5), glm::dmat4(1.0), 0, -1});
+      } else {
+        SurfaceItem item;
+        item.label = "sphere";
+        item.polynomial = findGallerySurface("sphere")->build();
+        item.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+        s.surfaces.push_back(item);
+      }
+      Scene scene(s);
+      Image image;
+      render(scene, image);
+      const glm::vec3 albedo = image.albedo[4 * 9 + 4];
+      const glm::vec3 expected = side > 0 ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);
+      EXPECT_NEAR(glm::length(albedo - expected), 0.0, 1e-6)
+          << (icosphere ? "icosphere " : "sphere ") << side << ": " << albedo.x << " " << albedo.y
+          << " " << albedo.z;
+    }
+}
+
 // The depth and id AOVs of a pixel come from one of its samples, the nearest hit: a unit
 // sphere 6 away and a floor behind it, 16 samples a pixel. Until session 52 depth was the
 // mean over the samples with a miss counted as 0 and id sample 0's: outline pixels read
@@ -420,15 +460,18 @@ TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
   EXPECT_GT(misses, 50);
 }
 
-// A scene far from the world origin renders as at the origin: Embree's float coordinates
-// are taken from the scene's own centre (Scene::frameOrigin). A unit sphere on a floor
-// under a directional light, moved 1e5 along x with its camera: until session 52 mesh hits
-// pushed spawned origins 64 float ulps of 1e5 (0.38) off the floor, and 35 of the floor's
-// ~1200 pixels were lit or shadowed wrongly (45 pixels of this image differed).
+// A scene far from the world origin renders as at the origin: it is built and rendered
+// about its own centre (Scene::frameOrigin), camera and lights moved with it. A unit
+// sphere on a floor under a directional and a point light, moved along x with its camera:
+// until session 52 mesh hits at 1e5 pushed spawned origins 64 float ulps of 1e5 (0.38) off
+// the floor, and 45 pixels of this image differed from the scene at the origin; at 1e12
+// most did. A scene only 20 away (less than 16 times its size) keeps the world origin: a
+// move would not gain every point precision.
 TEST(Frame, ASceneFarFromTheWorldOriginRendersAsAtTheOrigin) {
-  Image images[2];
-  for (int k = 0; k < 2; ++k) {
-    const glm::dvec3 c = k == 0 ? glm::dvec3(0.0) : glm::dvec3(1e5, 0.0, 0.0);
+  const double offsets[] = {0.0, 20.0, 1e5, 1e12};
+  Image images[4];
+  for (int k = 0; k < 4; ++k) {
+    const glm::dvec3 c(offsets[k], 0.0, 0.0);
     SceneDesc s;
     s.settings.width = 64;
     s.settings.height = 48;
@@ -447,21 +490,23 @@ TEST(Frame, ASceneFarFromTheWorldOriginRendersAsAtTheOrigin) {
     s.meshes.push_back({"floor", makePlane(4.0),
                         glm::translate(glm::dmat4(1.0), c + glm::dvec3(0, 0, -1)), 0, -1});
     s.directionalLights.push_back({glm::normalize(glm::dvec3(1, -1, 2)), glm::dvec3(2.0)});
+    s.pointLights.push_back({c + glm::dvec3(-2, -1, 3), glm::dvec3(3.0)});
     Scene scene(s);
-    // The world origin for the first scene (it lies around it), its centre for the second.
-    EXPECT_LE(glm::length(scene.frameOrigin() - c), k == 0 ? 0.0 : 1.0);
+    EXPECT_EQ(scene.frameOrigin(), k < 2 ? glm::dvec3(0.0) : c) << offsets[k];
     render(scene, images[k]);
   }
-  int differing = 0, lit = 0, dark = 0;
-  for (size_t i = 0; i < images[0].color.size(); ++i) {
-    const float a = images[0].color[i].x, b = images[1].color[i].x;
-    differing += std::abs(a - b) > 0.02f;
-    lit += a > 0.3f, dark += a < 0.1f;
+  for (int k = 1; k < 4; ++k) {
+    int differing = 0, lit = 0, dark = 0;
+    for (size_t i = 0; i < images[0].color.size(); ++i) {
+      const float a = images[0].color[i].x, b = images[k].color[i].x;
+      differing += std::abs(a - b) > 0.02f;
+      lit += a > 0.3f, dark += a < 0.1f;
+    }
+    EXPECT_LE(differing, 2) << offsets[k];
+    // Lit floor, shadows and sphere are all in the picture (the test could fail).
+    EXPECT_GT(lit, 200);
+    EXPECT_GT(dark, 50);
   }
-  EXPECT_LE(differing, 2);
-  // Lit floor, shadow and sphere are all in the picture (the test could fail).
-  EXPECT_GT(lit, 200);
-  EXPECT_GT(dark, 50);
 }
 
 TEST(Determinism, SameImageForOneAndTwoThreads) {
