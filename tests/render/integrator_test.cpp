@@ -58,6 +58,16 @@ std::pair<glm::dvec3, int> meanOverHits(const SceneDesc& desc) {
   return {n ? sum / static_cast<double>(n) : sum, n};
 }
 
+// The gallery's unit sphere in a clip ball of radius 1.5, moved to `at`.
+void addUnitSphere(SceneDesc& s, glm::dvec3 at = glm::dvec3(0.0)) {
+  SurfaceItem item;
+  item.label = "sphere";
+  item.polynomial = findGallerySurface("sphere")->build();
+  item.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+  item.transform = glm::translate(glm::dmat4(1.0), at);
+  s.surfaces.push_back(item);
+}
+
 void addSurface(SceneDesc& s, const char* name) {
   const GallerySurface* g = findGallerySurface(name);
   ASSERT_NE(g, nullptr) << name;
@@ -329,11 +339,7 @@ TEST(SurfaceTexture, SpheresReadALatLongImageAsTheEnvironmentDoes) {
     if (kind == 2) {
       s.meshes.push_back({"icosphere", makeIcosphere(4), glm::dmat4(1.0), 0, -1});
     } else {
-      SurfaceItem item;
-      item.label = "sphere";
-      item.polynomial = findGallerySurface("sphere")->build();
-      item.clip = ClipSphere{glm::dvec3(0.0), 1.5};
-      s.surfaces.push_back(item);
+      addUnitSphere(s);
     }
     Scene scene(s);
     RayCounter counter;
@@ -390,11 +396,7 @@ TEST(SurfaceTexture, PolesReadTheImagesEdgeRowsAsTheEnvironmentDoes) {
       if (icosphere) {
         s.meshes.push_back({"icosphere", makeIcosphere(5), glm::dmat4(1.0), 0, -1});
       } else {
-        SurfaceItem item;
-        item.label = "sphere";
-        item.polynomial = findGallerySurface("sphere")->build();
-        item.clip = ClipSphere{glm::dvec3(0.0), 1.5};
-        s.surfaces.push_back(item);
+        addUnitSphere(s);
       }
       Scene scene(s);
       Image image;
@@ -422,11 +424,7 @@ TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
   s.camera.lookAt = {0, 0, 0};
   s.camera.fovY = 30;
   s.addMaterial(Material{});
-  SurfaceItem sphere;
-  sphere.label = "sphere";
-  sphere.polynomial = findGallerySurface("sphere")->build();
-  sphere.clip = ClipSphere{glm::dvec3(0.0), 1.5};
-  s.surfaces.push_back(sphere);
+  addUnitSphere(s);
   // A floor 3 behind the sphere's centre, facing the camera, covering the lower half.
   s.meshes.push_back(
       {"floor", makePlane(2.0),
@@ -481,12 +479,7 @@ TEST(Frame, ASceneFarFromTheWorldOriginRendersAsAtTheOrigin) {
     s.camera.lookAt = c;
     s.camera.fovY = 35;
     s.addMaterial(Material{});
-    SurfaceItem sphere;
-    sphere.label = "sphere";
-    sphere.polynomial = findGallerySurface("sphere")->build();
-    sphere.clip = ClipSphere{glm::dvec3(0.0), 1.5};
-    sphere.transform = glm::translate(glm::dmat4(1.0), c);
-    s.surfaces.push_back(sphere);
+    addUnitSphere(s, c);
     s.meshes.push_back({"floor", makePlane(4.0),
                         glm::translate(glm::dmat4(1.0), c + glm::dvec3(0, 0, -1)), 0, -1});
     s.directionalLights.push_back({glm::normalize(glm::dvec3(1, -1, 2)), glm::dvec3(2.0)});
