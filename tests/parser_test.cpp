@@ -435,17 +435,17 @@ TEST(Parser, LeadingZerosDoNotTurnAnUnderflowIntoAnOverflow) {
 }
 
 // Values near the largest double: their rounding-error bounds (tracked_value.h) overflow
-// first (the power rule's bound is ~1000 times 2^1016, a sum's adds both sides'), and
-// without a bound rounding junk cannot be told from a coefficient (sqrt(1.7e308)^2*x -
-// 1.7e308*x is 2e292 x of junk), so they are refused, by what they are: until session 42
-// the message called 2^1016 or exp(709) "not finite" and printed the finite value. Values
-// a little lower are accepted as the same double arithmetic in C++ computes them (libm's
-// pow and exp, as the parser's).
+// first (exp's bound is |exp(c)| (1 + c), a sum's adds both sides'), and without a bound
+// rounding junk cannot be told from a coefficient (sqrt(1.7e308)^2*x - 1.7e308*x is 2e292
+// x of junk), so they are refused, by what they are: until session 42 the message called
+// exp(709) "not finite" and printed the finite value. Values a little lower are accepted as
+// the same double arithmetic in C++ computes them (libm's pow and exp, as the parser's). A
+// power's bound is its own size since session 52 (its error factors went into the rounding
+// count), so 2^1016 and 2^1023 are accepted, exactly (before, ~1700 times 2^1016 overflowed).
 TEST(Parser, ValuesNearTheLargestDoubleAreNamedAsSuch) {
   const char* kTooClose = "comes so close to the largest double that its rounding-error bound";
-  for (const char* text :
-       {"2^1016", "10^306", "exp(709)", "exp(709)*1e-300*x", "1.5e308 - 1e308", "(1.7e308)^1",
-        "2^1023*x", "1.5e308*x - 1e308*x", "sqrt(1.7e308)^2*x - 1.7e308*x + 2e292*z"}) {
+  for (const char* text : {"exp(709)", "exp(709)*1e-300*x", "1.5e308 - 1e308", "(1.7e308)^1",
+                           "1.5e308*x - 1e308*x", "sqrt(1.7e308)^2*x - 1.7e308*x + 2e292*z"}) {
     try {
       parsePolynomial(text);
       ADD_FAILURE() << text << " was accepted";
@@ -460,6 +460,9 @@ TEST(Parser, ValuesNearTheLargestDoubleAreNamedAsSuch) {
     Polynomial expected;
   } accepted[] = {
       {"2^1000", Polynomial(std::ldexp(1.0, 1000))},
+      {"2^1016", Polynomial(std::ldexp(1.0, 1016))},
+      {"2^1023*x", std::ldexp(1.0, 1023) * x},
+      {"10^306", Polynomial(std::pow(10.0, 306.0))},
       {"10^300", Polynomial(std::pow(10.0, 300.0))},
       {"exp(690)*x", std::exp(690.0) * x},
       {"1e305*x", 1e305 * x},
@@ -487,6 +490,32 @@ TEST(Parser, ValuesNearTheLargestDoubleAreNamedAsSuch) {
       EXPECT_NE(std::string(e.what()).find("not finite"), std::string::npos) << text;
     }
   }
+}
+
+// Powers of constants keep every coefficient of what they multiply: (x + 3^2)^n has the
+// binomial coefficients C(n, k) 9^(n-k), here against their products in long double, and
+// wider expansions keep all their terms. Until session 52 the power rule folded its error
+// factors into the bound's magnitude (5.2 |c^e| for 3^2), products multiplied them, and
+// (x + 3^2)^40 kept 19 of its 41 coefficients: the rest, sums of terms of one sign, were
+// pruned as rounding junk (audit 1 of session 52, against sympy).
+TEST(Parser, PowersOfConstantsKeepEveryCoefficient) {
+  for (int n = 1; n <= 40; ++n) {
+    const Polynomial p = parsePolynomial("(x + 3^2)^" + std::to_string(n));
+    ASSERT_EQ(p.nonZeroCount(), n + 1) << n;
+    long double binomial = 1;  // C(n, k)
+    for (int k = 0; k <= n; ++k) {
+      const long double expected = binomial * std::pow(9.0L, n - k);
+      EXPECT_NEAR(p.coeff(k, 0, 0) / static_cast<double>(expected), 1.0, 1e-14) << n << " " << k;
+      binomial = binomial * (n - k) / (k + 1);
+    }
+  }
+  // Wider expansions keep all their terms: (y(y+z)/3 - c - x)^n has one coefficient per
+  // exponent triple (i, j, k) of x, y^2 and yz with i + j + k <= n, C(n + 3, 3) of them;
+  // (x + y + z + c)^40 one per monomial of degree <= 40.
+  EXPECT_EQ(parsePolynomial("(y/3*(y+z) - 3^2 - x)^20").nonZeroCount(), 1771);
+  EXPECT_EQ(parsePolynomial("((y/0.966)*(y+z) - 9.^7 - x)^10").nonZeroCount(), 286);
+  EXPECT_EQ(parsePolynomial("(x + y + z + 2^0.5)^40").nonZeroCount(), 12341);
+  EXPECT_EQ(parsePolynomial("(x - 1.5^2)^24").nonZeroCount(), 25);
 }
 
 TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {

@@ -476,10 +476,28 @@ Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& r
       r.underflow = std::pow(gammaOf(c.roundings) * c.magnitude + c.underflow, e.value);
     return Fold::ok;
   }
-  // d(c^e)/(c^e) = e dc/c + ln|c| de: relative error |e| gamma_kc rho_c + |ln c| gamma_ke Me.
+  // d(c^e)/(c^e) = e dc/c + ln|c| de: relative error |e| gamma_kc rho_c + |ln c| gamma_ke Me,
+  // plus pow's own rounding. The factors go into the count, n gamma_k <= gamma_(n k):
+  //   error <= gamma_(n kc) rho_c |c^e| + gamma_(m ke) |c^e| + gamma_2 |c^e|
+  //         <= gamma_(n kc + m ke + 2) rho_c |c^e|,   n = ceil(max(1, |e|)), m = ceil(|ln c| Me),
+  // so M = rho_c |c^e| stays the power's absolute size. (Until session 52 they went into
+  // M, 5.2 |c^e| for 3^2, and products multiply M: in (x + 3^2)^20 that factor's 20th
+  // power swallowed the constant 9^20 and three more coefficients, pruned as junk.)
   const double logc = std::abs(std::log(std::abs(c.value)));
-  r.magnitude = std::abs(r.value) *
-                (std::max(1.0, std::abs(e.value)) * conditionOf(c) + logc * e.magnitude + 1.0);
+  const double exponentTerm = e.roundings > 0 && logc > 0.0
+                                  ? std::ceil(logc * e.magnitude) * static_cast<double>(e.roundings)
+                                  : 0.0;
+  const double count =
+      std::ceil(std::max(1.0, std::abs(e.value))) * static_cast<double>(c.roundings) +
+      exponentTerm + 2.0;
+  constexpr double kCountCap = 0x1p50;  // addCounts' cap
+  r.magnitude = std::abs(r.value) * conditionOf(c);
+  if (count < kCountCap) {
+    r.roundings = static_cast<std::int64_t>(count);
+  } else {  // beyond the count's range: gamma_4 (count / 4) is the same first-order bound
+    r.roundings = 4;
+    r.magnitude *= count / 4.0;
+  }
   // Underflow terms: a base within a relative rho = Ac/|c| moves c^e by at most
   // (1 - rho)^-|e| - 1 relatively (both directions); beyond rho = 1/2 the base may be near
   // 0 and |c'^e - c^e| <= 2 (|c| + Ac)^e (e > 0) or is unbounded (e < 0). The exponent's

@@ -33,8 +33,8 @@
 //                               (recursive summation of m products, Higham Eq. (3.4))
 //   a / d (d a constant)        k = ka + kd + 1,      M = Ma * rho_d / |d|, rho_d = Md/|d|
 //   a^n (repeated products)     k and M from the product rule applied n-1 times
-//   c^e (constants, libm pow)   k = max(kc, ke) + 2,
-//                               M = |c^e| (max(1, |e|) rho_c + |ln|c|| Me + 1)
+//   c^e (constants, libm pow)   k = n kc + m ke + 2,  M = |c^e| rho_c,
+//                               n = ceil(max(1, |e|)), m = ceil(|ln|c|| Me)
 //   f(c) for sqrt, sin, ...     k = kc + 2 (libm within 1 ulp), M = |f(c)| + |f'(c)| Mc
 //
 // Pruning rule (applied after every operation that can cancel: *, /, ^, functions, and
