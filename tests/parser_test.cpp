@@ -509,6 +509,22 @@ TEST(Parser, PowersOfConstantsKeepEveryCoefficient) {
       binomial = binomial * (n - k) / (k + 1);
     }
   }
+  // Functions of constants alike (their argument's error went into the magnitude too:
+  // (x + exp(3))^40 kept 23 coefficients, (x + tan(1.4))^40 14).
+  const struct {
+    const char* text;
+    long double value;
+  } functions[] = {{"exp(3)", std::exp(3.0L)},
+                   {"tan(1.4)", std::tan(1.4L)},
+                   {"sqrt(7)", std::sqrt(7.0L)},
+                   {"log(20)", std::log(20.0L)}};
+  for (const auto& f : functions) {
+    const Polynomial p = parsePolynomial("(x + " + std::string(f.text) + ")^40");
+    EXPECT_EQ(p.nonZeroCount(), 41) << f.text;
+    EXPECT_NEAR(p.coeff(0, 0, 0) / static_cast<double>(std::pow(f.value, 40)), 1.0, 1e-13)
+        << f.text;
+  }
+  EXPECT_EQ(parsePolynomial("(x + y + z + exp(2))^40").nonZeroCount(), 12341);
   // Wider expansions keep all their terms: (y(y+z)/3 - c - x)^n has one coefficient per
   // exponent triple (i, j, k) of x, y^2 and yz with i + j + k <= n, C(n + 3, 3) of them;
   // (x + y + z + c)^40 one per monomial of degree <= 40.

@@ -35,7 +35,12 @@
 //   a^n (repeated products)     k and M from the product rule applied n-1 times
 //   c^e (constants, libm pow)   k = n kc + m ke + 2,  M = |c^e| rho_c,
 //                               n = ceil(max(1, |e|)), m = ceil(|ln|c|| Me)
-//   f(c) for sqrt, sin, ...     k = kc + 2 (libm within 1 ulp), M = |f(c)| + |f'(c)| Mc
+//   f(c) for sqrt, sin, ...     k = ceil(max(1, a)) kc + 2 (libm within 1 ulp), M = |f(c)|,
+//                               a = |f'(c)| Mc / |f(c)|; where f(c) = 0: k = kc + 2,
+//                               M = |f'(c)| Mc
+// (The factors of the last two rules go into the count, n gamma_k <= gamma_(n k), not into
+// M, which products multiply: until session 52 they did, and (x + 3^2)^40 lost 22 of its
+// coefficients to the pruning rule.)
 //
 // Pruning rule (applied after every operation that can cancel: *, /, ^, functions, and
 // once at the end of each chain a1 +- a2 +- ... +- an):
