@@ -534,6 +534,41 @@ TEST(Parser, PowersOfConstantsKeepEveryCoefficient) {
   EXPECT_EQ(parsePolynomial("(x - 1.5^2)^24").nonZeroCount(), 25);
 }
 
+// A constant that cancelled (2 - 1, 1.0001 - 1, 1.3 - 1.1) keeps every coefficient of the
+// powers it enters: its relative error enters each product once (d(ab) = da b + a db).
+// Until session 52 the bound's magnitude multiplied through the products as the absolute
+// expansion, 3^40 times the constant's own for (x + 2 - 1)^40, and the pruning rule took
+// 13 of its 41 coefficients for junk; (x + (1.0001 - 1))^10 kept 4 of 11. References:
+// C(n, k) c^(n-k) in long double, c the literals' exact difference.
+TEST(Parser, CancelledConstantsKeepTheirPowersCoefficients) {
+  const struct {
+    const char* base;
+    int n;
+    long double c;
+    double tolerance;  // the literals' rounding, amplified by the cancellation
+  } cases[] = {{"x + 2 - 1", 40, 1.0L, 1e-14},
+               {"x + (2 - 1)", 40, 1.0L, 1e-14},
+               {"x + (1.0001 - 1)", 10, 1e-4L, 1e-10},
+               {"x + (1.3 - 1.1)", 40, 0.2L, 1e-13},
+               {"x + 1/(1.3 - 1.1)", 40, 5.0L, 1e-13}};
+  for (const auto& c : cases) {
+    const Polynomial p = parsePolynomial("(" + std::string(c.base) + ")^" + std::to_string(c.n));
+    ASSERT_EQ(p.nonZeroCount(), c.n + 1) << c.base;
+    long double binomial = 1;
+    for (int k = 0; k <= c.n; ++k) {
+      const long double expected = binomial * std::pow(c.c, c.n - k);
+      EXPECT_NEAR(p.coeff(k, 0, 0) / static_cast<double>(expected), 1.0, c.tolerance)
+          << c.base << " " << k;
+      binomial = binomial * (c.n - k) / (k + 1);
+    }
+  }
+  // A torus-like quartic written with such a constant, to the 10th power, keeps its
+  // constant term 0.2^20 (pruned before), and rounding junk still vanishes.
+  EXPECT_GT(parsePolynomial("((x^2+y^2+z^2+1.3-1.1)^2-4*(x^2+y^2))^10").coeff(0, 0, 0), 0.0);
+  EXPECT_TRUE(parsePolynomial("(x + (2 - 1))^20 - (x + 1)^20").isZero());
+  EXPECT_TRUE(parsePolynomial("(x + 0.1)^2 - x^2 - 0.2*x - 0.01").isZero());
+}
+
 TEST(Parser, FoldsWithoutCorrectDigitsAreRejectedNotZeroed) {
   // A function at a pole or a power whose rounding error exceeds its value is reported
   // at the call or the '^' instead of being pruned to 0 like rounding junk.

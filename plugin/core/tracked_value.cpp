@@ -262,6 +262,36 @@ void accumulate(TrackedValue& acc, const TrackedValue& b, bool subtract) {
 
 namespace {
 
+// The magnitude of a product by the first-order rule of tracked_value.h: d(ab) = da b +
+// a db, so M = Ma |b| + |a| Mb, with k = ka + kb + m; the product's own rounding folds into
+// a term, |a||b| <= Ma |b|, and an exact factor (k = 0) drops the other term.
+double productMagnitude(const TrackedValue& a, const TrackedValue& b) {
+  if (a.roundings == 0) return std::abs(a.value) * b.magnitude;
+  if (b.roundings == 0) return a.magnitude * std::abs(b.value);
+  return a.magnitude * std::abs(b.value) + std::abs(a.value) * b.magnitude;
+}
+
+// The same for polynomials (convolutions).
+Polynomial productMagnitude(const Polynomial& a, const Polynomial& ma, std::int64_t ka,
+                            const Polynomial& b, const Polynomial& mb, std::int64_t kb);
+
+Polynomial absolute(const Polynomial& p) {
+  Polynomial r;
+  const auto c = p.coeffs();
+  for (int n = p.degree(); n >= 0; --n)
+    forEachMonomialOfDegree(n, [&](int i, int j, int k, int idx) {
+      if (c[idx] != 0.0) r.setCoeff(i, j, k, std::abs(c[idx]));
+    });
+  return r;
+}
+
+Polynomial productMagnitude(const Polynomial& a, const Polynomial& ma, std::int64_t ka,
+                            const Polynomial& b, const Polynomial& mb, std::int64_t kb) {
+  if (ka == 0) return absolute(a) * mb;
+  if (kb == 0) return ma * absolute(b);
+  return ma * absolute(b) + absolute(a) * mb;
+}
+
 // A of the product of two constants or monomials whose rounded product is r.
 double scalarProductUnderflow(const TrackedValue& a, const TrackedValue& b, double r) {
   if (a.underflow == 0.0 && b.underflow == 0.0) [[likely]]
@@ -277,7 +307,7 @@ double scalarProductUnderflow(const TrackedValue& a, const TrackedValue& b, doub
 // monotone in s), so the products alone do (tracking A in every step doubled the time
 // of parsing dense expanded text).
 void scalarPower(TrackedValue& acc, const TrackedValue& base, int n) {
-  for (int s = 1; s < n; ++s) acc.value *= base.value, acc.magnitude *= base.magnitude;
+  for (int s = 1; s < n; ++s) acc.magnitude = productMagnitude(acc, base), acc.value *= base.value;
   if (base.underflow == 0.0 && std::abs(base.value) >= kMinNormal &&
       std::abs(acc.value) >= kMinNormal) [[likely]]
     return;
@@ -285,8 +315,8 @@ void scalarPower(TrackedValue& acc, const TrackedValue& base, int n) {
   for (int s = 1; s < n; ++s) {
     const double product = acc.value * base.value;
     acc.underflow = scalarProductUnderflow(acc, base, product);
+    acc.magnitude = productMagnitude(acc, base);
     acc.value = product;
-    acc.magnitude *= base.magnitude;
   }
 }
 
@@ -302,7 +332,7 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
       r.exponents[axis] =
           (a.monomial ? a.exponents[axis] : 0) + (b.monomial ? b.exponents[axis] : 0);
     r.value = a.value * b.value;
-    r.magnitude = a.magnitude * b.magnitude;
+    r.magnitude = productMagnitude(a, b);
     r.underflow = scalarProductUnderflow(a, b, r.value);
     r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
     return r;
@@ -315,7 +345,7 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
   }
   if (!a.hasVariables && !b.hasVariables) {
     r.value = a.value * b.value;
-    r.magnitude = a.magnitude * b.magnitude;
+    r.magnitude = productMagnitude(a, b);
     r.underflow = scalarProductUnderflow(a, b, r.value);
     r.roundings = addCounts(addCounts(a.roundings, b.roundings), 1);
   } else if (!a.hasVariables || !b.hasVariables) {
@@ -323,7 +353,8 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
     const TrackedValue& p = a.hasVariables ? a : b;
     r.hasVariables = true;
     r.poly = p.poly * c.value;
-    r.polyMagnitude = p.polyMagnitude * c.magnitude;
+    r.polyMagnitude = productMagnitude(p.poly, p.polyMagnitude, p.roundings, Polynomial(c.value),
+                                       Polynomial(c.magnitude), c.roundings);
     r.polyUnderflow = carriedUnderflow(p.polyMagnitude, p.polyUnderflow, Polynomial(c.magnitude),
                                        Polynomial(c.underflow));
     if (c.value != 0.0) r.polyUnderflow += floorsWhere(p.poly, r.poly, c.value, false);
@@ -332,7 +363,8 @@ TrackedValue multiply(const TrackedValue& a, const TrackedValue& b) {
     r.hasVariables = true;
     const int m = std::min(a.poly.nonZeroCount(), b.poly.nonZeroCount());
     r.poly = a.poly * b.poly;
-    r.polyMagnitude = a.polyMagnitude * b.polyMagnitude;
+    r.polyMagnitude = productMagnitude(a.poly, a.polyMagnitude, a.roundings, b.poly,
+                                       b.polyMagnitude, b.roundings);
     r.polyUnderflow =
         carriedUnderflow(a.polyMagnitude, a.polyUnderflow, b.polyMagnitude, b.polyUnderflow);
     r.polyUnderflow += productFloors(a.poly, b.poly);
@@ -347,14 +379,22 @@ TrackedValue divide(const TrackedValue& a, const TrackedValue& d) {
   // x/3 has the same coefficient as 1/3. The magnitude rule: q = a/d with d perturbed by
   // gamma_kd Md gives |dq| <= |da|/|d| + |a| gamma_kd rho_d / |d| + u|q|.
   TrackedValue r;
-  const double scale = conditionOf(d) / std::abs(d.value);
+  // As for powers (setPowerBound), d's cancellation rho_d goes into the count where it
+  // fits: gamma_kd rho_d <= gamma_(ceil(rho_d) kd).
+  const double rho = conditionOf(d);
+  const double count =
+      static_cast<double>(a.roundings) + std::ceil(rho) * static_cast<double>(d.roundings) + 1.0;
+  const bool counted = count < 0x1p50;
+  const double scale = (counted ? 1.0 : rho) / std::abs(d.value);
+  const std::int64_t roundings = counted ? static_cast<std::int64_t>(count)
+                                         : addCounts(addCounts(a.roundings, d.roundings), 1);
   // A 4 Ad < |d| and gamma_kd Md < |d| / 2 (the pruning rule) keep |exact d| > |d| / 4.
   const double carry = 4.0 / std::abs(d.value);
   const double carryMagnitude = mulUp(carry, mulUp(d.underflow, 1.0 / std::abs(d.value)));
-  r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
+  r.roundings = roundings;
   if (!a.hasVariables || a.monomial) {
     r = a;
-    r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
+    r.roundings = roundings;
     r.value = a.value / d.value;
     r.magnitude = a.magnitude * scale;
     r.underflow = mulUp(carry, a.underflow) + mulUp(carryMagnitude, a.magnitude) +
@@ -438,7 +478,8 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
   // The underflow terms by the product rule, step by step, once one appears (they need
   // the magnitude of every step; without them the magnitude is one pow at the end).
   bool underflows = !a.polyUnderflow.isZero();
-  Polynomial magnitude = a.polyMagnitude;  // of r while `underflows`
+  Polynomial magnitude = a.polyMagnitude;  // MA^i >= |r|, for the underflow terms
+  Polynomial weight = a.polyMagnitude;     // M of r by the product rule
   for (int i = 1; i < n; ++i) {
     Polynomial floors = productFloors(r.poly, a.poly);
     if (!underflows && !floors.isZero()) {
@@ -450,10 +491,11 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
           carriedUnderflow(magnitude, r.polyUnderflow, a.polyMagnitude, a.polyUnderflow) + floors;
       magnitude = magnitude * a.polyMagnitude;
     }
+    weight = productMagnitude(r.poly, weight, r.roundings, a.poly, a.polyMagnitude, a.roundings);
     r.poly = r.poly * a.poly;
     r.roundings = addCounts(r.roundings, step);
   }
-  r.polyMagnitude = underflows ? magnitude : a.polyMagnitude.pow(n);
+  r.polyMagnitude = weight;
   prune(r);
   return r;
 }
