@@ -15,6 +15,7 @@
 #include <optional>
 #include <random>
 #include <span>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -745,6 +746,76 @@ TEST(RootsContract, RootsSpreadOverMoreBinadesThanOneFrame) {
     const auto r = firstRoot(std::span<const float>(cf), {}, -1e9f, 1e9f);
     ASSERT_TRUE(r) << k;
     EXPECT_LE(rootError(*r, ref[0]), kAccuracyUlps * 0x1p-24 * ref[0].conditioning) << k;
+  }
+}
+
+// Roots spread over hundreds of binades at low degree (session 52's audit, against sympy's
+// exact root isolation): a piece of the split whose coefficients all stayed normal, but
+// spanned more than the 916 binades one frame holds (c_0 at 2^-1005 of the largest term),
+// was solved in one frame, where G about the smaller roots is made of terms near the
+// subnormal range: a quintic with roots 1e-114, 1e-106, 1e-72 and 1e117 lost 1e-114 on
+// (0, 1e118] (found on (0, 1e117]), and with closedLo another reported lo = 0, where |g|
+// is 1e15 times its noise bound. Now such a frame goes to rangeSplit too. Random quintics
+// with roots 10^-150 .. 10^150 alike, on (0, hi] for hi up to 1e300; references MPFR
+// roots of the rounded polynomials.
+TEST(RootsContract, RootsSpreadOverHundredsOfBinadesAtLowDegree) {
+  const std::vector<double> audit = {0x1.9cbae7fe805b3p-881,  -0x1.4f31f8bb6a58dp-502,
+                                     0x1.6d601ad376ab9p-150,  0x1.66bb7f0435c9fp+149,
+                                     -0x1.961219000356bp+388, 0x1p+0};
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> cases = {
+      {audit, {1e-114, 1e-106, -1e-90, 1e-72, 1e117}}};
+  std::mt19937_64 rng(52);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  while (cases.size() < 41) {
+    std::vector<double> roots;
+    for (int i = 0; i < 5; ++i)
+      roots.push_back((i == 2 ? -1 : 1) * (1 + uni(rng)) * std::pow(10.0, -150 + 300 * uni(rng)));
+    const std::vector<double> c = test::expand(roots, {});
+    // (every coefficient a normal double: the roots are those of the rounded data)
+    if (std::all_of(c.begin(), c.end(), [](double v) {
+          return std::abs(v) >= std::numeric_limits<double>::min() && std::abs(v) < 1e300;
+        }))
+      cases.push_back({c, roots});
+  }
+  int problems = 0;
+  for (const auto& [c, starts] : cases) {
+    const double largest = *std::max_element(starts.begin(), starts.end());
+    for (const double hi : {2 * largest, 1e3 * largest, 1e300}) {
+      if (!(hi > largest) || !std::isfinite(hi)) continue;
+      const auto ref = test::refineAll(c, starts, 0.0, hi);
+      std::ostringstream what;
+      what << "c0 " << c[0] << " hi " << hi;
+      ASSERT_FALSE(ref.empty()) << what.str();
+      ++problems;
+      std::vector<double> out(c.size());
+      out.resize(allRoots(c, {}, 0.0, hi, out));
+      ASSERT_EQ(out.size(), ref.size()) << what.str();
+      for (std::size_t i = 0; i < ref.size(); ++i)
+        EXPECT_LE(rootError(out[i], ref[i]), accuracyBound(ref[i])) << what.str() << " root " << i;
+      const auto first = firstRoot(c, {}, 0.0, hi);
+      ASSERT_TRUE(first) << what.str();
+      EXPECT_LE(rootError(*first, ref[0]), accuracyBound(ref[0])) << what.str();
+      RootOptions closed;
+      closed.closedLo = true;
+      const auto firstClosed = firstRoot(c, {}, 0.0, hi, closed);
+      ASSERT_TRUE(firstClosed) << what.str();
+      EXPECT_LE(rootError(*firstClosed, ref[0]), accuracyBound(ref[0])) << what.str();
+    }
+  }
+  EXPECT_GE(problems, 100);
+  // The audit's closedLo case: roots -1.24e117, -8.98e-73, -1.80e-106, -3.37e-114 and
+  // 4.67e-91; g(0) = -1.26e-230 against a noise bound of 1.5e-245.
+  const std::vector<double> negative = {-0x1.3938277fe5c59p-764, -0x1.2e3e7b6d47b03p-387,
+                                        -0x1.6ed45d0833315p-36,  0x1.81588baceb625p+264,
+                                        0x1.e5a74da67bc40p+503,  0x1.ee750d892a28fp+114};
+  const auto ref = test::refineAll(negative, {4.6732e-91}, 0.0, 1e300);
+  ASSERT_EQ(ref.size(), 1u);
+  for (const double hi : {1e100, 1e200, 1e300}) {
+    RootOptions closed;
+    closed.closedLo = true;
+    const auto r = firstRoot(negative, {}, 0.0, hi, closed);
+    ASSERT_TRUE(r) << hi;
+    EXPECT_LE(rootError(*r, ref[0]), accuracyBound(ref[0])) << hi;
   }
 }
 
