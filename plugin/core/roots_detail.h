@@ -453,9 +453,18 @@ T newtonIterate(const T* p, const T* noise, D deg, T a, T b, T fa, T x, T tol, b
       // bisection point, ignored the s^5 term of s^5 + 1e-92 s^2 + ...). That holds at any
       // ordinary convergence; elsewhere one more step is taken.
       const T step = std::abs(xn - x);
-      if (step <= tol || step <= 4 * kUnit<T> * std::abs(xn) ||
+      if (step <= 4 * kUnit<T> * std::abs(xn) ||
           (2 * step <= std::abs(x) && predictedBelow(df, dd, d3, halley, step, xn, deg)))
         return xn;
+      // A tolerance (RootOptions::relTolerance) ends the polish where a sign change within
+      // it of xn is seen: a step below it is no bound on the error (until session 52 it
+      // ended there, and answers lay up to 10 tolerances from the root).
+      if (step <= tol && tol > 0) [[unlikely]] {
+        const T lo = std::max(a, xn - tol), hi = std::min(b, xn + tol);
+        const bool negLo = lo == a ? negA : signBit(horner(p, deg, lo));
+        const bool negHi = hi == b ? !negA : signBit(horner(p, deg, hi));
+        if (negLo != negHi) return xn;
+      }
     }
     stepOld = std::abs(xn - x);
     x = xn;
