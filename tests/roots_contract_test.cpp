@@ -819,6 +819,111 @@ TEST(RootsContract, RootsSpreadOverHundredsOfBinadesAtLowDegree) {
   }
 }
 
+// Coefficients spread over the whole double range (session 52's review, against mpmath
+// sign checks): with the split of RootsSpreadOverHundredsOfBinadesAtLowDegree, allRoots
+// reported split points (-2^-427, -2^-585, -2^-850) where g keeps its sign and is far from
+// 0: the caller's-grid step (roots_frame.h), put into every frame of an interval below
+// 2^-52 with the slope over the whole frame, made g "within noise" at a piece's end. Now
+// only frames that reach the subnormal range get it, with the slope there; that also finds
+// roots 1.87e-251 and 1.65e-245 (none reported before, then 2^-815 under closedLo) and
+// -1.16e-187 (0 reported before, g(0) = 2e-301). Each case: allRoots and the walk agree,
+// every answer is an MPFR-certified root, and the counts are the sign changes mpmath saw.
+TEST(RootsContract, CoefficientsOverTheWholeDoubleRange) {
+  const struct {
+    int method;
+    bool closedLo;
+    double lo, hi;
+    std::vector<double> c;
+    std::size_t roots;
+  } cases[] = {
+      {0,
+       false,
+       0x0.0p+0,
+       0x1.7c7b9eb47a107p-79,
+       {0x1.747c865953278p-976, -0x1.5c2fea218347cp-143, 0x1.82cb2ede19fb7p+670,
+        0x1.be23a4029ae1dp+923, 0x1.c243640aa8016p+1002},
+       2},
+      {0,
+       true,
+       0x0.0p+0,
+       0x1.7c7b9eb47a107p-79,
+       {0x1.747c865953278p-976, -0x1.5c2fea218347cp-143, 0x1.82cb2ede19fb7p+670,
+        0x1.be23a4029ae1dp+923, 0x1.c243640aa8016p+1002},
+       2},
+      {0,
+       true,
+       -0x1.25d00b0927d69p+43,
+       0x0.0p+0,
+       {-0x1.814343e5f875ap-849, -0x1.8df5c350c2c8ap-273, -0x1.5fccf19bd07f1p+268,
+        -0x1.dc1c6dd7849bbp+736, -0x1.215af4e1ff9c9p+852, 0x1.ec6a23aa98ac6p+818},
+       4},
+      {0,
+       true,
+       -0x1.238006f62d58ep-282,
+       0x0.0p+0,
+       {0x1.3eebfe880d3e5p-955, -0x1.2eda65525fb9bp-49, 0x1.24afba43c022fp+698,
+        0x1.010ab6e902370p+981},
+       1},
+      {0,
+       true,
+       -0x1.66fb97e3ab47ep-283,
+       0x0.0p+0,
+       {0x1.23c1bfd98c739p-999, 0x1.20da7f0235c54p-378, -0x1.031609224ec45p+202,
+        0x1.03fc44f5ea249p+713, 0x1.72ce0716964b6p+996},
+       2},
+      {0,
+       true,
+       -0x1.25a3697f663ecp+174,
+       -0x1.e9f39771edd0fp-476,
+       {-0x1.3e91fa593a63dp-1000, -0x1.4ce803f023ea2p-526, 0x1.59877893d266ap-93,
+        -0x1.4f9e1b67a03c5p+299, -0x1.3e9e5c27a4b27p+644, -0x1.8204ab52122f1p+914,
+        0x1.f8cedf000af47p+740},
+       3},
+      {0,
+       false,
+       -0x1.8a3c0c2d1f491p-166,
+       0x1.8a3c0c2d1f491p-166,
+       {-0x1.ec4fd3227b7e6p-912, 0x1.a99825b34e5eep-305, 0x1.bc6476e92ed73p+177,
+        0x1.77ed315f2712ap+509, 0x1.7e65738708d6ap+682, 0x1.26e929a41f1afp+851},
+       5},
+      {2,
+       false,
+       -0x1.cc2cf0240d432p-162,
+       0x0.0p+0,
+       {-0x1.b0810ead854d8p-764, -0x1.6d0e47765df0bp+152, -0x1.d16e0f12ca444p+538,
+        0x1.02ec4dad52ed7p+701},
+       2},
+  };
+  for (std::size_t k = 0; k < std::size(cases); ++k) {
+    const auto& p = cases[k];
+    RootOptions o;
+    o.method = static_cast<RootMethod>(p.method);
+    o.closedLo = p.closedLo;
+    std::vector<double> out(p.c.size() + 1);
+    out.resize(allRoots(p.c, {}, p.lo, p.hi, out, o));
+    EXPECT_EQ(out.size(), p.roots) << k;
+    // (the walk: the first query as asked, the next ones from each root, open there)
+    std::vector<double> walk;
+    if (const auto r0 = firstRoot(p.c, {}, p.lo, p.hi, o)) {
+      RootOptions open = o;
+      open.closedLo = false;
+      walk = walkRoots(p.c, {}, *r0, p.hi, 2 * p.c.size(), open);
+      walk.insert(walk.begin(), *r0);
+    }
+    ASSERT_EQ(walk.size(), out.size()) << k;
+    const auto ref = test::refineAll(p.c, out, -std::numeric_limits<double>::infinity(),
+                                     std::numeric_limits<double>::infinity());
+    ASSERT_EQ(ref.size(), out.size()) << k;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      EXPECT_LE(rootError(out[i], ref[i]), accuracyBound(ref[i])) << k << " root " << i;
+      EXPECT_LE(rootError(walk[i], ref[i]), accuracyBound(ref[i])) << k << " walk " << i;
+    }
+    const auto first = firstRoot(p.c, {}, p.lo, p.hi, o);
+    ASSERT_TRUE(first) << k;
+    EXPECT_LE(rootError(*first, ref[0]), accuracyBound(ref[0])) << k;
+  }
+}
+
 // RootOptions::relTolerance is a tolerance on each root, not on the critical points that
 // split the interval into monotone pieces: with 1e-2 on (-4, 4] a critical point placed
 // 0.08 off put both ends of a pair of roots 0.028 apart on one side, and the pair was

@@ -259,10 +259,17 @@ bool toLocalSized(const T* c, Size size, std::span<const T> err, T lo, T hi, Loc
   // step is a normal number (e <= -52 in double, from intervals below 2^-52): elsewhere it
   // is below the smallest normal number, where G's own noise bound is far larger unless G
   // is that small, and the subnormal arithmetic is slow.
+  // Only where the interval reaches T's subnormal range, and with the slope over that part
+  // of it, |v| <= w = 2^(-1022 - e): elsewhere the caller's grid is relative, u |s|, which
+  // G's noise bound covers. (With the slope over the whole frame, and on intervals away
+  // from 0, the step in noise[0] made G "within noise" where g is far from 0: at the far
+  // end of a piece of rangeSplit, and at 0 beside roots near 1e-187; session 52's review.)
   constexpr int kSubnormalStep = Limits::min_exponent - Limits::digits;  // log2 denorm_min
-  if (e <= kSubnormalStep - (Limits::min_exponent - 1)) [[unlikely]] {
-    T slope = 0;
-    for (int j = 1; j <= n; ++j) slope += T(j) * std::abs(g.c[j]);
+  if (e <= kSubnormalStep - (Limits::min_exponent - 1) && lo < Limits::min() && hi > -Limits::min())
+      [[unlikely]] {
+    const T w = std::min(T(1), scale2(T(1), Limits::min_exponent - 1 - e));
+    T slope = 0;  // sum_j j |C_j| w^(j-1), by Horner in w
+    for (int j = n; j >= 1; --j) slope = slope * w + T(j) * std::abs(g.c[j]);
     g.noise[0] += scale2(Limits::denorm_min(), -e) * slope;
   }
 
