@@ -262,13 +262,20 @@ void accumulate(TrackedValue& acc, const TrackedValue& b, bool subtract) {
 
 namespace {
 
-// The magnitude of a product by the first-order rule of tracked_value.h: d(ab) = da b +
-// a db, so M = Ma |b| + |a| Mb, with k = ka + kb + m; the product's own rounding folds into
-// a term, |a||b| <= Ma |b|, and an exact factor (k = 0) drops the other term.
+// The magnitude of a product by the rule of tracked_value.h: with exact values a + da,
+// b + db, |da| <= gamma_ka Ma, |db| <= gamma_kb Mb, the product errs by at most
+// gamma_ka Ma |b| + gamma_kb |a| Mb + gamma_ka gamma_kb Ma Mb + its own rounding, all
+// within gamma_(ka + kb + m) (Ma |b| + |a| Mb + min(gamma_ka, gamma_kb) Ma Mb): the
+// rounding folds into a term, |a||b| <= Ma |b|, and an exact factor (k = 0) drops the
+// terms of its error. (The second-order term is what is left where both values lost every
+// digit: (1e17 + 1 - 1e17)^2 is 0 computed, 1 exact.)
+double secondOrder(std::int64_t ka, std::int64_t kb) { return std::min(gammaOf(ka), gammaOf(kb)); }
+
 double productMagnitude(const TrackedValue& a, const TrackedValue& b) {
   if (a.roundings == 0) return std::abs(a.value) * b.magnitude;
   if (b.roundings == 0) return a.magnitude * std::abs(b.value);
-  return a.magnitude * std::abs(b.value) + std::abs(a.value) * b.magnitude;
+  return a.magnitude * std::abs(b.value) + std::abs(a.value) * b.magnitude +
+         secondOrder(a.roundings, b.roundings) * (a.magnitude * b.magnitude);
 }
 
 // The same for polynomials (convolutions).
@@ -289,7 +296,7 @@ Polynomial productMagnitude(const Polynomial& a, const Polynomial& ma, std::int6
                             const Polynomial& b, const Polynomial& mb, std::int64_t kb) {
   if (ka == 0) return absolute(a) * mb;
   if (kb == 0) return ma * absolute(b);
-  return ma * absolute(b) + absolute(a) * mb;
+  return ma * absolute(b) + absolute(a) * mb + (ma * mb) * secondOrder(ka, kb);
 }
 
 // A of the product of two constants or monomials whose rounded product is r.
@@ -379,15 +386,8 @@ TrackedValue divide(const TrackedValue& a, const TrackedValue& d) {
   // x/3 has the same coefficient as 1/3. The magnitude rule: q = a/d with d perturbed by
   // gamma_kd Md gives |dq| <= |da|/|d| + |a| gamma_kd rho_d / |d| + u|q|.
   TrackedValue r;
-  // As for powers (setPowerBound), d's cancellation rho_d goes into the count where it
-  // fits: gamma_kd rho_d <= gamma_(ceil(rho_d) kd).
-  const double rho = conditionOf(d);
-  const double count =
-      static_cast<double>(a.roundings) + std::ceil(rho) * static_cast<double>(d.roundings) + 1.0;
-  const bool counted = count < 0x1p50;
-  const double scale = (counted ? 1.0 : rho) / std::abs(d.value);
-  const std::int64_t roundings = counted ? static_cast<std::int64_t>(count)
-                                         : addCounts(addCounts(a.roundings, d.roundings), 1);
+  const double scale = conditionOf(d) / std::abs(d.value);
+  const std::int64_t roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
   // A 4 Ad < |d| and gamma_kd Md < |d| / 2 (the pruning rule) keep |exact d| > |d| / 4.
   const double carry = 4.0 / std::abs(d.value);
   const double carryMagnitude = mulUp(carry, mulUp(d.underflow, 1.0 / std::abs(d.value)));
@@ -500,28 +500,6 @@ TrackedValue integerPower(const TrackedValue& a, int n) {
   return r;
 }
 
-namespace {
-
-// The bound of a fold whose error is at most gamma_kc a M + gamma_2 M + gamma_j M (a >= 0
-// the argument's amplification, j = extraCount): n gamma_k <= gamma_(n k) puts the factors
-// into the count, k = ceil(max(1, a)) kc + j + 2, and keeps M the value's own size. Beyond
-// the count's range (addCounts' cap) gamma_4 (k / 4) M is the same first-order bound.
-void setPowerBound(TrackedValue& r, double magnitude, double amplification,
-                   std::int64_t argumentCount, double extraCount) {
-  const double count =
-      std::ceil(std::max(1.0, amplification)) * static_cast<double>(argumentCount) + extraCount +
-      2.0;
-  r.magnitude = magnitude;
-  if (count < 0x1p50) {
-    r.roundings = static_cast<std::int64_t>(count);
-  } else {
-    r.roundings = 4;
-    r.magnitude = magnitude * (count / 4.0);
-  }
-}
-
-}  // namespace
-
 Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& r) {
   r = TrackedValue{};
   r.value = std::pow(c.value, e.value);
@@ -540,19 +518,12 @@ Fold constantPower(const TrackedValue& c, const TrackedValue& e, TrackedValue& r
       r.underflow = std::pow(gammaOf(c.roundings) * c.magnitude + c.underflow, e.value);
     return Fold::ok;
   }
-  // d(c^e)/(c^e) = e dc/c + ln|c| de: relative error |e| gamma_kc rho_c + |ln c| gamma_ke Me,
-  // plus pow's own rounding. The factors go into the count, n gamma_k <= gamma_(n k):
-  //   error <= gamma_(n kc) rho_c |c^e| + gamma_(m ke) |c^e| + gamma_2 |c^e|
-  //         <= gamma_(n kc + m ke + 2) rho_c |c^e|,   n = ceil(max(1, |e|)), m = ceil(|ln c| Me),
-  // so M = rho_c |c^e| stays the power's absolute size. (Until session 52 they went into
-  // M, 5.2 |c^e| for 3^2, and products multiply M: in (x + 3^2)^20 that factor's 20th
-  // power swallowed the constant 9^20 and three more coefficients, pruned as junk.)
+  // d(c^e)/(c^e) = e dc/c + ln|c| de: relative error |e| gamma_kc rho_c + |ln c| gamma_ke Me.
+  // (The factors stay in M, which is per value: the count k is shared by every term of a
+  // sum, and a factor moved into it, as tried in session 52, swallowed the other terms.)
   const double logc = std::abs(std::log(std::abs(c.value)));
-  const double exponentTerm = e.roundings > 0 && logc > 0.0
-                                  ? std::ceil(logc * e.magnitude) * static_cast<double>(e.roundings)
-                                  : 0.0;
-  setPowerBound(r, std::abs(r.value) * conditionOf(c), std::abs(e.value), c.roundings,
-                exponentTerm);
+  r.magnitude = std::abs(r.value) *
+                (std::max(1.0, std::abs(e.value)) * conditionOf(c) + logc * e.magnitude + 1.0);
   // Underflow terms: a base within a relative rho = Ac/|c| moves c^e by at most
   // (1 - rho)^-|e| - 1 relatively (both directions); beyond rho = 1/2 the base may be near
   // 0 and |c'^e - c^e| <= 2 (|c| + Ac)^e (e > 0) or is unbounded (e < 0). The exponent's
@@ -613,17 +584,38 @@ Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
   } else {
     return Fold::unknownFunction;
   }
-  // log's slope 1/|x| overflows for a subnormal x, where slope * Mx, about 1, does not.
-  const double spread = name == "log" || name == "ln" ? mx / std::abs(x) : slope * mx;
-  // error <= gamma_kc spread + gamma_2 |f(c)|: as for powers (constantPower), the argument's
-  // amplification a = spread / |f(c)| goes into the count where f(c) != 0, so that
-  // products of the value add counts instead of multiplying magnitudes ((x + exp(3))^40
-  // kept 23 of 41 coefficients until session 52).
-  setPowerBound(r, std::abs(r.value), spread / std::abs(r.value), c.roundings, 0.0);
-  if (r.value == 0.0 || !std::isfinite(r.magnitude)) {
-    r.magnitude = std::abs(r.value) + spread;
-    r.roundings = addCounts(c.roundings, 2);
+  // The slope's largest value within the argument's error delta = 2 gamma_kc Mc + Ac (the
+  // factor 2 of the pruning rule), not the slope at c alone, which a first-order bound
+  // would take: cos has slope 0 at 0, and an argument known to a radian or worse gave cos a
+  // confident 1 (cos(3e14*pi - (3e14*pi - 3.4822)) read cos(0) = 1, exact -0.94; session
+  // 52's review). Where delta reaches a pole or the edge of the domain, or spans a radian
+  // (sin, cos, tan) or a factor e (exp), the value has no correct digit (sin(pi/2 + (1e17
+  // + 1 - 1e17)) read 0: its argument, pruned to 0, was 0 +- 800).
+  const bool isLog = name == "log" || name == "ln";
+  const double delta = 2.0 * gammaOf(c.roundings) * mx + c.underflow;
+  bool determined = true;
+  double spread = 0.0;  // the slope's bound over the argument's error, times Mc
+  if (name == "sin" || name == "cos") {
+    determined = delta <= 1.0;
+    slope = std::min(1.0, slope + delta);
+  } else if (name == "tan") {
+    const double angle = std::atan(std::abs(r.value));  // distance of |x| mod pi from 0
+    determined = delta <= 1.0 && angle + delta < 0.5 * std::numbers::pi;
+    const double t = std::tan(angle + delta);
+    if (determined) slope = std::max(slope, 1.0 + t * t);
+  } else if (name == "exp") {
+    determined = delta <= 1.0;
+    slope = r.value * std::exp(std::min(delta, 1.0));
+  } else if (isLog && x > 0.0) {
+    determined = delta < 0.5 * x;
+  } else if (name == "sqrt" && x > 0.0) {
+    determined = delta < 0.5 * x;
+    if (determined) slope = 0.5 / std::sqrt(x - delta);
   }
+  // log's slope 1/|x| overflows for a subnormal x, where Mx / |x|, about 1, does not.
+  spread = isLog ? mx / (x > 0.0 && determined ? x - delta : std::abs(x)) : slope * mx;
+  r.magnitude = std::abs(r.value) + spread;
+  if (!determined) return Fold::undetermined;
   // The argument's underflow term to first order, except where the slope blows up within
   // it: sqrt moves by at most min(sqrt(Ac), Ac / sqrt(x)), log by -log1p(-Ac/|x|).
   double shift = mulUp(slope, c.underflow);

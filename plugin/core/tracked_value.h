@@ -21,31 +21,31 @@
 // Without it a coefficient lost to underflow and scaled back up (x*1e-170*1e-170*1e300)
 // looked exact: the parser refuses a value it swallows (underflowLoss below).
 //
-// M is a first-order error weight. For sums it is the "absolute" expansion of Higham,
-// "Accuracy and Stability of Numerical Algorithms", 2nd ed., Sec. 3.1-3.3 (the same sum
-// with |.| of every term, so M_i bounds every partial sum that fed v_i); for products it
-// follows d(ab) = da b + a db, and the factors of powers, functions and divisors go into
-// the count (n gamma_k <= gamma_(n k)), so that a value's cancellation enters a product
-// once and not to the power of the number of factors. The rules (first order in u, the
-// factor 2 of the pruning rule covers the second-order terms):
+// M is an error weight. For sums it is the "absolute" expansion of Higham, "Accuracy and
+// Stability of Numerical Algorithms", 2nd ed., Sec. 3.1-3.3 (the same sum with |.| of every
+// term, so M_i bounds every partial sum that fed v_i); for products it follows
+// d(ab) = da b + a db + da db, so that a value's cancellation enters a product once and not
+// to the power of the number of factors. The rules (first order in u except the products'
+// own second-order term; the factor 2 of the pruning rule covers the rest):
 //   literal, pi, e, parameter   k = 1 (one rounding to double), M = |v|
 //   a +- b                      k = max(ka, kb) + 1,  M = Ma + Mb          (Lemma 3.3)
-//   a * b (b a constant)        k = ka + kb + 1,      M = Ma |b| + |a| Mb
-//   a * b (polynomials)         k = ka + kb + m,      M = Ma * |b| + |a| * Mb
+//   a * b (b a constant)        k = ka + kb + 1,      M = Ma |b| + |a| Mb + g Ma Mb
+//   a * b (polynomials)         k = ka + kb + m,      M = Ma * |b| + |a| * Mb + g Ma * Mb
 //                               m = min(non-zeros of a, b): the longest convolution sum
 //                               (recursive summation of m products, Higham Eq. (3.4));
-//                               an exact factor (k = 0) drops the other term
-//   a / d (d a constant)        k = ka + ceil(rho_d) kd + 1,  M = Ma / |d|, rho_d = Md/|d|
+//                               g = min(gamma_ka, gamma_kb); an exact factor (k = 0) drops
+//                               the terms of its error
+//   a / d (d a constant)        k = ka + kd + 1,      M = Ma * rho_d / |d|, rho_d = Md/|d|
 //   a^n (repeated products)     k and M from the product rule applied n-1 times
-//   c^e (constants, libm pow)   k = n kc + m ke + 2,  M = |c^e| rho_c,
-//                               n = ceil(max(1, |e|)), m = ceil(|ln|c|| Me)
-//   f(c) for sqrt, sin, ...     k = ceil(max(1, a)) kc + 2 (libm within 1 ulp), M = |f(c)|,
-//                               a = |f'(c)| Mc / |f(c)|; where f(c) = 0: k = kc + 2,
-//                               M = |f'(c)| Mc
-// (A count beyond 2^50 keeps k = 4 and puts the rest into M.) Until session 52 M was the
-// absolute expansion throughout, M(ab) = Ma Mb, and those factors were in M: products
-// multiplied them, and (x + 3^2)^40 lost 22 of its 41 coefficients to the pruning rule,
-// (x + 2 - 1)^40 13, (x + (1.0001 - 1))^10 7.
+//   c^e (constants, libm pow)   k = max(kc, ke) + 2,
+//                               M = |c^e| (max(1, |e|) rho_c + |ln|c|| Me + 1)
+//   f(c) for sqrt, sin, ...     k = kc + 2 (libm within 1 ulp), M = |f(c)| + s Mc, s the
+//                               largest |f'| within the argument's error 2 gamma_kc Mc + Ac;
+//                               a pole or the domain's edge within it: no correct digit
+// The factors of powers, functions and divisors stay in M, which is per coefficient: the
+// count k is shared by every term of a sum. Until session 52 a product's M was Ma Mb (the
+// absolute expansion throughout), and (x + 3^2)^40 lost 22 of its 41 coefficients to the
+// pruning rule, (x + 2 - 1)^40 13, (x + exp(3))^40 18; functions took the slope at c alone.
 //
 // Pruning rule (applied after every operation that can cancel: *, /, ^, functions, and
 // once at the end of each chain a1 +- a2 +- ... +- an):
