@@ -69,9 +69,11 @@ struct RootOptions {
   RootMethod method = RootMethod::Auto;
   // Relative tolerance on a root, relative to the interval length, in [0, 1] (else the
   // solvers throw Error); 0 means full precision (iterate until the root is bracketed to
-  // adjacent doubles or Newton stalls). Every root is still reported, each within the
-  // tolerance of a sign change of g (the critical points that separate roots are found to
-  // full precision whatever it is).
+  // adjacent doubles or Newton stalls). Auto, Yuksel and ClosedForm still report every
+  // root, each within the tolerance of a sign change of g (the critical points that
+  // separate roots are found to full precision whatever it is); a walk from such an answer,
+  // firstRoot(c, err, answer, hi), can meet the same root again. The comparison solvers
+  // (Sturm, Bernstein) can lose roots closer together than the tolerance.
   double relTolerance = 0.0;
   // The interval is (lo, hi]: a root within noise of lo is the one a caller walking the
   // roots already has (firstRoot(c, err, previousRoot, hi)), and is not reported. With
