@@ -387,14 +387,13 @@ TrackedValue divide(const TrackedValue& a, const TrackedValue& d) {
   // gamma_kd Md gives |dq| <= |da|/|d| + |a| gamma_kd rho_d / |d| + u|q|.
   TrackedValue r;
   const double scale = conditionOf(d) / std::abs(d.value);
-  const std::int64_t roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
   // A 4 Ad < |d| and gamma_kd Md < |d| / 2 (the pruning rule) keep |exact d| > |d| / 4.
   const double carry = 4.0 / std::abs(d.value);
   const double carryMagnitude = mulUp(carry, mulUp(d.underflow, 1.0 / std::abs(d.value)));
-  r.roundings = roundings;
+  r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
   if (!a.hasVariables || a.monomial) {
     r = a;
-    r.roundings = roundings;
+    r.roundings = addCounts(addCounts(a.roundings, d.roundings), 1);
     r.value = a.value / d.value;
     r.magnitude = a.magnitude * scale;
     r.underflow = mulUp(carry, a.underflow) + mulUp(carryMagnitude, a.magnitude) +
@@ -594,12 +593,11 @@ Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
   const bool isLog = name == "log" || name == "ln";
   const double delta = 2.0 * gammaOf(c.roundings) * mx + c.underflow;
   bool determined = true;
-  double spread = 0.0;  // the slope's bound over the argument's error, times Mc
   if (name == "sin" || name == "cos") {
     determined = delta <= 1.0;
     slope = std::min(1.0, slope + delta);
   } else if (name == "tan") {
-    const double angle = std::atan(std::abs(r.value));  // distance of |x| mod pi from 0
+    const double angle = std::atan(std::abs(r.value));  // x's distance from a multiple of pi
     determined = delta <= 1.0 && angle + delta < 0.5 * std::numbers::pi;
     const double t = std::tan(angle + delta);
     if (determined) slope = std::max(slope, 1.0 + t * t);
@@ -613,7 +611,7 @@ Fold applyFunction(std::string_view name, const TrackedValue& c, TrackedValue& r
     if (determined) slope = 0.5 / std::sqrt(x - delta);
   }
   // log's slope 1/|x| overflows for a subnormal x, where Mx / |x|, about 1, does not.
-  spread = isLog ? mx / (x > 0.0 && determined ? x - delta : std::abs(x)) : slope * mx;
+  const double spread = isLog ? mx / (x > 0.0 && determined ? x - delta : std::abs(x)) : slope * mx;
   r.magnitude = std::abs(r.value) + spread;
   if (!determined) return Fold::undetermined;
   // The argument's underflow term to first order, except where the slope blows up within
