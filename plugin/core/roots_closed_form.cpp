@@ -355,7 +355,11 @@ int solveQuartic(const LocalPoly<T>& g, Query q, T tol, LocalRoot<T>* out, int m
       if (interior) crit[nCrit++] = xb;
     } else if (fa != 0 && signBit(fa) != signBit(fb)) {
       if (nDRoots < 0) nDRoots = monicCubicRoots(d[2] / d[3], d[1] / d[3], d[0] / d[3], dRoots);
-      crit[nCrit++] = polishedRoot(d, dNoise, Deg<3>{}, dRoots, nDRoots, xa, xb, fa, fb, tol);
+      // To full precision whatever the tolerance, as in Yuksel's recursion (roots_yuksel.cpp,
+      // solveDirect): a critical point off by the tolerance can put both ends of a pair of
+      // roots on one side of it (the quartic with roots near 1e-56, 6e4 and 9e51 on (0,
+      // 1.8e52] at relTolerance 1e-3 answered 9e51 until session 53).
+      crit[nCrit++] = polishedRoot(d, dNoise, Deg<3>{}, dRoots, nDRoots, xa, xb, fa, fb, T(0));
     }
     xa = xb;
     fa = fb;
