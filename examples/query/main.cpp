@@ -7,6 +7,7 @@
 // Exit codes: 0 success, 2 bad flags, equation or input rows (message on stderr with
 // the line or column), 1 anything else (I/O, Embree).
 #include "cli_text.h"
+#include "equation_place.h"
 #include "ray_csv.h"
 
 #include "algray/cells.h"
@@ -246,8 +247,20 @@ int run(int argc, char** argv) {
         hint = " (or did you mean " + hint + "?)";
       else if (!e.unknownName().empty())
         hint = " (give it a value with --param " + e.unknownName() + "=VALUE)";
-      throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() +
-                       hint + "\n  " + equation + "\n  " + caretPad(equation, e.column()) + "^");
+      // An equation with line breaks: the line and its column, and that line shown.
+      const cli::EquationPlace at = cli::equationPlace(equation, e.column());
+      if (!at.multiLine)
+        throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() +
+                         hint + "\n  " + equation + "\n  " + caretPad(equation, e.column()) + "^");
+      std::string message = e.message();
+      if (e.relatedColumn() > 0) {
+        const cli::EquationPlace other = cli::equationPlace(equation, e.relatedColumn());
+        message = e.messageWith("line " + std::to_string(other.line) + ", column " +
+                                std::to_string(other.column));
+      }
+      throw UsageError("--surface: line " + std::to_string(at.line) + ", column " +
+                       std::to_string(at.column) + ": " + message + hint + "\n  " +
+                       std::string(at.text) + "\n  " + caretPad(at.text, at.column) + "^");
     }
     if (clipSphere.empty() && clipBox.empty())
       throw UsageError("one of --clip-sphere R or --clip-box X0,Y0,Z0,X1,Y1,Z1 is required");

@@ -2,6 +2,7 @@
 // docs/render-summary.md. Exit codes: 0 done, 2 bad input (scene, file, option),
 // 1 other failures, 130 interrupted (the partial image is still written).
 #include "cli_text.h"
+#include "equation_place.h"
 #include "image_backend.h"
 #include "image_io.h"
 #include "pov_export.h"
@@ -83,7 +84,9 @@ int main(int argc, char** argv) {
   bool quiet = false, listGallery = false, sturm = false;
   app.add_option("scene", input, "SCENE.json or SURFACE.jsurf (default: the built-in scene)");
   app.add_option("-o,--output", output,
-                 "output image: .png (tone-mapped sRGB) or .exr (linear + AOVs)");
+                 "output image (default algray.png): .exr, .tif (linear, with AOVs), .hdr "
+                 "(linear) or an 8-bit format OpenImageIO writes, as .png or .jpg "
+                 "(tone-mapped sRGB)");
   app.add_option("--width", width, "image width")
       ->transform(algray::cli::decimal())
       ->check(CLI::Range(1, 1 << 15));
@@ -115,7 +118,9 @@ int main(int argc, char** argv) {
   // ignored, even when invalid (--clip-sphere -5 with a .jsurf file rendered with exit 0).
   app.add_option("--param", params, "quick mode: equation parameter NAME=VALUE (repeatable)")
       ->needs(surfaceOpt);
-  app.add_option("--clip-sphere", clipSphere, "quick mode: clip sphere radius")->needs(surfaceOpt);
+  app.add_option("--clip-sphere", clipSphere,
+                 "quick mode: clip sphere radius (default: the gallery surface's, or 2)")
+      ->needs(surfaceOpt);
   auto* exportOpt = app.add_option("--export-pov", exportPov,
                                    "write the scene as a POV-Ray scene to this file and exit");
   app.add_flag("--sturm", sturm, "with --export-pov: ask POV-Ray for Sturm root isolation")
@@ -189,12 +194,24 @@ int main(int argc, char** argv) {
           throw SceneError("--param", 0, 0, param.name + ": given more than once");
       }
       if (clipSphere) q.clipRadius = *clipSphere;
+      q.width = width;
+      q.height = height;
       try {
         desc = quickScene(q);
       } catch (const algray::ParameterError& e) {
         throw SceneError("--param", 0, 0, e.name() + ": " + e.message());
       } catch (const algray::ParseError& e) {
-        throw SceneError("--surface", 1, e.column(), e.message());
+        // The equation's own line and column where it has line breaks (a second place the
+        // message names likewise).
+        using algray::cli::equationPlace;
+        const algray::cli::EquationPlace at = equationPlace(surface, e.column());
+        std::string message = e.message();
+        if (at.multiLine && e.relatedColumn() > 0) {
+          const algray::cli::EquationPlace other = equationPlace(surface, e.relatedColumn());
+          message = e.messageWith("line " + std::to_string(other.line) + ", column " +
+                                  std::to_string(other.column));
+        }
+        throw SceneError("--surface", at.line, at.column, message);
       }
     } else if (input.empty()) {
       desc = defaultScene();
@@ -360,6 +377,19 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "algray-render: %s\n", e.what());
       return 2;
     }
+    // A surface no camera ray met first is worth a word too (exit code 0): in quick mode
+    // x^2+y^2+z^2 = 1e-6 in the default clip sphere covers a tenth of a pixel, and the
+    // picture showed the floor alone without a message.
+    if (!stats.interrupted)
+      for (const Scene::DrawnSurface& drawn : scene.drawnSurfaces()) {
+        const float id = static_cast<float>(drawn.geomID + 1);
+        if (std::find(image.id.begin(), image.id.end(), id) != image.id.end()) continue;
+        std::fprintf(stderr,
+                     "algray-render: warning: %s: no camera ray hit the surface first (it is "
+                     "smaller than a pixel, outside the view or behind other objects)%s\n",
+                     drawn.label.c_str(),
+                     quick ? "; a smaller --clip-sphere frames a small surface closer" : "");
+      }
     std::printf("algray-render: %s, %dx%d, %d spp, %s: %.2f s, %llu rays, %.2f Mrays/s -> %s%s\n",
                 desc.name.c_str(), s.width, s.height, s.spp,
                 s.integrator == IntegratorType::Path ? "path" : "direct", stats.seconds,

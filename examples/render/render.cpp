@@ -120,7 +120,7 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
       std::unique_lock lock(mutex);
       while (!wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished; })) {
         std::uint64_t rays = 0;
-        for (const RayCounter& c : counters) rays += c.rays;  // racy read, display only
+        for (const RayCounter& c : counters) rays += c.count();
         drawProgress(tilesDone.load(), stats.tilesTotal, elapsed(), rays);
       }
     });
@@ -161,7 +161,7 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
     monitor.join();
   }
   stats.seconds = elapsed();
-  for (const RayCounter& c : counters) stats.rays += c.rays;
+  for (const RayCounter& c : counters) stats.rays += c.count();
   stats.tilesDone = tilesDone.load();
   stats.interrupted = interrupted.load();
   for (size_t i = 0; i < image.overflow.size(); ++i)

@@ -144,8 +144,10 @@ void Scene::build() {
     } catch (const std::exception& e) {
       throw std::runtime_error(item.label + ": " + e.what());
     }
-    if (g->surface->primitiveCount() == 0) emptySurfaces_.push_back(item.label);
+    const bool empty = g->surface->primitiveCount() == 0;
+    if (empty) emptySurfaces_.push_back(item.label);
     unsigned id = rtcAttachGeometry(scene_, g->surface->geometry());
+    if (!empty) drawnSurfaces_.push_back({id, item.label});
     if (geoms_.size() <= id) geoms_.resize(id + 1);
     geoms_[id] = std::move(g);
   }
@@ -255,7 +257,7 @@ void Scene::release() noexcept {
 
 std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir, double tnear,
                                     RayCounter& counter) const {
-  ++counter.rays;
+  counter.add();
   RTCRayHit rh{};
   rh.ray.org_x = static_cast<float>(org.x);
   rh.ray.org_y = static_cast<float>(org.y);
@@ -333,7 +335,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
 
 bool Scene::occluded(const glm::dvec3& org, const glm::dvec3& dir, double tnear, double tfar,
                      RayCounter& counter) const {
-  ++counter.rays;
+  counter.add();
   RTCRay ray{};
   ray.org_x = static_cast<float>(org.x);
   ray.org_y = static_cast<float>(org.y);

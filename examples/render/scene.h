@@ -28,7 +28,12 @@ struct Hit {
 };
 
 struct RayCounter {
-  std::uint64_t rays = 0;
+  // Counted by one render thread, read while it runs by the progress bar's thread: a relaxed
+  // atomic, loaded and stored (one writer: no read-modify-write needed), so that read is no
+  // data race (ThreadSanitizer's view of the plain integer, session 53's audit).
+  std::atomic<std::uint64_t> rays{0};
+  void add() { rays.store(rays.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed); }
+  std::uint64_t count() const { return rays.load(std::memory_order_relaxed); }
 };
 
 // A sampled point on a light, as seen from a shading point.
@@ -91,6 +96,13 @@ class Scene {
   // range bounds proved every cell empty: SurfaceGeometry::primitiveCount() is 0), so
   // that a tool can say why they are not in the picture.
   const std::vector<std::string>& emptySurfaces() const { return emptySurfaces_; }
+  // The other algebraic surfaces (geometry ID and label), for a tool to tell which of them
+  // no camera ray hit (Image::id).
+  struct DrawnSurface {
+    unsigned geomID;
+    std::string label;
+  };
+  const std::vector<DrawnSurface>& drawnSurfaces() const { return drawnSurfaces_; }
 
  private:
   struct Geom;
@@ -110,6 +122,7 @@ class Scene {
   double radius_ = 1.0;
   glm::dvec3 frameOrigin_{0.0};
   std::vector<std::string> emptySurfaces_;
+  std::vector<DrawnSurface> drawnSurfaces_;
 };
 
 }  // namespace algray::render

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <vector>
 
@@ -168,8 +169,11 @@ SceneDesc quickScene(const QuickOptions& options) {
   SceneDesc scene;
   SurfaceItem s;
   double r = options.clipRadius.value_or(0.0);
-  if (options.clipRadius && !(r > 0 && std::isfinite(r)))
-    throw Error("--clip-sphere must be a positive number, got " + std::to_string(r));
+  if (options.clipRadius && !(r > 0 && std::isfinite(r))) {
+    char shown[32];  // %g: std::to_string's %f showed -1e-9 as -0.000000
+    std::snprintf(shown, sizeof shown, "%g", r);
+    throw Error("--clip-sphere must be a positive number, got " + std::string(shown));
+  }
   if (const GallerySurface* g = findGallerySurface(options.surface)) {
     // As a scene file's gallery entry: its parameters are built in, a --param is a mistake.
     if (!options.parameters.empty())
@@ -190,7 +194,7 @@ SceneDesc quickScene(const QuickOptions& options) {
       std::string hint = galleryHint(options.surface);
       if (hint.empty() && !e.unknownName().empty())
         hint = " (give it a value with --param " + e.unknownName() + "=VALUE)";
-      throw ParseError(e.column(), e.message() + hint);
+      throw e.withHint(hint);
     }
     if (!options.clipRadius) r = 2.0;
     // The library's refusals of the surface may be about the clip sphere's size: name it
@@ -221,12 +225,18 @@ SceneDesc quickScene(const QuickOptions& options) {
   MeshItem plane{"floor", makePlane(20.0 * r), glm::translate(glm::dmat4(1.0), {0, 0, -r}),
                  scene.addMaterial(floor), -1};
   scene.meshes.push_back(plane);
-  // Camera: the clip sphere fills ~85% of the image height.
-  scene.settings.width = 512;
-  scene.settings.height = 512;
+  // Camera: the clip sphere fills ~85% of the image's shorter side. fovY is the vertical
+  // angle, so a portrait image sees less across: its half-angle there is atan(tan(fovY / 2)
+  // W / H) (framed by the height alone, --width 200 made a 200 x 512 image that cut the
+  // surface off at both sides).
+  scene.settings.width = options.width.value_or(options.height.value_or(512));
+  scene.settings.height = options.height.value_or(options.width.value_or(512));
   scene.settings.spp = 16;
   scene.camera.fovY = 30.0;
-  double distance = r / std::sin(0.5 * scene.camera.fovY * kPi / 180.0) / 0.85;
+  const double aspect = static_cast<double>(scene.settings.width) / scene.settings.height;
+  const double halfAngle =
+      std::atan(std::tan(0.5 * scene.camera.fovY * kPi / 180.0) * std::min(1.0, aspect));
+  double distance = r / std::sin(halfAngle) / 0.85;
   scene.camera.lookAt = glm::dvec3(0.0);
   scene.camera.position = distance * glm::normalize(glm::dvec3(0.55, -1.0, 0.45));
   scene.directionalLights.push_back({glm::dvec3(-0.4, -0.6, 1.0), glm::dvec3(2.6)});

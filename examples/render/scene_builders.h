@@ -18,9 +18,12 @@ struct QuickOptions {
   std::string surface;  // an equation or a gallery name
   std::map<std::string, double, std::less<>> parameters;
   std::optional<double> clipRadius;  // unset: the gallery's radius, or 2 for an equation
+  // The image size asked for; unset: 512 x 512, and one of them alone keeps it square.
+  std::optional<int> width, height;
 };
 // The surface centred at the origin inside its clip sphere of radius R, a floor at
-// z = -R, a camera that frames the sphere, one directional light with shadows and a
+// z = -R, a camera that frames the sphere in the image's shorter side, one directional
+// light with shadows and a
 // constant environment (ambient light). Throws algray::Error / ParseError.
 SceneDesc quickScene(const QuickOptions& options);
 // True when f has no real zero for a reason read off its terms: every term an even power

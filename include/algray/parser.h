@@ -53,6 +53,8 @@ class ParseError : public Error {
   // message() with its "column N" of relatedColumn() written as `place` ("line 2, column
   // 30"); message() itself when there is no second place.
   std::string messageWith(std::string_view place) const;
+  // A copy with `more` appended to the message (a caller's hint), the second place kept.
+  ParseError withHint(const std::string& more) const;
 
  private:
   int column_;

@@ -42,6 +42,13 @@ std::string ParseError::messageWith(std::string_view place) const {
   return relatedColumn_ > 0 ? before_ + std::string(place) + after_ : message_;
 }
 
+ParseError ParseError::withHint(const std::string& more) const {
+  ParseError e = relatedColumn_ > 0 ? ParseError(column_, before_, relatedColumn_, after_ + more)
+                                    : ParseError(column_, message_ + more);
+  e.unknownName_ = unknownName_;
+  return e;
+}
+
 ParameterError::ParameterError(const std::string& name, const std::string& message)
     : Error("parameter '" + name + "': " + message), name_(name), message_(message) {}
 

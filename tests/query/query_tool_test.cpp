@@ -920,6 +920,14 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2+\ty^2+(z\" --clip-sphere 2 " + common(good),
        "column 10: unbalanced parenthesis: '(' is never closed\n  x^2+\ty^2+(z\n"
        "      \t    ^\n"},
+      // An equation with line breaks: its line, the column in it, and that line under the
+      // caret (the caret stood 16 columns into the whole text; session 53).
+      {"--surface \"x^2+y^2\n+z²-1 q\" --clip-sphere 2 " + common(good),
+       "--surface: line 2, column 7: missing operator before 'q' (write a product with '*')\n"
+       "  +z²-1 q\n        ^\n"},
+      {"--surface \"(x^2+y^2\r\n+z^2-1 = 3\" --clip-sphere 2 " + common(good),
+       "line 2, column 8: expected ')' to close '(' at line 1, column 1 but found '='\n"
+       "  +z^2-1 = 3\n         ^\n"},
       {"--surface \"x^2-a\" --param a --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2-a\" --param a=zz --clip-sphere 2 " + common(good), "--param"},
       {"--surface \"x^2+y^2+z^2-1\" --param x=1 --clip-sphere 2 " + common(good),

@@ -42,6 +42,48 @@ TEST(QuickScene, ClipSphereFillsMostOfTheFrame) {
   EXPECT_LT(missDistance(0.1 * s.settings.height), clip.radius);
 }
 
+// A portrait image frames the clip sphere in its width (framed by the height alone, a
+// 60 x 240 image cut the sphere off at both sides), and one size given alone keeps quick
+// mode's square (--width 200 made 200 x 512).
+TEST(QuickScene, ClipSphereFitsTheShorterSide) {
+  for (const auto& [w, h] : {std::pair{60, 240}, std::pair{240, 60}, std::pair{300, 300}}) {
+    QuickOptions q;
+    q.surface = "x^2 + y^2 + z^2 - 1";
+    q.width = w;
+    q.height = h;
+    const SceneDesc s = quickScene(q);
+    ASSERT_EQ(s.settings.width, w);
+    ASSERT_EQ(s.settings.height, h);
+    const auto& clip = std::get<ClipSphere>(s.surfaces[0].clip);
+    const Camera cam(s.camera, w, h);
+    auto missDistance = [&](double x, double y) {
+      const CameraRay r = cam.generateRay({x, y}, {0.5, 0.5});
+      const glm::dvec3 toCenter = clip.center - r.org;
+      return glm::length(toCenter - glm::dot(toCenter, r.dir) * r.dir);
+    };
+    // The rays through the middle of each edge pass outside the sphere; the rays a tenth of
+    // the shorter side in from the edges of the shorter side pass through it.
+    EXPECT_GT(missDistance(0.0, h / 2.0), clip.radius) << w << "x" << h;
+    EXPECT_GT(missDistance(w, h / 2.0), clip.radius) << w << "x" << h;
+    EXPECT_GT(missDistance(w / 2.0, 0.0), clip.radius) << w << "x" << h;
+    EXPECT_GT(missDistance(w / 2.0, h), clip.radius) << w << "x" << h;
+    const double in = 0.1 * std::min(w, h);
+    if (w <= h) {
+      EXPECT_LT(missDistance(in, h / 2.0), clip.radius) << w << "x" << h;
+    } else {
+      EXPECT_LT(missDistance(w / 2.0, in), clip.radius) << w << "x" << h;
+    }
+  }
+  for (const bool widthOnly : {true, false}) {
+    QuickOptions q;
+    q.surface = "x^2 + y^2 + z^2 - 1";
+    (widthOnly ? q.width : q.height) = 200;
+    const SceneDesc s = quickScene(q);
+    EXPECT_EQ(s.settings.width, 200);
+    EXPECT_EQ(s.settings.height, 200);
+  }
+}
+
 TEST(QuickScene, BadEquationThrowsParseError) {
   QuickOptions q;
   q.surface = "x^2 + * 3";

@@ -806,6 +806,24 @@ TEST(RenderProgram, SurfacesOutsideTheirClipRegionAreNamed) {
   std::filesystem::remove(image);
 }
 
+// A surface in the picture that no camera ray hits (a tenth of a pixel across: the floor
+// alone, without a word until session 53) gets a warning, and a smaller clip sphere, which
+// frames it, none.
+TEST(RenderProgram, SurfacesNoCameraRayHitsAreNamed) {
+  const std::string warning = "no camera ray hit the surface first";
+  const std::string image = (std::filesystem::temp_directory_path() / "algray_tiny.png").string();
+  const std::string small = " --width 40 --height 30 --spp 1 -q -o " + image;
+  auto [code, out] = runRender("--surface \"x^2+y^2+z^2-1e-6\"" + small);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("warning: --surface: " + warning), std::string::npos) << out;
+  EXPECT_NE(out.find("a smaller --clip-sphere frames a small surface closer"), std::string::npos)
+      << out;
+  std::tie(code, out) = runRender("--surface \"x^2+y^2+z^2-1e-6\" --clip-sphere 2e-3" + small);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_EQ(out.find(warning), std::string::npos) << out;
+  std::filesystem::remove(image);
+}
+
 // An equation or a gallery name given where the scene file goes gets the command that
 // renders it; a missing file that looks like neither is just missing.
 TEST(RenderProgram, EquationsAndGalleryNamesInPlaceOfASceneFileGetTheCommand) {
@@ -873,6 +891,11 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // default scene rendered, its options ignored), an unwritable --export-pov and a
       // negative --seed (wrapped to 2^64 - 1) were accepted with exit code 0.
       {"--surface '' --param a=1", "--surface:1:1: empty equation"},
+      // An equation with line breaks: the place in its own lines (it was "--surface:1:16:",
+      // the code point counted through the line break; session 53).
+      {"--surface \"x^2+y^2\n+z^2-1 q\"", "--surface:2:8: missing operator before 'q'"},
+      {"--surface \"(x^2+y^2\r\n+z^2-1 = 3\"",
+       "--surface:2:8: expected ')' to close '(' at line 1, column 1 but found '='"},
       {"--surface sphere --export-pov ''", "--export-pov: the file name is empty"},
       {"--surface sphere --export-pov /nonexistent/dir/a.pov", "cannot write there"},
       // Surfaces the plugin refuses were exported (exit code 0) as files POV-Ray cannot

@@ -1,0 +1,42 @@
+#pragma once
+// Where the parser's column lies in an equation typed with line breaks (pasted from a paper
+// or a file): the parser counts code points through the whole text, so "x^2+y^2\n+z^2-1 q"
+// had its 'q' at "column 16" of "line 1", and algray-query's caret stood 16 columns into
+// the two-line equation, under nothing.
+#include <string_view>
+
+namespace algray::cli {
+
+struct EquationPlace {
+  int line = 1;            // 1-based; lines end at "\n", "\r\n" or a lone "\r"
+  int column = 1;          // 1-based, in code points of that line
+  std::string_view text;   // that line, without its ending
+  bool multiLine = false;  // whether the equation has a line break at all
+};
+
+inline EquationPlace equationPlace(std::string_view equation, int column) {
+  EquationPlace at;
+  size_t lineStart = 0;
+  int character = 1;  // the parser's column of equation[i]
+  for (size_t i = 0; i < equation.size(); ++i) {
+    const char ch = equation[i];
+    if ((static_cast<unsigned char>(ch) & 0xC0) == 0x80) continue;  // inside a character
+    if (character == column) break;
+    ++character;
+    ++at.column;
+    const bool crlf = ch == '\r' && i + 1 < equation.size() && equation[i + 1] == '\n';
+    if (ch == '\n' || (ch == '\r' && !crlf)) {
+      ++at.line;
+      at.column = 1;
+      lineStart = i + 1;
+    }
+  }
+  size_t lineEnd = lineStart;
+  while (lineEnd < equation.size() && equation[lineEnd] != '\n' && equation[lineEnd] != '\r')
+    ++lineEnd;
+  at.text = equation.substr(lineStart, lineEnd - lineStart);
+  at.multiLine = equation.find_first_of("\r\n") != std::string_view::npos;
+  return at;
+}
+
+}  // namespace algray::cli
