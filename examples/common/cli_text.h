@@ -3,8 +3,11 @@
 // syntax in number_text.h, which the ray file reader uses too).
 #include "number_text.h"
 
+#include <algray/parser.h>
+
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 
 namespace algray::cli {
@@ -27,6 +30,24 @@ inline CLI::Validator decimal() {
         return "";
       },
       "DECIMAL");
+}
+
+// A --param VALUE that is no number may be a constant as an equation writes one:
+// "phi=(1+sqrt(5))/2", "a=pi/4" (refused as "not a number" before session 53, though the
+// equation itself reads them). Read by the equation parser, with its rounding rules; a
+// value that uses x, y or z, or that the parser refuses, leaves `problem` saying why.
+inline std::optional<double> constantExpression(const std::string& text, std::string& problem) {
+  try {
+    const Polynomial p = parsePolynomial(text);
+    if (p.degree() > 0) {
+      problem = "a parameter's value may not use x, y or z";
+      return std::nullopt;
+    }
+    return p.coeff(0, 0, 0);
+  } catch (const Error& e) {  // ParseError: "column N: message" of the value's text
+    problem = e.what();
+    return std::nullopt;
+  }
 }
 
 }  // namespace algray::cli

@@ -220,8 +220,16 @@ int run(int argc, char** argv) {
   ParseOptions parseOptions;
   parseOptions.rejectUnusedParameters = true;
   for (const std::string& p : params) {
-    const cli::Param param = cli::readParam(p);
+    cli::Param param = cli::readParam(p);
     if (param.name.empty()) throw UsageError("--param '" + p + "': expected NAME=VALUE");
+    if (param.number.problem == cli::NumberProblem::kNotANumber) {  // a constant, as in f?
+      std::string problem;
+      const std::optional<double> v = cli::constantExpression(param.valueText, problem);
+      if (!v)
+        throw UsageError("--param " + param.name + ": '" + param.valueText +
+                         "' is neither a number nor a constant (" + problem + ")");
+      param.number = {*v, cli::NumberProblem::kNone};
+    }
     const double value = checkedNumber(param.valueText, param.number, "--param " + param.name);
     // A second value would silently win: which one the user meant is not ours to guess.
     if (!parseOptions.parameters.emplace(param.name, value).second)

@@ -177,14 +177,22 @@ int main(int argc, char** argv) {
         // The syntax is algray-query's (cli_text.h); inf and nan go on to the parser,
         // which names them as the parameter's value.
         using algray::cli::NumberProblem;
-        const algray::cli::Param param = algray::cli::readParam(p);
+        algray::cli::Param param = algray::cli::readParam(p);
         if (param.name.empty())
           throw SceneError("--param", 0, 0, "expected NAME=VALUE, got '" + p + "'");
         switch (param.number.problem) {
           case NumberProblem::kNone:
             break;
-          case NumberProblem::kNotANumber:
-            throw SceneError("--param", 0, 0, "not a number in '" + p + "'");
+          case NumberProblem::kNotANumber: {
+            std::string problem;
+            const std::optional<double> v =
+                algray::cli::constantExpression(param.valueText, problem);
+            if (!v)
+              throw SceneError("--param", 0, 0,
+                               "'" + p + "': neither a number nor a constant (" + problem + ")");
+            param.number.value = *v;
+            break;
+          }
           case NumberProblem::kOverflows:
             throw SceneError("--param", 0, 0, "'" + p + "' overflows double");
           case NumberProblem::kUnderflows:

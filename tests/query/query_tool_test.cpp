@@ -864,6 +864,37 @@ TEST_F(QueryTool, AFailedRunLeavesTheOutputFileAsItWas) {
   EXPECT_NE(d.err.find("is a directory"), std::string::npos) << d.err;
 }
 
+// A --param value may be a constant as the equation writes one (session 53; "not a finite
+// number" before): a = pi/2 answers as the literal 1.5707963267948966 does, at the closed
+// form's t = 5 - pi/2; a value with x, y or z, or one the parser refuses, is named.
+TEST_F(QueryTool, ParameterValuesMayBeConstantExpressions) {
+  const fs::path rays = write("r.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n-5,0,0,1,0,0,0,inf\n");
+  const std::string sphere = "--surface \"x^2+y^2+z^2-a^2\" --clip-sphere 3 ";
+  const RunResult expression = run(sphere + "--param \"a = pi/2\" " + common(rays));
+  ASSERT_EQ(expression.exitCode, 0) << expression.err;
+  const RunResult literal = run(sphere + "--param a=1.5707963267948966 " + common(rays));
+  ASSERT_EQ(literal.exitCode, 0) << literal.err;
+  ASSERT_EQ(expression.rows.size(), 1u);
+  EXPECT_EQ(expression.rows, literal.rows);
+  EXPECT_NEAR(expression.rows[0][1], 5 - std::acos(-1.0) / 2, 1e-14);
+  const RunResult golden = run(
+      "--surface \"x^2+y^2+z^2-a\" --clip-sphere 3 --param \"a=(1+sqrt(5))/2\" " + common(rays));
+  ASSERT_EQ(golden.exitCode, 0) << golden.err;
+  EXPECT_NEAR(golden.rows[0][1], 5 - std::sqrt((1 + std::sqrt(5.0)) / 2), 1e-14);
+  for (const auto& [value, message] :
+       {std::pair<std::string, std::string>{"x+1", "a parameter's value may not use x, y or z"},
+        {"(1+", "column 4: the equation ends after '+'"},
+        {"b*2", "column 1: unknown name 'b'"},
+        {"sqrt(-1)", "column 1: sqrt(-1) is not a finite real number"}}) {
+    const RunResult r = run(sphere + "--param \"a=" + value + "\" " + common(rays));
+    EXPECT_EQ(r.exitCode, 2) << value;
+    EXPECT_NE(
+        r.err.find("--param a: '" + value + "' is neither a number nor a constant (" + message),
+        std::string::npos)
+        << r.err;
+  }
+}
+
 TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
   const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 2 ";
   const fs::path good = write("good.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5,0,0,1,0,inf\n");

@@ -891,6 +891,12 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // default scene rendered, its options ignored), an unwritable --export-pov and a
       // negative --seed (wrapped to 2^64 - 1) were accepted with exit code 0.
       {"--surface '' --param a=1", "--surface:1:1: empty equation"},
+      // A --param value that is neither a number nor a constant the parser reads (a constant
+      // such as pi/4 is taken since session 53).
+      {"--surface x^2+y^2+z^2-a --param a=x",
+       "--param: 'a=x': neither a number nor a constant (a parameter's value may not use x, y "
+       "or z)"},
+      {"--surface x^2+y^2+z^2-a --param a=zz", "neither a number nor a constant (column 1: "},
       // An equation with line breaks: the place in its own lines (it was "--surface:1:16:",
       // the code point counted through the line break; session 53).
       {"--surface \"x^2+y^2\n+z^2-1 q\"", "--surface:2:8: missing operator before 'q'"},
