@@ -7,7 +7,9 @@
 //  * surface space = N clipping space, N = surface_transform_matrix * 10^scale_factor (the
 //    zoom slider is logarithmic: negative factors occur in the gallery files). jsurf itself
 //    saves the products as transform_matrix and surface_transform_matrix (no rotation_matrix
-//    or scale_factor); SURFER writes the two factors;
+//    or scale_factor); SURFER writes the two factors, and since it saves through jsurf's
+//    FileFormat.save also the products, which SURFER's own loader ignores (as we do: a file
+//    with rotation_matrix or scale_factor is a SURFER file, see jsurfScene);
 //  * shading is Phong with ambient/diffuse/specular intensities; lights are given in
 //    camera space, about 100 units away, so they act as directional lights.
 // We map Phong's diffuse term kd * I * cos onto a Lambertian BRDF (albedo / pi) lit by a
@@ -137,10 +139,30 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     if (!wellConditioned(glm::dmat3(rotation)))
       fail(f, "rotation_matrix", "singular (or out of range) matrix");
   }
-  glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -1});
-  if (f.has("camera_transform")) cameraTransform = affineKey(f, "camera_transform");
-  const glm::dmat4 viewTransform = affineKey(f, "transform_matrix");
-  const glm::dmat4 surfaceTransform = affineKey(f, "surface_transform_matrix");
+  // A SURFER file (it has rotation_matrix or scale_factor) is read as SURFER reads it, not
+  // as jsurf does: SURFER's RenderArea.load() takes the view from rotation_matrix and
+  // scale_factor alone, and its store() writes them beside jsurf's FileFormat.save keys,
+  // transform_matrix = R and surface_transform_matrix = 10^s I: applying both pairs, as
+  // jsurf's FileFormat.load does, rotated such a file twice and zoomed it 10^(2s).
+  // SURFER also replaces the camera (RenderArea.setOptimalCameraDistance: the eye on +z
+  // at 1, or at 1 / sin(fov / 2) for a perspective camera, looking at the origin, up +y),
+  // so camera_transform is ignored there too; type, height and fov_y are read.
+  const bool surferFile = f.has("rotation_matrix") || f.has("scale_factor");
+  const std::string type = f.get("camera_type").value_or("ORTHOGRAPHIC_CAMERA");
+  double fovY = 60.0;  // jsurf's Camera default
+  if (type == "PERSPECTIVE_CAMERA") {
+    fovY = f.getNumber("camera_fov_y", 60.0);
+    if (!(fovY > 0 && fovY < 180)) fail(f, "camera_fov_y", "must be in (0, 180) degrees");
+  } else if (type != "ORTHOGRAPHIC_CAMERA") {
+    fail(f, "camera_type", "'" + type + "' is not ORTHOGRAPHIC_CAMERA or PERSPECTIVE_CAMERA");
+  }
+  const double surferDistance =
+      type == "PERSPECTIVE_CAMERA" ? 1.0 / std::sin(fovY / 2 * 3.14159265358979323846 / 180) : 1.0;
+  glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -surferDistance});
+  if (!surferFile && f.has("camera_transform")) cameraTransform = affineKey(f, "camera_transform");
+  const glm::dmat4 viewTransform = surferFile ? glm::dmat4(1.0) : affineKey(f, "transform_matrix");
+  const glm::dmat4 surfaceTransform =
+      surferFile ? glm::dmat4(1.0) : affineKey(f, "surface_transform_matrix");
   // World = SURFER's world (camera space through the inverse camera_transform); clipping =
   // M world, M = transform_matrix * rotation_matrix; surface = N clipping, N =
   // surface_transform_matrix * scale (jsurf's FileFormat.load: transform.mul(rotation),
@@ -201,13 +223,10 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   const double reach = std::max({1.0, std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
   scene.camera.lookAt = eye + std::max(1.0, 0x1p-20 * reach) * *forward;
   scene.camera.up = *up;
-  std::string type = f.get("camera_type").value_or("ORTHOGRAPHIC_CAMERA");
   if (type == "PERSPECTIVE_CAMERA") {
     scene.camera.type = CameraDesc::Type::Perspective;
-    scene.camera.fovY = f.getNumber("camera_fov_y", 60.0);
-    if (!(scene.camera.fovY > 0 && scene.camera.fovY < 180))
-      fail(f, "camera_fov_y", "must be in (0, 180) degrees");
-  } else if (type == "ORTHOGRAPHIC_CAMERA") {
+    scene.camera.fovY = fovY;
+  } else {
     scene.camera.type = CameraDesc::Type::Orthographic;
     scene.camera.height = f.getNumber("camera_height", 2.0);
     if (!(scene.camera.height > 0)) fail(f, "camera_height", "must be positive");
@@ -217,8 +236,6 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     if (!withinCoordinateRange(scene.camera.height))
       fail(f, "camera_height",
            "beyond 1e17, outside the range Embree's float rays can trace (1.8e18)");
-  } else {
-    fail(f, "camera_type", "'" + type + "' is not ORTHOGRAPHIC_CAMERA or PERSPECTIVE_CAMERA");
   }
 
   // ---- Lights (camera space, far away) -------------------------------------------------

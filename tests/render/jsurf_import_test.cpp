@@ -131,10 +131,11 @@ TEST(JsurfImport, JsurfsOwnViewKeysPlaceTheSurface) {
       // A non-uniform surface transform (an ellipsoid clip in surface space): the surface
       // (2x)^2 + (1.25y)^2 + (1.25z)^2 = 1 of world space, semi-axes 0.5, 0.8, 0.8.
       {"surface_transform_matrix=2 0 0 0 0 1.25 0 0 0 0 1.25 0 0 0 0 1", 0.5, 0.8},
-      // The same after scale_factor log10(2) (the zoom multiplies surface space by 2).
+      // With scale_factor the file is SURFER's, whose loader ignores jsurf's keys: only
+      // the zoom log10(2) applies, the unit sphere's outline has radius 1/2.
       {"surface_transform_matrix=1 0 0 0 0 0.625 0 0 0 0 0.625 0 0 0 0 1\n"
        "scale_factor=0.30102999566398120",
-       0.5, 0.8},
+       0.5, 0.5},
       // A camera_transform scaled by 0.5: the view is twice as large (half-height 2); the
       // surface transform makes the sphere's radius 0.5: an outline of radius 1/4.
       {"camera_transform=0.5 0 0 0 0 0.5 0 0 0 0 0.5 -0.5 0 0 0 1\n"
@@ -161,6 +162,55 @@ TEST(JsurfImport, JsurfsOwnViewKeysPlaceTheSurface) {
   EXPECT_TRUE(a.color == b.color);
   std::filesystem::remove(plain);
   std::filesystem::remove(keyed);
+}
+
+// The pixels of the centre row and of the centre column that show the surface.
+std::pair<int, int> centreCrossCoverage(const Image& image) {
+  int row = 0, column = 0;
+  for (int i = 0; i < image.width; ++i) {
+    row += image.id[static_cast<size_t>(image.height / 2) * image.width + i] > 0;
+    column += image.id[static_cast<size_t>(i) * image.width + image.width / 2] > 0;
+  }
+  return {row, column};
+}
+
+// A file as SURFER saves it (RenderArea.store: jsurf's FileFormat.save writes
+// transform_matrix = R and surface_transform_matrix = 10^s I, then SURFER adds
+// rotation_matrix = R and scale_factor = s) shows the view SURFER's load() reads from
+// rotation_matrix and scale_factor alone. The ellipsoid 4x^2 + y^2 + z^2 = 1 of surface
+// space, surface = 10^s R world with R = (y, -x, z), has world semi-axes 1 / 10^s along x
+// and 0.5 / 10^s along y: the centre row of an n-pixel view (half-height 1) covers
+// n / 10^s pixels, the centre column n / (2 10^s). Both pairs applied (the fault) made the
+// view R R (a half turn: x narrow) zoomed 10^(2s).
+TEST(JsurfImport, SurferFilesIgnoreJsurfsCopiesOfTheirView) {
+  const double s = 0.1, zoom = std::pow(10.0, s);
+  const std::string rotation = "rotation_matrix=0 1 0 0 -1 0 0 0 0 0 1 0 0 0 0 1\nscale_factor=0.1";
+  const std::string both = rotation +
+                           "\ntransform_matrix=0 1 0 0 -1 0 0 0 0 0 1 0 0 0 0 1\n"
+                           "surface_transform_matrix=" +
+                           std::to_string(zoom) + " 0 0 0 0 " + std::to_string(zoom) + " 0 0 0 0 " +
+                           std::to_string(zoom) + " 0 0 0 0 1";
+  const int n = 200;
+  for (const std::string& keys : {rotation, both}) {
+    SCOPED_TRACE(keys);
+    // (A key given twice keeps its last value, as in Java's Properties.)
+    const std::filesystem::path file =
+        writeJsurf("algray_surfer_view.jsurf", "surface_equation=4*x^2+y^2+z^2-1\n" + keys);
+    const SceneDesc desc = jsurfScene(file);
+    std::filesystem::remove(file);
+    const auto [row, column] = centreCrossCoverage(renderSmall(desc, n));
+    EXPECT_NEAR(row, n / zoom, 2.0);
+    EXPECT_NEAR(column, n / (2 * zoom), 2.0);
+  }
+  // SURFER sets its own camera (RenderArea.setOptimalCameraDistance): a camera_transform
+  // scaled by 0.5 (a view twice as large for jsurf) leaves the unit sphere's outline at
+  // radius 1 of the view (n centre-row pixels), not 1/2.
+  const std::filesystem::path file =
+      writeJsurf("algray_surfer_camera.jsurf",
+                 "scale_factor=0\ncamera_transform=0.5 0 0 0 0 0.5 0 0 0 0 0.5 -0.5 0 0 0 1");
+  const SceneDesc desc = jsurfScene(file);
+  std::filesystem::remove(file);
+  EXPECT_NEAR(centreCrossCoverage(renderSmall(desc, n)).first, n, 2.0);
 }
 
 // Values SURFER never writes: each is an error at the line of its key (they aborted in
