@@ -10,11 +10,12 @@
 //    or scale_factor); SURFER writes the two factors, and since it saves through jsurf's
 //    FileFormat.save also the products, which SURFER's own loader ignores (as we do: a file
 //    with rotation_matrix or scale_factor is a SURFER file, see jsurfScene);
-//  * shading is Phong with ambient/diffuse/specular intensities; lights are given in
-//    camera space, about 100 units away, so they act as directional lights.
-// We map Phong's diffuse term kd * I * cos onto a Lambertian BRDF (albedo / pi) lit by a
-// directional light of irradiance pi * I, and the ambient term onto a constant
-// environment (an unoccluded diffuse surface reflects albedo * environment).
+//  * shading is Phong with ambient/diffuse/specular intensities (rendering/cpu/Shader.java);
+//    lights are points given in camera space. The Surfer integrator (integrator.cpp) is
+//    that shading; for path and direct we map Phong's diffuse term kd * I * cos onto a
+//    Lambertian BRDF (albedo / pi) lit by a directional light of irradiance pi * I (the
+//    gallery's lights are about 100 units away), and the ambient term onto a constant
+//    environment (an unoccluded diffuse surface reflects albedo * environment).
 #include "scene_builders.h"
 #include "value_checks.h"
 
@@ -183,19 +184,42 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   }
 
   // ---- Materials -------------------------------------------------------------------------
-  auto material = [&](const std::string& side) {
-    Material m;
-    const std::string kdKey = side + "_material_diffuse_intensity";
-    double kd = nonNegative(f, kdKey, 0.8);
-    m.color = colorOf(f, side + "_material_color", glm::dvec3(0.8)) * kd;
-    if (!isFloatColor(m.color)) fail(f, kdKey, "colour times intensity beyond 3.4e38");
+  // jsurf's Material.loadProperties reads color, ambient_intensity, diffuse_intensity,
+  // specular_intensity and shininess, each defaulting to Material()'s value: 0.5 grey, 0.1,
+  // 0.23232, 0.9, 1. (23 gallery files spell the key specular_iIntensity, which jsurf does
+  // not read: their highlights have the default 0.9, and so have ours.)
+  struct Side {
+    glm::dvec3 color;
+    double ka, kd, ks, shininess;
+  };
+  auto side = [&](const std::string& prefix) {
+    Side m;
+    m.color = colorOf(f, prefix + "color", glm::dvec3(0.5));
+    m.ka = nonNegative(f, prefix + "ambient_intensity", 0.1);
+    m.kd = nonNegative(f, prefix + "diffuse_intensity", 0.23232);
+    m.ks = nonNegative(f, prefix + "specular_intensity", 0.9);
+    m.shininess = nonNegative(f, prefix + "shininess", 1.0);
+    if (!isFloatColor(m.color * m.kd))
+      fail(f, prefix + "diffuse_intensity", "colour times intensity beyond 3.4e38");
     return m;
   };
-  s.material = scene.addMaterial(material("front"));
-  s.backMaterial = scene.addMaterial(material("back"));
-  double kd = nonNegative(f, "front_material_diffuse_intensity", 0.8);
-  double ka = nonNegative(f, "front_material_ambient_intensity", 0.4);
-  scene.environment.color = glm::dvec3(kd > 0 ? ka / kd : ka);
+  const Side front = side("front_material_"), back = side("back_material_");
+  // The Surfer integrator's model, as collectDrawCallStaticData builds it: both sides'
+  // ambient colours take the FRONT ambient intensity.
+  SurferShading surfer;
+  surfer.front = {front.color * front.ka, front.color * front.kd, front.ks, front.shininess};
+  surfer.back = {back.color * front.ka, back.color * back.kd, back.ks, back.shininess};
+  if (!isFloatColor(surfer.back.ambient) || !isFloatColor(surfer.front.ambient))
+    fail(f, "front_material_ambient_intensity", "colour times intensity beyond 3.4e38");
+  // Path and direct: Phong's diffuse term kd * I * cos as a Lambertian BRDF of albedo
+  // colour * kd, the ambient term as a constant environment ka / kd (approximations: no
+  // highlight, and no ambient light where kd is 0).
+  Material frontMaterial, backMaterial;
+  frontMaterial.color = front.color * front.kd;
+  backMaterial.color = back.color * back.kd;
+  s.material = scene.addMaterial(frontMaterial);
+  s.backMaterial = scene.addMaterial(backMaterial);
+  scene.environment.color = glm::dvec3(front.kd > 0 ? front.ka / front.kd : front.ka);
   if (!isFloatColor(scene.environment.color))
     fail(f, "front_material_ambient_intensity", "ambient / diffuse intensity beyond 3.4e38");
   scene.surfaces.push_back(std::move(s));
@@ -238,7 +262,11 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
            "beyond 1e17, outside the range Embree's float rays can trace (1.8e18)");
   }
 
-  // ---- Lights (camera space, far away) -------------------------------------------------
+  // ---- Lights (camera space) -------------------------------------------------------------
+  // jsurf's Shader lights a hit point from the light's camera-space position (direction =
+  // position - hit point), so a light at 0 0 0 sits at the eye. The Surfer integrator takes
+  // the positions as they are; path and direct see lights about 100 units away as
+  // directional ones, and one at 0 0 0 as a light towards the eye (+z of camera space).
   for (int i = 0; i < 8; ++i) {
     std::string n = std::to_string(i);
     // Colour and intensity are checked for every light, on or off: a bad value is bad input.
@@ -252,23 +280,30 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     if (status != "ON" && status != "OFF")
       fail(f, "light_status_" + n, "'" + status + "' is not ON or OFF");
     if (status != "ON") continue;
-    glm::dvec3 pos = vec3Of(f, "light_position_" + n, glm::dvec3(0.0));
-    if (pos == glm::dvec3(0.0)) continue;
+    const glm::dvec3 pos = vec3Of(f, "light_position_" + n, glm::dvec3(0.0));
+    // A light farther than 1e12 is brought in along its direction to 1e12 (its direction
+    // from any point of the view changes by less than 1e-11): 1e308 overflowed to inf.
+    const double far = std::max({std::abs(pos.x), std::abs(pos.y), std::abs(pos.z)});
+    const glm::dvec3 near = far > 1e12 ? pos * (1e12 / far) : pos;
+    surfer.lights.push_back({glm::dvec3(cameraToWorld * glm::dvec4(near, 1.0)), color * intensity});
     // safeNormalize: glm::normalize of 1e-200 or 1e308 components gave NaN rays.
-    const std::optional<glm::dvec3> toLight = safeNormalize(pos);
+    const std::optional<glm::dvec3> toLight =
+        pos == glm::dvec3(0.0) ? glm::dvec3(0, 0, 1) : safeNormalize(pos);
     const std::optional<glm::dvec3> dirWorld =
         toLight ? safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(*toLight, 0.0)))
                 : std::nullopt;
     if (!dirWorld) fail(f, "light_position_" + n, "no direction can be taken from this position");
     scene.directionalLights.push_back({*dirWorld, irradiance});
   }
+  scene.surfer = std::move(surfer);
   scene.hasBackground = true;
   scene.background = colorOf(f, "background_color", glm::dvec3(1.0));
   scene.settings.width = 512;
   scene.settings.height = 512;
   scene.settings.spp = 4;
-  scene.settings.integrator = IntegratorType::Direct;
-  scene.settings.toneMap = ToneMap::Clamp;
+  // SURFER's look: jsurf's shading, written as jsurf writes its pixels.
+  scene.settings.integrator = IntegratorType::Surfer;
+  scene.settings.toneMap = ToneMap::None;
   return scene;
 }
 
