@@ -87,9 +87,12 @@ double finiteExposed(double exposed) {
   return std::isnan(exposed) ? 0.0 : std::clamp(exposed, -1e300, 1e300);
 }
 
-// One channel of toDisplay, 8 bits, from the exposed linear value.
+// One channel of toDisplay, 8 bits, from the exposed linear value. ToneMap::None: jsurf's
+// round(255 * clamp(v)) (java.awt.Color(float, float, float): (int) (255 v + 0.5)).
 std::uint8_t encodeByte(double exposed, ToneMap toneMap) {
   const double v = finiteExposed(exposed);
+  if (toneMap == ToneMap::None)
+    return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(v, 0.0, 1.0)));
   return EncodeTable::instance()(toneMap == ToneMap::Aces ? aces(v) : v);
 }
 
@@ -100,7 +103,8 @@ glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap)
   glm::dvec3 out;
   for (int k = 0; k < 3; ++k) {
     const double v = finiteExposed(c[k]);
-    out[k] = srgbEncode(toneMap == ToneMap::Aces ? aces(v) : v);
+    out[k] = toneMap == ToneMap::None ? std::clamp(v, 0.0, 1.0)
+                                      : srgbEncode(toneMap == ToneMap::Aces ? aces(v) : v);
   }
   return out;
 }

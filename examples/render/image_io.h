@@ -13,7 +13,8 @@
 
 namespace algray::render {
 
-// Display value in [0,1] of a linear radiance: exposure (stops), the tone curve, sRGB.
+// Display value in [0,1] of a linear radiance: exposure (stops), the tone curve, sRGB
+// (ToneMap::None: the exposed value clamped, no curve).
 glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap);
 
 // One channel of toDisplay in 8 bits, exactly lround(255 * toDisplay(...)), by a table

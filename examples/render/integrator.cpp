@@ -1,5 +1,7 @@
 #include "integrator.h"
 
+#include "value_checks.h"
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -213,6 +215,39 @@ glm::dvec3 traceDirect(const Scene& scene, const CameraRay& cameraRay, Rng& rng,
     return beta * L;
   }
   return glm::dvec3(0.0);
+}
+
+// jsurf's Shader.shade for the side the viewer sees (RenderingTask.shade: the front
+// material where the normal faces the view vector, else the back one with the normal
+// negated): the ambient colour, and for every light that is ON with L = normalize(light
+// position - hit point) and n.L > 0 the diffuse term n.L x colour x kd x light colour x
+// intensity and Blinn-Phong's specular term max(0, n.h)^shininess x ks x light colour x
+// intensity, h = normalize(L + view); the sum clamped to 1 (Color3f.clampMax). jsurf works
+// in camera space; the import carries the lights' positions to the world, where the same
+// differences and dot products hold (the camera is a rotation, a translation and a uniform
+// scale). No shadow rays: jsurf has none. A miss is the background colour.
+glm::dvec3 traceSurfer(const Scene& scene, const CameraRay& cameraRay, Rng& /*rng*/, SampleAov& aov,
+                       RayCounter& counter) {
+  const std::optional<Hit> hit = scene.intersect(cameraRay.org, cameraRay.dir, 0.0, counter);
+  if (!hit) return scene.background(cameraRay.dir);
+  const SurferShading& surfer = *scene.desc().surfer;
+  const glm::dvec3 view = -cameraRay.dir;
+  const Shading sh = makeShading(*hit, view);
+  fillAov(aov, *hit, sh, scene.material(*hit, sh.frontFace));
+  const SurferMaterial& m = sh.frontFace ? surfer.front : surfer.back;
+  const glm::dvec3 n = sh.frontFace ? hit->ns : -hit->ns;
+  glm::dvec3 color = m.ambient;
+  for (const SurferLight& light : surfer.lights) {
+    const std::optional<glm::dvec3> l = safeNormalize(light.position - hit->p);
+    if (!l) continue;  // a light exactly at the hit point: jsurf's NaN adds nothing either
+    const double lambert = glm::dot(n, *l);
+    if (!(lambert > 0)) continue;
+    color += lambert * m.diffuse * light.color;
+    const std::optional<glm::dvec3> h = safeNormalize(*l + view);
+    const double nh = h ? std::max(0.0, glm::dot(n, *h)) : 0.0;
+    color += std::pow(nh, m.shininess) * m.specular * light.color;
+  }
+  return glm::min(color, glm::dvec3(1.0));
 }
 
 }  // namespace algray::render

@@ -6,6 +6,8 @@
 //  * direct: first hit only, every point/directional light with a hard shadow ray, one
 //    sample per area light, the environment as unshadowed ambient light; specular
 //    (glass) surfaces are followed. Quick previews and the POV-Ray comparison.
+//  * surfer: jsurf's shading of the first hit (IMAGINARY/jsurf rendering/cpu/Shader.java
+//    and RenderingTask.shade), not light transport: display values for ToneMap::None.
 #include "sampling.h"
 #include "scene.h"
 
@@ -21,6 +23,8 @@ struct SampleAov {
 
 glm::dvec3 tracePath(const Scene& scene, const CameraRay& ray, Rng& rng, SampleAov& aov,
                      RayCounter& counter);
+glm::dvec3 traceSurfer(const Scene& scene, const CameraRay& ray, Rng& rng, SampleAov& aov,
+                       RayCounter& counter);
 glm::dvec3 traceDirect(const Scene& scene, const CameraRay& ray, Rng& rng, SampleAov& aov,
                        RayCounter& counter);
 

@@ -7,12 +7,15 @@
 //  * surface space = N clipping space, N = surface_transform_matrix * 10^scale_factor (the
 //    zoom slider is logarithmic: negative factors occur in the gallery files). jsurf itself
 //    saves the products as transform_matrix and surface_transform_matrix (no rotation_matrix
-//    or scale_factor); SURFER writes the two factors;
-//  * shading is Phong with ambient/diffuse/specular intensities; lights are given in
-//    camera space, about 100 units away, so they act as directional lights.
-// We map Phong's diffuse term kd * I * cos onto a Lambertian BRDF (albedo / pi) lit by a
-// directional light of irradiance pi * I, and the ambient term onto a constant
-// environment (an unoccluded diffuse surface reflects albedo * environment).
+//    or scale_factor); SURFER writes the two factors, and since it saves through jsurf's
+//    FileFormat.save also the products, which SURFER's own loader ignores (as we do: a file
+//    with rotation_matrix or scale_factor is a SURFER file, see jsurfScene);
+//  * shading is Phong with ambient/diffuse/specular intensities (rendering/cpu/Shader.java);
+//    lights are points given in camera space. The Surfer integrator (integrator.cpp) is
+//    that shading; for path and direct we map Phong's diffuse term kd * I * cos onto a
+//    Lambertian BRDF (albedo / pi) lit by a directional light of irradiance pi * I (the
+//    gallery's lights are about 100 units away), and the ambient term onto a constant
+//    environment (an unoccluded diffuse surface reflects albedo * environment).
 #include "scene_builders.h"
 #include "value_checks.h"
 
@@ -137,10 +140,30 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     if (!wellConditioned(glm::dmat3(rotation)))
       fail(f, "rotation_matrix", "singular (or out of range) matrix");
   }
-  glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -1});
-  if (f.has("camera_transform")) cameraTransform = affineKey(f, "camera_transform");
-  const glm::dmat4 viewTransform = affineKey(f, "transform_matrix");
-  const glm::dmat4 surfaceTransform = affineKey(f, "surface_transform_matrix");
+  // A SURFER file (it has rotation_matrix or scale_factor) is read as SURFER reads it, not
+  // as jsurf does: SURFER's RenderArea.load() takes the view from rotation_matrix and
+  // scale_factor alone, and its store() writes them beside jsurf's FileFormat.save keys,
+  // transform_matrix = R and surface_transform_matrix = 10^s I: applying both pairs, as
+  // jsurf's FileFormat.load does, rotated such a file twice and zoomed it 10^(2s).
+  // SURFER also replaces the camera (RenderArea.setOptimalCameraDistance: the eye on +z
+  // at 1, or at 1 / sin(fov / 2) for a perspective camera, looking at the origin, up +y),
+  // so camera_transform is ignored there too; type, height and fov_y are read.
+  const bool surferFile = f.has("rotation_matrix") || f.has("scale_factor");
+  const std::string type = f.get("camera_type").value_or("ORTHOGRAPHIC_CAMERA");
+  double fovY = 60.0;  // jsurf's Camera default
+  if (type == "PERSPECTIVE_CAMERA") {
+    fovY = f.getNumber("camera_fov_y", 60.0);
+    if (!(fovY > 0 && fovY < 180)) fail(f, "camera_fov_y", "must be in (0, 180) degrees");
+  } else if (type != "ORTHOGRAPHIC_CAMERA") {
+    fail(f, "camera_type", "'" + type + "' is not ORTHOGRAPHIC_CAMERA or PERSPECTIVE_CAMERA");
+  }
+  const double surferDistance =
+      type == "PERSPECTIVE_CAMERA" ? 1.0 / std::sin(fovY / 2 * 3.14159265358979323846 / 180) : 1.0;
+  glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -surferDistance});
+  if (!surferFile && f.has("camera_transform")) cameraTransform = affineKey(f, "camera_transform");
+  const glm::dmat4 viewTransform = surferFile ? glm::dmat4(1.0) : affineKey(f, "transform_matrix");
+  const glm::dmat4 surfaceTransform =
+      surferFile ? glm::dmat4(1.0) : affineKey(f, "surface_transform_matrix");
   // World = SURFER's world (camera space through the inverse camera_transform); clipping =
   // M world, M = transform_matrix * rotation_matrix; surface = N clipping, N =
   // surface_transform_matrix * scale (jsurf's FileFormat.load: transform.mul(rotation),
@@ -161,19 +184,42 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   }
 
   // ---- Materials -------------------------------------------------------------------------
-  auto material = [&](const std::string& side) {
-    Material m;
-    const std::string kdKey = side + "_material_diffuse_intensity";
-    double kd = nonNegative(f, kdKey, 0.8);
-    m.color = colorOf(f, side + "_material_color", glm::dvec3(0.8)) * kd;
-    if (!isFloatColor(m.color)) fail(f, kdKey, "colour times intensity beyond 3.4e38");
+  // jsurf's Material.loadProperties reads color, ambient_intensity, diffuse_intensity,
+  // specular_intensity and shininess, each defaulting to Material()'s value: 0.5 grey, 0.1,
+  // 0.23232, 0.9, 1. (23 gallery files spell the key specular_iIntensity, which jsurf does
+  // not read: their highlights have the default 0.9, and so have ours.)
+  struct Side {
+    glm::dvec3 color;
+    double ka, kd, ks, shininess;
+  };
+  auto side = [&](const std::string& prefix) {
+    Side m;
+    m.color = colorOf(f, prefix + "color", glm::dvec3(0.5));
+    m.ka = nonNegative(f, prefix + "ambient_intensity", 0.1);
+    m.kd = nonNegative(f, prefix + "diffuse_intensity", 0.23232);
+    m.ks = nonNegative(f, prefix + "specular_intensity", 0.9);
+    m.shininess = nonNegative(f, prefix + "shininess", 1.0);
+    if (!isFloatColor(m.color * m.kd))
+      fail(f, prefix + "diffuse_intensity", "colour times intensity beyond 3.4e38");
     return m;
   };
-  s.material = scene.addMaterial(material("front"));
-  s.backMaterial = scene.addMaterial(material("back"));
-  double kd = nonNegative(f, "front_material_diffuse_intensity", 0.8);
-  double ka = nonNegative(f, "front_material_ambient_intensity", 0.4);
-  scene.environment.color = glm::dvec3(kd > 0 ? ka / kd : ka);
+  const Side front = side("front_material_"), back = side("back_material_");
+  // The Surfer integrator's model, as collectDrawCallStaticData builds it: both sides'
+  // ambient colours take the FRONT ambient intensity.
+  SurferShading surfer;
+  surfer.front = {front.color * front.ka, front.color * front.kd, front.ks, front.shininess};
+  surfer.back = {back.color * front.ka, back.color * back.kd, back.ks, back.shininess};
+  if (!isFloatColor(surfer.back.ambient) || !isFloatColor(surfer.front.ambient))
+    fail(f, "front_material_ambient_intensity", "colour times intensity beyond 3.4e38");
+  // Path and direct: Phong's diffuse term kd * I * cos as a Lambertian BRDF of albedo
+  // colour * kd, the ambient term as a constant environment ka / kd (approximations: no
+  // highlight, and no ambient light where kd is 0).
+  Material frontMaterial, backMaterial;
+  frontMaterial.color = front.color * front.kd;
+  backMaterial.color = back.color * back.kd;
+  s.material = scene.addMaterial(frontMaterial);
+  s.backMaterial = scene.addMaterial(backMaterial);
+  scene.environment.color = glm::dvec3(front.kd > 0 ? front.ka / front.kd : front.ka);
   if (!isFloatColor(scene.environment.color))
     fail(f, "front_material_ambient_intensity", "ambient / diffuse intensity beyond 3.4e38");
   scene.surfaces.push_back(std::move(s));
@@ -201,13 +247,10 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   const double reach = std::max({1.0, std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
   scene.camera.lookAt = eye + std::max(1.0, 0x1p-20 * reach) * *forward;
   scene.camera.up = *up;
-  std::string type = f.get("camera_type").value_or("ORTHOGRAPHIC_CAMERA");
   if (type == "PERSPECTIVE_CAMERA") {
     scene.camera.type = CameraDesc::Type::Perspective;
-    scene.camera.fovY = f.getNumber("camera_fov_y", 60.0);
-    if (!(scene.camera.fovY > 0 && scene.camera.fovY < 180))
-      fail(f, "camera_fov_y", "must be in (0, 180) degrees");
-  } else if (type == "ORTHOGRAPHIC_CAMERA") {
+    scene.camera.fovY = fovY;
+  } else {
     scene.camera.type = CameraDesc::Type::Orthographic;
     scene.camera.height = f.getNumber("camera_height", 2.0);
     if (!(scene.camera.height > 0)) fail(f, "camera_height", "must be positive");
@@ -217,11 +260,13 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     if (!withinCoordinateRange(scene.camera.height))
       fail(f, "camera_height",
            "beyond 1e17, outside the range Embree's float rays can trace (1.8e18)");
-  } else {
-    fail(f, "camera_type", "'" + type + "' is not ORTHOGRAPHIC_CAMERA or PERSPECTIVE_CAMERA");
   }
 
-  // ---- Lights (camera space, far away) -------------------------------------------------
+  // ---- Lights (camera space) -------------------------------------------------------------
+  // jsurf's Shader lights a hit point from the light's camera-space position (direction =
+  // position - hit point), so a light at 0 0 0 sits at the eye. The Surfer integrator takes
+  // the positions as they are; path and direct see lights about 100 units away as
+  // directional ones, and one at 0 0 0 as a light towards the eye (+z of camera space).
   for (int i = 0; i < 8; ++i) {
     std::string n = std::to_string(i);
     // Colour and intensity are checked for every light, on or off: a bad value is bad input.
@@ -235,23 +280,30 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     if (status != "ON" && status != "OFF")
       fail(f, "light_status_" + n, "'" + status + "' is not ON or OFF");
     if (status != "ON") continue;
-    glm::dvec3 pos = vec3Of(f, "light_position_" + n, glm::dvec3(0.0));
-    if (pos == glm::dvec3(0.0)) continue;
+    const glm::dvec3 pos = vec3Of(f, "light_position_" + n, glm::dvec3(0.0));
+    // A light farther than 1e12 is brought in along its direction to 1e12 (its direction
+    // from any point of the view changes by less than 1e-11): 1e308 overflowed to inf.
+    const double far = std::max({std::abs(pos.x), std::abs(pos.y), std::abs(pos.z)});
+    const glm::dvec3 near = far > 1e12 ? pos * (1e12 / far) : pos;
+    surfer.lights.push_back({glm::dvec3(cameraToWorld * glm::dvec4(near, 1.0)), color * intensity});
     // safeNormalize: glm::normalize of 1e-200 or 1e308 components gave NaN rays.
-    const std::optional<glm::dvec3> toLight = safeNormalize(pos);
+    const std::optional<glm::dvec3> toLight =
+        pos == glm::dvec3(0.0) ? glm::dvec3(0, 0, 1) : safeNormalize(pos);
     const std::optional<glm::dvec3> dirWorld =
         toLight ? safeNormalize(glm::dvec3(cameraToWorld * glm::dvec4(*toLight, 0.0)))
                 : std::nullopt;
     if (!dirWorld) fail(f, "light_position_" + n, "no direction can be taken from this position");
     scene.directionalLights.push_back({*dirWorld, irradiance});
   }
+  scene.surfer = std::move(surfer);
   scene.hasBackground = true;
   scene.background = colorOf(f, "background_color", glm::dvec3(1.0));
   scene.settings.width = 512;
   scene.settings.height = 512;
   scene.settings.spp = 4;
-  scene.settings.integrator = IntegratorType::Direct;
-  scene.settings.toneMap = ToneMap::Clamp;
+  // SURFER's look: jsurf's shading, written as jsurf writes its pixels.
+  scene.settings.integrator = IntegratorType::Surfer;
+  scene.settings.toneMap = ToneMap::None;
   return scene;
 }
 

@@ -99,8 +99,9 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "worker threads (0 = all cores)")
       ->transform(algray::cli::decimal())
       ->check(CLI::Range(0, 1024));
-  app.add_option("--integrator", integrator, "path (default) or direct")
-      ->check(CLI::IsMember({"path", "direct"}));
+  app.add_option("--integrator", integrator,
+                 "path (default), direct, or surfer (.jsurf files' default: SURFER's shading)")
+      ->check(CLI::IsMember({"path", "direct", "surfer"}));
   app.add_option("--max-depth", maxDepth, "maximum path length")
       ->transform(algray::cli::decimal())
       ->check(CLI::Range(0, 1000));
@@ -251,8 +252,21 @@ int main(int argc, char** argv) {
     }
     s.exposure = *exposure;
   }
-  if (!integrator.empty())
-    s.integrator = integrator == "direct" ? IntegratorType::Direct : IntegratorType::Path;
+  if (!integrator.empty()) {
+    s.integrator = integrator == "direct"   ? IntegratorType::Direct
+                   : integrator == "surfer" ? IntegratorType::Surfer
+                                            : IntegratorType::Path;
+    if (s.integrator == IntegratorType::Surfer && !desc.surfer) {
+      std::fprintf(stderr,
+                   "algray-render: --integrator surfer: shades .jsurf files only (it needs "
+                   "their jsurf materials and lights)\n");
+      return 2;
+    }
+    // ToneMap::None is for the surfer integrator's display values; path and direct compute
+    // radiance, which the .jsurf import's PNGs showed through the clamp and sRGB curve.
+    if (s.integrator != IntegratorType::Surfer && s.toneMap == ToneMap::None)
+      s.toneMap = ToneMap::Clamp;
+  }
 
   if (!exportPov.empty()) {
     try {
@@ -400,8 +414,10 @@ int main(int argc, char** argv) {
       }
     std::printf("algray-render: %s, %dx%d, %d spp, %s: %.2f s, %llu rays, %.2f Mrays/s -> %s%s\n",
                 desc.name.c_str(), s.width, s.height, s.spp,
-                s.integrator == IntegratorType::Path ? "path" : "direct", stats.seconds,
-                static_cast<unsigned long long>(stats.rays),
+                s.integrator == IntegratorType::Path     ? "path"
+                : s.integrator == IntegratorType::Surfer ? "surfer"
+                                                         : "direct",
+                stats.seconds, static_cast<unsigned long long>(stats.rays),
                 stats.seconds > 0 ? stats.rays / stats.seconds * 1e-6 : 0.0, output.c_str(),
                 stats.interrupted ? " (interrupted: partial image)" : "");
     return stats.interrupted ? 130 : 0;

@@ -50,8 +50,9 @@ void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, 
     glm::dvec2 lens = rng.uniform2();
     CameraRay ray = camera.generateRay({x + jitter.x, y + jitter.y}, lens);
     SampleAov aov;
-    glm::dvec3 L = s.integrator == IntegratorType::Path
-                       ? tracePath(scene, ray, rng, aov, counter)
+    glm::dvec3 L = s.integrator == IntegratorType::Path ? tracePath(scene, ray, rng, aov, counter)
+                   : s.integrator == IntegratorType::Surfer
+                       ? traceSurfer(scene, ray, rng, aov, counter)
                        : traceDirect(scene, ray, rng, aov, counter);
     // A non-finite sample (should not happen) must not poison the pixel.
     if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) sum += L;

@@ -78,6 +78,9 @@ Scene::Scene(const SceneDesc& desc) : desc_(desc) {
 }
 
 void Scene::build() {
+  if (desc_.settings.integrator == IntegratorType::Surfer && !desc_.surfer)
+    throw std::runtime_error(
+        "the surfer integrator shades .jsurf scenes only (it needs their jsurf materials)");
   if (desc_.materials.empty()) desc_.addMaterial(Material{});
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("cannot create the Embree device");
@@ -241,6 +244,8 @@ void Scene::moveToFrame() {
   desc_.camera.position -= center;
   desc_.camera.lookAt -= center;
   for (PointLight& light : desc_.pointLights) light.position -= center;
+  if (desc_.surfer)
+    for (SurferLight& light : desc_.surfer->lights) light.position -= center;
   for (MeshItem& item : desc_.meshes) item.transform = shift * item.transform;
   for (SurfaceItem& item : desc_.surfaces) item.transform = shift * item.transform;
 }

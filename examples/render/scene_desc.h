@@ -11,13 +11,17 @@
 #include <glm/mat4x4.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace algray::render {
 
-enum class IntegratorType { Path, Direct };
-enum class ToneMap { Aces, Clamp };
+// Surfer: jsurf's own shading of the first hit (SceneDesc::surfer; .jsurf scenes only).
+enum class IntegratorType { Path, Direct, Surfer };
+// None: the values are display values already (the Surfer integrator's, as jsurf writes
+// them): 8-bit files get round(255 * clamp(v)), no tone curve and no sRGB transfer curve.
+enum class ToneMap { Aces, Clamp, None };
 
 struct RenderSettings {
   int width = 640;
@@ -66,6 +70,23 @@ struct EnvironmentDesc {
   double rotation = 0.0;  // degrees about z
 };
 
+// jsurf's Phong shading (IMAGINARY/jsurf rendering/cpu/Shader.java, LightProducts.java,
+// CPUAlgebraicSurfaceRenderer.collectDrawCallStaticData), for IntegratorType::Surfer.
+struct SurferMaterial {
+  glm::dvec3 ambient{0.0};  // the side's colour x the FRONT material's ambient intensity
+  glm::dvec3 diffuse{0.0};  // colour x diffuse intensity
+  double specular = 0.0;    // specular intensity (the highlight has the light's colour)
+  double shininess = 1.0;
+};
+struct SurferLight {
+  glm::dvec3 position{0.0};  // world (jsurf's camera-space position carried to the world)
+  glm::dvec3 color{1.0};     // colour x intensity
+};
+struct SurferShading {
+  SurferMaterial front, back;
+  std::vector<SurferLight> lights;  // those that are ON
+};
+
 struct SceneDesc {
   std::string name = "scene";
   RenderSettings settings;
@@ -79,6 +100,8 @@ struct SceneDesc {
   // What camera rays that miss everything see; unset = the environment itself.
   bool hasBackground = false;
   glm::dvec3 background{0.0};
+  // Set by the .jsurf import: what IntegratorType::Surfer shades every surface with.
+  std::optional<SurferShading> surfer;
 
   int addMaterial(const Material& m) {
     materials.push_back(m);

@@ -84,6 +84,21 @@ TEST(Display, ByteIsRoundedDisplayValue) {
   }
 }
 
+// ToneMap::None writes display values as jsurf does: (int) (255 v + 0.5) of v clamped to
+// [0, 1] (java.awt.Color's float constructor), no tone curve, no sRGB curve.
+TEST(Display, NoneIsJsurfsRounding) {
+  const std::pair<double, int> cases[] = {{0.5, 128},      {0.25, 64}, {0.1, 26},   {1.0, 255},
+                                          {1.7, 255},      {-0.3, 0},  {0.0, 0},    {NAN, 0},
+                                          {INFINITY, 255}, {0.2, 51},  {0.998, 254}};
+  for (const auto& [v, byte] : cases) {
+    EXPECT_EQ(toDisplayByte(v, 0.0, ToneMap::None), byte) << v;
+    if (std::isfinite(v)) {
+      EXPECT_DOUBLE_EQ(toDisplay(glm::dvec3(v), 0.0, ToneMap::None).r, std::clamp(v, 0.0, 1.0));
+    }
+  }
+  EXPECT_EQ(toDisplayByte(0.25, 1.0, ToneMap::None), 128);  // exposure still applies
+}
+
 Image gradient() {
   Image image;
   image.resize(8, 4);

@@ -3,7 +3,10 @@
 #include "scene.h"
 #include "scene_builders.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
 
 #include <sys/wait.h>
 #include <cmath>
@@ -11,6 +14,8 @@
 #include <filesystem>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace algray::render {
 namespace {
@@ -131,10 +136,11 @@ TEST(JsurfImport, JsurfsOwnViewKeysPlaceTheSurface) {
       // A non-uniform surface transform (an ellipsoid clip in surface space): the surface
       // (2x)^2 + (1.25y)^2 + (1.25z)^2 = 1 of world space, semi-axes 0.5, 0.8, 0.8.
       {"surface_transform_matrix=2 0 0 0 0 1.25 0 0 0 0 1.25 0 0 0 0 1", 0.5, 0.8},
-      // The same after scale_factor log10(2) (the zoom multiplies surface space by 2).
+      // With scale_factor the file is SURFER's, whose loader ignores jsurf's keys: only
+      // the zoom log10(2) applies, the unit sphere's outline has radius 1/2.
       {"surface_transform_matrix=1 0 0 0 0 0.625 0 0 0 0 0.625 0 0 0 0 1\n"
        "scale_factor=0.30102999566398120",
-       0.5, 0.8},
+       0.5, 0.5},
       // A camera_transform scaled by 0.5: the view is twice as large (half-height 2); the
       // surface transform makes the sphere's radius 0.5: an outline of radius 1/4.
       {"camera_transform=0.5 0 0 0 0 0.5 0 0 0 0 0.5 -0.5 0 0 0 1\n"
@@ -161,6 +167,212 @@ TEST(JsurfImport, JsurfsOwnViewKeysPlaceTheSurface) {
   EXPECT_TRUE(a.color == b.color);
   std::filesystem::remove(plain);
   std::filesystem::remove(keyed);
+}
+
+// The pixels of the centre row and of the centre column that show the surface.
+std::pair<int, int> centreCrossCoverage(const Image& image) {
+  int row = 0, column = 0;
+  for (int i = 0; i < image.width; ++i) {
+    row += image.id[static_cast<size_t>(image.height / 2) * image.width + i] > 0;
+    column += image.id[static_cast<size_t>(i) * image.width + image.width / 2] > 0;
+  }
+  return {row, column};
+}
+
+// A file as SURFER saves it (RenderArea.store: jsurf's FileFormat.save writes
+// transform_matrix = R and surface_transform_matrix = 10^s I, then SURFER adds
+// rotation_matrix = R and scale_factor = s) shows the view SURFER's load() reads from
+// rotation_matrix and scale_factor alone. The ellipsoid 4x^2 + y^2 + z^2 = 1 of surface
+// space, surface = 10^s R world with R = (y, -x, z), has world semi-axes 1 / 10^s along x
+// and 0.5 / 10^s along y: the centre row of an n-pixel view (half-height 1) covers
+// n / 10^s pixels, the centre column n / (2 10^s). Both pairs applied (the fault) made the
+// view R R (a half turn: x narrow) zoomed 10^(2s).
+TEST(JsurfImport, SurferFilesIgnoreJsurfsCopiesOfTheirView) {
+  const double s = 0.1, zoom = std::pow(10.0, s);
+  const std::string rotation = "rotation_matrix=0 1 0 0 -1 0 0 0 0 0 1 0 0 0 0 1\nscale_factor=0.1";
+  const std::string both = rotation +
+                           "\ntransform_matrix=0 1 0 0 -1 0 0 0 0 0 1 0 0 0 0 1\n"
+                           "surface_transform_matrix=" +
+                           std::to_string(zoom) + " 0 0 0 0 " + std::to_string(zoom) + " 0 0 0 0 " +
+                           std::to_string(zoom) + " 0 0 0 0 1";
+  const int n = 200;
+  for (const std::string& keys : {rotation, both}) {
+    SCOPED_TRACE(keys);
+    // (A key given twice keeps its last value, as in Java's Properties.)
+    const std::filesystem::path file =
+        writeJsurf("algray_surfer_view.jsurf", "surface_equation=4*x^2+y^2+z^2-1\n" + keys);
+    const SceneDesc desc = jsurfScene(file);
+    std::filesystem::remove(file);
+    const auto [row, column] = centreCrossCoverage(renderSmall(desc, n));
+    EXPECT_NEAR(row, n / zoom, 2.0);
+    EXPECT_NEAR(column, n / (2 * zoom), 2.0);
+  }
+  // SURFER sets its own camera (RenderArea.setOptimalCameraDistance): a camera_transform
+  // scaled by 0.5 (a view twice as large for jsurf) leaves the unit sphere's outline at
+  // radius 1 of the view (n centre-row pixels), not 1/2.
+  const std::filesystem::path file =
+      writeJsurf("algray_surfer_camera.jsurf",
+                 "scale_factor=0\ncamera_transform=0.5 0 0 0 0 0.5 0 0 0 0 0.5 -0.5 0 0 0 1");
+  const SceneDesc desc = jsurfScene(file);
+  std::filesystem::remove(file);
+  EXPECT_NEAR(centreCrossCoverage(renderSmall(desc, n)).first, n, 2.0);
+}
+
+// ---- SURFER's look: jsurf's shading (rendering/cpu/Shader.java, RenderingTask.shade) ----
+// The unit sphere of a SURFER file (scale_factor 0, SURFER's orthographic camera: the eye at
+// the origin of camera space, the sphere's centre at (0, 0, -1), view half-height 1) is
+// hit through the centre of pixel (i, j) of an n x n image at camera-space point
+// (X, Y, Z - 1), X = 2 (i + 1/2) / n - 1, Y = 1 - 2 (j + 1/2) / n, Z = sqrt(1 - X^2 - Y^2),
+// with the outward normal (X, Y, Z) and the view vector (0, 0, 1). jsurf's colour there:
+// ambient + sum over the lights that are ON with L = normalize(position - hit), n.L > 0, of
+// n.L colour kd light I + max(0, n.h)^shininess ks light I, h = normalize(L + view), each
+// channel clamped to 1.
+struct JsurfSide {
+  glm::dvec3 color;
+  double kd, ks, shininess;
+};
+struct JsurfLight {
+  glm::dvec3 position, color;
+  double intensity;
+};
+glm::dvec3 jsurfSpherePixel(int n, int i, int j, const glm::dvec3& ambient, const JsurfSide& m,
+                            const std::vector<JsurfLight>& lights) {
+  const double x = 2 * (i + 0.5) / n - 1, y = 1 - 2 * (j + 0.5) / n;
+  const glm::dvec3 normal(x, y, std::sqrt(1 - x * x - y * y));
+  const glm::dvec3 hit = normal - glm::dvec3(0, 0, 1), view(0, 0, 1);
+  glm::dvec3 c = ambient;
+  for (const JsurfLight& l : lights) {
+    const glm::dvec3 dir = glm::normalize(l.position - hit);
+    const double lambert = glm::dot(normal, dir);
+    if (lambert <= 0) continue;
+    c += lambert * m.color * l.color * (m.kd * l.intensity);
+    const double nh = std::max(0.0, glm::dot(normal, glm::normalize(dir + view)));
+    c += std::pow(nh, m.shininess) * l.color * (m.ks * l.intensity);
+  }
+  return glm::min(c, glm::dvec3(1.0));
+}
+
+glm::dvec3 pixel(const Image& image, int i, int j) {
+  return glm::dvec3(image.color[static_cast<size_t>(j) * image.width + i]);
+}
+
+// A light at 0 0 0 is at the eye (it was dropped); no shadow rays; the back side's ambient
+// colour takes the front ambient intensity; a highlight; jsurf's defaults for keys not
+// given, and the misspelt specular_iIntensity of 23 gallery files ignored as jsurf does.
+TEST(JsurfImport, SurferLookIsJsurfsShading) {
+  const std::string lights =
+      "light_status_0=ON\nlight_position_0=-100 100 100\nlight_color_0=1 0.9 0.8\n"
+      "light_intensity_0=0.7\nlight_status_1=ON\nlight_position_1=0 0 0\n"
+      "light_intensity_1=0.4\nbackground_color=0.25 0.5 0.75\nscale_factor=0\n";
+  const std::string front =
+      "front_material_color=0.9 0.5 0.2\nfront_material_ambient_intensity=0.3\n"
+      "front_material_diffuse_intensity=0.6\nfront_material_specular_intensity=0.5\n"
+      "front_material_shininess=20\n";
+  const std::string back =
+      "back_material_color=0.1 0.4 0.8\nback_material_ambient_intensity=0.05\n"
+      "back_material_diffuse_intensity=0.7\nback_material_specular_intensity=0.2\n"
+      "back_material_shininess=5\n";
+  const std::vector<JsurfLight> on = {{{-100, 100, 100}, {1, 0.9, 0.8}, 0.7},
+                                      {{0, 0, 0}, {1, 1, 1}, 0.4}};
+  const JsurfSide frontSide{{0.9, 0.5, 0.2}, 0.6, 0.5, 20}, backSide{{0.1, 0.4, 0.8}, 0.7, 0.2, 5};
+  const glm::dvec3 frontAmbient = 0.3 * frontSide.color;
+  struct Case {
+    std::string name, keys;
+    glm::dvec3 ambient;
+    JsurfSide side;
+    std::vector<JsurfLight> lights;
+  };
+  const std::vector<Case> cases = {
+      {"front", lights + front + back, frontAmbient, frontSide, on},
+      {"lights off: ambient only",
+       front + "background_color=0.25 0.5 0.75\nscale_factor=0",
+       frontAmbient,
+       frontSide,
+       {}},
+      {"kd 0: ambient and highlights",
+       lights + front + "front_material_diffuse_intensity=0",
+       frontAmbient,
+       {frontSide.color, 0.0, 0.5, 20},
+       on},
+      // Inside out: the gradient points inwards, the viewer sees the back side.
+      {"back", lights + front + back + "surface_equation=1-x^2-y^2-z^2", 0.3 * backSide.color,
+       backSide, on},
+      {"defaults",
+       lights + "front_material_specular_iIntensity=0.1",
+       0.1 * glm::dvec3(0.5),
+       {glm::dvec3(0.5), 0.23232, 0.9, 1.0},
+       on},
+  };
+  const int n = 40;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::filesystem::path file = writeJsurf("algray_surfer_look.jsurf", c.keys);
+    const SceneDesc desc = jsurfScene(file);
+    std::filesystem::remove(file);
+    const Image image = renderSmall(desc, n);
+    EXPECT_EQ(pixel(image, 0, 0), glm::dvec3(0.25, 0.5, 0.75));  // the background as given
+    // The centre (the light at the eye's highlight), 45 degrees up-left, near the rim.
+    for (const auto& [i, j] : {std::pair{n / 2, n / 2}, {n / 4, n / 4}, {n / 2, 3}, {35, 22}}) {
+      const glm::dvec3 expected = jsurfSpherePixel(n, i, j, c.ambient, c.side, c.lights);
+      const glm::dvec3 got = pixel(image, i, j);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(got[k], expected[k], 2e-4) << "pixel " << i << " " << j << " channel " << k;
+      }
+    }
+  }
+}
+
+// No shadow rays, as in jsurf: two spheres of radius 0.3 at x = -0.4 and 0.4 and a light far
+// along +x of camera space; the point of the left sphere at X = -0.2, Y = 0 faces the light
+// (normal (0.2, 0, sqrt(0.05)) / 0.3) though the right sphere lies between them. Lit, as jsurf
+// shows it: ambient + diffuse + highlight (a shadow ray left the ambient term alone).
+TEST(JsurfImport, SurferLookCastsNoShadows) {
+  const std::filesystem::path file = writeJsurf(
+      "algray_surfer_shadow.jsurf",
+      "surface_equation=((x+0.4)^2+y^2+z^2-0.09)*((x-0.4)^2+y^2+z^2-0.09)\nscale_factor=0\n"
+      "light_position_0=1000000 0 -1\nfront_material_color=1 1 1\n"
+      "front_material_ambient_intensity=0.1\nfront_material_diffuse_intensity=0.5\n"
+      "front_material_specular_intensity=0\n");
+  const SceneDesc desc = jsurfScene(file);
+  std::filesystem::remove(file);
+  const int n = 40;  // pixel (16, 19) has its centre at X = -0.175, Y = 0.025
+  const Image image = renderSmall(desc, n);
+  const double x = -0.175 + 0.4, y = 0.025, z = std::sqrt(0.09 - x * x - y * y);
+  const double lambert = x / 0.3;  // the light's direction is +x to 1e-6
+  EXPECT_NEAR(pixel(image, 16, 19).r, 0.1 + 0.5 * lambert, 1e-4) << z;
+}
+
+// The pixels of a PNG are jsurf's: round(255 * clamp(v)), no sRGB curve (a background of
+// 0.5 was 188, not 128).
+TEST(JsurfImport, SurferPngHoldsJsurfsBytes) {
+  const std::filesystem::path file =
+      writeJsurf("algray_surfer_png.jsurf", "background_color=0.5 0.25 0.1\nscale_factor=0");
+  const std::filesystem::path png =
+      std::filesystem::temp_directory_path() / "algray_surfer_png.png";
+  const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + file.string() + " -o " +
+                          png.string() + " --width 8 --height 8 -q";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  auto in = OIIO::ImageInput::open(png.string());
+  ASSERT_TRUE(in);
+  std::vector<unsigned char> bytes(8 * 8 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, bytes.data()));
+  in->close();
+  EXPECT_EQ(bytes[0], 128);  // 127.5 rounds up, as (int) (255 v + 0.5) does
+  EXPECT_EQ(bytes[1], 64);   // 63.75
+  EXPECT_EQ(bytes[2], 26);   // 25.5
+  std::filesystem::remove(file);
+  std::filesystem::remove(png);
+}
+
+// Path and direct: a light at 0 0 0 (at the eye) is a light towards the eye; it was dropped.
+TEST(JsurfImport, LightAtTheEyeLightsTowardsTheEye) {
+  const std::filesystem::path file =
+      writeJsurf("algray_eye_light.jsurf", "light_position_0=0 0 0\nscale_factor=0");
+  const SceneDesc desc = jsurfScene(file);
+  std::filesystem::remove(file);
+  ASSERT_EQ(desc.directionalLights.size(), 1u);
+  // SURFER's camera looks down -z from +z: towards the eye is +z.
+  EXPECT_NEAR(desc.directionalLights[0].direction.z, 1.0, 1e-12);
 }
 
 // Values SURFER never writes: each is an error at the line of its key (they aborted in
