@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include <sys/wait.h>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -349,17 +350,32 @@ TEST(JsurfImport, SurferPngHoldsJsurfsBytes) {
       writeJsurf("algray_surfer_png.jsurf", "background_color=0.5 0.25 0.1\nscale_factor=0");
   const std::filesystem::path png =
       std::filesystem::temp_directory_path() / "algray_surfer_png.png";
-  const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + file.string() + " -o " +
-                          png.string() + " --width 8 --height 8 -q";
-  ASSERT_EQ(std::system(cmd.c_str()), 0);
-  auto in = OIIO::ImageInput::open(png.string());
-  ASSERT_TRUE(in);
-  std::vector<unsigned char> bytes(8 * 8 * 3);
-  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, bytes.data()));
-  in->close();
+  auto corner = [&](const std::string& options) {
+    const std::string cmd = std::string(ALGRAY_RENDER_EXE) + " " + file.string() + " -o " +
+                            png.string() + " --width 8 --height 8 -q" + options;
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << options;
+    std::vector<unsigned char> bytes(8 * 8 * 3);
+    auto in = OIIO::ImageInput::open(png.string());
+    if (!in) return bytes;
+    EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, bytes.data()));
+    in->close();
+    return bytes;
+  };
+  std::vector<unsigned char> bytes = corner("");
   EXPECT_EQ(bytes[0], 128);  // 127.5 rounds up, as (int) (255 v + 0.5) does
   EXPECT_EQ(bytes[1], 64);   // 63.75
   EXPECT_EQ(bytes[2], 26);   // 25.5
+  // Path and direct compute radiance: their PNG goes through the sRGB curve again,
+  // 255 * (1.055 v^(1 / 2.4) - 0.055) rounded.
+  for (const char* integrator : {" --integrator direct", " --integrator path"}) {
+    bytes = corner(integrator);
+    for (int k = 0; k < 3; ++k) {
+      const double v = std::array{0.5, 0.25, 0.1}[static_cast<size_t>(k)];
+      EXPECT_EQ(bytes[static_cast<size_t>(k)],
+                std::lround(255 * (1.055 * std::pow(v, 1 / 2.4) - 0.055)))
+          << integrator << " " << k;
+    }
+  }
   std::filesystem::remove(file);
   std::filesystem::remove(png);
 }

@@ -891,6 +891,8 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // default scene rendered, its options ignored), an unwritable --export-pov and a
       // negative --seed (wrapped to 2^64 - 1) were accepted with exit code 0.
       {"--surface '' --param a=1", "--surface:1:1: empty equation"},
+      // jsurf's shading needs a .jsurf file's materials and lights.
+      {"--surface sphere --integrator surfer", "--integrator surfer: shades .jsurf files only"},
       // A --param value that is neither a number nor a constant the parser reads (a constant
       // such as pi/4 is taken since session 53).
       {"--surface x^2+y^2+z^2-a --param a=x",
