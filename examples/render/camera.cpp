@@ -39,6 +39,7 @@ Camera::Camera(const CameraDesc& desc, int width, int height)
     if (!(desc.height > 0)) throw std::runtime_error("camera: height must be positive");
     halfH_ = 0.5 * desc.height;
   }
+  if (desc.fitShorterSide && aspect < 1) halfH_ /= aspect;
   halfW_ = halfH_ * aspect;
   // dist may overflow for far-apart points; the focus plane then is as far as a double goes.
   focus_ = desc.focusDistance > 0 ? desc.focusDistance

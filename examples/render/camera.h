@@ -15,6 +15,9 @@ struct CameraDesc {
   double height = 2.0;         // world units, orthographic: vertical extent of the view
   double aperture = 0.0;       // lens radius, 0 = pinhole
   double focusDistance = 0.0;  // 0 = distance to lookAt
+  // fovY / height span the image's shorter side instead of its height, so a portrait image
+  // sees as much across as a square one (quick mode and .jsurf scenes frame a clip sphere).
+  bool fitShorterSide = false;
 };
 
 struct CameraRay {

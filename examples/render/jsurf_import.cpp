@@ -247,6 +247,9 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
   const double reach = std::max({1.0, std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
   scene.camera.lookAt = eye + std::max(1.0, 0x1p-20 * reach) * *forward;
   scene.camera.up = *up;
+  // SURFER's view is square; in a portrait image camera_height (or the fov) spans the width,
+  // so the clip sphere is whole there too (it was cut off at both sides).
+  scene.camera.fitShorterSide = true;
   if (type == "PERSPECTIVE_CAMERA") {
     scene.camera.type = CameraDesc::Type::Perspective;
     scene.camera.fovY = fovY;

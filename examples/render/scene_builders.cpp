@@ -225,18 +225,14 @@ SceneDesc quickScene(const QuickOptions& options) {
   MeshItem plane{"floor", makePlane(20.0 * r), glm::translate(glm::dmat4(1.0), {0, 0, -r}),
                  scene.addMaterial(floor), -1};
   scene.meshes.push_back(plane);
-  // Camera: the clip sphere fills ~85% of the image's shorter side. fovY is the vertical
-  // angle, so a portrait image sees less across: its half-angle there is atan(tan(fovY / 2)
-  // W / H) (framed by the height alone, --width 200 made a 200 x 512 image that cut the
-  // surface off at both sides).
+  // Camera: the clip sphere fills ~85% of the image's shorter side (framed by the height
+  // alone, --width 200 made a 200 x 512 image that cut the surface off at both sides).
   scene.settings.width = options.width.value_or(options.height.value_or(512));
   scene.settings.height = options.height.value_or(options.width.value_or(512));
   scene.settings.spp = 16;
   scene.camera.fovY = 30.0;
-  const double aspect = static_cast<double>(scene.settings.width) / scene.settings.height;
-  const double halfAngle =
-      std::atan(std::tan(0.5 * scene.camera.fovY * kPi / 180.0) * std::min(1.0, aspect));
-  double distance = r / std::sin(halfAngle) / 0.85;
+  scene.camera.fitShorterSide = true;
+  double distance = r / std::sin(0.5 * scene.camera.fovY * kPi / 180.0) / 0.85;
   scene.camera.lookAt = glm::dvec3(0.0);
   scene.camera.position = distance * glm::normalize(glm::dvec3(0.55, -1.0, 0.45));
   scene.directionalLights.push_back({glm::dvec3(-0.4, -0.6, 1.0), glm::dvec3(2.6)});

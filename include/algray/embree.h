@@ -95,7 +95,8 @@ struct SurfaceOptions {
 
 struct SurfaceDesc {
   Polynomial polynomial;           // object space
-  ClipRegion clip = ClipSphere{};  // object space; required (surfaces are often unbounded)
+  ClipRegion clip = ClipSphere{};  // object space; set it (surfaces are often unbounded):
+                                   // the default is the unit sphere about the origin
   glm::dmat4 transform{1.0};       // object to world, affine
   SurfaceOptions options;
 };

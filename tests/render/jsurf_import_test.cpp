@@ -1,4 +1,5 @@
 // SURFER/jsurf import of the shared gallery files.
+#include "camera.h"
 #include "render.h"
 #include "scene.h"
 #include "scene_builders.h"
@@ -378,6 +379,34 @@ TEST(JsurfImport, SurferPngHoldsJsurfsBytes) {
   }
   std::filesystem::remove(file);
   std::filesystem::remove(png);
+}
+
+// SURFER's view is square: a portrait image sees the width a square one does (its
+// camera_height spanned the height, and the clip sphere was cut off at both sides), a
+// landscape one the height; for both camera kinds.
+TEST(JsurfImport, PortraitImagesSeeTheWholeWidth) {
+  for (const char* camera : {"", "camera_type=PERSPECTIVE_CAMERA\ncamera_fov_y=60\n"}) {
+    const std::filesystem::path file =
+        writeJsurf("algray_portrait.jsurf", std::string(camera) + "scale_factor=0");
+    const SceneDesc desc = jsurfScene(file);
+    std::filesystem::remove(file);
+    // The ray through the middle of the left edge: its origin (orthographic) or direction
+    // (perspective) in camera space.
+    auto leftEdge = [&](int w, int h) {
+      const CameraRay r = Camera(desc.camera, w, h).generateRay({0.0, h / 2.0}, {0.5, 0.5});
+      return r.org + r.dir;
+    };
+    auto topEdge = [&](int w, int h) {
+      const CameraRay r = Camera(desc.camera, w, h).generateRay({w / 2.0, 0.0}, {0.5, 0.5});
+      return r.org + r.dir;
+    };
+    const glm::dvec3 square = leftEdge(64, 64), squareTop = topEdge(64, 64);
+    const glm::dvec3 portrait = leftEdge(32, 128), landscape = topEdge(128, 32);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(portrait[k], square[k], 1e-12) << camera << k;
+      EXPECT_NEAR(landscape[k], squareTop[k], 1e-12) << camera << k;
+    }
+  }
 }
 
 // Path and direct: a light at 0 0 0 (at the eye) is a light towards the eye; it was dropped.
