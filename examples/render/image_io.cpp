@@ -36,6 +36,11 @@ double srgbEncode(double c) {
   return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
+// sRGB's decoding, the inverse of srgbEncode (IEC 61966-2-1).
+double srgbDecode(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
 // The file name's extension in lower case (".EXR" names the same format as ".exr").
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -173,9 +178,17 @@ void writeImage(const Image& image, const std::string& path, const RenderSetting
     if (aovs.id) desc.channels.push_back("id");
     size_t nc = desc.channels.size();
     floats.resize(n * nc);
+    // ToneMap::None's colours are display values (the surfer integrator's, as jsurf writes
+    // them to 8-bit files, which viewers read as sRGB): a float file holds the linear values
+    // that show the same, not the display values as if they were linear (washed out).
+    const bool display = settings.toneMap == ToneMap::None;
     for (size_t i = 0; i < n; ++i) {
       float* d = &floats[i * nc];
-      *d++ = image.color[i].r, *d++ = image.color[i].g, *d++ = image.color[i].b;
+      for (int k = 0; k < 3; ++k) {
+        const double v = image.color[i][k];
+        *d++ = display ? static_cast<float>(srgbDecode(std::clamp(finiteExposed(v), 0.0, 1.0)))
+                       : image.color[i][k];
+      }
       if (aovs.depth) *d++ = image.depth[i];
       if (aovs.normal) *d++ = image.normal[i].x, *d++ = image.normal[i].y, *d++ = image.normal[i].z;
       if (aovs.albedo) *d++ = image.albedo[i].r, *d++ = image.albedo[i].g, *d++ = image.albedo[i].b;

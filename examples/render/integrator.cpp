@@ -112,6 +112,7 @@ glm::dvec3 tracePath(const Scene& scene, const CameraRay& cameraRay, Rng& rng, S
   glm::dvec3 L(0.0), beta(1.0);
   glm::dvec3 org = cameraRay.org, dir = cameraRay.dir;
   bool specularBounce = false;
+  bool specularChain = true;  // every vertex so far a specular bounce (SampleAov::seenThrough)
   double prevPdf = 0;
   glm::dvec3 prevP(0.0);
   for (int depth = 0;; ++depth) {
@@ -129,6 +130,7 @@ glm::dvec3 tracePath(const Scene& scene, const CameraRay& cameraRay, Rng& rng, S
     Shading sh = makeShading(*hit, wo);
     const Material& m = scene.material(*hit, sh.frontFace);
     if (depth == 0) fillAov(aov, *hit, sh, m);
+    if (specularChain && !m.isSpecular() && aov.seenThrough == 0) aov.seenThrough = hit->geomID + 1;
     // ---- Emitters: black BSDF, end of the path --------------------------------------
     if (m.type == MaterialType::Emissive) {
       double w = 1.0;
@@ -161,6 +163,7 @@ glm::dvec3 tracePath(const Scene& scene, const CameraRay& cameraRay, Rng& rng, S
     if (!bs->specular && glm::dot(wi, sh.ngFacing) <= 0) break;
     beta *= bs->weight;
     specularBounce = bs->specular;
+    specularChain = specularChain && bs->specular;
     prevPdf = bs->pdf;
     prevP = hit->p;
     org = scene.spawnOrigin(*hit, wi);
@@ -188,6 +191,7 @@ glm::dvec3 traceDirect(const Scene& scene, const CameraRay& cameraRay, Rng& rng,
     Shading sh = makeShading(*hit, wo);
     const Material& m = scene.material(*hit, sh.frontFace);
     if (depth == 0) fillAov(aov, *hit, sh, m);
+    if (!m.isSpecular() && aov.seenThrough == 0) aov.seenThrough = hit->geomID + 1;
     if (m.type == MaterialType::Emissive) return beta * m.emission;
     glm::dvec3 albedo = m.albedo(hit->uv, hit->latLongUv);
     if (m.isSpecular()) {  // follow the glass

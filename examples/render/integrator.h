@@ -19,6 +19,10 @@ struct SampleAov {
   glm::dvec3 normal{0.0};  // shading normal facing the camera
   glm::dvec3 albedo{0.0};
   double id = 0;  // geomID + 1, 0 for the background
+  // geomID + 1 of the first hit that is not glass along the camera ray's chain of specular
+  // (glass) bounces, 0 if none: a surface seen through glass is seen, though never the
+  // first hit (render.cpp's "no camera ray hit it" warning).
+  unsigned seenThrough = 0;
 };
 
 glm::dvec3 tracePath(const Scene& scene, const CameraRay& ray, Rng& rng, SampleAov& aov,

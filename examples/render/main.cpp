@@ -399,16 +399,15 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "algray-render: %s\n", e.what());
       return 2;
     }
-    // A surface no camera ray met first is worth a word too (exit code 0): in quick mode
+    // A surface no camera ray met is worth a word too (exit code 0): in quick mode
     // x^2+y^2+z^2 = 1e-6 in the default clip sphere covers a tenth of a pixel, and the
-    // picture showed the floor alone without a message.
+    // picture showed the floor alone without a message. Seen through glass is seen.
     if (!stats.interrupted)
       for (const Scene::DrawnSurface& drawn : scene.drawnSurfaces()) {
-        const float id = static_cast<float>(drawn.geomID + 1);
-        if (std::find(image.id.begin(), image.id.end(), id) != image.id.end()) continue;
+        if (stats.wasSeen(drawn.geomID)) continue;
         std::fprintf(stderr,
-                     "algray-render: warning: %s: no camera ray hit the surface first (it is "
-                     "smaller than a pixel, outside the view or behind other objects)%s\n",
+                     "algray-render: warning: %s: no camera ray hit the surface (it is smaller "
+                     "than a pixel, outside the view or hidden behind other objects)%s\n",
                      drawn.label.c_str(),
                      quick ? "; a smaller --clip-sphere frames a small surface closer" : "");
       }

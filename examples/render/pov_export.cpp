@@ -48,7 +48,13 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
   if (!scene.environment.image.empty())
     throw std::runtime_error("POV-Ray export: image environments are not exported");
   double aspect = static_cast<double>(s.width) / s.height;
-  double hfov = 2.0 * std::atan(aspect * std::tan(0.5 * cam.fovY * kPi / 180.0)) * 180.0 / kPi;
+  // POV-Ray's angle is the horizontal one: fovY spans the width itself where a camera fits
+  // its shorter side in a portrait image (quick mode; the portrait export cut the surface
+  // off at both sides).
+  double hfov =
+      cam.fitShorterSide && aspect < 1
+          ? cam.fovY
+          : 2.0 * std::atan(aspect * std::tan(0.5 * cam.fovY * kPi / 180.0)) * 180.0 / kPi;
   out << "// Written by algray-render --export-pov: the same scene as algray's direct "
          "integrator.\n";
   out << "#version 3.7;\n";

@@ -33,8 +33,15 @@ namespace {
 
 constexpr int kTile = 16;
 
+// seen[geomID] = 1 for every geometry a camera ray hit first or saw through glass.
+void markSeen(std::vector<std::uint8_t>& seen, unsigned idPlusOne) {
+  if (idPlusOne == 0) return;
+  if (seen.size() < idPlusOne) seen.resize(idPlusOne, 0);
+  seen[idPlusOne - 1] = 1;
+}
+
 void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, int y,
-                 RayCounter& counter) {
+                 RayCounter& counter, std::vector<std::uint8_t>& seen) {
   const RenderSettings& s = scene.desc().settings;
   auto pixel = static_cast<size_t>(y) * image.width + x;
   Rng rng(pixel, s.seed);
@@ -57,6 +64,8 @@ void renderPixel(const Scene& scene, const Camera& camera, Image& image, int x, 
     // A non-finite sample (should not happen) must not poison the pixel.
     if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) sum += L;
     if (aov.id > 0 && (id == 0 || aov.depth < depth)) depth = aov.depth, id = aov.id;
+    markSeen(seen, static_cast<unsigned>(aov.id));
+    markSeen(seen, aov.seenThrough);
     normal += aov.normal;
     albedo += aov.albedo;
   }
@@ -104,7 +113,12 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   static_cast<size_t>(s.threads));
   tbb::enumerable_thread_specific<RayCounter> counters;
+  tbb::enumerable_thread_specific<std::vector<std::uint8_t>> seenSets;
   std::atomic<int> tilesDone{0};
+  // The progress bar's ray count, published per pixel: the monitor reads this, not the
+  // threads' counters (a plain integer another thread writes, and an
+  // enumerable_thread_specific that local() may grow while it is iterated: data races).
+  std::atomic<std::uint64_t> raysSoFar{0};
   std::atomic<bool> interrupted{false};
   auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] {
@@ -120,8 +134,7 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
     monitor = std::thread([&] {
       std::unique_lock lock(mutex);
       while (!wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished; })) {
-        std::uint64_t rays = 0;
-        for (const RayCounter& c : counters) rays += c.count();
+        const std::uint64_t rays = raysSoFar.load(std::memory_order_relaxed);
         drawProgress(tilesDone.load(), stats.tilesTotal, elapsed(), rays);
       }
     });
@@ -132,6 +145,7 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
       tbb::blocked_range<int>(0, stats.tilesTotal, 1),
       [&](const tbb::blocked_range<int>& range) {
         RayCounter& counter = counters.local();
+        std::vector<std::uint8_t>& seen = seenSets.local();
         for (int tile = range.begin(); tile != range.end(); ++tile) {
           if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
             interrupted = true;
@@ -146,7 +160,9 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
                 interrupted = true;
                 return;
               }
-              renderPixel(scene, camera, image, x, y, counter);
+              const std::uint64_t before = counter.rays;
+              renderPixel(scene, camera, image, x, y, counter, seen);
+              raysSoFar.fetch_add(counter.rays - before, std::memory_order_relaxed);
             }
           ++tilesDone;
         }
@@ -162,7 +178,12 @@ RenderStats render(const Scene& scene, Image& image, const RenderOptions& option
     monitor.join();
   }
   stats.seconds = elapsed();
-  for (const RayCounter& c : counters) stats.rays += c.count();
+  for (const RayCounter& c : counters) stats.rays += c.rays;
+  for (const std::vector<std::uint8_t>& seen : seenSets) {
+    if (stats.seen.size() < seen.size()) stats.seen.resize(seen.size(), false);
+    for (size_t i = 0; i < seen.size(); ++i)
+      if (seen[i]) stats.seen[i] = true;
+  }
   stats.tilesDone = tilesDone.load();
   stats.interrupted = interrupted.load();
   for (size_t i = 0; i < image.overflow.size(); ++i)

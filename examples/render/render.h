@@ -37,6 +37,9 @@ struct RenderStats {
   std::uint64_t overflowPixels = 0;
   int overflowX = -1, overflowY = -1;
   double overflowValue = 0;
+  // seen[geomID]: a camera ray hit the geometry first, or through glass (SampleAov).
+  std::vector<bool> seen;
+  bool wasSeen(unsigned geomID) const { return geomID < seen.size() && seen[geomID]; }
 };
 
 // Renders scene.desc().settings (width, height, spp, integrator, seed, threads).

@@ -262,7 +262,7 @@ void Scene::release() noexcept {
 
 std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir, double tnear,
                                     RayCounter& counter) const {
-  counter.add();
+  ++counter.rays;
   RTCRayHit rh{};
   rh.ray.org_x = static_cast<float>(org.x);
   rh.ray.org_y = static_cast<float>(org.y);
@@ -340,7 +340,7 @@ std::optional<Hit> Scene::intersect(const glm::dvec3& org, const glm::dvec3& dir
 
 bool Scene::occluded(const glm::dvec3& org, const glm::dvec3& dir, double tnear, double tfar,
                      RayCounter& counter) const {
-  counter.add();
+  ++counter.rays;
   RTCRay ray{};
   ray.org_x = static_cast<float>(org.x);
   ray.org_y = static_cast<float>(org.y);

@@ -28,12 +28,7 @@ struct Hit {
 };
 
 struct RayCounter {
-  // Counted by one render thread, read while it runs by the progress bar's thread: a relaxed
-  // atomic, loaded and stored (one writer: no read-modify-write needed), so that read is no
-  // data race (ThreadSanitizer's view of the plain integer, session 53's audit).
-  std::atomic<std::uint64_t> rays{0};
-  void add() { rays.store(rays.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed); }
-  std::uint64_t count() const { return rays.load(std::memory_order_relaxed); }
+  std::uint64_t rays = 0;
 };
 
 // A sampled point on a light, as seen from a shading point.
@@ -97,7 +92,7 @@ class Scene {
   // that a tool can say why they are not in the picture.
   const std::vector<std::string>& emptySurfaces() const { return emptySurfaces_; }
   // The other algebraic surfaces (geometry ID and label), for a tool to tell which of them
-  // no camera ray hit (Image::id).
+  // no camera ray saw (RenderStats::seen).
   struct DrawnSurface {
     unsigned geomID;
     std::string label;

@@ -144,6 +144,29 @@ TEST(ImageFile, ExrKeepsLinearValuesAndAovChannels) {
   std::filesystem::remove(path);
 }
 
+// The surfer integrator's colours are display values (ToneMap::None): a float file holds the
+// linear values a viewer shows as the PNG's bytes, sRGB-decoded (they were written as if
+// linear: 0.5 showed as 0.735, washed out), clamped to [0, 1] as the bytes are; the AOVs
+// stay as they are.
+TEST(ImageFile, DisplayValuesAreDecodedForFloatFiles) {
+  auto path = (std::filesystem::temp_directory_path() / "algray_io_display.exr").string();
+  Image image = gradient();
+  image.color[0] = glm::vec3(0.5f, 1.7f, -0.2f);
+  image.color[1] = glm::vec3(0.02f, 0.25f, 1.0f);
+  RenderSettings settings;
+  settings.toneMap = ToneMap::None;
+  writeImage(image, path, settings, AovSet{});
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  std::vector<float> data(32 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, data.data()));
+  in->close();
+  std::filesystem::remove(path);
+  const double expected[6] = {std::pow(0.555 / 1.055, 2.4), 1.0, 0.0, 0.02 / 12.92,
+                              std::pow(0.305 / 1.055, 2.4), 1.0};
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(data[static_cast<size_t>(i)], expected[i], 1e-6) << i;
+}
+
 // --aov depth,id writes R, G, B and just those two channels, with their values.
 TEST(ImageFile, ExrWritesOnlyTheAovsAskedFor) {
   auto path = (std::filesystem::temp_directory_path() / "algray_io_subset_test.exr").string();

@@ -221,11 +221,13 @@ TEST(JsurfImport, SurferFilesIgnoreJsurfsCopiesOfTheirView) {
 }
 
 // ---- SURFER's look: jsurf's shading (rendering/cpu/Shader.java, RenderingTask.shade) ----
-// The unit sphere of a SURFER file (scale_factor 0, SURFER's orthographic camera: the eye at
-// the origin of camera space, the sphere's centre at (0, 0, -1), view half-height 1) is
-// hit through the centre of pixel (i, j) of an n x n image at camera-space point
-// (X, Y, Z - 1), X = 2 (i + 1/2) / n - 1, Y = 1 - 2 (j + 1/2) / n, Z = sqrt(1 - X^2 - Y^2),
-// with the outward normal (X, Y, Z) and the view vector (0, 0, 1). jsurf's colour there:
+// The sphere of radius r about the origin of a SURFER file (scale_factor 0, SURFER's
+// orthographic camera: the eye at the origin of camera space, the sphere's centre at (0, 0,
+// -1), view half-height 1) is hit through the centre of pixel (i, j) of an n x n image at
+// camera-space point (X, Y, Z - 1), X = 2 (i + 1/2) / n - 1, Y = 1 - 2 (j + 1/2) / n, Z =
+// sqrt(r^2 - X^2 - Y^2), with the outward normal (X, Y, Z) / r and the view vector (0, 0,
+// 1). (r < 1: the unit sphere's pole is the eye itself, where a light at the eye lights
+// nothing.) jsurf's colour there:
 // ambient + sum over the lights that are ON with L = normalize(position - hit), n.L > 0, of
 // n.L colour kd light I + max(0, n.h)^shininess ks light I, h = normalize(L + view), each
 // channel clamped to 1.
@@ -237,11 +239,12 @@ struct JsurfLight {
   glm::dvec3 position, color;
   double intensity;
 };
-glm::dvec3 jsurfSpherePixel(int n, int i, int j, const glm::dvec3& ambient, const JsurfSide& m,
-                            const std::vector<JsurfLight>& lights) {
+glm::dvec3 jsurfSpherePixel(int n, double r, int i, int j, const glm::dvec3& ambient,
+                            const JsurfSide& m, const std::vector<JsurfLight>& lights) {
   const double x = 2 * (i + 0.5) / n - 1, y = 1 - 2 * (j + 0.5) / n;
-  const glm::dvec3 normal(x, y, std::sqrt(1 - x * x - y * y));
-  const glm::dvec3 hit = normal - glm::dvec3(0, 0, 1), view(0, 0, 1);
+  const glm::dvec3 onSphere(x, y, std::sqrt(r * r - x * x - y * y));
+  const glm::dvec3 normal = onSphere / r;
+  const glm::dvec3 hit = onSphere - glm::dvec3(0, 0, 1), view(0, 0, 1);
   glm::dvec3 c = ambient;
   for (const JsurfLight& l : lights) {
     const glm::dvec3 dir = glm::normalize(l.position - hit);
@@ -287,7 +290,7 @@ TEST(JsurfImport, SurferLookIsJsurfsShading) {
   const std::vector<Case> cases = {
       {"front", lights + front + back, frontAmbient, frontSide, on},
       {"lights off: ambient only",
-       front + "background_color=0.25 0.5 0.75\nscale_factor=0",
+       front + "background_color=0.25 0.5 0.75\nscale_factor=0\nlight_status_0=OFF",
        frontAmbient,
        frontSide,
        {}},
@@ -297,7 +300,7 @@ TEST(JsurfImport, SurferLookIsJsurfsShading) {
        {frontSide.color, 0.0, 0.5, 20},
        on},
       // Inside out: the gradient points inwards, the viewer sees the back side.
-      {"back", lights + front + back + "surface_equation=1-x^2-y^2-z^2", 0.3 * backSide.color,
+      {"back", lights + front + back + "surface_equation=0.25-x^2-y^2-z^2", 0.3 * backSide.color,
        backSide, on},
       {"defaults",
        lights + "front_material_specular_iIntensity=0.1",
@@ -308,14 +311,16 @@ TEST(JsurfImport, SurferLookIsJsurfsShading) {
   const int n = 40;
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    const std::filesystem::path file = writeJsurf("algray_surfer_look.jsurf", c.keys);
+    const std::filesystem::path file =
+        writeJsurf("algray_surfer_look.jsurf", "surface_equation=x^2+y^2+z^2-0.25\n" + c.keys);
     const SceneDesc desc = jsurfScene(file);
     std::filesystem::remove(file);
     const Image image = renderSmall(desc, n);
     EXPECT_EQ(pixel(image, 0, 0), glm::dvec3(0.25, 0.5, 0.75));  // the background as given
-    // The centre (the light at the eye's highlight), 45 degrees up-left, near the rim.
-    for (const auto& [i, j] : {std::pair{n / 2, n / 2}, {n / 4, n / 4}, {n / 2, 3}, {35, 22}}) {
-      const glm::dvec3 expected = jsurfSpherePixel(n, i, j, c.ambient, c.side, c.lights);
+    // The centre (the light at the eye's highlight), 45 degrees up-left, near the rim, off
+    // the axes: the sphere of radius 0.5 covers pixels within 10 of the centre.
+    for (const auto& [i, j] : {std::pair{n / 2, n / 2}, {15, 15}, {n / 2, 11}, {27, 17}}) {
+      const glm::dvec3 expected = jsurfSpherePixel(n, 0.5, i, j, c.ambient, c.side, c.lights);
       const glm::dvec3 got = pixel(image, i, j);
       for (int k = 0; k < 3; ++k) {
         EXPECT_NEAR(got[k], expected[k], 2e-4) << "pixel " << i << " " << j << " channel " << k;

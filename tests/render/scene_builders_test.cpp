@@ -183,6 +183,27 @@ TEST(PovExport, PolynomialTermsMatchTheSurface) {
   EXPECT_EQ(terms, p.nonZeroCount());
 }
 
+// POV-Ray's camera angle is the horizontal field of view algray's camera has: the angle
+// between the rays through the middle of the left and right edges (a portrait quick scene
+// was exported with the vertical angle's rule, 15.26 degrees instead of 30).
+TEST(PovExport, CameraAngleIsTheImagesHorizontalView) {
+  for (const auto& [w, h] : {std::pair{200, 400}, std::pair{400, 200}, std::pair{300, 300}}) {
+    QuickOptions q;
+    q.surface = "sphere";
+    q.width = w;
+    q.height = h;
+    const SceneDesc s = quickScene(q);
+    const std::string pov = povrayScene(s, false);
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(pov, m, std::regex(R"(angle ([-+0-9.eE]+))"))) << pov;
+    const Camera cam(s.camera, w, h);
+    const glm::dvec3 left = cam.generateRay({0.0, h / 2.0}, {0.5, 0.5}).dir;
+    const glm::dvec3 right = cam.generateRay({double(w), h / 2.0}, {0.5, 0.5}).dir;
+    const double across = std::acos(glm::dot(left, right)) * 180.0 / std::acos(-1.0);
+    EXPECT_NEAR(std::stod(m[1]), across, 1e-9) << w << "x" << h;
+  }
+}
+
 // Meshes are exported as the same triangles in scene space (every 2-triangle mesh was an
 // infinite plane through its transform's z axis: a vertical wall became a floor), and a
 // surface of a degree POV-Ray's polynomial does not take is refused.

@@ -16,6 +16,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <regex>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -808,9 +810,10 @@ TEST(RenderProgram, SurfacesOutsideTheirClipRegionAreNamed) {
 
 // A surface in the picture that no camera ray hits (a tenth of a pixel across: the floor
 // alone, without a word until session 53) gets a warning, and a smaller clip sphere, which
-// frames it, none.
+// frames it, none. A ball seen only through a glass shell is seen (the first version, which
+// read the first hits alone, warned about it); inside an opaque shell it is hidden.
 TEST(RenderProgram, SurfacesNoCameraRayHitsAreNamed) {
-  const std::string warning = "no camera ray hit the surface first";
+  const std::string warning = "no camera ray hit the surface";
   const std::string image = (std::filesystem::temp_directory_path() / "algray_tiny.png").string();
   const std::string small = " --width 40 --height 30 --spp 1 -q -o " + image;
   auto [code, out] = runRender("--surface \"x^2+y^2+z^2-1e-6\"" + small);
@@ -821,7 +824,46 @@ TEST(RenderProgram, SurfacesNoCameraRayHitsAreNamed) {
   std::tie(code, out) = runRender("--surface \"x^2+y^2+z^2-1e-6\" --clip-sphere 2e-3" + small);
   EXPECT_EQ(code, 0) << out;
   EXPECT_EQ(out.find(warning), std::string::npos) << out;
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "algray_glass_shell.json";
+  for (const std::string shell : {"glass", "red"}) {
+    for (const char* integrator : {"path", "direct"}) {
+      std::ofstream(file)
+          << "{\"camera\": {\"position\": [0, -6, 0], \"look_at\": [0, 0, 0], \"fov\": 30},\n"
+             "\"materials\": {\"glass\": {\"type\": \"dielectric\", \"ior\": 1.5},\n"
+             "  \"red\": {\"type\": \"diffuse\", \"color\": [0.8, 0.1, 0.1]}},\n"
+             "\"surfaces\": [{\"equation\": \"x^2+y^2+z^2-1\", \"clip\": {\"sphere\": "
+             "{\"radius\": 1.2}}, \"material\": \""
+          << shell
+          << "\"},\n"
+             "  {\"equation\": \"x^2+y^2+z^2-0.25\", \"clip\": {\"sphere\": {\"radius\": "
+             "0.6}}, \"material\": \"red\"}],\n"
+             "\"lights\": [{\"type\": \"point\", \"position\": [2, -3, 5], \"intensity\": 40}]}\n";
+      std::tie(code, out) = runRender(file.string() + " --integrator " + integrator + small);
+      EXPECT_EQ(code, 0) << out;
+      EXPECT_EQ(out.find(":5:3: surface x^2+y^2+z^2-0.25: " + warning) != std::string::npos,
+                shell == "red")
+          << shell << " " << integrator << ": " << out;
+      EXPECT_EQ(out.find(":4:"), std::string::npos) << out;  // the shell is seen
+    }
+  }
+  std::filesystem::remove(file);
   std::filesystem::remove(image);
+}
+
+// A --param value may be a constant as equations write it (session 53): the exported scene
+// holds the surface with the constant's double, (1 + sqrt(5)) / 2 computed here.
+TEST(RenderProgram, ParameterValuesMayBeConstants) {
+  const std::filesystem::path pov = std::filesystem::temp_directory_path() / "algray_param.pov";
+  const auto [code, out] = runRender("--surface \"x^2+y^2+z^2-a\" --param \"a=(1+sqrt(5))/2\" " +
+                                     std::string("--export-pov ") + pov.string());
+  ASSERT_EQ(code, 0) << out;
+  std::ifstream in(pov);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(pov);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(text, m, std::regex(R"(xyz\(0, 0, 0\): ([-+0-9.eE]+))"))) << text;
+  EXPECT_EQ(std::stod(m[1]), -(1 + std::sqrt(5.0)) / 2);
 }
 
 // An equation or a gallery name given where the scene file goes gets the command that
