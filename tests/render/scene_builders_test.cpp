@@ -42,16 +42,21 @@ TEST(QuickScene, ClipSphereFillsMostOfTheFrame) {
   EXPECT_LT(missDistance(0.1 * s.settings.height), clip.radius);
 }
 
+// Quick mode's scene of `surface` for a w x h image.
+SceneDesc quickSceneSized(const std::string& surface, int w, int h) {
+  QuickOptions q;
+  q.surface = surface;
+  q.width = w;
+  q.height = h;
+  return quickScene(q);
+}
+
 // A portrait image frames the clip sphere in its width (framed by the height alone, a
 // 60 x 240 image cut the sphere off at both sides), and one size given alone keeps quick
 // mode's square (--width 200 made 200 x 512).
 TEST(QuickScene, ClipSphereFitsTheShorterSide) {
   for (const auto& [w, h] : {std::pair{60, 240}, std::pair{240, 60}, std::pair{300, 300}}) {
-    QuickOptions q;
-    q.surface = "x^2 + y^2 + z^2 - 1";
-    q.width = w;
-    q.height = h;
-    const SceneDesc s = quickScene(q);
+    const SceneDesc s = quickSceneSized("x^2 + y^2 + z^2 - 1", w, h);
     ASSERT_EQ(s.settings.width, w);
     ASSERT_EQ(s.settings.height, h);
     const auto& clip = std::get<ClipSphere>(s.surfaces[0].clip);
@@ -188,11 +193,7 @@ TEST(PovExport, PolynomialTermsMatchTheSurface) {
 // was exported with the vertical angle's rule, 15.26 degrees instead of 30).
 TEST(PovExport, CameraAngleIsTheImagesHorizontalView) {
   for (const auto& [w, h] : {std::pair{200, 400}, std::pair{400, 200}, std::pair{300, 300}}) {
-    QuickOptions q;
-    q.surface = "sphere";
-    q.width = w;
-    q.height = h;
-    const SceneDesc s = quickScene(q);
+    const SceneDesc s = quickSceneSized("sphere", w, h);
     const std::string pov = povrayScene(s, false);
     std::smatch m;
     ASSERT_TRUE(std::regex_search(pov, m, std::regex(R"(angle ([-+0-9.eE]+))"))) << pov;
