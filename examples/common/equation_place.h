@@ -16,6 +16,15 @@ struct EquationPlace {
 
 inline EquationPlace equationPlace(std::string_view equation, int column) {
   EquationPlace at;
+  at.multiLine = equation.find_first_of("\r\n") != std::string_view::npos;
+  // An error at the very end ("the equation ends after '+'") of a text ending in line
+  // breaks is at the end of its last line with a character, not on an empty line after it.
+  size_t characters = 0;
+  for (const char ch : equation) characters += (static_cast<unsigned char>(ch) & 0xC0) != 0x80;
+  if (column > static_cast<int>(characters)) {
+    const size_t last = equation.find_last_not_of(" \t\r\n");
+    equation = equation.substr(0, last == std::string_view::npos ? 0 : last + 1);
+  }
   size_t lineStart = 0;
   int character = 1;  // the parser's column of equation[i]
   for (size_t i = 0; i < equation.size(); ++i) {
@@ -35,7 +44,6 @@ inline EquationPlace equationPlace(std::string_view equation, int column) {
   while (lineEnd < equation.size() && equation[lineEnd] != '\n' && equation[lineEnd] != '\r')
     ++lineEnd;
   at.text = equation.substr(lineStart, lineEnd - lineStart);
-  at.multiLine = equation.find_first_of("\r\n") != std::string_view::npos;
   return at;
 }
 

@@ -956,6 +956,11 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
       {"--surface \"x^2+y^2\n+z²-1 q\" --clip-sphere 2 " + common(good),
        "--surface: line 2, column 7: missing operator before 'q' (write a product with '*')\n"
        "  +z²-1 q\n        ^\n"},
+      // An error at the end of a text ending in a line break: at the end of its last line
+      // with a character (it was on the empty line after it, the caret under nothing).
+      {"--surface \"x^2+\ny^2+ \n\" --clip-sphere 2 " + common(good),
+       "line 2, column 5: the equation ends after '+' where an operand is expected\n  y^2+\n"
+       "      ^\n"},
       {"--surface \"(x^2+y^2\r\n+z^2-1 = 3\" --clip-sphere 2 " + common(good),
        "line 2, column 8: expected ')' to close '(' at line 1, column 1 but found '='\n"
        "  +z^2-1 = 3\n         ^\n"},

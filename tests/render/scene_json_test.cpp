@@ -944,6 +944,7 @@ TEST(RenderProgram, BadOptionsExitWithCode2) {
       // An equation with line breaks: the place in its own lines (it was "--surface:1:16:",
       // the code point counted through the line break; session 53).
       {"--surface \"x^2+y^2\n+z^2-1 q\"", "--surface:2:8: missing operator before 'q'"},
+      {"--surface \"x^2+y^2+\n\"", "--surface:1:9: the equation ends after '+'"},
       {"--surface \"(x^2+y^2\r\n+z^2-1 = 3\"",
        "--surface:2:8: expected ')' to close '(' at line 1, column 1 but found '='"},
       {"--surface sphere --export-pov ''", "--export-pov: the file name is empty"},
