@@ -21,7 +21,7 @@ inline EquationPlace equationPlace(std::string_view equation, int column) {
   // breaks is at the end of its last line with a character, not on an empty line after it.
   size_t characters = 0;
   for (const char ch : equation) characters += (static_cast<unsigned char>(ch) & 0xC0) != 0x80;
-  if (column > static_cast<int>(characters)) {
+  if (at.multiLine && column > static_cast<int>(characters)) {
     const size_t last = equation.find_last_not_of(" \t\r\n");
     equation = equation.substr(0, last == std::string_view::npos ? 0 : last + 1);
   }
