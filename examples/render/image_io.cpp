@@ -36,11 +36,6 @@ double srgbEncode(double c) {
   return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
-// sRGB's decoding, the inverse of srgbEncode (IEC 61966-2-1).
-double srgbDecode(double c) {
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-
 // The file name's extension in lower case (".EXR" names the same format as ".exr").
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -102,6 +97,10 @@ std::uint8_t encodeByte(double exposed, ToneMap toneMap) {
 }
 
 }  // namespace
+
+double srgbDecode(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
 
 glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap) {
   glm::dvec3 c = linear * std::exp2(exposure);

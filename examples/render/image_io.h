@@ -17,6 +17,10 @@ namespace algray::render {
 // (ToneMap::None: the exposed value clamped, no curve).
 glm::dvec3 toDisplay(const glm::dvec3& linear, double exposure, ToneMap toneMap);
 
+// sRGB's decoding (IEC 61966-2-1): the linear value of an encoded one in [0, 1] (8- and
+// 16-bit textures, and float files of the surfer integrator's display values).
+double srgbDecode(double c);
+
 // One channel of toDisplay in 8 bits, exactly lround(255 * toDisplay(...)), by a table
 // search instead of std::pow: what PNG files get.
 std::uint8_t toDisplayByte(double linear, double exposure, ToneMap toneMap);

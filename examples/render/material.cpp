@@ -1,6 +1,7 @@
 #include "material.h"
 
 #include "image_backend.h"
+#include "image_io.h"
 #include "sampling.h"
 
 #include <algorithm>
@@ -11,14 +12,6 @@
 namespace algray::render {
 
 // ---- Textures -------------------------------------------------------------------------
-
-namespace {
-// sRGB transfer function inverse (IEC 61966-2-1) for 8/16-bit images, which are stored
-// encoded; float formats (EXR, HDR) are already linear.
-float srgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-}  // namespace
 
 std::shared_ptr<const Texture> Texture::load(const std::string& path) {
   Raster raster;
@@ -32,7 +25,8 @@ std::shared_ptr<const Texture> Texture::load(const std::string& path) {
   for (size_t i = 0; i < texels.size(); ++i) {
     const float* p = &pixels[i * nc];
     glm::vec3 c = nc >= 3 ? glm::vec3(p[0], p[1], p[2]) : glm::vec3(p[0]);
-    if (raster.encoded) c = {srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b)};
+    // 8/16-bit images are stored sRGB-encoded; float formats (EXR, HDR) are linear already.
+    if (raster.encoded) c = glm::vec3(srgbDecode(c.r), srgbDecode(c.g), srgbDecode(c.b));
     // A float image may hold inf, NaN or negative values: as an environment they turned
     // the whole render black (inf * 0 in the estimator) or negative, with exit code 0.
     if (!(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) || c.r < 0 || c.g < 0 ||
