@@ -319,9 +319,10 @@ TEST(Parser, SecondPlaceInAMessageIsItsOwnColumn) {
             "expected ')' to close '(' at line 2, column 30 but found '='");
 }
 
-// Equations copied from papers and web pages: superscript exponents, the minus sign U+2212,
-// dot and cross operators, the division sign, no-break and thin spaces, and the letter pi
-// read as the ASCII forms, bit for bit; errors still point at the character as written.
+// Equations copied from papers and web pages: superscript exponents, the minus sign U+2212
+// and the en dash U+2013, dot and cross operators, the division sign, no-break and thin
+// spaces, and the letter pi read as the ASCII forms, bit for bit; errors still point at the
+// character as written.
 TEST(Parser, TypographicFormsReadAsTheirSymbols) {
   const std::pair<const char*, const char*> same[] = {
       {"x²+y²+z²−1", "x^2+y^2+z^2-1"},
@@ -331,6 +332,7 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"π·x² ÷ 3", "pi*x^2/3"},
       {"x\u00A0+\u2009y\u202F−\u00A0z", "x + y - z"},
       {"−x²", "-x^2"},
+      {"x² – 1 – y", "x^2 - 1 - y"},  // the en dash word processors make of " - "
       {"2²·x", "4*x"},
       {"2⁻¹·x + 10⁺²", "2^-1*x + 10^+2"},
       {"𝑥² + 𝑦² + 𝑧² − 𝑟² + 𝜋·𝑎·𝑥", "x^2 + y^2 + z^2 - r^2 + pi*a*x"},
@@ -355,6 +357,7 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"𝑥𝑦 + 1", 2, "missing operator before '𝑦'"},
       {"𝑥 + 𝑞", 5, "unknown name 'q'"},
       {"x\u200B + 1", 2, "unexpected character '\u200B' (U+200B)"},
+      {"x — 1", 3, "unexpected character '—' (U+2014)"},
       {"x + \xff", 5, "unexpected character '\\xFF'"},
   };
   for (const Rejection& r : cases) expectRejected(r);

@@ -113,16 +113,20 @@ Token readNumber(std::string_view text, size_t start) {
 }
 
 // Typographic forms of the language's symbols, as equations copied from papers and web
-// pages carry them (U+2212 for '-' is what most of them print): the minus sign, the dot
-// and cross operators for '*', the division sign, the no-break and thin spaces.
+// pages carry them (U+2212 for '-' is what most of them print): the minus sign, and the en
+// dash U+2013 that word processors make of " - " (an equation has no ranges, so it can
+// only be a minus; session 53's user audit; the em dash stays refused: it is no operator
+// people type), the dot and cross operators for '*', the division sign, the no-break and
+// thin spaces.
 struct Typographic {
   std::string_view utf8;
   TokenKind kind;  // End: a space
 };
 constexpr Typographic kTypographic[] = {
-    {"\u2212", TokenKind::Minus}, {"\u00B7", TokenKind::Star}, {"\u22C5", TokenKind::Star},
-    {"\u2219", TokenKind::Star},  {"\u00D7", TokenKind::Star}, {"\u00F7", TokenKind::Slash},
-    {"\u00A0", TokenKind::End},   {"\u2009", TokenKind::End},  {"\u202F", TokenKind::End},
+    {"\u2212", TokenKind::Minus}, {"\u2013", TokenKind::Minus}, {"\u00B7", TokenKind::Star},
+    {"\u22C5", TokenKind::Star},  {"\u2219", TokenKind::Star},  {"\u00D7", TokenKind::Star},
+    {"\u00F7", TokenKind::Slash}, {"\u00A0", TokenKind::End},   {"\u2009", TokenKind::End},
+    {"\u202F", TokenKind::End},
 };
 
 // The digit of a superscript digit at text[i] (U+2070, U+00B9, U+00B2, U+00B3,
