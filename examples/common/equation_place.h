@@ -3,6 +3,9 @@
 // or a file): the parser counts code points through the whole text, so "x^2+y^2\n+z^2-1 q"
 // had its 'q' at "column 16" of "line 1", and algray-query's caret stood 16 columns into
 // the two-line equation, under nothing.
+#include <algray/parser.h>
+
+#include <string>
 #include <string_view>
 
 namespace algray::cli {
@@ -45,6 +48,16 @@ inline EquationPlace equationPlace(std::string_view equation, int column) {
     ++lineEnd;
   at.text = equation.substr(lineStart, lineEnd - lineStart);
   return at;
+}
+
+// e's message with the second place it names (relatedColumn) in the equation's own lines
+// where it has line breaks ("... at line 1, column 1 ..."), else as the parser wrote it.
+inline std::string placedMessage(const ParseError& e, std::string_view equation) {
+  if (e.relatedColumn() == 0) return e.message();
+  const EquationPlace other = equationPlace(equation, e.relatedColumn());
+  if (!other.multiLine) return e.message();
+  return e.messageWith("line " + std::to_string(other.line) + ", column " +
+                       std::to_string(other.column));
 }
 
 }  // namespace algray::cli

@@ -260,15 +260,9 @@ int run(int argc, char** argv) {
       if (!at.multiLine)
         throw UsageError("--surface: column " + std::to_string(e.column()) + ": " + e.message() +
                          hint + "\n  " + equation + "\n  " + caretPad(equation, e.column()) + "^");
-      std::string message = e.message();
-      if (e.relatedColumn() > 0) {
-        const cli::EquationPlace other = cli::equationPlace(equation, e.relatedColumn());
-        message = e.messageWith("line " + std::to_string(other.line) + ", column " +
-                                std::to_string(other.column));
-      }
       throw UsageError("--surface: line " + std::to_string(at.line) + ", column " +
-                       std::to_string(at.column) + ": " + message + hint + "\n  " +
-                       std::string(at.text) + "\n  " + caretPad(at.text, at.column) + "^");
+                       std::to_string(at.column) + ": " + cli::placedMessage(e, equation) + hint +
+                       "\n  " + std::string(at.text) + "\n  " + caretPad(at.text, at.column) + "^");
     }
     if (clipSphere.empty() && clipBox.empty())
       throw UsageError("one of --clip-sphere R or --clip-box X0,Y0,Z0,X1,Y1,Z1 is required");

@@ -16,6 +16,7 @@
 //    Lambertian BRDF (albedo / pi) lit by a directional light of irradiance pi * I (the
 //    gallery's lights are about 100 units away), and the ambient term onto a constant
 //    environment (an unoccluded diffuse surface reflects albedo * environment).
+#include "sampling.h"
 #include "scene_builders.h"
 #include "value_checks.h"
 
@@ -158,7 +159,7 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     fail(f, "camera_type", "'" + type + "' is not ORTHOGRAPHIC_CAMERA or PERSPECTIVE_CAMERA");
   }
   const double surferDistance =
-      type == "PERSPECTIVE_CAMERA" ? 1.0 / std::sin(fovY / 2 * 3.14159265358979323846 / 180) : 1.0;
+      type == "PERSPECTIVE_CAMERA" ? 1.0 / std::sin(fovY / 2 * kPi / 180) : 1.0;
   glm::dmat4 cameraTransform = glm::translate(glm::dmat4(1.0), {0, 0, -surferDistance});
   if (!surferFile && f.has("camera_transform")) cameraTransform = affineKey(f, "camera_transform");
   const glm::dmat4 viewTransform = surferFile ? glm::dmat4(1.0) : affineKey(f, "transform_matrix");
@@ -275,7 +276,7 @@ SceneDesc jsurfScene(const std::filesystem::path& path) {
     // Colour and intensity are checked for every light, on or off: a bad value is bad input.
     glm::dvec3 color = colorOf(f, "light_color_" + n, glm::dvec3(1.0));
     double intensity = nonNegative(f, "light_intensity_" + n, 1.0);
-    const glm::dvec3 irradiance = color * (intensity * 3.14159265358979323846);
+    const glm::dvec3 irradiance = color * (intensity * kPi);
     if (!isFloatColor(irradiance))
       fail(f, "light_intensity_" + n, "colour times intensity beyond 3.4e38");
     // ON or OFF, as camera_type's values are checked ("MAYBE" rendered the light off).

@@ -212,15 +212,8 @@ int main(int argc, char** argv) {
       } catch (const algray::ParseError& e) {
         // The equation's own line and column where it has line breaks (a second place the
         // message names likewise).
-        using algray::cli::equationPlace;
-        const algray::cli::EquationPlace at = equationPlace(surface, e.column());
-        std::string message = e.message();
-        if (at.multiLine && e.relatedColumn() > 0) {
-          const algray::cli::EquationPlace other = equationPlace(surface, e.relatedColumn());
-          message = e.messageWith("line " + std::to_string(other.line) + ", column " +
-                                  std::to_string(other.column));
-        }
-        throw SceneError("--surface", at.line, at.column, message);
+        const algray::cli::EquationPlace at = algray::cli::equationPlace(surface, e.column());
+        throw SceneError("--surface", at.line, at.column, algray::cli::placedMessage(e, surface));
       }
     } else if (input.empty()) {
       desc = defaultScene();
