@@ -98,6 +98,8 @@ std::vector<Case> cases() {
       {"saddle", x * y + y * z + x * z - 0.2 * x + Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.5},
        glm::dmat4(1.0)},
       {"cylinder", x * x + y * y - Polynomial(0.5), ClipSphere{{0, 0, 0}, 1.0}, glm::dmat4(1.0)},
+      // Degree 1 takes the quadric path too (session 54; the general path before).
+      {"plane skew", x + 0.5 * y - 0.2 * z - Polynomial(0.1), ClipSphere{{0, 0, 0}, 1.2}, skew},
       {"huge sphere", 1e200 * spherePolynomial(1.0), ClipSphere{{0, 0, 0}, 1.2}, glm::dmat4(1.0)},
       // A double plane: every hit's gradient is noise, so every lane takes the single-ray
       // normal (hit_normal.cpp; the lanes' slope test, quadric_packet_group.inc).

@@ -86,6 +86,8 @@ TEST_F(EmbreeQuadric, PathMatchesGeneralPath) {
       x * x + y * y - z,                                     // paraboloid
       x * x + z * z - Polynomial(0.5),                       // cylinder along y
       x * y + y * z + x * z - 0.2 * x + Polynomial(0.1),     // indefinite, mixed terms
+      x + 0.5 * y - 0.2 * z - Polynomial(0.1),               // planes: degree 1 takes the
+      3.0 * z,                                               // quadric path too (session 54)
   };
   std::uniform_real_distribution<double> u(-1.2, 1.2);
   int compared = 0;

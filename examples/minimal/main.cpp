@@ -8,8 +8,9 @@
 #include <cstdio>
 #include <limits>
 
-int main() {
-  RTCDevice device = rtcNewDevice(nullptr);
+// The scene and its rays. The surface (a SurfaceGeometry) lives in this function's scope,
+// so it is destroyed after the scene that uses it and before main releases the device.
+void traceScene(RTCDevice device) {
   RTCScene scene = rtcNewScene(device);
 
   // ---- The host's own geometry: a floor quad at z = -0.5 ---------------------------------
@@ -67,6 +68,11 @@ int main() {
   }
 
   rtcReleaseScene(scene);
-  // torus (the SurfaceGeometry) is destroyed after the scene that uses it.
+}
+
+int main() {
+  RTCDevice device = rtcNewDevice(nullptr);
+  traceScene(device);
+  rtcReleaseDevice(device);
   return 0;
 }

@@ -76,10 +76,15 @@ struct SurfaceOptions {
                                  // rays then evaluate its homogeneous parts only); off by
                                  // default since the direct restriction of taylor_box.cpp
                                  // got 2x faster: the gallery's primary rays 0.76x-1.00x
-                                 // of their rate without it (docs/speed.md, session 22)
+                                 // of their rate without it (docs/speed.md, session 22).
+                                 // Built on an origin's second ray in a row: rays sharing
+                                 // origins a few at a time (depth-of-field groups) build one
+                                 // per group (4 a group: Barth sextic 2.4x, Chmutov-16 7.8x
+                                 // the instructions of the default; session 54's audit)
   bool recentre = true;          // expand far rays about their closest point to the clip
-  bool quadricPath = true;       // degree 2: restriction and normal in closed form
-  bool quadricCallbacks = true;  // degree 2 with one cell: dedicated Embree callbacks
+  bool quadricPath = true;       // degree 1-2: restriction and normal in closed form (a
+                                 // plane 0.63x the instructions of the general path)
+  bool quadricCallbacks = true;  // degree 1-2 with one cell: dedicated Embree callbacks
                                  // (no per-ray record, cell walk or generic solver frame)
   bool quadricBounds = true;     // an ellipsoid with one cell: the cell and Embree bounds
                                  // are its own padded box, not the clip region's
