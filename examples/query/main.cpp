@@ -9,6 +9,7 @@
 #include "cli_text.h"
 #include "equation_place.h"
 #include "ray_csv.h"
+#include "rounding_noise.h"
 
 #include "algray/cells.h"
 #include "algray/embree.h"
@@ -378,6 +379,9 @@ int run(int argc, char** argv) {
     if (surface->primitiveCount() == 0)
       std::cerr << "algray-query: warning: no point of the surface lies in the clip region "
                    "(every ray misses)\n";
+    else if (const std::string noise = cli::noiseWarning(desc.polynomial, desc.clip);
+             !noise.empty())
+      std::cerr << "algray-query: warning: " << noise << "\n";
     RTCScene scene = rtcNewScene(device);
     const unsigned geomID = rtcAttachGeometry(scene, surface->geometry());
     rtcCommitScene(scene);

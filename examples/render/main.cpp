@@ -350,6 +350,8 @@ int main(int argc, char** argv) {
           : evidentlyHasNoRealPoints(desc.surfaces.front().polynomial)
               ? " (nor anywhere: every term is an even power of x, y, z with the constant's sign)"
               : " (a larger --clip-sphere may reach it, if it has real points farther out)");
+    for (const std::string& noisy : scene.noisySurfaces())
+      std::fprintf(stderr, "algray-render: warning: %s\n", noisy.c_str());
     // OpenImageIO loads (~0.35 s, image_backend.h) while the image renders. Not earlier:
     // while the loader runs, every thread creation waits for it (glibc's pthread_create
     // takes the loader's lock for the new thread's TLS), and building the scene starts

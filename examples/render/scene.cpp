@@ -1,5 +1,6 @@
 #include "scene.h"
 
+#include "rounding_noise.h"
 #include "sampling.h"
 #include "value_checks.h"
 
@@ -149,6 +150,8 @@ void Scene::build() {
     }
     const bool empty = g->surface->primitiveCount() == 0;
     if (empty) emptySurfaces_.push_back(item.label);
+    if (std::string noise = cli::noiseWarning(item.polynomial, item.clip); !empty && !noise.empty())
+      noisySurfaces_.push_back(item.label + ": " + noise);
     unsigned id = rtcAttachGeometry(scene_, g->surface->geometry());
     if (!empty) drawnSurfaces_.push_back({id, item.label});
     if (geoms_.size() <= id) geoms_.resize(id + 1);

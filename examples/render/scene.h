@@ -91,6 +91,9 @@ class Scene {
   // range bounds proved every cell empty: SurfaceGeometry::primitiveCount() is 0), so
   // that a tool can say why they are not in the picture.
   const std::vector<std::string>& emptySurfaces() const { return emptySurfaces_; }
+  // "LABEL: why" for each surface that is rounding noise through much of its clip region
+  // (rounding_noise.h).
+  const std::vector<std::string>& noisySurfaces() const { return noisySurfaces_; }
   // The other algebraic surfaces (geometry ID and label), for a tool to tell which of them
   // no camera ray saw (RenderStats::seen).
   struct DrawnSurface {
@@ -117,6 +120,7 @@ class Scene {
   double radius_ = 1.0;
   glm::dvec3 frameOrigin_{0.0};
   std::vector<std::string> emptySurfaces_;
+  std::vector<std::string> noisySurfaces_;
   std::vector<DrawnSurface> drawnSurfaces_;
 };
 

@@ -757,6 +757,30 @@ TEST_F(QueryTool, ASurfaceOutsideTheClipRegionIsNamed) {
   EXPECT_EQ(inside.rows[0][1], 20.0);  // the sphere of radius 10 from z = -30
 }
 
+// A torus written about x = 1e4 expands to coefficients whose rounding holds no torus: f is
+// within its own evaluation bound through its whole clip box, and the rays hit rounding
+// noise (session 54's audit: t = 4.8 at the cell's entry where the torus is at 4.6). The
+// tool says so; the same torus about x = 1e2 gets no warning, nor does Barth's sextic.
+TEST_F(QueryTool, ASurfaceLostInRoundingIsNamed) {
+  const std::string warning = "f is within its own rounding error at";
+  for (const char* centre : {"1e4", "1e2"}) {
+    const fs::path rays = write(
+        "rays.csv", std::string("ox,oy,oz,dx,dy,dz,tnear,tfar\n") + centre + ",-6,0,0,1,0,0,inf\n");
+    const double c = std::stod(centre);
+    const std::string torus =
+        std::string("((x-") + centre + ")^2+y^2+z^2+0.84)^2-4*((x-" + centre + ")^2+y^2)";
+    const RunResult r = run("--surface \"" + torus + "\" --clip-box " + std::to_string(c - 1.6) +
+                            ",-1.6,-1.6," + std::to_string(c + 1.6) + ",1.6,1.6 " + common(rays));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err.find(warning) != std::string::npos, std::string(centre) == "1e4")
+        << centre << ": " << r.err;
+  }
+  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,-6,0,0,1,0,0,inf\n");
+  const RunResult barth = run("--surface barth-sextic " + common(rays));
+  EXPECT_EQ(barth.exitCode, 0) << barth.err;
+  EXPECT_EQ(barth.err.find(warning), std::string::npos) << barth.err;
+}
+
 // A clip box beyond the plugin's range is refused by the plugin, which names its size: the
 // tool's own check of the rays' far t overflowed on the box's radius first and blamed the
 // rays' directions ("the direction is so short ...").

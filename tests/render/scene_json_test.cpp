@@ -851,6 +851,21 @@ TEST(RenderProgram, SurfacesNoCameraRayHitsAreNamed) {
   std::filesystem::remove(image);
 }
 
+// A surface that rounding noise fills through much of its clip region is named (session
+// 54): the 20-fold sphere, whose noise band is 0.16 thick, and not the sphere itself.
+TEST(RenderProgram, SurfacesLostInRoundingAreNamed) {
+  const std::string warning = "f is within its own rounding error at";
+  const std::string image = (std::filesystem::temp_directory_path() / "algray_noisy.png").string();
+  const std::string small = " --clip-sphere 1.5 --width 16 --spp 1 -q -o " + image;
+  auto [code, out] = runRender("--surface \"(x^2+y^2+z^2-1)^20\"" + small);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("warning: --surface in --clip-sphere: " + warning), std::string::npos) << out;
+  std::tie(code, out) = runRender("--surface \"x^2+y^2+z^2-1\"" + small);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_EQ(out.find(warning), std::string::npos) << out;
+  std::filesystem::remove(image);
+}
+
 // A --param value may be a constant as equations write it (session 53): the exported scene
 // holds the surface with the constant's double, (1 + sqrt(5)) / 2 computed here.
 TEST(RenderProgram, ParameterValuesMayBeConstants) {
