@@ -7,6 +7,7 @@
 // blob at 3e3, nothing from 1e5 on, without a word). f is then within its own evaluation
 // bound through much of the region, where a real surface is so only in a thin band around
 // itself, which a lattice of points tells.
+#include <algray/cells.h>
 #include <algray/embree.h>
 #include <algray/polynomial.h>
 
@@ -22,9 +23,10 @@
 namespace algray::cli {
 
 // The fraction of the points of a 9 x 9 x 9 lattice over the box [lo, hi] (the points in the
-// ball, if given) at which |f| is within its evaluation bound; 0 where no point is inside.
+// sphere, if given, as buildCells takes one) at which |f| is within its evaluation bound; 0
+// where no point is inside.
 inline double noiseFraction(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
-                            const std::optional<glm::dvec4>& ball = std::nullopt) {
+                            const std::optional<CellSphere>& sphere = std::nullopt) {
   constexpr int kSteps = 9;
   int inside = 0, noise = 0;
   for (int i = 0; i < kSteps; ++i)
@@ -34,7 +36,7 @@ inline double noiseFraction(const Polynomial& f, const glm::dvec3& lo, const glm
         // vanish exactly.)
         const glm::dvec3 u = (glm::dvec3(i, j, k) + glm::dvec3(0.37, 0.43, 0.29)) / double(kSteps);
         const glm::dvec3 p = lo + u * (hi - lo);
-        if (ball && glm::distance(p, glm::dvec3(*ball)) > ball->w) continue;
+        if (sphere && glm::distance(p, sphere->center) > sphere->radius) continue;
         ++inside;
         const Polynomial::Evaluation e = f.evaluateWithBound(p);
         noise += std::abs(e.value) <= e.valueError;
@@ -46,7 +48,7 @@ inline double noiseFraction(const Polynomial& f, const glm::dvec3& lo, const glm
 inline double noiseFraction(const Polynomial& f, const ClipRegion& clip) {
   if (const auto* s = std::get_if<ClipSphere>(&clip))
     return noiseFraction(f, s->center - s->radius, s->center + s->radius,
-                         glm::dvec4(s->center, s->radius));
+                         CellSphere{s->center, s->radius});
   const auto& b = std::get<ClipBox>(clip);
   return noiseFraction(f, b.lo, b.hi);
 }

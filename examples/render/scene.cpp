@@ -150,8 +150,10 @@ void Scene::build() {
     }
     const bool empty = g->surface->primitiveCount() == 0;
     if (empty) emptySurfaces_.push_back(item.label);
-    if (std::string noise = cli::noiseWarning(item.polynomial, item.clip); !empty && !noise.empty())
-      noisySurfaces_.push_back(item.label + ": " + noise);
+    if (!empty) {
+      if (std::string noise = cli::noiseWarning(item.polynomial, item.clip); !noise.empty())
+        noisySurfaces_.push_back(item.label + ": " + noise);
+    }
     unsigned id = rtcAttachGeometry(scene_, g->surface->geometry());
     if (!empty) drawnSurfaces_.push_back({id, item.label});
     if (geoms_.size() <= id) geoms_.resize(id + 1);
