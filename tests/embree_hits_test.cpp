@@ -1,7 +1,7 @@
 // Hit records of algray surfaces through Embree (rtcIntersect1 / rtcOccluded1), against
 // closed forms and brute-force references computed independently of the library.
 #include "../plugin/embree/double_channel.h"
-#include "../plugin/embree/surface_data.h"
+#include "../plugin/embree/quadric_path.h"
 #include "embree_test_util.h"
 #include "support/scales.h"
 

@@ -5,7 +5,7 @@
 #include "embree_test_util.h"
 // The adapter's private kernel, for the lanes' double results (the float hits above show
 // only what survives the cast to float).
-#include "../plugin/embree/surface_data.h"
+#include "../plugin/embree/quadric_path.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The quadric path (plugin/embree/quadric_path.cpp) through Embree: its hits against the
 // general path's and a generic walk of the roots, and its tight bounds against the surface
 // (moved from embree_hits_test.cpp in session 21).
-#include "../plugin/embree/surface_data.h"
+#include "../plugin/embree/quadric_path.h"
 #include "embree_test_util.h"
 
 #include <gtest/gtest.h>

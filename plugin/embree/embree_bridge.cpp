@@ -4,9 +4,9 @@
 // double-precision channel (IntersectContext; its host side, the context set-up and the
 // float proxy ray, is double_channel.cpp) and the exception barrier.
 // An Embree 4 port rewrites this file; the kernel (surface_intersect.cpp, ray_roots.cpp,
-// ray_settle.cpp) stays.
+// self_root.cpp, ray_settle.cpp, quadric_path.cpp) stays.
 #include "double_channel.h"
-#include "surface_data.h"
+#include "quadric_path.h"
 
 #include <glm/geometric.hpp>
 

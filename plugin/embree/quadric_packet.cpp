@@ -15,7 +15,7 @@
 // box does not cover, non-finite input - is marked kScalar, and the bridge runs that
 // lane's scalar quadricLane.
 #include "../core/isa_target.h"
-#include "surface_data.h"
+#include "quadric_path.h"
 
 #include <cmath>
 #include <cstdint>

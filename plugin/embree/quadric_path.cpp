@@ -6,7 +6,7 @@
 // formula; perf on speed_report's sphere). The answers are the same: the restriction is
 // the closed form below (also used by the generic walk for quadrics), and quadricRoot
 // applies firstRoot's rules (roots_scan.h) to it in the caller's frame.
-#include "surface_data.h"
+#include "quadric_path.h"
 
 #include "algray/roots.h"
 #include "algray/taylor.h"

@@ -1,9 +1,10 @@
 #pragma once
 // The kernel's per-ray record: g, the restriction of f to one ray over the whole clip
 // region, and g's roots there in order, shared by every cell the ray visits
-// (ray_roots.cpp: restriction, origin cache, self-root rule, the solver's calls), and the
-// checks that place g's first root on f itself (ray_settle.cpp). The walk through one
-// cell (surface_intersect.cpp) reads it. No Embree types, as in surface_data.h.
+// (ray_roots.cpp: restriction, origin cache, the solver's calls; self_root.cpp: the
+// self-root rule), and the checks that place g's first root on f itself (ray_settle.cpp).
+// The walk through one cell (surface_intersect.cpp) reads it. No Embree types, as in
+// surface_data.h.
 #include "surface_data.h"
 
 #include "algray/horner_form.h"
@@ -167,6 +168,17 @@ inline double noiseReach(const RayRoots& rr, double s, double scale) {
 inline double floatEndReach(const KernelRay& ray, double t) {
   return ray.orgRoundoff > kUnitRoundoff ? 0x1p-23 * std::abs(t) : 0.0;
 }
+
+// ---- self_root.cpp -------------------------------------------------------------------------
+// Whether the ray's origin lies on the surface within its uncertainty: f(o) within its
+// evaluation bound plus what the origin's rounding and orgError (the ray's whole bound)
+// move it by. f at the origin is kept per thread for the last origin.
+bool originOnSurface(const SurfaceData& data, const KernelRay& ray, double orgError);
+// The self-root rule for such a ray: rr.g about the origin with the origin's root divided
+// out, rr.selfWindow (the origin's roots, a multiple root's cluster included),
+// rr.zeroedConstant and the division's terms (divisionRoot, divisionRemainder).
+void restrictFromSurfaceOrigin(const SurfaceData& data, const KernelRay& ray, double orgError,
+                               RayRoots& rr);
 
 // ---- ray_settle.cpp ------------------------------------------------------------------------
 // The last point before s (towards slo) where g is clear of its noise bound, or slo.

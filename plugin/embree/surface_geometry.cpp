@@ -1,6 +1,6 @@
 // SurfaceGeometry: validates a SurfaceDesc, lays out the cells (Embree primitives) and
 // their padded bounds, and creates the Embree user geometry (embree_bridge.cpp).
-#include "surface_data.h"
+#include "quadric_path.h"
 
 #include "algray/cells.h"
 

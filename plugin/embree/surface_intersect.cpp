@@ -5,7 +5,7 @@
 //   1. clip the ray to the clip region and the cell: span (lo, hi);
 //   2. restrict f to the ray, g(s) = f(o + (tShift + s) d) with a rounding bound, once per
 //      ray for the whole clip region, shared by the cells the ray visits, with its first
-//      root settled on f (ray_roots.h: ray_roots.cpp and ray_settle.cpp);
+//      root settled on f (ray_roots.h: ray_roots.cpp, self_root.cpp and ray_settle.cpp);
 //   3. the roots in the cell's span that the cell owns, in order, offered to the host
 //      filter until one is accepted (all of them only when a cell beyond the first root or
 //      a host filter needs them);
