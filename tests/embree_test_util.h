@@ -32,6 +32,18 @@ inline Polynomial torusPolynomial(double R, double r) {
   return s * s - 4.0 * R * R * (X() * X() + Y() * Y());
 }
 
+// The torus's gradient, directly.
+inline glm::dvec3 torusGradient(glm::dvec3 p, double R, double r) {
+  const double s = glm::dot(p, p) + R * R - r * r;
+  return {4 * p.x * s - 8 * R * R * p.x, 4 * p.y * s - 8 * R * R * p.y, 4 * p.z * s};
+}
+
+// A float ray's origin (org) or direction as doubles.
+inline glm::dvec3 asD(const RTCRayHit& rh, bool org) {
+  return org ? glm::dvec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z)
+             : glm::dvec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+}
+
 // First root of |o + t d|^2 = r^2 with t > tnear, in long double (closed form, stable
 // variant of the quadratic formula, Press et al., "Numerical Recipes", Sec. 5.6).
 inline std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long double r,

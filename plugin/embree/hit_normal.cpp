@@ -45,7 +45,7 @@
 // below 10 per clip radius, and anything towards h's singular curve, where the rate grows
 // without bound (triple: up to 1.5 radians, 23 of 244215 hits wrongly oriented, all with
 // |grad h| < 0.03); double surfaces always face the ray (tests/stress_random_test.cpp;
-// tests/embree_hits_test.cpp, EmbreeHits.MultipleSurfacesGetTheirOwnNormal).
+// tests/embree_normals_test.cpp, EmbreeNormals.MultipleSurfacesGetTheirOwnNormal).
 // Measured and not kept (session 39): grad f and its bound by a compensated scheme, so
 // that it clears at the hit itself: normals up to 90 degrees off (1.49 radians at the 99th
 // percentile of 36798 double-surface hits of 12 seeds). The stored coefficients of h^k q
