@@ -1,5 +1,5 @@
 #pragma once
-// What tests/roots_test.cpp and tests/roots_contract_test.cpp share: problems built from
+// What tests/roots_test.cpp and tests/roots_contract*_test.cpp share: problems built from
 // known roots with their MPFR references, the checks every problem gets (accuracy against
 // each root's conditioning, residuals, firstRoot/hasRoot/allRoots agreement, the walk), and
 // long-double evaluation of the rounded polynomial with the noise rule's bound.
