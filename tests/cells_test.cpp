@@ -363,6 +363,25 @@ TEST(CellsTest, BernsteinCellsCoverAndPruneMore) {
   EXPECT_GE(checkCovered(chain, kLo, kHi, std::nullopt, chainCells, 100, 22), 20);
 }
 
+// The Bernstein enclosure culls a box where f keeps one sign, either sign: f and -f have
+// the same cells (a cull of f > 0 alone kept every box where f < 0 throughout, unseen by
+// the coverage tests: the mutation audit of session 55).
+TEST(CellsTest, BernsteinCullIsSignSymmetric) {
+  const Polynomial x = Polynomial::variable(0), y = Polynomial::variable(1),
+                   z = Polynomial::variable(2), one(1.0);
+  const Polynomial surfaces[] = {torus(1.0, 0.3), sphereChain(6, 0.4),
+                                 x * x * x - 3 * x * y * y + z * z - 0.2 * one};
+  for (const Polynomial& f : surfaces) {
+    const CellOptions options{.depth = 4, .bound = RangeBound::Bernstein};
+    const auto plus = buildCells(f, kLo, kHi, std::nullopt, options);
+    const auto minus = buildCells(-f, kLo, kHi, std::nullopt, options);
+    ASSERT_EQ(plus.size(), minus.size());
+    for (size_t i = 0; i < plus.size(); ++i) EXPECT_EQ(plus[i].index, minus[i].index) << i;
+    // And fewer than the centred form's alone (the enclosure culls at all).
+    EXPECT_LT(plus.size(), buildCells(f, kLo, kHi, std::nullopt, {.depth = 4}).size());
+  }
+}
+
 TEST(CellsTest, CoverWithClipSphereAndAutomaticDepth) {
   const Polynomial f = torus(1.0, 0.4);
   // A clip ball much larger than the torus: most rays miss the surface, cells pay.

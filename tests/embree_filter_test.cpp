@@ -605,6 +605,36 @@ TEST_F(EmbreeFilter, ContextFilterIsChainedThroughAlgrayContext) {
   EXPECT_FLOAT_EQ(rh.ray.tfar, 4.0f);
 }
 
+// The same chaining for a hit on another geometry type: the algray context's own filter
+// (the bridge's marker filter) must hand a triangle's candidate to the host's context
+// filter too, whose rejection then holds (with the hand-over dropped, the quad's hit was
+// reported without the host filter ever running: the mutation audit of session 55).
+TEST_F(EmbreeFilter, ContextFilterIsChainedForOtherGeometryTypes) {
+  Scene scene(device);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  RTCGeometry quad = makeQuad(device, 0.0f, 2.0f);  // the plane z = 0, |x|, |y| <= 2
+  scene.attach(quad);
+  rtcReleaseGeometry(quad);
+  scene.commit();
+  for (const int rejects : {1, 0}) {
+    RayD ray{{0.5, -0.25, -5}, {0, 0, 1}, 0, 100, 0};
+    HitD hit;
+    IntersectContext context;
+    initIntersectContext(&context, &ray, &hit);
+    context.hostFilter = &rejectingFilter;
+    RTCRayHit rh = makeRayHit(ray);
+    log = FilterLog{rejects, 0, {}};
+    rtcIntersect1(scene, &context.base, &rh);
+    EXPECT_EQ(log.calls, 1) << rejects;
+    if (rejects == 1) {
+      EXPECT_EQ(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+    } else {
+      EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+      EXPECT_FLOAT_EQ(rh.ray.tfar, 5.0f);
+    }
+  }
+}
+
 // A host filter that throws (the first call only): the adapter counts it as a miss of
 // that surface. The ray must then go on as if the surface were not there: its far end
 // kept (so the unit sphere B behind, centred at z = 5, is hit at t = 9 from z = -5), and

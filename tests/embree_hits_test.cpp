@@ -547,6 +547,60 @@ TEST_F(EmbreeHits, MixedSceneClosestHitEitherOrder) {
   }
 }
 
+// Two surfaces 1e-8 apart (concentric spheres, separate geometries): the double channel
+// reports the closer one whichever Embree meets first. After the first hit Embree's float
+// tfar is its t rounded up to float (2.1 -> 2.1000001), past the other sphere's 2.1 + 1e-8,
+// so the candidate must be judged against the double hit kept so far, not the float tfar
+// alone (the mutation audit of session 55: the inner sphere was reported 1e-8 late).
+TEST_F(EmbreeHits, DoubleChannelKeepsTheCloserOfTwoHitsWithinAFloatUlp) {
+  for (int order = 0; order < 2; ++order) {
+    SurfaceGeometry outer(device, sphereDesc(1.0, 1.5));
+    SurfaceGeometry inner(device, sphereDesc(1.0 - 1e-8, 1.5));
+    Scene scene(device);
+    unsigned outerId, innerId;
+    if (order == 0) {
+      outerId = scene.attach(outer.geometry());
+      innerId = scene.attach(inner.geometry());
+    } else {
+      innerId = scene.attach(inner.geometry());
+      outerId = scene.attach(outer.geometry());
+    }
+    scene.commit();
+    for (double z0 : {-3.1, -3.3, -2.7, -3.7}) {
+      const HitD hit = intersectD(scene, RayD{{0, 0, z0}, {0, 0, 1}, 0, 100, 0});
+      ASSERT_TRUE(hit.hit);
+      EXPECT_EQ(hit.geomID, outerId) << order << " " << z0 << " (inner " << innerId << ")";
+      EXPECT_NEAR(hit.t, -z0 - 1.0, 1e-12) << order << " " << z0;  // closed form
+    }
+  }
+}
+
+// The float hit's primID is the cell that reported the hit (the primitive Embree called the
+// callback for, which the double channel's HitD::primID records), and a sphere cut into
+// cells is hit in many of them (written as 0, the primIDs passed every test that only
+// bounded them: the mutation audit of session 55).
+TEST_F(EmbreeHits, FloatPrimIdIsTheCellThatHit) {
+  SurfaceDesc desc = sphereDesc(1.0, 1.5);
+  desc.options.cellDepth = 2;
+  desc.options.quadricCallbacks = false;
+  SurfaceScene scene(device, desc);
+  std::vector<unsigned> seen;
+  int hits = 0;
+  for (int k = 0; k < 200; ++k) {
+    const glm::dvec3 o = 4.0 * glm::dvec3(randomDir());
+    RTCRayHit rh;
+    const HitD hit = intersectD(scene, RayD{o, -o, 0, 100, 0}, &rh);
+    ASSERT_TRUE(hit.hit);
+    ++hits;
+    EXPECT_EQ(rh.hit.primID, hit.primID) << k;
+    EXPECT_LT(rh.hit.primID, scene.geometry.primitiveCount()) << k;
+    if (std::find(seen.begin(), seen.end(), rh.hit.primID) == seen.end())
+      seen.push_back(rh.hit.primID);
+  }
+  EXPECT_GT(seen.size(), 8u) << "of " << scene.geometry.primitiveCount() << " cells, " << hits
+                             << " hits";
+}
+
 TEST_F(EmbreeHits, OcclusionAndSpan) {
   SurfaceGeometry sphere(device, sphereDesc(1.0, 1.5));
   Scene scene(device);

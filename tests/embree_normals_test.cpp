@@ -403,6 +403,29 @@ TEST_F(EmbreeNormals, MultipleSurfaceNormalsIgnoreSheetsOutsideTheClipRegion) {
   EXPECT_GE(facing, 0.9 * checked) << facing << " of " << checked;
 }
 
+// A gradient below float's range: a quartic sphere of radius 1e-20, (x^2 + y^2 + z^2)^2 =
+// 1e-80, has |grad f| = 4 r^3 ~ 4e-60 at its hits, 0 in float. Embree's float Ng must still
+// be the gradient's direction (scaled into range before the cast), the closed-form normal
+// p / |p|; cast directly, the float gradient was 0 and the fallback -d was reported
+// (cosine 0.8 here: the mutation audit of session 55).
+TEST_F(EmbreeNormals, FloatNormalOfAGradientBelowFloatRange) {
+  const double r = 1e-20;
+  const Polynomial s = X() * X() + Y() * Y() + Z() * Z();
+  SurfaceDesc desc;
+  desc.polynomial = s * s - Polynomial(r * r * r * r);
+  desc.clip = ClipSphere{glm::dvec3(0.0), 2 * r};
+  SurfaceScene scene(device, desc);
+  for (const double x : {0.6, -0.3, 0.05}) {
+    const glm::vec3 o(static_cast<float>(x * r), 0.0f, static_cast<float>(-10 * r)), d(0, 0, 1);
+    const RTCRayHit rh = intersect1(scene, makeRay(o, d));
+    ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << x;
+    const glm::dvec3 p = glm::dvec3(o) + static_cast<double>(rh.ray.tfar) * glm::dvec3(d);
+    const glm::dvec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    ASSERT_GT(glm::length(ng), 0.0) << x;
+    EXPECT_GT(glm::dot(glm::normalize(ng), glm::normalize(p)), 1.0 - 1e-6) << x;
+  }
+}
+
 // Where grad f vanishes at the hit the normal comes from beside it: a ray touching a cone's
 // apex from inside (f <= 0 on both sides, as along an even root of f <= 0) gets grad(-f)
 // just before the apex, facing the ray (until session 42 the reversed ray direction, the

@@ -504,6 +504,37 @@ TEST(RootsContract, NoiseLeadingCoefficientIsDropped) {
   EXPECT_EQ(out.size(), 2u);
 }
 
+// A leading coefficient dropped because it lies within its own error bound still belongs
+// to g: the noise bound keeps its size with its error (roots_frame.h), so that where g is
+// within it the rules report a root as they would with the coefficient kept. Here c_3 =
+// -0.018 with err_3 = |c_3|: the admissible cubic with 2 c_3 changes sign inside the
+// interval (0.25 at 1, -0.0009 at 1.33), while the quadratic left after the drop stays above
+// 0.063 (its minimum at 1.47; the computed cubic's is 0.006 there): a near miss within the
+// dropped term, which the tangent rule (at 1.47) or the end rule (at hi) reports. With the
+// bound of c_3's error alone, Sturm answered nothing (81 of 3000 such problems; the mutation
+// audit of session 55).
+TEST(RootsContract, DroppedLeadingCoefficientKeepsItsSize) {
+  const std::vector<double> c = {2.2330854376163507, -2.9458065405557834, 1.0,
+                                 -0.01805794226224117};
+  const std::vector<double> err = {0, 0, 0, std::abs(c[3])};
+  const double lo = -0.41701250624763725, hi = 1.8970506617189185;
+  // The reference: an admissible cubic (c_3 doubled) has a root in (1, 1.33), exactly.
+  std::vector<double> doubled = c;
+  doubled[3] = 2 * c[3];
+  ASSERT_GT(test::signAt(doubled, test::Mp(1.0)), 0);
+  ASSERT_LT(test::signAt(doubled, test::Mp(1.33)), 0);
+  for (RootMethod m : {RootMethod::Auto, RootMethod::Yuksel, RootMethod::ClosedForm,
+                       RootMethod::Sturm, RootMethod::Bernstein}) {
+    SCOPED_TRACE(static_cast<int>(m));
+    RootOptions o;
+    o.method = m;
+    const auto first = firstRoot(c, err, lo, hi, o);
+    ASSERT_TRUE(first.has_value());
+    EXPECT_GT(*first, 1.0);  // within the noise near hi, not before it
+    EXPECT_TRUE(hasRoot(c, err, lo, hi, o));
+  }
+}
+
 TEST(RootsContract, QuadraticFastPathIsFirstRoot) {
   // firstRootQuadratic promises firstRoot's answer bit for bit (the frame scaling it
   // skips is exact). Random quadratics of every shape the quadric path produces: two

@@ -419,6 +419,87 @@ TEST(RootsComparison, NoiseRegionOverMostOfTheInterval) {
   }
 }
 
+// (a - s)^30 - 1 expanded in double (the coefficients are Python's comb(30, k) * a**(30 - k)
+// * (-1)**k, 1 subtracted at k = 0): a clear root at a - 1, then G within its noise from
+// about a - 0.75 to beyond a, the 30-fold factor's region. The sweep reports the root beside
+// the cluster only once it finds a clear point of the other sign between them
+// (clearCrossing, roots_detail.h), which takes over a dozen halvings here: capped at 2, the
+// root was lost and hi came first (a = 1.75); the same search from lo's side, with its
+// result dropped, lost -0.6 in the mirrored problem G(-s), a = 1.6 (the mutation audit of
+// session 55).
+TEST(RootsComparison, ClearRootBeforeAWideNoiseRegion) {
+  const std::vector<double> a175 = {19549760.367646884,
+                                    -335138766.30251807,
+                                    2776864063.649435,
+                                    -14809941672.796988,
+                                    57124060737.93124,
+                                    -169740066192.70996,
+                                    404143014744.54755,
+                                    -791790396234.2156,
+                                    1300798508099.0686,
+                                    -1816988392265.3655,
+                                    2180386070718.4385,
+                                    -2265336177369.8066,
+                                    2049589874763.158,
+                                    -1621653527285.136,
+                                    1125228978116.2168,
+                                    -685853853327.9799,
+                                    367421707139.9892,
+                                    -172904332771.7596,
+                                    71357343683.58333,
+                                    -25753026291.81955,
+                                    8093808263.143287,
+                                    -2202396806.297493,
+                                    514846006.6669464,
+                                    -102329641.07666016,
+                                    17054940.17944336,
+                                    -2338963.224609375,
+                                    257028.92578125,
+                                    -21759.0625,
+                                    1332.1875,
+                                    -52.5,
+                                    1.0};
+  for (const auto& [lo, hi] : {std::pair{-0.5, 2.8}, {-1.0, 2.5}, {-0.5, 2.85}}) {
+    SCOPED_TRACE(testing::Message() << "(" << lo << ", " << hi << "]");
+    checkComparison(a175, lo, hi, 0.75);
+  }
+  // (1.6 - s)^30 - 1 mirrored, (1.6 + s)^30 - 1, on (-2.8, 0.5]: the noise region at lo's
+  // side, the root at -0.6.
+  std::vector<double> a16 = {1329226.995784918,
+                             -24923024.920967214,
+                             225864913.34626535,
+                             -1317545327.8532145,
+                             5558394351.880749,
+                             -18064781643.61243,
+                             47043702196.90737,
+                             -100807933279.08722,
+                             181139255110.85983,
+                             -276740528641.59143,
+                             363221943842.0887,
+                             -412752208911.4644,
+                             408452706735.3033,
+                             -353468688520.93555,
+                             268257486823.92426,
+                             -178838324549.28284,
+                             104788080790.5954,
+                             -53935041583.394684,
+                             24345678492.504543,
+                             -9610136247.041267,
+                             3303484334.9204354,
+                             -983179861.5834628,
+                             251381214.60940814,
+                             -54648090.13248002,
+                             9961891.430400005,
+                             -1494283.7145600005,
+                             179601.40800000002,
+                             -16629.760000000006,
+                             1113.6000000000001,
+                             -48.0,
+                             1.0};
+  for (size_t k = 1; k < a16.size(); k += 2) a16[k] = -a16[k];  // G(-s), exactly
+  checkComparison(a16, -2.8, 0.5, -0.6, 1);
+}
+
 // A degree-30 problem of roots_report (ray family): the root 0.6120 (cond 3.9e8), then G
 // dips to its noise level near 0.708 without a sign change. Sturm's counts isolated one
 // root on (0.486, 0.719); its Newton followed noise-level signs into the dip and stopped
@@ -485,8 +566,8 @@ TEST(RootsComparison, EveryAnswerIsARootOrWithinNoise) {
 // A flat simple root (degree 33; the 5th seed of EveryAnswerIsARootOrWithinNoise's
 // generator, problem 332 of degree 33): the polish reached the edge of the root's wide
 // noise region and, at noise level, kept a last Halley step that its local model did not
-// support (|G'| small against the third derivative over the step): the answer had |g| 2.47 times its
-// bound, 0.0078 from the noise region. The kept step now also asks the model's residual
+// support (|G'| small against the third derivative over the step): the answer had |g| 2.47
+// times its bound, 0.0078 from the noise region. The kept step now also asks the model's residual
 // over the step within the noise bound (newtonIterate, roots_detail.h); fails without it.
 TEST(RootsComparison, FlatSimpleRootKeepsNoStepItsModelCannotSupport) {
   const std::vector<double> p{-0x1.70657eb6ecd0ap-40, 0x1.8e787203cac63p-34,
@@ -706,6 +787,73 @@ TEST(RootsClosedForm, TinyRootsRescale) {
     checkProblem(fromRoots("tiny sextic", {1e-40, -2e-40, 5e-40, 1e-30, -1e-20, 0.5}, {}, -1, 1),
                  &tiny, m);
     EXPECT_EQ(tiny.checked, 15);
+  }
+}
+
+// Two roots 1e-7 to 1e-5 apart: b^2 - 4ac cancels to a^2 (r2 - r1)^2, down to 1e-14 of b^2,
+// so its plain rounding (u b^2) moves sqrt(D) by up to 1e-2 of itself and the roots by
+// millions of ulps, yet stays within 4 u cond (cond ~ |r| / |r2 - r1|: the accuracy tests'
+// bound cannot see it). The discriminant with its products' exact errors (Kahan, "On the
+// cost of floating-point computation without extra-precise arithmetic", 2004;
+// roots_detail.h) keeps each root within 2 ulps of the rounded polynomial's own (MPFR).
+// Degree 2 is answered by that formula alone, without a polish (the mutation audit of
+// session 55: dropping the correction went unseen by every accuracy test).
+TEST(RootsClosedForm, NearDoubleQuadraticRootsToTheUlp) {
+  std::mt19937_64 rng(55);
+  std::uniform_real_distribution<double> root(0.2, 0.9), logGap(-7.0, -5.0), scale(0.5, 2.0);
+  int checked = 0;
+  double worst = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const double r1 = root(rng), r2 = r1 + std::pow(10.0, logGap(rng)), a = scale(rng);
+    const std::vector<double> c = {a * r1 * r2, -a * (r1 + r2), a};
+    // Newton from either side of a convex parabola converges to the root on that side.
+    const auto refs = test::refineAll(c, {r1 - 0.1, r2 + 0.1}, 0.0, 1.0);
+    if (refs.size() != 2) continue;
+    ++checked;
+    for (RootMethod m : {RootMethod::Auto, RootMethod::ClosedForm}) {
+      RootOptions o;
+      o.method = m;
+      std::vector<double> out(3);
+      out.resize(static_cast<size_t>(allRoots(c, {}, 0.0, 1.0, out, o)));
+      ASSERT_EQ(out.size(), 2u) << "roots " << r1 << ", " << r2;
+      for (int i = 0; i < 2; ++i) {
+        const double ulp = std::nextafter(refs[i].value, 2.0) - refs[i].value;
+        const double ulps = test::rootError(out[i], refs[i]) / ulp;
+        worst = std::max(worst, ulps);
+        EXPECT_LE(ulps, 2.0) << out[i] << " for " << refs[i].value << " (method "
+                             << static_cast<int>(m) << ")";
+      }
+    }
+  }
+  EXPECT_GE(checked, 990);
+  std::printf("near-double quadratic roots: %d checked, worst %.2f ulp\n", checked, worst);
+}
+
+// The cubic's exclusion test (a node proved root-free from its Taylor bound, as the
+// recursion's) must keep g's noise margin, as Yuksel's does: with err_0 = 1e-10 the
+// admissible cubic c_0 - 1e-10 dips below 0 at 0.5 inside (0.49999613, 0.50000387], where
+// the computed one stays 5e-11 above (a near miss within noise: the tangent rule reports
+// it). Without the margin ClosedForm answered nothing (the mutation audit of session 55).
+TEST(RootsClosedForm, ExclusionKeepsTheNoiseMargin) {
+  const std::vector<double> c = {0.500000000075, -1.75, 1.0, 1.0}, err = {1e-10, 0, 0, 0};
+  const double lo = 0.49999613, hi = 0.50000387;
+  // The reference: the admissible cubic's signs, exactly (MPFR).
+  std::vector<double> low = c;
+  low[0] = c[0] - err[0];
+  ASSERT_LT(test::signAt(low, test::Mp(0.5)), 0);
+  ASSERT_GT(test::signAt(low, test::Mp(lo)), 0);
+  ASSERT_GT(test::signAt(low, test::Mp(hi)), 0);
+  ASSERT_GT(test::signAt(c, test::Mp(0.5)), 0);  // the computed one: a near miss
+  for (RootMethod m : {RootMethod::Auto, RootMethod::Yuksel, RootMethod::ClosedForm}) {
+    SCOPED_TRACE(static_cast<int>(m));
+    RootOptions o;
+    o.method = m;
+    double root;
+    bool atNoise = false;
+    ASSERT_TRUE(solveFirstRoot(c, err, lo, hi, root, atNoise, o));
+    EXPECT_TRUE(atNoise);
+    EXPECT_NEAR(root, 0.5, 1e-9);
+    EXPECT_TRUE(hasRoot(c, err, lo, hi, o));
   }
 }
 

@@ -83,10 +83,14 @@ struct RootOptions {
   // is lost (the plugin solves on the clip region's span with closedLo).
   bool closedLo = false;
   // For solveFirstRoot with atNoise: atNoise is also set where g is within its noise bound
-  // somewhere before the root by more than 2^-20 of the interval (then the root returned
-  // may be that point: plugin/core/roots_scan.h, noiseBefore). The data of g cannot tell
-  // whether the exact function has roots there, so a caller that checks noise-rule roots on
-  // it should look there too (the Embree adapter does). Costs an evaluation of g a solve.
+  // somewhere before the root by more than 2^-20 of the interval, on the monotone piece (or
+  // subdivision node) that holds the root (then the root returned may be that point:
+  // plugin/core/roots_scan.h, noiseBefore). The data of g cannot tell whether the exact
+  // function has roots there, so a caller that checks noise-rule roots on it should look
+  // there too (the Embree adapter does). Costs an evaluation of g a solve. Pieces before
+  // that one hold no sign change and no critical point within noise, and are proved clear
+  // at their ends only: where the noise bound grows across such a piece faster than |g|
+  // (a large error on a high power), g can come within it inside, unflagged.
   bool noiseBefore = false;
 };
 
