@@ -420,13 +420,13 @@ TEST(RootsComparison, NoiseRegionOverMostOfTheInterval) {
 }
 
 // (a - s)^30 - 1 expanded in double (the coefficients are Python's comb(30, k) * a**(30 - k)
-// * (-1)**k, 1 subtracted at k = 0): a clear root at a - 1, then G within its noise from
-// about a - 0.75 to beyond a, the 30-fold factor's region. The sweep reports the root beside
-// the cluster only once it finds a clear point of the other sign between them
+// * (-1)**k, 1 subtracted at k = 0): a clear root at a - 1, then |G| ~ 1 against a noise
+// bound of about 61 u (a + |s|)^30, which outgrows it from s ~ 1.2 (a = 1.75) on to hi (and
+// the second root a + 1, where hi reaches it). The sweep reports the first root beside that
+// noise region only once it finds a clear point of the other sign between them
 // (clearCrossing, roots_detail.h), which takes over a dozen halvings here: capped at 2, the
-// root was lost and hi came first (a = 1.75); the same search from lo's side, with its
-// result dropped, lost -0.6 in the mirrored problem G(-s), a = 1.6 (the mutation audit of
-// session 55).
+// root was lost and hi came first; the same search from lo's side, with its result dropped,
+// lost -0.6 in the mirrored problem G(-s), a = 1.6 (the mutation audit of session 55).
 TEST(RootsComparison, ClearRootBeforeAWideNoiseRegion) {
   const std::vector<double> a175 = {19549760.367646884,
                                     -335138766.30251807,
