@@ -95,8 +95,12 @@ TEST(RenderProgram, OutOfRangeSceneValuesExitWithCode2AndLocation) {
 
 // A pixel whose radiance lies beyond float's range, from values each within it, is refused
 // (exit 2, the pixel and its value) instead of written as inf with exit 0: a point light of
-// intensity 1 at 1e-20 above a plane (2.5e39 below it, (0.8 / pi) / 1e-40), and two lights
-// of irradiance 3e38 beside an environment of 3e38 (0.8 (6e38 / pi + 3e38) = 3.9e38). A light just within range renders.
+// intensity 1e36 at 1e-3 above a plane (2.5e41 below it, (0.8 / pi) 1e36 / 1e-6), and two
+// lights of irradiance 3e38 beside an environment of 3e38 (0.8 (6e38 / pi + 3e38) =
+// 3.9e38). A light just within range renders. The light stands well above the hit point's
+// rounding (Embree's float t, up to an ulp of 4 here): at 1e-20 it was within it, and on an
+// AVX2 host, whose triangle test gave the centre pixel t one float below 4 (its hit 2.4e-7
+// above the plane), every pixel but one saw the light from behind (exit 0; session 56).
 TEST(RenderProgram, PixelsBeyondFloatAreRefused) {
   const std::filesystem::path file =
       std::filesystem::temp_directory_path() / "algray_overflow_scene.json";
@@ -110,7 +114,7 @@ TEST(RenderProgram, PixelsBeyondFloatAreRefused) {
         << lights << "}";
   };
   for (const char* lights :
-       {R"("lights": [{"type": "point", "position": [0, 0, 1e-20]}])",
+       {R"("lights": [{"type": "point", "position": [0, 0, 1e-3], "intensity": 1e36}])",
         R"("lights": [{"type": "directional", "direction": [0, 0, 1], "irradiance": 3e38},
                       {"type": "directional", "direction": [0, 0, 1], "irradiance": 3e38}],
            "environment": {"color": 3e38})"}) {
