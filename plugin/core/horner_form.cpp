@@ -160,11 +160,12 @@ __attribute__((always_inline)) inline Nested nestedHorner(const Groups& g, doubl
   // are carried as coefficients of the outer ones. The *a variables run the bound's scheme.
   //
   // The z-rows run four at a time, in the lanes of two 2-double vectors or one AVX one
-  // (the rows are independent; only the y-level below joins them, in their order). Each lane does what
-  // the one-row loop did, bit for bit: a padding slot (0, 0) before a row's first one
-  // leaves q = q' = q_a = +0 (0 z + 0 = +-0, and -0 + 0 = +0; an inf or NaN z gives NaN
-  // there as the row's own first step 0 z does), and the first real slot then sets q = c
-  // exactly as 0 z + c did. (The padding carries no underflow floor: q_a stays 0.)
+  // (the rows are independent; only the y-level below joins them, in their order). Each
+  // lane does what the one-row loop did, bit for bit: a padding slot (0, 0) before a row's
+  // first one leaves q = q' = q_a = +0 (0 z + 0 = +-0, and -0 + 0 = +0; an inf or NaN z
+  // gives NaN there as the row's own first step 0 z does), and the first real slot then
+  // sets q = c exactly as 0 z + c did. (The padding carries no underflow floor: q_a stays
+  // 0.)
   // Why: a row is a serial chain of multiply-adds, latency-bound, and the polish
   // evaluates f at every hit. Measured (AMD EPYC Zen 3, 16384 points, ns per evaluation):
   // Sarti's dodecic (167 slots) 216 -> 173, the Barth sextic (33) 49.7 -> 43.2; primary

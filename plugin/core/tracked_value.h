@@ -13,7 +13,8 @@
 // Sec. 2.1: a product, quotient or literal whose result is below 2^-1022 in magnitude
 // (or a non-zero exact result rounded to 0) errs by up to 2^-1075 beyond its relative
 // error (2^-1074 for libm's pow, exp, ...; the code adds 2^-1074, 2^-1075 is no double;
-// sums have no such term: a subnormal sum is exact). A is carried through later operations like the relative terms (first order):
+// sums have no such term: a subnormal sum is exact). A is carried through later operations
+// like the relative terms (first order):
 //   a * b    A = Ma Ab + Aa Mb + Aa Ab (convolutions for polynomials) + the floors
 //   a / d    A = 4 (Aa + Ma Ad / |d|) / |d| + the floors (the parser requires 4 Ad < |d|)
 //   a +- b   A = Aa + Ab
