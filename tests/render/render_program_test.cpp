@@ -296,6 +296,38 @@ TEST(RenderProgram, SurfacesNoCameraRayHitsAreNamed) {
   std::filesystem::remove(image);
 }
 
+// Beyond eight unseen surfaces the warning counts the rest (a scene of 1000 small surfaces
+// printed 37 lines): n spheres behind the camera, named up to eight, then "and n - 8 more".
+TEST(RenderProgram, ManyUnseenSurfacesAreCounted) {
+  const std::string warning = "no camera ray hit the surface";
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "algray_unseen_scene.json";
+  const std::string image = (std::filesystem::temp_directory_path() / "algray_unseen.png").string();
+  const auto count = [](const std::string& text, const std::string& what) {
+    int n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+      ++n;
+    return n;
+  };
+  for (int n : {8, 11}) {
+    std::ofstream scene(file);
+    scene << R"({"camera": {"position": [0, -6, 0], "look_at": [0, 0, 0]}, "surfaces": [)";
+    for (int i = 0; i < n; ++i)
+      scene << (i ? ", " : "") << R"({"equation": "x^2+y^2+z^2-1", "clip": {"sphere": )"
+            << R"({"radius": 1.2}}, "transform": {"translate": [)" << 3 * i << ", -20, 0]}}";
+    scene << "]}";
+    scene.close();
+    auto [code, out] = runRender(file.string() + " --width 40 --height 30 --spp 1 -q -o " + image);
+    EXPECT_EQ(code, 0) << out;
+    EXPECT_EQ(count(out, warning), 8) << out;
+    EXPECT_EQ(out.find("and 3 more surfaces no camera ray hit") != std::string::npos, n == 11)
+        << out;
+    EXPECT_EQ(count(out, "more surfaces"), n == 11 ? 1 : 0) << out;
+  }
+  std::filesystem::remove(file);
+  std::filesystem::remove(image);
+}
+
 // A surface that rounding noise fills through much of its clip region is named (session
 // 54): the 20-fold sphere, whose noise band is 0.16 thick, and not the sphere itself.
 TEST(RenderProgram, SurfacesLostInRoundingAreNamed) {
