@@ -65,8 +65,8 @@ inline std::optional<long double> sphereRoot(glm::dvec3 o, glm::dvec3 d, long do
 }
 
 // ALGRAY_TEST_EMBREE_CONFIG, if set, is the device's configuration string: the test
-// command runs the Embree suites once more with "isa=sse2" (4-wide packets, Embree's SSE
-// traversal and triangle test), as a host on an older CPU or one that asks for it has them.
+// command runs the Embree suites once more with "isa=sse2" (Embree's SSE2 traversal,
+// triangle test and packet kernels), as a host on an older CPU or one that asks for it has.
 struct Device {
   RTCDevice device = rtcNewDevice(std::getenv("ALGRAY_TEST_EMBREE_CONFIG"));
   ~Device() { rtcReleaseDevice(device); }
