@@ -68,6 +68,29 @@ TEST(Jsurf, PropertiesSyntax) {
   EXPECT_EQ(f.getNumbers("plain", 2), (std::vector<double>{1.0, 2.0}));
 }
 
+// The corners of java.util.Properties.load that a SURFER file can reach (a mutation round
+// of session 56 changed each without a test failing): an even number of trailing
+// backslashes is escaped backslashes, not a continuation; a continuation line is never a
+// comment, whatever it starts with; \f is a form feed; and a backslash on the last line of
+// a file without a final newline is dropped, the line kept.
+TEST(Jsurf, PropertiesSyntaxCorners) {
+  const JsurfFile f = JsurfFile::parse(
+      "even=a\\\\\\\\\n"
+      "next=b\n"
+      "cont=1 \\\n"
+      "   #2 \\\n"
+      "  !3\n"
+      "ff=a\\fb\n"
+      "last=x\\",
+      "t.jsurf");
+  EXPECT_EQ(f.get("even"), "a\\\\");
+  EXPECT_EQ(f.get("next"), "b");
+  EXPECT_EQ(f.get("cont"), "1 #2 !3");
+  EXPECT_FALSE(f.has("#2"));
+  EXPECT_EQ(f.get("ff"), "a\fb");
+  EXPECT_EQ(f.get("last"), "x");
+}
+
 // An editor's UTF-8 byte order mark is not part of the first key (the file had "no
 // surface_equation"); the columns of the first line count from after it.
 // A directory is named as such (an ifstream opens it and reads nothing: it was an empty
