@@ -386,6 +386,57 @@ TEST(JsurfImport, SurferPngHoldsJsurfsBytes) {
   std::filesystem::remove(png);
 }
 
+// SURFER's perspective camera stands at 1 / sin(fov / 2) on +z (RenderArea), where the
+// unit clip sphere just fills the view's height: a sphere of half the clip radius
+// (scale_factor log10 2) then spans tan(asin(sin(fov / 2) / 2)) / tan(fov / 2) of the centre
+// row and column, with camera_fov_y given and with jsurf's default of 60 degrees (a
+// mutation round of session 56 put the eye at 1 / tan(fov / 2), and the default at 45
+// degrees, without a test failing).
+TEST(JsurfImport, PerspectiveEyeStandsWhereSurferPutsIt) {
+  const int n = 400;
+  for (const std::string fov : {"", "40"}) {
+    const double f = (fov.empty() ? 60.0 : std::stod(fov)) * std::numbers::pi / 180;
+    const std::filesystem::path file =
+        writeJsurf("algray_perspective.jsurf",
+                   "camera_type=PERSPECTIVE_CAMERA\nscale_factor=0.30102999566398120" +
+                       (fov.empty() ? std::string() : "\ncamera_fov_y=" + fov));
+    const Image image = renderSmall(jsurfScene(file), n);
+    std::filesystem::remove(file);
+    const auto [row, column] = centreCrossCoverage(image);
+    const double expected = n * std::tan(std::asin(std::sin(f / 2) / 2)) / std::tan(f / 2);
+    EXPECT_NEAR(row, expected, 2.0) << "fov " << fov;
+    EXPECT_NEAR(column, expected, 2.0) << "fov " << fov;
+  }
+}
+
+// With the direct integrator (--integrator direct) the import's lights and environment give
+// jsurf's ambient and diffuse terms: a light of intensity I and colour L at the eye becomes
+// a directional light of irradiance pi I L, which a Lambertian albedo kd c turns into
+// kd c I L, and the ambient term ka c an environment of radiance ka / kd, which that albedo
+// reflects as ka c. So the sphere's point facing the camera shows c (kd I L + ka), and a
+// pixel beside it jsurf's default white background (the same mutation round dropped the
+// pi, the division by kd and the white without a test failing).
+TEST(JsurfImport, DirectIntegratorGivesJsurfsAmbientAndDiffuse) {
+  const std::filesystem::path file = writeJsurf(
+      "algray_direct_terms.jsurf",
+      "scale_factor=0.30102999566398120\nlight_intensity_0=0.7\nlight_color_0=1 0.5 0.25\n"
+      "front_material_color=0.8 0.6 0.4\nfront_material_ambient_intensity=0.3\n"
+      "front_material_diffuse_intensity=0.6");
+  SceneDesc desc = jsurfScene(file);
+  std::filesystem::remove(file);
+  desc.settings.integrator = IntegratorType::Direct;
+  const int n = 9;
+  const Image image = renderSmall(desc, n);
+  const glm::dvec3 c(0.8, 0.6, 0.4), light(1, 0.5, 0.25);
+  const glm::dvec3 expected = c * (0.6 * 0.7 * light + 0.3);
+  const glm::vec3 centre = image.color[static_cast<size_t>(n / 2) * n + n / 2];
+  const glm::vec3 corner = image.color[0];
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(centre[k], expected[k], 1e-5 * expected[k]) << k;
+    EXPECT_EQ(corner[k], 1.0f) << k;
+  }
+}
+
 // SURFER's view is square: a portrait image sees the width a square one does (its
 // camera_height spanned the height, and the clip sphere was cut off at both sides), a
 // landscape one the height; for both camera kinds.
