@@ -12,6 +12,7 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstdio>
 #include <optional>
@@ -545,6 +546,52 @@ TEST_F(EmbreeHits, MixedSceneClosestHitEitherOrder) {
     EXPECT_EQ(out.hit.geomID, qid);
     EXPECT_NE(hit.hit && hit.geomID == out.hit.geomID, true);
   }
+}
+
+// Counts the calls of a geometry's intersect and occluded callbacks (installed in place of
+// the adapter's: the bounds and primitives stay the adapter's).
+std::atomic<int> calls{0};
+void countIntersect(const RTCIntersectFunctionNArguments*) { ++calls; }
+void countOccluded(const RTCOccludedFunctionNArguments*) { ++calls; }
+
+// A ray that misses a surface's box never reaches its callbacks, also where the surface is
+// one cell, the only user primitive of its scene: Embree tests a primitive's box only from
+// the node above it, and a bare leaf at the BVH's root has none (every ray of the scene,
+// the triangles' too, called the callback, session 54's audit). Rays from above onto a
+// floor quad, wide of the unit sphere's clip ball of radius 1.5 (its box [-1.5, 1.5]^3
+// padded by far less than 0.5), against two through the centre (the counter's check).
+TEST_F(EmbreeHits, RaysWideOfALoneCellNeverCallIt) {
+  for (bool quadricPath : {true, false})
+    for (bool withQuad : {true, false}) {
+      SurfaceDesc desc = sphereDesc(1.0, 1.5);
+      desc.options.quadricCallbacks = quadricPath;
+      SurfaceGeometry sphere(device, desc);
+      ASSERT_EQ(sphere.primitiveCount(), 1u);
+      rtcSetGeometryIntersectFunction(sphere.geometry(), &countIntersect);
+      rtcSetGeometryOccludedFunction(sphere.geometry(), &countOccluded);
+      rtcCommitGeometry(sphere.geometry());
+      Scene scene(device);
+      scene.attach(sphere.geometry());
+      if (withQuad) {
+        RTCGeometry quad = makeQuad(device, -2.0f, 20.0f);
+        scene.attach(quad);
+        rtcReleaseGeometry(quad);
+      }
+      scene.commit();
+      const std::string what =
+          std::string(quadricPath ? "quadric" : "generic") + (withQuad ? " with quad" : "");
+      calls = 0;
+      for (float x : {-10.0f, -2.0f, 2.0f, 7.0f})
+        for (float y : {-9.0f, -2.0f, 2.0f, 5.0f}) {
+          intersect1(scene, makeRay({x, y, 5}, {0, 0, -1}));
+          occluded1(scene, makeRay({x, y, 5}, {0, 0, -1}).ray);
+        }
+      EXPECT_EQ(calls.load(), 0) << what;
+      // (Ending at z = 0, before the quad: an occluded ray may stop at the quad first.)
+      intersect1(scene, makeRay({0, 0, 5}, {0, 0, -1}, 0.0f, 5.0f));
+      occluded1(scene, makeRay({0, 0, 5}, {0, 0, -1}, 0.0f, 5.0f).ray);
+      EXPECT_EQ(calls.load(), 2) << what;
+    }
 }
 
 // Two surfaces 1e-8 apart (concentric spheres, separate geometries): the double channel
