@@ -28,9 +28,17 @@ WriteStatus writeRaster(const std::string& formatPath, const std::string& filePa
     // 23-26 ms and the files came out 4-22% smaller (flat shading compresses well as is).
     spec.attribute("png:filter", kPngFilterNone);
   }
-  if (out->open(filePath, spec) && out->write_image(type, pixels) && out->close())
+  // For 8-bit files has_error() as well: the PNG writer reports a failed write of the file
+  // (a full disk, a file size limit) only there, its open, write_image and close all
+  // returning true (a 29908-byte picture came out 8192 bytes long under `ulimit -f 8`, exit
+  // status 0). Not for the float formats, whose writers return false on such a failure
+  // (tests/render/image_io_test.cpp), and where has_error() would refuse good files: the
+  // TIFF writer of OpenImageIO 2.4 records a failed Exif directory on files it wrote well.
+  if (out->open(filePath, spec) && out->write_image(type, pixels) && out->close() &&
+      (desc.floating || !out->has_error()))
     return WriteStatus::Ok;
   error = out->geterror();
+  if (error.empty()) error = "OpenImageIO gave no reason";
   return WriteStatus::Failed;
 }
 

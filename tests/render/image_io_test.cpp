@@ -9,12 +9,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 namespace algray::render {
@@ -298,6 +302,195 @@ TEST(ImageFile, HeadersClaimingHugeImagesAreRefused) {
   std::ofstream(small, std::ios::binary) << "P5\n2 3\n255\n" << std::string(6, '\x80');
   EXPECT_NO_THROW(Texture::load(small.string()));
   std::filesystem::remove(small);
+}
+
+// The extension names the format whatever its case, and the float formats (.exr, .tif,
+// .tiff) hold linear radiance as it is: no exposure (scene_desc.h: PNG only), no curve,
+// with every tone map but None (whose colours are display values). .hdr (Radiance RGBE)
+// stores R, G, B only, so it cannot hold the AOV channels.
+TEST(ImageFile, FloatFormatsKeepLinearValuesWhateverTheCase) {
+  for (const char* name : {"a.exr", "a.EXR", "a.tif", "a.tiff", "a.TIFF"})
+    EXPECT_TRUE(holdsAovs(name)) << name;
+  for (const char* name : {"a.hdr", "a.png", "a.PNG", "a.jpg", "a"})
+    EXPECT_FALSE(holdsAovs(name)) << name;
+  const Image image = gradient();
+  for (const char* name : {"algray_io_case.EXR", "algray_io_float.tiff", "algray_io_float.TIF"})
+    for (const ToneMap toneMap : {ToneMap::Clamp, ToneMap::Aces}) {
+      const std::string path = (std::filesystem::temp_directory_path() / name).string();
+      RenderSettings settings;
+      settings.toneMap = toneMap;
+      settings.exposure = 2.0;
+      writeImage(image, path, settings);
+      auto in = OIIO::ImageInput::open(path);
+      ASSERT_TRUE(in) << name;
+      EXPECT_EQ(in->spec().format, OIIO::TypeDesc::FLOAT) << name;
+      ASSERT_EQ(in->spec().nchannels, 3) << name;
+      std::vector<float> data(32 * 3);
+      ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, data.data())) << name;
+      in->close();
+      std::filesystem::remove(path);
+      for (int i = 0; i < 32; ++i)
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(data[3 * i + k], image.color[i][k]) << name << i;
+    }
+}
+
+// A TIFF has no channel names, only an "extra sample" kind: the depth channel after R, G, B
+// must not be marked as alpha (OpenImageIO's default for a 4th channel), or viewers and
+// compositors take the depth for opacity.
+TEST(ImageFile, TiffDepthIsNoAlpha) {
+  const std::string path = (std::filesystem::temp_directory_path() / "algray_io_z.tif").string();
+  const Image image = gradient();
+  writeImage(image, path, RenderSettings{}, parseAovList("depth"));
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().alpha_channel, -1);
+  ASSERT_EQ(in->spec().nchannels, 4);
+  std::vector<float> data(32 * 4);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::FLOAT, data.data()));
+  in->close();
+  std::filesystem::remove(path);
+  for (int i = 0; i < 32; ++i) EXPECT_EQ(data[4 * i + 3], image.depth[i]) << i;
+}
+
+// Each AOV component under its own name: a normal and an albedo whose components differ.
+TEST(ImageFile, ExrAovComponentsKeepTheirNames) {
+  const std::string path = (std::filesystem::temp_directory_path() / "algray_io_aov.exr").string();
+  Image image = gradient();
+  for (int i = 0; i < 32; ++i) {
+    image.normal[i] = glm::vec3(0.6f, -0.8f, 0.0f);
+    image.albedo[i] = glm::vec3(0.125f, 0.25f, 0.5f);
+  }
+  writeImage(image, path, RenderSettings{}, parseAovList("normal,albedo"));
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  const OIIO::ImageSpec& spec = in->spec();
+  ASSERT_EQ(spec.nchannels, 9);
+  std::vector<float> data(32 * 9);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 9, OIIO::TypeDesc::FLOAT, data.data()));
+  const std::pair<const char*, float> expected[] = {{"N.X", 0.6f},       {"N.Y", -0.8f},
+                                                    {"N.Z", 0.0f},       {"albedo.R", 0.125f},
+                                                    {"albedo.G", 0.25f}, {"albedo.B", 0.5f}};
+  for (const auto& [name, value] : expected)
+    for (int i = 0; i < 32; ++i)
+      EXPECT_EQ(data[i * 9 + channelIndex(spec, name)], value) << name << " " << i;
+  in->close();
+  std::filesystem::remove(path);
+}
+
+// Every channel of a PNG in its place, with the exposure applied: the gradient's R = i / 31
+// and B = 1 - i / 31 at +1 stop (twice the value), through IEC 61966-2-1's encoding
+// computed here.
+TEST(ImageFile, PngChannelsCarryTheExposure) {
+  auto path = (std::filesystem::temp_directory_path() / "algray_io_exposure.png").string();
+  const Image image = gradient();
+  RenderSettings settings;
+  settings.toneMap = ToneMap::Clamp;
+  settings.exposure = 1.0;
+  writeImage(image, path, settings);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  std::vector<unsigned char> data(32 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, data.data()));
+  in->close();
+  std::filesystem::remove(path);
+  auto encode = [](double c) {
+    c = std::min(c, 1.0);
+    return 255.0 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055);
+  };
+  for (int i = 0; i < 32; ++i) {
+    EXPECT_NEAR(data[i * 3 + 0], encode(2.0 * image.color[i].r), 0.5 + 1e-9) << i;
+    EXPECT_NEAR(data[i * 3 + 1], encode(2.0 * 0.5), 0.5 + 1e-9) << i;
+    EXPECT_NEAR(data[i * 3 + 2], encode(2.0 * image.color[i].b), 0.5 + 1e-9) << i;
+  }
+}
+
+// The PNG says its bytes are sRGB-encoded: an sRGB chunk (PNG specification, 11.3.3.5),
+// which viewers read to show the colours as meant (without it, a gAMA-less PNG's encoding
+// is unknown to colour-managed ones). Chunks: 4-byte big-endian length, 4-byte type, data,
+// 4-byte CRC, after the 8-byte signature.
+TEST(ImageFile, PngDeclaresSrgb) {
+  auto path = (std::filesystem::temp_directory_path() / "algray_io_srgb.png").string();
+  writeImage(gradient(), path, RenderSettings{});
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  std::filesystem::remove(path);
+  std::vector<std::string> types;
+  for (size_t i = 8; i + 8 <= bytes.size();) {
+    size_t length = 0;
+    for (int k = 0; k < 4; ++k) length = 256 * length + static_cast<unsigned char>(bytes[i + k]);
+    types.push_back(bytes.substr(i + 4, 4));
+    i += 12 + length;
+  }
+  EXPECT_NE(std::find(types.begin(), types.end(), "sRGB"), types.end());
+  EXPECT_EQ(types.front(), "IHDR");
+  EXPECT_EQ(types.back(), "IEND");
+}
+
+// OUT is a directory: the image is written to the temporary file, and rename(2) refuses
+// to put a file in a directory's place (EISDIR, "Is a directory"). The message gives that
+// reason, and the temporary file is removed: the directory holds what it held.
+TEST(ImageFile, FailedRenameNamesTheReasonAndLeavesNoFile) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "algray_io_rename";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "out.png");
+  try {
+    writeImage(gradient(), (dir / "out.png").string(), RenderSettings{});
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              (dir / "out.png").string() + ": cannot rename the temporary file: Is a directory");
+  }
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"out.png"});
+  std::filesystem::remove_all(dir);
+}
+
+// A write that fails part way (here the file size limit, RLIMIT_FSIZE, as a full disk
+// would) is an error naming the file, and the partial temporary file is removed: the
+// directory holds nothing after it. (write(2) past the limit fails with EFBIG once
+// SIGXFSZ is ignored.) In every format: OpenImageIO's PNG writer reports such a failure
+// only in has_error(), its open, write_image and close all returning true (a truncated
+// PNG was renamed to OUT and the render exited 0, session 57).
+TEST(ImageFile, FailedWriteLeavesNoFile) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "algray_io_full";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  Image image;
+  image.resize(256, 256);
+  std::uint32_t state = 1;
+  for (glm::vec3& c : image.color) {
+    state = state * 1664525u + 1013904223u;  // noise: a file of about 256 * 256 * 3 floats
+    c = glm::vec3(static_cast<float>(state >> 8) * 0x1p-24f);
+  }
+  for (const char* name : {"out.exr", "out.png", "out.tif"}) {
+    const std::string path = (dir / name).string();
+    const auto oldHandler = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit old{};
+    ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+    rlimit small = old;
+    small.rlim_cur = 4096;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+    std::string error;
+    try {
+      writeImage(image, path, RenderSettings{});
+    } catch (const std::runtime_error& e) {
+      error = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, oldHandler);
+    EXPECT_EQ(error.rfind(path + ": cannot write image", 0), 0u) << name << ": " << error;
+    EXPECT_TRUE(std::filesystem::is_empty(dir)) << name;
+    // (The PNG of this noise takes ~190 kB, far past the limit: its failure is the write's.)
+    if (std::string(name) == "out.png") {
+      writeImage(image, path, RenderSettings{});
+      EXPECT_GT(std::filesystem::file_size(path), 4096u * 8);
+      std::filesystem::remove(path);
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -9,11 +9,18 @@
 
 #include <algray/parser.h>
 
+#include <glm/geometric.hpp>
+
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace algray::render {
 namespace {
@@ -243,6 +250,235 @@ TEST(ObjFile, ADirectoryIsNamedAsSuch) {
     ADD_FAILURE() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), dir + ": is a directory, not an OBJ file");
+  }
+}
+
+// loadObj on the OBJ text obj (its own file per test, as objError's).
+MeshData objMesh(const std::string& obj) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() /
+      (std::string("algray_") + ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+       ".obj");
+  std::ofstream(file, std::ios::binary) << obj;
+  MeshData m;
+  try {
+    m = loadObj(file.string());
+  } catch (const std::runtime_error& e) {
+    ADD_FAILURE() << e.what();
+  }
+  std::filesystem::remove(file);
+  return m;
+}
+
+// The numbers loadObj returns are the file's (Wavefront OBJ: "v x y z", "vt u v", "vn i j
+// k", a face of any number of corners "v/vt/vn", indices from 1 or, negative, back from the
+// latest line): a 2 x 3 rectangle as one quad, vt k = (x / 2, y / 3) of v k, one normal of
+// length 2 along +z. By hand: two triangles (the quad cut along a diagonal) of total area
+// 6, counter-clockwise seen from +z as the face lists its corners, each corner at a written
+// position with its own vt, every normal (0, 0, 1) (unit: the renderer interpolates and
+// shades with them). 4 vt and 1 vn lines: the uv and normal counts differ.
+TEST(ObjFile, ValuesAreReadAsWritten) {
+  const std::string head =
+      "v 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 0\n"
+      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 2\n";
+  for (const char* face :
+       {"f 1/1/1 2/2/1 3/3/1 4/4/1\n", "f -4/-4/-1 -3/-3/-1 -2/-2/-1 -1/-1/-1\n"}) {
+    const MeshData m = objMesh(head + face);
+    ASSERT_EQ(m.triangles.size(), 2u) << face;
+    ASSERT_EQ(m.normals.size(), m.positions.size()) << face;
+    ASSERT_EQ(m.uvs.size(), m.positions.size()) << face;
+    double area = 0;
+    for (const auto& t : m.triangles) {
+      const glm::dvec3 c =
+          glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+      area += 0.5 * c.z;
+      for (const unsigned i : t) {
+        const glm::dvec3 p = m.positions[i];
+        EXPECT_TRUE((p.x == 0 || p.x == 2) && (p.y == 0 || p.y == 3) && p.z == 0) << face;
+        EXPECT_EQ(m.uvs[i], glm::dvec2(p.x / 2, p.y / 3)) << face;
+        EXPECT_EQ(m.normals[i], glm::dvec3(0, 0, 1)) << face;
+      }
+    }
+    EXPECT_EQ(area, 6.0) << face;
+  }
+}
+
+// OBJ indexes positions, uvs and normals separately: one position with two vt in two
+// faces is two vertices of the mesh, each with its own uv (a texture seam). The second
+// face's corners all have vt 4 = (0.5, 0.5), the first's vt k = (x, y) of v k.
+TEST(ObjFile, CornersWithOtherUvsStayApart) {
+  const MeshData m = objMesh(
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
+      "f 1/1 2/2 3/3\nf 1/4 2/4 3/4\n");
+  ASSERT_EQ(m.triangles.size(), 2u);
+  ASSERT_EQ(m.uvs.size(), m.positions.size());
+  for (const unsigned i : m.triangles[0])
+    EXPECT_EQ(m.uvs[i], glm::dvec2(m.positions[i].x, m.positions[i].y));
+  for (const unsigned i : m.triangles[1]) EXPECT_EQ(m.uvs[i], glm::dvec2(0.5, 0.5));
+}
+
+// Normals are per vertex for the whole mesh or not at all (mesh.h: empty = flat shading):
+// a face whose first corners name no normal makes the mesh flat, whichever corner does.
+TEST(ObjFile, CornersWithoutNormalsMakeTheMeshFlat) {
+  for (const char* face : {"f 1 2 3//1\n", "f 1//1 2 3\n"}) {
+    const MeshData m = objMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n" + std::string(face));
+    EXPECT_EQ(m.triangles.size(), 1u) << face;
+    EXPECT_TRUE(m.normals.empty()) << face;
+  }
+}
+
+// An index beyond its list names the corner and how many lines of that kind the file has
+// above the face (counted here by hand), so that the line to fix is clear.
+TEST(ObjFile, OutOfRangeMessagesCountTheLinesAbove) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvn 0 0 1\n";
+  const std::pair<std::string, std::string> cases[] = {
+      {"f 1 2 3 4\ng later\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n",
+       "case.obj:1: vertex index out of range in '1' (0 'v' lines above it)"},
+      {"v 0 0 0\nf 1 2 3\n", "case.obj:2: vertex index out of range in '2' (1 'v' line above it)"},
+      {tri + "f 1/3 2/1 3/1\n",
+       "case.obj:7: uv index out of range in '1/3' (2 'vt' lines above it)"},
+      {tri + "f 1//1 2//-2 3//1\n",
+       "case.obj:7: normal index out of range in '2//-2' (1 'vn' line above it)"},
+  };
+  for (const auto& [obj, expected] : cases) EXPECT_EQ(objError(obj), expected) << obj;
+}
+
+// tinyobjloader splits a line's words at spaces and tabs only: "vn\v0 0 1" is no vn line to
+// it, so a face naming that normal is refused with its line (it was the guard's error, no
+// line), not counted against a normal it does not have.
+TEST(ObjFile, OnlySpacesAndTabsSeparateWords) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  for (const char* line : {"vn\v0 0 1\n", "vn\f0 0 1\n"}) {
+    const std::string message = objError(tri + line + "f 1//1 2//1 3//1\n");
+    EXPECT_NE(message.find("case.obj:5: normal index out of range"), std::string::npos)
+        << ::testing::PrintToString(line) << ": " << message;
+  }
+  // Within a line, "0\v0" is one word: two numbers, not three.
+  EXPECT_EQ(objError(tri + "vn 0\v0 1\nf 1 2 3\n"), "case.obj:4: 'vn' with 2 numbers");
+}
+
+// A face's vertex indices are 0-based into positions: 3 is beyond 3 positions.
+TEST(MeshData, ValidateRefusesIndexEqualToTheCount) {
+  MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.triangles = {{0, 1, 3}};
+  EXPECT_THROW(m.validate("m"), std::runtime_error);
+  m.triangles = {{0, 1, 2}};
+  EXPECT_NO_THROW(m.validate("m"));
+}
+
+// After any invertible affine map a flat triangle's vertex normals must still be unit,
+// perpendicular to the moved triangle and on the side its winding gives (cross(p1 - p0,
+// p2 - p0)): the geometric facts a shading normal must keep. A shear (not symmetric, so
+// the inverse and the inverse transpose differ), it with a mirror (determinant < 0), and
+// non-uniform scales that change a normal's length.
+TEST(MeshData, TransformKeepsNormalsPerpendicularAndWindingConsistent) {
+  glm::dmat4 shear(1.0);
+  shear[1][0] = 1.0;   // x += y
+  shear[2][1] = -2.0;  // y -= 2 z
+  shear[0][2] = 0.25;  // z += x / 4 (determinant 1 - 2 / 4 > 0)
+  shear[3] = glm::dvec4(1, 2, 3, 1);
+  glm::dmat4 mirror(1.0);
+  mirror[0][0] = -3.0;
+  glm::dmat4 scale(1.0);
+  scale[0][0] = 2.0, scale[1][1] = 0.5;
+  for (const glm::dmat4& map : {shear, shear * mirror, scale, mirror, mirror * scale}) {
+    for (MeshData m : {makePlane(1.0), makeBox({1, 2, 3})}) {
+      m.transform(map);
+      for (const auto& t : m.triangles) {
+        const glm::dvec3 c = glm::cross(m.positions[t[1]] - m.positions[t[0]],
+                                        m.positions[t[2]] - m.positions[t[0]]);
+        const glm::dvec3 g = c / glm::length(c);
+        for (const unsigned i : t) {
+          EXPECT_NEAR(glm::length(m.normals[i]), 1.0, 1e-12);
+          EXPECT_NEAR(glm::dot(m.normals[i], g), 1.0, 1e-12);
+        }
+      }
+    }
+  }
+}
+
+// The box's faces and the icosphere's triangles wind counter-clockwise seen from outside
+// (cross(p1 - p0, p2 - p0) along the outward direction of a convex solid about the
+// origin), as their normals point; the box's normal is its face's.
+TEST(MeshData, ShapesWindOutward) {
+  const MeshData box = makeBox({1, 2, 3});
+  for (const auto& t : box.triangles) {
+    const glm::dvec3 c = glm::cross(box.positions[t[1]] - box.positions[t[0]],
+                                    box.positions[t[2]] - box.positions[t[0]]);
+    EXPECT_GT(glm::dot(c, box.positions[t[0]]), 0.0);
+    for (const unsigned i : t)
+      EXPECT_NEAR(glm::dot(box.normals[i], c / glm::length(c)), 1.0, 1e-15);
+  }
+  const MeshData sphere = makeIcosphere(2);
+  for (const auto& t : sphere.triangles) {
+    const glm::dvec3 c = glm::cross(sphere.positions[t[1]] - sphere.positions[t[0]],
+                                    sphere.positions[t[2]] - sphere.positions[t[0]]);
+    EXPECT_GT(glm::dot(c, sphere.positions[t[0]]), 0.0);
+  }
+}
+
+// mesh.h: the plane's uv is position / uvScale.
+TEST(MeshData, PlaneUvIsPositionOverScale) {
+  const MeshData m = makePlane(2.0, 4.0);
+  ASSERT_EQ(m.uvs.size(), m.positions.size());
+  for (size_t i = 0; i < m.positions.size(); ++i)
+    EXPECT_EQ(m.uvs[i], glm::dvec2(m.positions[i].x / 4, m.positions[i].y / 4));
+}
+
+// The icosphere's uv is the lat-long map (u = 1/2 + azimuth / 2 pi, v = 1 - polar angle /
+// pi) on each triangle: across the azimuth seam a triangle's u runs the short way round
+// (its span is the shortest arc of its corners' azimuths over 2 pi, never most of the
+// image), and a pole corner, which has no azimuth, takes a u within its triangle's span.
+// The reference arc is computed here from the positions alone.
+TEST(MeshData, IcosphereUvFollowsEachTriangle) {
+  for (int sub : {0, 1, 2, 3}) {
+    const MeshData m = makeIcosphere(sub);
+    for (const auto& t : m.triangles) {
+      std::vector<double> az;
+      double lo = 2, hi = -1;
+      for (const unsigned i : t) {
+        const glm::dvec3 p = m.positions[i];
+        EXPECT_NEAR(m.uvs[i].y, 1.0 - std::acos(std::clamp(p.z, -1.0, 1.0)) / std::numbers::pi,
+                    1e-12);
+        lo = std::min(lo, m.uvs[i].x), hi = std::max(hi, m.uvs[i].x);
+        if (p.x != 0 || p.y != 0) az.push_back(std::atan2(p.y, p.x));
+      }
+      // The shortest arc holding the azimuths: 2 pi less the largest gap between them.
+      std::sort(az.begin(), az.end());
+      double gap = az.front() + 2 * std::numbers::pi - az.back();
+      for (size_t k = 1; k < az.size(); ++k) gap = std::max(gap, az[k] - az[k - 1]);
+      EXPECT_NEAR(hi - lo, (2 * std::numbers::pi - gap) / (2 * std::numbers::pi), 1e-12) << sub;
+    }
+  }
+}
+
+// A v, vt, vn or f line with no numbers is malformed (OBJ: "v x y z", a face of 3 or more
+// corners), even with a blank after its keyword: tinyobjloader read "v " as a vertex at
+// the origin, which shifted every index after it.
+TEST(ObjFile, KeywordsWithoutNumbersAreErrors) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const std::pair<const char*, const char*> cases[] = {
+      {"v \n", "case.obj:4: 'v' with 0 numbers"},
+      {"vn\t\n", "case.obj:4: 'vn' with 0 numbers"},
+      {"vt \n", "case.obj:4: 'vt' with 0 numbers"},
+      {"f \n", "case.obj:4: a face needs at least 3 vertices"},
+  };
+  for (const auto& [line, expected] : cases)
+    EXPECT_EQ(objError(tri + line + "f 1 2 3\n"), expected) << ::testing::PrintToString(line);
+}
+
+// A file that cannot be opened is named with the reason on one line (tinyobjloader ends
+// its message with a line break; the program prints the message with its own).
+TEST(ObjFile, UnreadableFileIsOneLine) {
+  const std::string path = "/nonexistent-dir/m.obj";
+  try {
+    loadObj(path);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind(path + ": cannot read OBJ", 0), 0u) << message;
+    EXPECT_EQ(message.find_first_of("\r\n"), std::string::npos) << message;
   }
 }
 
