@@ -17,6 +17,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <vector>
@@ -536,6 +537,256 @@ TEST(Cancel, StopsAndReportsInterruption) {
   RenderStats stats = render(scene, image, options);
   EXPECT_TRUE(stats.interrupted);
   EXPECT_LT(stats.tilesDone, stats.tilesTotal);
+}
+
+// ---- Closed forms for the path integrator's estimators --------------------------------
+
+// Planes and quads are two triangles split along a diagonal; moved off the camera ray's
+// point so that it meets one triangle, not their shared edge.
+const glm::dmat4 kOffCentre = glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, 0.25, 0));
+
+// A scene seen through a pinhole-thin orthographic camera: every pixel's rays meet the
+// surface at the one point below `position` along `lookAt - position`, so the pixels are
+// independent estimates (per-pixel random streams) of one radiance.
+SceneDesc pointCamera(glm::dvec3 position, glm::dvec3 lookAt, glm::dvec3 up, int size, int spp) {
+  SceneDesc s;
+  s.settings.width = size;
+  s.settings.height = size;
+  s.settings.spp = spp;
+  s.camera.type = CameraDesc::Type::Orthographic;
+  s.camera.height = 1e-6;
+  s.camera.position = position;
+  s.camera.lookAt = lookAt;
+  s.camera.up = up;
+  s.environment.color = glm::dvec3(0.0);
+  return s;
+}
+
+// The red channel's mean over the pixels and the standard error of that mean from the
+// pixels' own sample variance (the pixels being independent, identically distributed).
+struct Estimate {
+  double mean = 0, standardError = 0;
+};
+Estimate estimate(const std::vector<double>& values) {
+  const double n = static_cast<double>(values.size());
+  double sum = 0, sum2 = 0;
+  for (double v : values) sum += v, sum2 += v * v;
+  const double mean = sum / n, variance = std::max(0.0, (sum2 / n - mean * mean) * n / (n - 1));
+  return {mean, std::sqrt(variance / n)};
+}
+Estimate renderEstimate(const SceneDesc& desc) {
+  Scene scene(desc);
+  Image image;
+  render(scene, image);
+  std::vector<double> values;
+  for (const glm::vec3& c : image.color) values.push_back(c.x);
+  return estimate(values);
+}
+
+// Irradiance from a point light of intensity I at distance r and incidence theta is
+// E = I cos(theta) / r^2, and a Lambertian floor of albedo a reflects L = (a / pi) E. With
+// maxDepth 1 (one vertex after the camera) that is all the path integrator adds, though
+// a white sphere beside the point would reflect more light onto it: the point light is a
+// Dirac delta, not weighted against BSDF sampling, and the estimate is exact (no noise).
+TEST(PathIntegrator, PointLightOnAFloorIsLambertTimesIrradiance) {
+  const double albedo = 0.6, intensity = 3;
+  const glm::dvec3 light(1, 0, 2);  // r^2 = 5, cos(theta) = 2 / sqrt(5) at the origin
+  const double expected = albedo / kPi * intensity * (2 / std::sqrt(5.0)) / 5;
+  for (IntegratorType type : {IntegratorType::Path, IntegratorType::Direct}) {
+    SceneDesc s = pointCamera({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 4, 16);
+    s.settings.integrator = type;
+    s.settings.maxDepth = 1;
+    Material floor;
+    floor.color = glm::dvec3(albedo);
+    Material white;
+    white.color = glm::dvec3(1.0);
+    s.meshes.push_back({"floor", makePlane(5.0), kOffCentre, s.addMaterial(floor), -1});
+    addUnitSphere(s, {-1.6, 0, 1.2});  // clear of the camera ray and the light's
+    s.surfaces.back().material = s.addMaterial(white);
+    s.pointLights.push_back({light, glm::dvec3(intensity)});
+    const Estimate e = renderEstimate(s);
+    EXPECT_NEAR(e.mean, expected, 1e-5 * expected) << static_cast<int>(type);
+    EXPECT_NEAR(e.standardError, 0.0, 1e-5 * expected) << static_cast<int>(type);
+  }
+}
+
+// The floor under a quad light (AreaLightsLightLargeFloors' closed form, albedo * L * F)
+// with the path integrator, where light samples and BSDF rays that hit the light are
+// combined by multiple importance sampling: the weights of a direction sum to one only if
+// both use the right densities. The light, 4 x 4 at height 1, subtends so much that both
+// strategies carry weight. Tolerance: 6 standard errors of the pixels' mean.
+TEST(PathIntegrator, QuadLightOnAFloorMatchesTheFormFactor) {
+  const double h = 1, albedo = 0.6, radiance = 2;
+  auto corner = [h](double a, double b) {  // Howell C-11, rectangle [0, a] x [0, b]
+    const double A = a / h, B = b / h, sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
+    return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * M_PI);
+  };
+  // The light covers x in [-1, 3], y in [-2, 2] above the origin: four corner rectangles.
+  const double expected = albedo * radiance * 2 * (corner(3, 2) + corner(1, 2));
+  SceneDesc s = pointCamera({0, 0, 0.5}, {0, 0, 0}, {0, 1, 0}, 32, 16);
+  Material floor;
+  floor.color = glm::dvec3(albedo);
+  Material light;
+  light.type = MaterialType::Emissive;
+  light.emission = glm::dvec3(radiance);
+  s.meshes.push_back({"floor", makePlane(10.0), kOffCentre, s.addMaterial(floor), -1});
+  s.meshes.push_back({"light", makeQuad({-1, -2, h}, {4, 0, 0}, {0, 4, 0}), glm::dmat4(1.0),
+                      s.addMaterial(light), -1});
+  const Estimate e = renderEstimate(s);
+  EXPECT_NEAR(e.mean, expected, 6 * e.standardError) << "expected " << expected;
+  EXPECT_GT(e.standardError, 0.0);  // a real estimate, not a degenerate one
+}
+
+// The grey-sphere furnace under an image environment, which joins next-event estimation
+// (uniform sphere samples, weighted against cosine-weighted BSDF rays): a constant image c
+// still gives albedo * c at every point of a convex surface. Tolerance: 6 standard errors
+// of the mean over the hit pixels (interior pixels, identically distributed by symmetry).
+TEST(PathIntegrator, ImageEnvironmentFurnaceReflectsAlbedoTimesTheImage) {
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "algray_env_furnace.exr").string();
+  writeRowImage(file, 4, {0.6f, 0.6f});
+  SceneDesc s = furnace(0.5);
+  s.environment.color = glm::dvec3(1.0);
+  s.environment.image = file;
+  s.settings.spp = 16;
+  addSurface(s, "sphere");
+  Scene scene(s);
+  Image image;
+  render(scene, image);
+  std::vector<double> values;
+  const int w = image.width, h = image.height;
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      auto at = [&](int dx, int dy) { return image.id[(y + dy) * w + x + dx] > 0; };
+      if (at(0, 0) && at(1, 0) && at(-1, 0) && at(0, 1) && at(0, -1))
+        values.push_back(image.color[y * w + x].x);
+    }
+  ASSERT_GT(values.size(), 50u);
+  const Estimate e = estimate(values);
+  EXPECT_NEAR(e.mean, 0.5 * 0.6, 6 * e.standardError);
+  EXPECT_GT(e.standardError, 0.0);
+  std::filesystem::remove(file);
+}
+
+// A sheet of glass (n = 1.5) seen at normal incidence reflects F = ((n - 1) / (n + 1))^2 =
+// 0.04 and transmits the rest, the radiance from behind scaled by 1 / n^2 (L / n^2 is
+// conserved across the interface). Behind it a small emitter of radiance Le: (1 - F) Le / n^2;
+// in a constant image environment c (seen both ways): c (F + (1 - F) / n^2). The emitter
+// and the environment are reached through a specular bounce, which no light sample could
+// have found: their MIS weight is one. Tolerance: 6 standard errors of the pixels' mean.
+TEST(PathIntegrator, LightSeenThroughGlassIsScaledByFresnelAndTheIndex) {
+  const double n = 1.5, fresnel = std::pow((n - 1) / (n + 1), 2), le = 1.0, c = 0.8;
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "algray_env_glass.exr").string();
+  writeRowImage(file, 4, {static_cast<float>(c), static_cast<float>(c)});
+  for (IntegratorType type : {IntegratorType::Path, IntegratorType::Direct})
+    for (const bool emitter : {true, false}) {
+      SceneDesc s = pointCamera({0, -2, 0}, {0, 0, 0}, {0, 0, 1}, 64, 64);
+      s.settings.integrator = type;
+      s.settings.maxDepth = 1;  // one bounce (the glass), and what it finds, as pbrt counts
+      Material glass;
+      glass.type = MaterialType::Dielectric;
+      glass.color = glm::dvec3(1.0);
+      glass.ior = n;
+      // Normal (0, -1, 0), towards the camera: the camera ray enters the glass.
+      s.meshes.push_back({"glass", makeQuad({-1, 0, -0.7}, {2, 0, 0}, {0, 0, 2}), glm::dmat4(1.0),
+                          s.addMaterial(glass), -1});
+      double expected;
+      if (emitter) {
+        Material light;
+        light.type = MaterialType::Emissive;
+        light.emission = glm::dvec3(le);
+        s.meshes.push_back({"light", makeQuad({-0.2, 1, -0.3}, {0.5, 0, 0}, {0, 0, 0.5}),
+                            glm::dmat4(1.0), s.addMaterial(light), -1});
+        expected = (1 - fresnel) * le / (n * n);
+      } else {
+        s.environment.color = glm::dvec3(1.0);
+        s.environment.image = file;
+        expected = c * (fresnel + (1 - fresnel) / (n * n));
+      }
+      const Estimate e = renderEstimate(s);
+      EXPECT_NEAR(e.mean, expected, 6 * e.standardError)
+          << static_cast<int>(type) << " " << emitter << " expected " << expected;
+      EXPECT_GT(e.standardError, 0.0);
+    }
+  std::filesystem::remove(file);
+}
+
+// The firefly clamp limits paths with at least one bounce (RenderSettings::clampIndirect):
+// an emitter the camera sees directly keeps its radiance above the limit.
+TEST(PathIntegrator, FireflyClampSparesEmittersSeenDirectly) {
+  SceneDesc s = pointCamera({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 2, 4);
+  s.settings.clampIndirect = 1.0;
+  Material light;
+  light.type = MaterialType::Emissive;
+  light.emission = glm::dvec3(5.0);
+  s.meshes.push_back({"light", makePlane(1.0), kOffCentre, s.addMaterial(light), -1});
+  const Estimate e = renderEstimate(s);
+  EXPECT_NEAR(e.mean, 5.0, 1e-6);
+}
+
+// The white furnace where paths bounce many times: the gap between two parallel white
+// squares (side 2, 0.2 apart) lets the environment in only at the edges, so most paths
+// reach Russian roulette (depth 3 on); the radiance is still Le, exactly in expectation,
+// only if the survivors are reweighted by 1 / (1 - q). Tolerance: 6 standard errors.
+TEST(WhiteFurnace, NarrowGapBetweenWhitePlanesReturnsTheEnvironment) {
+  SceneDesc s = pointCamera({0.1, 0.05, 0.1}, {0.1, 0.05, 0}, {0, 1, 0}, 32, 4);
+  s.settings.maxDepth = 1000;
+  s.environment.color = glm::dvec3(0.7);
+  Material white;
+  white.color = glm::dvec3(1.0);
+  const int m = s.addMaterial(white);
+  s.meshes.push_back({"floor", makePlane(1.0), kOffCentre, m, -1});
+  s.meshes.push_back(
+      {"ceiling", makePlane(1.0), glm::translate(kOffCentre, glm::dvec3(0, 0, 0.2)), m, -1});
+  const Estimate e = renderEstimate(s);
+  EXPECT_NEAR(e.mean, 0.7, 6 * e.standardError);
+  EXPECT_GT(e.standardError, 0.0);
+}
+
+// Shading normals do not carry light through a surface: a floor whose interpolated
+// normals lean 63 degrees towards +x, above it the camera, below it a point light that
+// lies above the tilted shading plane. The light is on the far side of the true surface
+// (the geometric normal), so the floor is black.
+TEST(PathIntegrator, ShadingNormalsLetNoLightThroughTheSurface) {
+  for (IntegratorType type : {IntegratorType::Path, IntegratorType::Direct}) {
+    SceneDesc s = pointCamera({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 4, 4);
+    s.settings.integrator = type;
+    MeshData plane = makePlane(5.0);
+    plane.normals.assign(4, glm::normalize(glm::dvec3(1, 0, 0.5)));
+    s.meshes.push_back({"floor", plane, kOffCentre, s.addMaterial(Material{}), -1});
+    s.pointLights.push_back({{3, 0, -0.5}, glm::dvec3(10.0)});  // (3, 0, -0.5).(1, 0, 0.5) > 0
+    const Estimate e = renderEstimate(s);
+    EXPECT_EQ(e.mean, 0.0) << static_cast<int>(type);
+  }
+}
+
+// A background colour replaces the environment for camera rays only: the grey sphere still
+// reflects albedo * environment (exactly: every cosine-sampled ray from a convex surface
+// escapes, and the diffuse weight is the albedo), while a pixel that misses shows the
+// background.
+TEST(WhiteFurnace, BackgroundIsSeenOnlyByCameraRays) {
+  for (IntegratorType type : {IntegratorType::Path, IntegratorType::Direct}) {
+    SceneDesc s = furnace(0.5);
+    s.settings.integrator = type;
+    s.hasBackground = true;
+    s.background = glm::dvec3(0.1, 0.2, 0.3);
+    addSurface(s, "sphere");
+    Scene scene(s);
+    Image image;
+    render(scene, image);
+    // The central 4 x 4 pixels (all of their samples hit the sphere; outline pixels mix in
+    // the background).
+    for (int y = 10; y < 14; ++y)
+      for (int x = 10; x < 14; ++x) {
+        const int i = y * image.width + x;
+        ASSERT_GT(image.id[i], 0.0f);
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(image.color[i][k], 0.35, 1e-6) << static_cast<int>(type) << " " << i;
+      }
+    ASSERT_EQ(image.id[0], 0.0f);  // the corner sees past the sphere
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(image.color[0][k], s.background[k], 1e-6);
+  }
 }
 
 }  // namespace

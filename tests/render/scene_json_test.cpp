@@ -431,6 +431,10 @@ TEST(SceneJson, MalformedObjNumbersAreErrors) {
       {tri + "f 1 2 3x\n", "4: bad face index"},
       {tri + "f 1/1/1/1 2 3\n", "4: bad face index"},
       {tri + "f 1 2\n", "4: a face needs at least 3"},
+      // Exponents without digits and a normal of 4 numbers (OBJ: "vn i j k").
+      {tri + "v 1e 0 0\nf 1 2 3\n", "4: '1e' is not a finite decimal number"},
+      {tri + "vt 0.5 2E+\nf 1 2 3\n", "4: '2E+' is not a finite decimal number"},
+      {tri + "vn 0 0 1 1\nf 1 2 3\n", "4: 'vn' with 4 numbers"},
   };
   for (const auto& [obj, expected] : cases) {
     const std::filesystem::path file = dir / "algray_bad_numbers.obj";
@@ -456,24 +460,27 @@ TEST(SceneJson, MalformedObjNumbersAreErrors) {
 TEST(SceneJson, ImagesWithNonFiniteOrNegativeValuesAreErrors) {
   const std::filesystem::path file =
       std::filesystem::temp_directory_path() / "algray_bad_texels.exr";
-  for (const float bad : {INFINITY, NAN, -0.5f}) {
-    std::vector<float> pixels(2 * 2 * 3, 0.5f);
-    pixels[3 * 3 + 1] = bad;  // texel (1, 1), green
-    auto out = OIIO::ImageOutput::create(file.string());
-    ASSERT_TRUE(out);
-    ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT)));
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-    ASSERT_TRUE(out->close());
-    for (const std::string& text :
-         {R"({"environment": {"image": ")" + file.string() + R"("}})",
-          R"({"materials": {"m": {"texture": ")" + file.string() + R"("}}})"}) {
-      SceneError e = errorOf(text);
-      EXPECT_EQ(e.column(), columnOf(text, "\"/")) << bad << ": " << e.what();
-      EXPECT_NE(e.message().find("texel (1, 1) is not a finite non-negative colour"),
-                std::string::npos)
-          << bad << ": " << e.what();
+  // The bad value in each channel in turn: every channel's check is needed (a bad green
+  // alone would leave a dropped check of red or blue unnoticed).
+  for (const int channel : {0, 1, 2})
+    for (const float bad : {INFINITY, NAN, -0.5f}) {
+      std::vector<float> pixels(2 * 2 * 3, 0.5f);
+      pixels[3 * 3 + channel] = bad;  // texel (1, 1)
+      auto out = OIIO::ImageOutput::create(file.string());
+      ASSERT_TRUE(out);
+      ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT)));
+      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+      ASSERT_TRUE(out->close());
+      for (const std::string& text :
+           {R"({"environment": {"image": ")" + file.string() + R"("}})",
+            R"({"materials": {"m": {"texture": ")" + file.string() + R"("}}})"}) {
+        SceneError e = errorOf(text);
+        EXPECT_EQ(e.column(), columnOf(text, "\"/")) << bad << " " << channel << ": " << e.what();
+        EXPECT_NE(e.message().find("texel (1, 1) is not a finite non-negative colour"),
+                  std::string::npos)
+            << bad << " " << channel << ": " << e.what();
+      }
     }
-  }
   std::filesystem::remove(file);
 }
 
