@@ -87,6 +87,8 @@ TEST(Parser, LiteralsWhitespaceAndPrecedence) {
   EXPECT_EQ(parsePolynomial("2*x/3").coeff(1, 0, 0), 2.0 / 3.0);
   // Whitespace anywhere (real files write "y ^2").
   EXPECT_EQ(parsePolynomial("  x ^2 +\ty ^ 2\n- 1 "), parsePolynomial("x^2+y^2-1"));
+  // Windows line ends, form feeds and vertical tabs too (C's isspace set).
+  EXPECT_EQ(parsePolynomial("x ^2 +\r\ny ^ 2\f-\v1\r\n"), parsePolynomial("x^2+y^2-1"));
   // Exponent forms: ^2, ^(1+1), ^2.0 and ** are the same power.
   const Polynomial x2 = parsePolynomial("x*x");
   for (const char* t : {"x^2", "x^(1+1)", "x^2.0", "x**2", "x^ +2"})
@@ -285,6 +287,16 @@ TEST(Parser, RejectsWithColumnAndMessage) {
       {"x + 2e", 5, "malformed number '2e'"},
       {"x # y", 3, "unexpected character '#'"},
       {"x + [y]", 5, "unexpected character '['"},
+      // Each bracket and the comma with its own hint: braces group as brackets do, a closing
+      // one is pointed at ')', a comma is an argument list's or a decimal comma.
+      {"{x + 1}^2", 1, "unexpected character '{' (use '(' for grouping)"},
+      {"(x + 1]^2", 7, "unexpected character ']' (use ')' for grouping)"},
+      {"(x + 1}^2", 7, "unexpected character '}' (use ')' for grouping)"},
+      {"sqrt(2, 3)*x", 7, "unexpected character ',' (functions take one argument; write decimals"},
+      {"1,5*x", 2, "unexpected character ',' (functions take one argument; write decimals"},
+      // A point that no digit follows is no number (".5" is one): the character, not a
+      // "malformed number '.'".
+      {"x . y", 3, "unexpected character '.'"},
       {"x\xe2\x81\xbb + 1", 2, "unexpected character '\xe2\x81\xbb'"},  // x⁻ alone
       {"\xc3\xa9 \xc3\xa9 ?", 1, "unexpected character"},
   };
@@ -359,14 +371,57 @@ TEST(Parser, TypographicFormsReadAsTheirSymbols) {
       {"x\u200B + 1", 2, "unexpected character '\u200B' (U+200B)"},
       {"x — 1", 3, "unexpected character '—' (U+2014)"},
       {"x + \xff", 5, "unexpected character '\\xFF'"},
+      // A superscript run where an operand belongs is named as written, all of it (its '^'
+      // token spans the run, three bytes a digit here).
+      {"x^⁴²", 3, "expected a number, a name or '(' but found '⁴²'"},
   };
   for (const Rejection& r : cases) expectRejected(r);
+  // Up to nine superscript digits are an exponent like any other (ten are refused above):
+  // the same error as the ASCII spelling, at the same column.
+  const std::pair<const char*, const char*> sameError[] = {{"x¹²³⁴⁵⁶⁷⁸⁹", "x^123456789"},
+                                                           {"y + x⁹⁹⁹⁹⁹⁹⁹⁹⁹", "y + x^999999999"}};
+  for (const auto& [typographic, ascii] : sameError) {
+    std::string expected = "(accepted)", got = "(accepted)";
+    try {
+      parsePolynomial(ascii);
+    } catch (const ParseError& e) {
+      expected = e.what();
+    }
+    try {
+      parsePolynomial(typographic);
+    } catch (const ParseError& e) {
+      got = e.what();
+    }
+    EXPECT_NE(expected, "(accepted)") << ascii;
+    EXPECT_EQ(got, expected) << typographic;
+  }
   // π is built in: no parameter may take its name; an italic letter names the plain one.
   ParseOptions clash;
   clash.parameters = {{"π", 3.0}};
   EXPECT_THROW(parsePolynomial("x", clash), ParameterError);
   clash.parameters = {{"𝑎", 3.0}};
   EXPECT_THROW(parsePolynomial("x", clash), ParameterError);
+}
+
+// A character the language has no use for is shown as written with its code point (U+0416
+// is the Cyrillic capital Zhe, U+00E9 e acute, U+1F600 a grinning face: Unicode's charts),
+// four hex digits at least; control characters (U+0001, U+007F DEL) and byte sequences that
+// are not UTF-8 (RFC 3629: the overlong E0 80 AF for '/', the surrogate ED A0 80 for U+D800,
+// F4 90 80 80 for U+110000, past the last code point U+10FFFF, the first three bytes of a
+// four-byte sequence cut short by an 'x') as their bytes.
+TEST(Parser, UnexpectedCharactersShowTheirCodePointOrTheirBytes) {
+  const Rejection cases[] = {
+      {"x \u0416 1", 3, "unexpected character '\u0416' (U+0416)"},
+      {"x + \u00e9", 5, "unexpected character '\u00e9' (U+00E9)"},
+      {"x \U0001F600", 3, "unexpected character '\U0001F600' (U+1F600)"},
+      {"x\x01", 2, "unexpected character '\\x01'"},
+      {"x\x7f + 1", 2, "unexpected character '\\x7F'"},
+      {"x\xe0\x80\xaf", 2, "unexpected character '\\xE0\\x80\\xAF'"},
+      {"x\xed\xa0\x80", 2, "unexpected character '\\xED\\xA0\\x80'"},
+      {"x\xf4\x90\x80\x80", 2, "unexpected character '\\xF4\\x90\\x80\\x80'"},
+      {"\xf0\x9d\x90x + 1", 1, "unexpected character '\\xF0\\x9D\\x90'"},
+  };
+  for (const Rejection& r : cases) expectRejected(r);
 }
 
 // ParseError::unknownName names an undefined name a parameter could give, so that tools can
@@ -435,6 +490,29 @@ TEST(Parser, LeadingZerosDoNotTurnAnUnderflowIntoAnOverflow) {
   EXPECT_EQ(parsePolynomial(zeros + "1.5e-300*x").coeff(1, 0, 0), 1.5e-300);
   EXPECT_EQ(parsePolynomial(zeros + "." + zeros + "1e-300*x + 1"), Polynomial(1.0));
   expectRejected({("x + " + zeros + "1e309").c_str(), 5, "is too large for double"});
+}
+
+// An exponent of any length: 10^-(10^19) is below the smallest subnormal, 10^(10^19) above
+// the largest double, however many digits the exponent has (the lexer stops accumulating
+// at 100000; a 64-bit accumulator wraps past 9.2e18, and 19 nines wrap to a negative
+// number). The mantissa's leading zeros after the point move the literal down: 0.(400
+// zeros)1e70 is 1e-331, which rounds to 0, not 1e70; 0.(400 zeros)1e700 is 1e299 and
+// 0.(400 zeros)1e800 is 1e399, too large.
+TEST(Parser, LongExponentsAndZerosAfterThePointKeepTheirSign) {
+  for (int length : {19, 26, 40, 400}) {
+    const std::string nines(length, '9');
+    SCOPED_TRACE(length);
+    EXPECT_EQ(parsePolynomial("1e-" + nines + "*x + 1"), Polynomial(1.0));
+    expectRejected({("x + 1e" + nines).c_str(), 5, "is too large for double"});
+    expectRejected({("x + 1e+" + nines).c_str(), 5, "is too large for double"});
+  }
+  const std::string zeros(400, '0');
+  for (const std::string point : {"0.", "."}) {
+    SCOPED_TRACE(point);
+    EXPECT_EQ(parsePolynomial(point + zeros + "1e70*x + 1"), Polynomial(1.0));
+    EXPECT_EQ(parsePolynomial(point + zeros + "1e700*x").coeff(1, 0, 0), 1e299);
+    expectRejected({("x + " + point + zeros + "1e800").c_str(), 5, "is too large for double"});
+  }
 }
 
 // Values near the largest double: their rounding-error bounds (tracked_value.h) overflow
