@@ -745,11 +745,11 @@ void quadricPacketLanes(const Args* args, RTCRayN* ray) {
 // wide of the box 925 -> 549 instructions (1.5-1.8x faster, best of 7 interleaved rounds),
 // rays into the box 4229 -> 4263. Far float origins (~1e7 box sizes) now meet Embree's
 // non-robust slab test as a scene of several primitives always did (embree.h).
-unsigned primitiveCount(const SurfaceData& data) {
+unsigned embreePrimitiveCount(const SurfaceData& data) {
   return static_cast<unsigned>(data.cells.size() + (data.cells.size() == 1 ? 1 : 0));
 }
 
-// The empty primitive (primID past the cells) of primitiveCount.
+// The empty primitive (primID past the cells) of embreePrimitiveCount.
 bool isCornerPoint(const SurfaceData& data, unsigned primID) { return primID >= data.cells.size(); }
 
 void boundsCallback(const RTCBoundsFunctionArguments* args) {
@@ -836,7 +836,7 @@ RTCGeometry createUserGeometry(RTCDevice device, SurfaceData* data) {
     throw Error("algray::SurfaceGeometry: rtcNewGeometry failed (RTCError " +
                 std::to_string(static_cast<int>(e)) + ")");
   }
-  rtcSetGeometryUserPrimitiveCount(g, primitiveCount(*data));
+  rtcSetGeometryUserPrimitiveCount(g, embreePrimitiveCount(*data));
   // Embree 3 ignores the userPtr of rtcSetGeometryBoundsFunction: the bounds callback
   // reads the geometry user data like the other callbacks.
   rtcSetGeometryUserData(g, data);
