@@ -206,8 +206,13 @@ class Builder {
     for (int a = 0; a < 3; ++a) {
       cell.lo[a] = std::max(lo_[a], (Interval(h_[a]) * node.wlo[a] + c_[a]).lower());
       cell.hi[a] = std::min(hi_[a], (Interval(h_[a]) * node.whi[a] + c_[a]).upper());
-      // w = -1 + 2 (index / 2^splits): exact in dyadics.
-      cell.index[a] = static_cast<int>(std::ldexp(node.wlo[a] + 1.0, node.splits[a] - 1));
+      // w = -1 + 2 (index / 2^splits): exact in dyadics. Cells stop at level 30; only
+      // surfaceReach's boxes split further (to an edge of 2^-3 of their distance), where the
+      // index is not read and from 32 splits on would overflow int (the conversion is
+      // undefined: CellsTest.SurfaceReachBoundsEverySurfacePoint under float-cast-overflow).
+      cell.index[a] = node.splits[a] < 32
+                          ? static_cast<int>(std::ldexp(node.wlo[a] + 1.0, node.splits[a] - 1))
+                          : 0;
     }
     return cell;
   }
