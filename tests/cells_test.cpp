@@ -556,6 +556,17 @@ TEST(CellsTest, DegenerateBoxes) {
   // A point box: one cell on the surface, none off it.
   EXPECT_EQ(buildCells(f, glm::dvec3(1, 0, 0), glm::dvec3(1, 0, 0)).size(), 1u);
   EXPECT_TRUE(buildCells(f, glm::dvec3(0.5, 0, 0), glm::dvec3(0.5, 0, 0)).empty());
+  // ... also at an explicit depth: a point cannot be split, so one cell and level 0.
+  CellStats pointStats;
+  EXPECT_EQ(buildCells(f, glm::dvec3(1, 0, 0), glm::dvec3(1, 0, 0), std::nullopt, {.depth = 3},
+                       &pointStats)
+                .size(),
+            1u);
+  EXPECT_EQ(pointStats.depth, 0);
+  // A clip ball of radius 0 is the closed ball {centre}: a point, not an empty region. On
+  // the surface it keeps a cell, off it none.
+  EXPECT_FALSE(buildCells(f, kLo, kHi, CellSphere{{1, 0, 0}, 0.0}, {.depth = 3}).empty());
+  EXPECT_TRUE(buildCells(f, kLo, kHi, CellSphere{{0.5, 0, 0}, 0.0}, {.depth = 3}).empty());
 }
 
 TEST(CellsTest, RejectsNonFiniteInput) {
@@ -564,6 +575,14 @@ TEST(CellsTest, RejectsNonFiniteInput) {
   EXPECT_THROW(buildCells(f, kLo, glm::dvec3(INFINITY)), Error);
   EXPECT_THROW(buildCells(f, kLo, kHi, CellSphere{{0, NAN, 0}, 1.0}), Error);
   EXPECT_THROW(buildCells(f, kLo, kHi, CellSphere{{0, 0, 0}, INFINITY}), Error);
+  // Every axis is checked, the last one too.
+  for (int a = 0; a < 3; ++a) {
+    glm::dvec3 lo = kLo, hi = kHi;
+    lo[a] = NAN;
+    EXPECT_THROW(buildCells(f, lo, kHi), Error) << a;
+    hi[a] = INFINITY;
+    EXPECT_THROW(buildCells(f, kLo, hi), Error) << a;
+  }
   Polynomial bad = f;
   bad.setCoeff(0, 0, 0, NAN);
   EXPECT_THROW(buildCells(bad, kLo, kHi), Error);
@@ -574,6 +593,78 @@ TEST(CellsTest, RejectsNonFiniteInput) {
 }
 
 // ---- Cells: tightness and budgets --------------------------------------------------------
+// The three coordinate planes, f = x y z, on the cube [-1, 1]^3 at depth 3 (grid 8^3, step
+// 1/4): the planes lie on grid planes, so the closed cells meeting f = 0 are those with an
+// index 3 or 4 (a face on x, y or z = 0): 8^3 - 6^3 = 296 cells (at depth 2: 4^3 - 2^3 =
+// 56). On every other box f keeps one strict sign, and so do the Bernstein coefficients of
+// a product of linear factors (each factor's are its values at the box's ends), so the
+// Bernstein test keeps exactly those cells (the enclosure of a touching cell is [0, u] up to
+// rounding, widened outward: kept). A count against a closed form, for the budget too.
+TEST(CellsTest, BernsteinKeepsExactlyTheCellsTouchingCoordinatePlanes) {
+  const Polynomial f = X() * Y() * Z();
+  const glm::dvec3 lo(-1.0), hi(1.0);
+  for (const Polynomial& g : {f, -f}) {
+    CellStats stats;
+    const auto cells =
+        buildCells(g, lo, hi, std::nullopt, {.depth = 3, .bound = RangeBound::Bernstein}, &stats);
+    EXPECT_EQ(stats.depth, 3);
+    EXPECT_EQ(cells.size(), 296u);
+    for (const Cell& c : cells) {
+      const glm::ivec3 i = c.index;
+      EXPECT_TRUE(i.x == 3 || i.x == 4 || i.y == 3 || i.y == 4 || i.z == 3 || i.z == 4)
+          << i.x << " " << i.y << " " << i.z;
+    }
+  }
+  // maxCells caps the level only when it keeps more (cells.h): 296 allows depth 3, 295 not
+  // (the level of 56 cells is returned).
+  CellStats capped;
+  EXPECT_EQ(buildCells(f, lo, hi, std::nullopt,
+                       {.depth = 3, .maxCells = 296, .bound = RangeBound::Bernstein}, &capped)
+                .size(),
+            296u);
+  EXPECT_EQ(capped.depth, 3);
+  EXPECT_EQ(buildCells(f, lo, hi, std::nullopt,
+                       {.depth = 3, .maxCells = 295, .bound = RangeBound::Bernstein}, &capped)
+                .size(),
+            56u);
+  EXPECT_EQ(capped.depth, 2);
+}
+
+// Explicit depths up to kMaxCellDepth are honoured, deeper ones capped there (cells.h). The
+// point surface x^2 + y^2 + z^2 = 0 (the origin) keeps a few cells per level, so depth 25
+// is cheap; its cells have edges 2 / 2^depth (the root box rounded outward by an ulp) and
+// one of them holds the origin.
+TEST(CellsTest, DeepLevelsAreHonouredUpToTheCap) {
+  const Polynomial f = X().pow(2) + Y().pow(2) + Z().pow(2);
+  for (const int depth : {25, 40}) {
+    CellStats stats;
+    const auto cells =
+        buildCells(f, glm::dvec3(-1.0), glm::dvec3(1.0), std::nullopt, {.depth = depth}, &stats);
+    const int expected = std::min(depth, kMaxCellDepth);
+    EXPECT_EQ(stats.depth, expected);
+    ASSERT_FALSE(cells.empty());
+    bool origin = false;
+    for (const Cell& c : cells) {
+      EXPECT_NEAR(c.hi.x - c.lo.x, std::ldexp(2.0, -expected), std::ldexp(1e-9, -expected));
+      origin = origin || inside(glm::dvec3(0.0), c.lo, c.hi);
+    }
+    EXPECT_TRUE(origin);
+  }
+}
+
+// A surface inside the clip box but wholly outside the clip ball gives no cells, also with
+// the automatic depth, whose probe lines must stay within the ball: the sphere of radius
+// 2.5 about the ball's centre misses the ball of radius 1.5 (closed form), while within the
+// box [-3, 3]^3 most axis-parallel lines cross it.
+TEST(CellsTest, SurfaceOutsideTheClipBallGivesNoCells) {
+  const Polynomial f = sphere({0, 0, 0}, 2.5);
+  const CellSphere ball{glm::dvec3(0.0), 1.5};
+  for (const int depth : {-1, 4}) {
+    EXPECT_TRUE(buildCells(f, glm::dvec3(-3.0), glm::dvec3(3.0), ball, {.depth = depth}).empty())
+        << depth;
+  }
+}
+
 // Kept cells hug the surface: the centre of every cell at depth d is within a few cell
 // diagonals of the unit sphere (closed-form distance | |c| - 1 |), and the kept volume
 // shrinks about 2x per level as it must for a surface.

@@ -1,6 +1,7 @@
 #pragma once
 // Numbers and NAME=VALUE text as both tools read them, from options and from algray-query's
 // ray file alike (no CLI11 here: ray_csv.cpp includes it).
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -16,7 +17,9 @@ inline std::string trimmed(const std::string& s) {
                                     : s.substr(first, s.find_last_not_of(" \t") + 1 - first);
 }
 
-// A number as the tools read an option's value (trimmed first): strtod of the whole text,
+// A number as the tools read an option's value: strtod of the whole text, trimmed of spaces
+// and tabs first (a quoted ray-file field " 1" was read and "1 " refused; strtod skips
+// leading white space only, a newline or a form feed too, which stays refused here),
 // within double's range. strtod, not std::stod: stod throws out_of_range for every ERANGE,
 // so a subnormal value (--param a=1e-320, its own value) was "not a number", and so were an
 // overflow and an underflow to 0, which are named here (1e-400 was silently 0 in
@@ -27,12 +30,14 @@ struct Number {
   double value = 0;
   NumberProblem problem = NumberProblem::kNone;
 };
-inline Number readNumber(const std::string& text) {
+inline Number readNumber(const std::string& given) {
+  const std::string text = trimmed(given);
   char* end = nullptr;
   errno = 0;
   Number n;
   n.value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size())
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) ||
+      end != text.c_str() + text.size())
     n.problem = NumberProblem::kNotANumber;
   else if (errno == ERANGE && std::isinf(n.value))
     n.problem = NumberProblem::kOverflows;

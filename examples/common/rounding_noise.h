@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -24,9 +25,22 @@ namespace algray::cli {
 
 // The fraction of the points of a 9 x 9 x 9 lattice over the box [lo, hi] (the points in the
 // sphere, if given, as buildCells takes one) at which |f| is within its evaluation bound; 0
-// where no point is inside.
-inline double noiseFraction(const Polynomial& f, const glm::dvec3& lo, const glm::dvec3& hi,
+// where no point is inside. f is first scaled by a power of two (exactly) to a largest
+// coefficient in [1, 2), as SurfaceGeometry scales what it traces: written as
+// 1e300 * (x^2+y^2+z^2-1) in a clip sphere of 1e10, the unscaled f's values and bounds
+// overflowed, it was "within its rounding error" at every point, and the tools warned of a
+// surface they trace exactly. Not where a coefficient is subnormal: its digits were lost
+// when it was rounded (1e-320 * (x^2+y^2+z^2-0.7) is a sphere 6e-5 too small), which the
+// scaled f would hide and the unscaled f's underflow floors show.
+inline double noiseFraction(Polynomial f, const glm::dvec3& lo, const glm::dvec3& hi,
                             const std::optional<CellSphere>& sphere = std::nullopt) {
+  const auto c = f.coeffs();
+  const bool subnormal =
+      std::any_of(c.begin(), c.end(), [](double v) { return std::fpclassify(v) == FP_SUBNORMAL; });
+  if (const int e = std::ilogb(f.maxAbsCoeff()); !subnormal && !f.isZero()) {
+    f *= std::ldexp(1.0, -e / 2);  // two halves: 2^-e alone may leave double's range
+    f *= std::ldexp(1.0, -(e - e / 2));
+  }
   constexpr int kSteps = 9;
   int inside = 0, noise = 0;
   for (int i = 0; i < kSteps; ++i)

@@ -640,6 +640,35 @@ TEST_F(QueryTool, HitPointsOfRaysFromFarAwayDoNotHitThemselves) {
   }
 }
 
+// As above in a clip box centred far from the world origin, at (1e3, 1e3, 0): the origins'
+// default bound is measured from the clip centre (tools.md: gamma(3) (|o - c| + 64 R_s) for
+// an origin within 4 clip radii of it), so hit points 1e3 from the world origin keep it.
+// The planes z = +-1 (f = z^2 - 1, exact wherever x and y lie): a ray into the slab from
+// either plane along the normal (0, 0, -+1) meets the other one at t = 2.
+TEST_F(QueryTool, HitPointsInAnOffCentreClipBoxDoNotHitThemselves) {
+  std::mt19937_64 rng(84);
+  std::vector<Ray6> rays;
+  aimedRays(rng, 2000, 10.0, 40.0, rays);
+  for (Ray6& r : rays) r[0] += 1e3, r[1] += 1e3;
+  const std::string surface = "--surface \"z^2-1\" --clip-box 998.5,998.5,-1.5,1001.5,1001.5,1.5 ";
+  const RunResult first = run(surface + common(write("rays.csv", raysCsv(rays))));
+  ASSERT_EQ(first.exitCode, 0) << first.err;
+  std::vector<double> orgErrors;
+  const std::vector<Ray6> leaving = leavingRays(rays, first, orgErrors);
+  ASSERT_GT(leaving.size(), 300u);
+  const RunResult r = run(surface + common(write("second.csv", raysCsv(leaving))));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ASSERT_EQ(r.rows.size(), leaving.size());
+  for (size_t i = 0; i < leaving.size(); ++i) {
+    if (r.rows[i][0] == 1.0) {
+      EXPECT_GT(r.rows[i][1], 1e-3) << "ray " << i << " found its own origin";
+    }
+    if (i % 2 != 0) continue;
+    ASSERT_EQ(r.rows[i][0], 1.0) << "ray " << i;
+    EXPECT_NEAR(r.rows[i][1], 2.0, 1e-12) << "ray " << i;
+  }
+}
+
 // The same from 300-3000 radii: beyond the tool's assumption a leaving ray can find its
 // own origin; with each origin's bound in the column org_error none does, and the rays
 // into the solid hit its far side.
@@ -781,6 +810,27 @@ TEST_F(QueryTool, ASurfaceLostInRoundingIsNamed) {
   EXPECT_EQ(barth.err.find(warning), std::string::npos) << barth.err;
 }
 
+// The warning judges f as the library traces it, scaled by a power of two to a largest
+// coefficient near 1: 1e300 (x^2+y^2+z^2-1) in a clip sphere of 1e10 is the unit sphere
+// exactly (its unscaled values overflow from |p| ~ 1e4 on, which read as "within its
+// rounding error at 100 %"). Subnormal coefficients keep the warning: 1e-320 (... - 0.7)
+// rounds -0.7e-320 to a multiple of 2^-1074 (relative error up to 3.5e-4), a sphere
+// measurably smaller than sqrt(0.7).
+TEST_F(QueryTool, TheRoundingWarningIgnoresAScaleAndKeepsLostDigits) {
+  const std::string warning = "f is within its own rounding error at";
+  const fs::path rays = write("rays.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,5,0,0,-1,0,inf\n");
+  const RunResult scaled =
+      run("--surface \"1e300*(x^2+y^2+z^2-1)\" --clip-sphere 1e10 " + common(rays));
+  EXPECT_EQ(scaled.exitCode, 0) << scaled.err;
+  EXPECT_EQ(scaled.err.find(warning), std::string::npos) << scaled.err;
+  ASSERT_EQ(scaled.rows.size(), 1u);
+  EXPECT_EQ(scaled.rows[0][1], 4.0);  // the unit sphere from z = 5
+  const RunResult lost =
+      run("--surface \"1e-320*(x^2+y^2+z^2-0.7)\" --clip-sphere 2 " + common(rays));
+  EXPECT_EQ(lost.exitCode, 0) << lost.err;
+  EXPECT_NE(lost.err.find(warning), std::string::npos) << lost.err;
+}
+
 // A clip box beyond the plugin's range is refused by the plugin, which names its size: the
 // tool's own check of the rays' far t overflowed on the box's radius first and blamed the
 // rays' directions ("the direction is so short ...").
@@ -886,6 +936,61 @@ TEST_F(QueryTool, AFailedRunLeavesTheOutputFileAsItWas) {
                           " --out " + (dir / "outdir").string());
   EXPECT_EQ(d.exitCode, 2);
   EXPECT_NE(d.err.find("is a directory"), std::string::npos) << d.err;
+}
+
+// A surface of size 1e-30 and degree 8, x^8 + y^8 + z^8 = r^8 (r = 1e-30): its gradient
+// 8 (x^7, y^7, z^7) is about 1e-209, whose square underflows to 0, so the normal is scaled
+// before it is normalised; it must come out as the unit normal of the closed form. In
+// units of r the hit point is (u, v, -w), w = (1 - u^8 - v^8)^(1/8), at t = (5 - w) r
+// from z = -5 r along +z, and the normal is (u^7, v^7, -w^7) normalised.
+TEST_F(QueryTool, NormalsOfATinyHighDegreeSurfaceAreUnit) {
+  const fs::path rays = write("rays.csv",
+                              "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,-5e-30,0,0,1,0,inf\n"
+                              "1e-31,2e-31,-5e-30,0,0,1,0,inf\n");
+  const RunResult r = run("--surface \"x^8+y^8+z^8-1e-240\" --clip-sphere 2e-30 " + common(rays));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ASSERT_EQ(r.rows.size(), 2u);
+  const double uv[2][2] = {{0, 0}, {0.1, 0.2}};
+  for (size_t i = 0; i < 2; ++i) {
+    const long double u = uv[i][0], v = uv[i][1];
+    const long double w = std::pow(1 - std::pow(u, 8) - std::pow(v, 8), 1.0L / 8);
+    const long double n[3] = {std::pow(u, 7), std::pow(v, 7), -std::pow(w, 7)};
+    const long double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    ASSERT_EQ(r.rows[i][0], 1.0) << "ray " << i;
+    EXPECT_NEAR(r.rows[i][1], (double)((5 - w) * 1e-30L), 1e-12 * 4e-30) << "ray " << i;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(r.rows[i][2 + a], (double)(n[a] / len), 1e-12) << "ray " << i << ", axis " << a;
+  }
+}
+
+// --float traces Embree's float rays, whose origin is uncertain by 16 float ulps of its
+// distance plus the scene's radius (README: at least 16 * 2^-24 * 1 = 9.5e-7 here): a
+// root 1e-7 from the origin is the origin's own, so a ray leaving the unit sphere from
+// 1e-7 inside it meets nothing, and one into the sphere its far side. Double rays with
+// org_error 0 find the root at t = 1 - |o| (exact in double: Sterbenz), and the far side
+// at 1 + |o|.
+TEST_F(QueryTool, FloatRaysTakeARootWithinTheirOriginsRoundingForTheirOwn) {
+  const double o = 0.9999999;
+  const fs::path rays = write("rays.csv",
+                              "ox,oy,oz,dx,dy,dz,tnear,tfar,org_error\n"
+                              "0,0,0.9999999,0,0,1,0,inf,0\n"
+                              "0,-0.9999999,0,0,-1,0,0,inf,0\n"
+                              "0,0,0.9999999,0,0,-1,0,inf,0\n");
+  const std::string sphere = "--surface \"x^2+y^2+z^2-1\" --clip-sphere 1.5 ";
+  const RunResult twice = run(sphere + common(rays));
+  ASSERT_EQ(twice.exitCode, 0) << twice.err;
+  ASSERT_EQ(twice.rows.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    ASSERT_EQ(twice.rows[i][0], 1.0) << "ray " << i;
+    EXPECT_NEAR(twice.rows[i][1], i < 2 ? 1.0 - o : 1.0 + o, 1e-15) << "ray " << i;
+  }
+  const RunResult single = run(sphere + common(rays) + " --float");
+  ASSERT_EQ(single.exitCode, 0) << single.err;
+  ASSERT_EQ(single.rows.size(), 3u);
+  EXPECT_EQ(single.rows[0][0], 0.0) << single.rows[0][1];
+  EXPECT_EQ(single.rows[1][0], 0.0) << single.rows[1][1];
+  ASSERT_EQ(single.rows[2][0], 1.0);
+  EXPECT_NEAR(single.rows[2][1], 1.0 + o, 1e-6);
 }
 
 // A --param value may be a constant as the equation writes one (session 53; "not a finite
@@ -1043,6 +1148,25 @@ TEST_F(QueryTool, BadInputExitsWithCode2AndLocation) {
        "overflow double"},
       {sphere + "--rays /proc/self/mem --out " + (dir / "out.csv").string(),
        "algray-query: /proc/self/mem:1: read error"},
+      // From the clip centre only the radius over |d| is left of t at the clip region:
+      // 2 / 1e-310 overflows as well (o - c = 0 adds no NaN to be caught).
+      {sphere + common(write("sc.csv", "ox,oy,oz,dx,dy,dz,tnear,tfar\n0,0,0,1e-310,0,0,0,inf\n")),
+       "algray-query: --rays: ray 1: the direction is so short that t at the clip region would "
+       "overflow double"},
+      // Every axis of a box is checked, and a radius of 0 is no sphere; an infinite box
+      // value or parameter is named as not finite, before the library sees it.
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box -2,2,-2,2,-2,2 " + common(good),
+       "algray-query: --clip-box: need X0 < X1, Y0 < Y1, Z0 < Z1\n"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box -2,-2,2,2,2,-2 " + common(good),
+       "algray-query: --clip-box: need X0 < X1, Y0 < Y1, Z0 < Z1\n"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box -2,-2,1,2,2,1 " + common(good),
+       "algray-query: --clip-box: need X0 < X1, Y0 < Y1, Z0 < Z1\n"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-sphere 0 " + common(good),
+       "algray-query: --clip-sphere: the radius must be finite and > 0\n"},
+      {"--surface \"x^2+y^2+z^2-1\" --clip-box -2,-2,-2,2,2,inf " + common(good),
+       "algray-query: --clip-box value 6: not a finite number: 'inf'\n"},
+      {"--surface \"x^2+y^2+z^2-a\" --param a=inf --clip-sphere 2 " + common(good),
+       "algray-query: --param a: not a finite number: 'inf'\n"},
   };
   for (const Case& c : cases) {
     const RunResult r = run(c.args);

@@ -1,12 +1,15 @@
 // The CSV reader of algray-query (examples/query/ray_csv.h) directly: columns in any
-// order, line endings, quoting, byte-order marks, and rejected fields with their location.
+// order, line endings, quoting, byte-order marks, and rejected fields with their location;
+// and its writer of hits.
 #include "ray_csv.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -123,6 +126,15 @@ TEST(RayCsv, QuotedFieldsAreRead) {
   // A quoted number is read as the number; a quoted non-number is named as before.
   EXPECT_EQ(csvError(header + "0,0,-5,0,0,\"x1\",0,inf,\n"),
             "t.csv:2: column 'dz' (field 6): not a number: 'x1'");
+  // Spaces and tabs inside the quotes are trimmed as around a plain field, at either end
+  // (strtod skipped leading ones only: " 1" was read and "1 " refused); other white space
+  // (a form feed, which strtod would skip) stays a non-number.
+  std::istringstream spaced(header + "\" 3\",\"4 \",\"\t-5\t\",0,0,1,0,inf,\n");
+  const auto spacedRays = algray::query::readRays(spaced, "s.csv");
+  ASSERT_EQ(spacedRays.size(), 1u);
+  EXPECT_EQ(spacedRays[0].org, glm::dvec3(3, 4, -5));
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,\"\f1\",0,inf,\n"),
+            "t.csv:2: column 'dz' (field 6): not a number: '\\x0C1'");
 }
 
 // Control bytes in a bad field are shown, not passed on: a NUL cut the message short.
@@ -133,6 +145,92 @@ TEST(RayCsv, ControlBytesInAFieldAreShown) {
   EXPECT_EQ(csvError(header + "0,0,-5,0,0,\x7f"
                               "1,0,inf\n"),
             "t.csv:2: column 'dz' (field 6): not a number: '\\x7F1'");
+}
+
+// Tabs pad a field as spaces do (a tab-aligned file from a spreadsheet's export), and a
+// line of only spaces and tabs is blank, as an empty one is.
+TEST(RayCsv, TabsAndBlankLinesOfSpaces) {
+  std::istringstream in(
+      "\tox\t,\toy,oz , dx,dy,dz,tnear,tfar\n"
+      "\t1\t,2,3,0,0,1,0,inf\n"
+      "  \t \n"
+      "\t\n"
+      "4, 5 ,\t6,0,0,1,0,inf\n");
+  const auto rays = algray::query::readRays(in, "tabs.csv");
+  ASSERT_EQ(rays.size(), 2u);
+  EXPECT_EQ(rays[0].org, glm::dvec3(1, 2, 3));
+  EXPECT_EQ(rays[1].org, glm::dvec3(4, 5, 6));
+}
+
+// Every row has the header's field count: a row with one more field is refused (an extra
+// value would else be silently dropped), and a line is counted from the start of the file
+// also for the header (the third line here, after two blank ones).
+TEST(RayCsv, FieldCountAndHeaderLine) {
+  const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,inf,7\n"), "t.csv:2: expected 8 fields, found 9");
+  EXPECT_EQ(csvError("\n\nox,oy,oz,dx,dy,tnear,tfar\n0,0,-5,0,0,0,inf\n"),
+            "t.csv:3: the header has no column 'dz' (need ox,oy,oz,dx,dy,dz,tnear,tfar in any "
+            "order)");
+}
+
+// Other columns are ignored, also those whose name begins with a column's ("oxygen",
+// "tfar_old"): only the exact name is the column.
+TEST(RayCsv, ColumnsAreNamedExactly) {
+  std::istringstream in("oxygen,ox,oy,oz,dx,dy,dz,tnear,tfar,tfar_old\n9,1,2,3,0,0,1,0,inf,-1\n");
+  const auto rays = algray::query::readRays(in, "names.csv");
+  ASSERT_EQ(rays.size(), 1u);
+  EXPECT_EQ(rays[0].org, glm::dvec3(1, 2, 3));
+  EXPECT_TRUE(std::isinf(rays[0].tfar));
+}
+
+// Only tfar may be infinite, and only +inf (tools.md: "every value is finite but tfar,
+// which may be inf"): tnear = inf is no interval start even with tfar = inf, and tfar =
+// -inf is named as not finite, not as an interval that ends before it starts.
+TEST(RayCsv, OnlyTfarMayBeInfinite) {
+  const std::string header = "ox,oy,oz,dx,dy,dz,tnear,tfar\n";
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,inf,inf\n"),
+            "t.csv:2: column 'tnear' (field 7): must be finite: 'inf'");
+  EXPECT_EQ(csvError(header + "0,0,-5,0,0,1,0,-inf\n"),
+            "t.csv:2: column 'tfar' (field 8): must be finite: '-inf'");
+}
+
+// OUT.csv as tools.md gives it: the header hit,t,nx,ny,nz, one row per hit in order, zeros
+// on a miss, numbers as %.17g prints them, so that strtod gives every double back bit for
+// bit (a user computes hit points o + t d from them and traces rays from there). 0.1 + 0.2
+// is 0.30000000000000004 (15 digits print 0.3), and the components of (1, 2, 3) / sqrt(14)
+// need 17 digits too.
+TEST(RayCsv, HitsRoundTripThroughTheirText) {
+  std::vector<algray::query::QueryHit> hits(3);
+  hits[0].hit = true;
+  hits[0].t = 0.1 + 0.2;
+  hits[0].normal = glm::dvec3(1, 2, 3) / std::sqrt(14.0);
+  hits[2].hit = true;
+  hits[2].t = 1e-300 / 3;
+  hits[2].normal = glm::dvec3(-1, 1, -1) / std::sqrt(3.0);
+  std::ostringstream out;
+  algray::query::writeHits(out, hits);
+  std::istringstream text(out.str());
+  std::string line;
+  ASSERT_TRUE(std::getline(text, line));
+  EXPECT_EQ(line, "hit,t,nx,ny,nz");
+  for (const auto& h : hits) {
+    ASSERT_TRUE(std::getline(text, line));
+    if (!h.hit) {
+      EXPECT_EQ(line, "0,0,0,0,0");
+      continue;
+    }
+    std::vector<double> v;
+    std::istringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) v.push_back(std::strtod(field.c_str(), nullptr));
+    ASSERT_EQ(v.size(), 5u) << line;
+    EXPECT_EQ(v[0], 1.0) << line;
+    EXPECT_EQ(v[1], h.t) << line;
+    EXPECT_EQ(v[2], h.normal.x) << line;
+    EXPECT_EQ(v[3], h.normal.y) << line;
+    EXPECT_EQ(v[4], h.normal.z) << line;
+  }
+  EXPECT_FALSE(std::getline(text, line)) << "one row per hit: " << line;
 }
 
 }  // namespace

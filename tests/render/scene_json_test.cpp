@@ -162,6 +162,11 @@ TEST(SceneJson, EquationErrorPointsIntoTheString) {
   e = errorOf(text);
   EXPECT_EQ(e.column(), characterColumn(text, text.find("\", \"clip"))) << e.message();
   EXPECT_NE(e.message().find("the equation ends after"), std::string::npos) << e.message();
+  // A surrogate pair (\uD835\uDC65, the italic x U+1D465) is one character of the
+  // equation: the '@' is its 7th, and the file's column of the '@' (all ASCII before it).
+  text = R"({"surfaces": [{"equation": "\uD835\uDC65^2 + @", "clip": {"sphere": {"radius": 1}}}]})";
+  e = errorOf(text);
+  EXPECT_EQ(static_cast<size_t>(e.column()), text.find('@') + 1) << e.message();
   // An unknown name: where it is, and how a scene gives it a value.
   text =
       "{\"surfaces\": [{\"equation\": \"x^2 + y^2 - r^2\", \"clip\": {\"sphere\": {\"radius\": "
@@ -312,6 +317,9 @@ TEST(SceneJson, NumberOverflowHasLineAndColumn) {
   SceneError f = errorOf("{\"description\": \"1e400\",\n \"camera\": {\"fov\": -1e400}}");
   EXPECT_EQ(f.line(), 2);
   EXPECT_EQ(f.column(), 20);
+  // Nor behind an escaped quote, which does not end the string.
+  const std::string g = R"({"description": "a\" 1e400", "camera": {"fov": 1e400}})";
+  EXPECT_EQ(static_cast<size_t>(errorOf(g).column()), g.rfind("1e400") + 1) << errorOf(g).what();
 }
 
 // Keys with '/', '~' or \u escapes: the loader's pointers and the scanner's agree.
@@ -325,6 +333,11 @@ TEST(SceneJson, KeysWithSlashTildeOrEscapesHaveLocations) {
   EXPECT_EQ(errorOf(c).column(), columnOf(c, "\"one\"")) << errorOf(c).what();
   const std::string d = R"({"camera": {"fo\u0076": 30, "bad~key": 1}})";
   EXPECT_EQ(errorOf(d).column(), columnOf(d, "1}")) << errorOf(d).what();
+  // Upper-case hex digits, and a surrogate pair (U+1F600), decoded as nlohmann decodes them.
+  const std::string e = R"({"materials": {"\u00C9": {"type": "bogus"}}})";
+  EXPECT_EQ(errorOf(e).column(), columnOf(e, "\"bogus\"")) << errorOf(e).what();
+  const std::string f = R"({"materials": {"\uD83D\uDE00": {"type": "bogus"}}})";
+  EXPECT_EQ(errorOf(f).column(), columnOf(f, "\"bogus\"")) << errorOf(f).what();
 }
 
 // Colours become float pixels: beyond 3.4e38 they were inf, with exit code 0.
@@ -520,6 +533,8 @@ TEST(SceneJson, DuplicateKeysAreErrors) {
   EXPECT_EQ(e.line(), 2);
   EXPECT_EQ(e.column(), 3);
   EXPECT_NE(e.message().find("duplicate key 'fov'"), std::string::npos) << e.what();
+  // The first "fov", counted by hand: '{' is column 1, "camera" 2-9, ':' 10, ' ' 11, '{' 12.
+  EXPECT_NE(e.message().find("(first at line 1, column 13)"), std::string::npos) << e.what();
   // The same key in different objects, and escapes spelling the same key.
   EXPECT_NO_THROW(loadSceneText(
       R"({"render": {"width": 8}, "camera": {"fov": 30}, "description": "width"})", "t.json", "."));
@@ -569,6 +584,107 @@ TEST(SceneJson, DeepNestingIsAnErrorNotACrash) {
   EXPECT_NO_THROW(loadSceneText(
       "{\"description\": \"" + brackets + "\", \"surfaces\": [{\"gallery\": \"torus\"}]}", "t.json",
       "."));
+  // Nor after an escaped quote, which does not end the string.
+  EXPECT_NO_THROW(loadSceneText("{\"description\": \"\\\"" + brackets + "\"}", "t.json", "."));
+}
+
+// Values outside the ranges docs/scene-format.md gives, each refused at the value: an image
+// 0 pixels wide, a fov outside (0, 180) degrees, a negative clamp or aperture, a roughness
+// beyond [0, 1], a clip sphere of negative radius, a clip box empty in z, a zero scale in z
+// (each was accepted when its check was dropped: a mutation round).
+TEST(SceneJson, ValuesOutsideTheirDocumentedRangesAreErrors) {
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"render": {"width": 0}})", "0}"},
+      {R"({"camera": {"fov": -30}})", "-30"},
+      {R"({"camera": {"fov": 180}})", "180"},
+      {R"({"render": {"clamp": -0.5}})", "-0.5"},
+      {R"({"camera": {"aperture": -0.5}})", "-0.5"},
+      {R"({"materials": {"m": {"type": "conductor", "roughness": 1.5}}})", "1.5"},
+      {R"({"surfaces": [{"gallery": "torus", "clip": {"sphere": {"radius": -1}}}]})", "-1"},
+      {R"({"surfaces": [{"equation": "x", "clip": {"box": {"min": [0,0,1], "max": [1,1,1]}}}]})",
+       "{\"min\""},
+      {R"({"meshes": [{"shape": "box", "transform": {"scale": [1, 1, 0]}}]})", "[1, 1, 0]"},
+  };
+  for (const auto& [text, value] : cases) {
+    SceneError e = errorOf(text);
+    EXPECT_EQ(e.line(), 1) << text << ": " << e.what();
+    EXPECT_EQ(e.column(), columnOf(text, value)) << text << ": " << e.what();
+  }
+}
+
+// What keys set, in x, y, z order, and the defaults docs/scene-format.md gives for keys
+// left out: environment colour 1, point light intensity 1, icosphere subdivisions 4 and
+// size 1; a dielectric without "color" is untinted (its tint multiplies, so 1 = clear).
+TEST(SceneJson, KeysSetTheirDocumentedValuesAndDefaults) {
+  const SceneDesc s = loadSceneText(R"({
+    "render": {"max_depth": 2, "tone_map": "clamp"},
+    "camera": {"position": [1, -4, 2], "look_at": [0, 0, 0.5]},
+    "background": [0.1, 0.2, 0.3],
+    "environment": {},
+    "materials": {"glass": {"type": "dielectric"}, "red": {"color": [0.7, 0.1, 0.2]}},
+    "surfaces": [{"gallery": "torus", "material": "glass", "back_material": "red"}],
+    "meshes": [{"shape": "icosphere"}],
+    "lights": [{"type": "point", "position": [1, 2, 3]},
+               {"type": "sphere", "center": [0, 0, 5], "radius": 0.5, "radiance": 1}]
+  })",
+                                    "t.json", ".");
+  EXPECT_EQ(s.settings.maxDepth, 2);
+  EXPECT_EQ(s.settings.toneMap, ToneMap::Clamp);
+  EXPECT_EQ(s.camera.position, glm::dvec3(1, -4, 2));
+  EXPECT_TRUE(s.hasBackground);
+  EXPECT_EQ(s.background, glm::dvec3(0.1, 0.2, 0.3));
+  EXPECT_EQ(s.environment.color, glm::dvec3(1.0));
+  ASSERT_EQ(s.surfaces.size(), 1u);
+  const Material& front = s.materials[s.surfaces[0].material];
+  EXPECT_EQ(front.type, MaterialType::Dielectric);
+  EXPECT_EQ(front.color, glm::dvec3(1.0));
+  ASSERT_GE(s.surfaces[0].backMaterial, 0);
+  EXPECT_EQ(s.materials[s.surfaces[0].backMaterial].color, glm::dvec3(0.7, 0.1, 0.2));
+  ASSERT_EQ(s.pointLights.size(), 1u);
+  EXPECT_EQ(s.pointLights[0].position, glm::dvec3(1, 2, 3));
+  EXPECT_EQ(s.pointLights[0].intensity, glm::dvec3(1.0));
+  ASSERT_EQ(s.meshes.size(), 2u);  // the icosphere and the sphere light
+  // Each subdivision splits every face of the icosahedron's 20 in 4: 20 * 4^4 triangles,
+  // on the unit sphere.
+  EXPECT_EQ(s.meshes[0].mesh.triangles.size(), 20u * 256u);
+  for (const glm::dvec3& v : s.meshes[0].mesh.positions)
+    EXPECT_NEAR(glm::length(glm::dvec3(s.meshes[0].transform * glm::dvec4(v, 1.0))), 1.0, 1e-12);
+  // The sphere light: every vertex at distance "radius" from "center" in scene space.
+  for (const glm::dvec3& v : s.meshes[1].mesh.positions)
+    EXPECT_NEAR(
+        glm::length(glm::dvec3(s.meshes[1].transform * glm::dvec4(v, 1.0)) - glm::dvec3(0, 0, 5)),
+        0.5, 1e-12);
+}
+
+// "rotate": [x, y, z] in degrees about x, then y, then z; "matrix": 16 numbers row-major
+// (docs/scene-format.md). By the right-hand rule 90 degrees about x take +y to +z, and 90
+// about y then take +z to +x; row-major puts the translation in the last column.
+TEST(SceneJson, TransformsFollowTheDocumentedConventions) {
+  const auto transformOf = [](const std::string& transform) {
+    return loadSceneText(R"({"meshes": [{"shape": "box", "transform": )" + transform + "}]}",
+                         "t.json", ".")
+        .meshes.at(0)
+        .transform;
+  };
+  const auto expectNear = [](const glm::dvec4& got, const glm::dvec3& want) {
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], 1e-12) << i;
+  };
+  expectNear(transformOf(R"({"rotate": [90, 0, 0]})") * glm::dvec4(0, 1, 0, 0), {0, 0, 1});
+  expectNear(transformOf(R"({"rotate": [90, 90, 0]})") * glm::dvec4(0, 1, 0, 0), {1, 0, 0});
+  // diag(2, 3, 4) and translation (5, 6, 7): (1, 1, 1) goes to (7, 9, 11).
+  expectNear(transformOf(R"({"matrix": [2, 0, 0, 5, 0, 3, 0, 6, 0, 0, 4, 7, 0, 0, 0, 1]})") *
+                 glm::dvec4(1, 1, 1, 1),
+             {7, 9, 11});
+}
+
+// Tabs and CR LF line ends are JSON whitespace: the position scanner skips them too (it
+// stopped at them, and every later value had no position). A tab is one character.
+TEST(SceneJson, TabsAndCrLfKeepPositions) {
+  // Counted by hand: line 2 is TAB "render": {"width": "wide"}; the TAB is column 1, the
+  // opening quote of "wide" column 22.
+  SceneError e = errorOf("{\r\n\t\"render\": {\"width\": \"wide\"}\r\n}");
+  EXPECT_EQ(e.line(), 2) << e.what();
+  EXPECT_EQ(e.column(), 22) << e.what();
 }
 
 TEST(SceneJson, DirectoryIsNotASceneFile) {
