@@ -89,6 +89,33 @@ TEST(QuickScene, ClipSphereFitsTheShorterSide) {
   }
 }
 
+// scene_builders.h: the floor is at z = -R; the code's comment and its range checks say
+// it is 40 R across. So its corners, placed by the item's transform, are (+-20 R, +-20 R,
+// -R), and with kMaxCoordinate = 1e17 (value_checks.h) the largest radius is
+// 1e17 / 20 = 5e15 and the smallest 1e-15 / 40 = 2.5e-17 (kMinMeshExtent).
+TEST(QuickScene, FloorIsFortyRadiiAcrossOneRadiusBelowTheCentre) {
+  QuickOptions q;
+  q.surface = "x^2 + y^2 + z^2 - 1";
+  q.clipRadius = 1.5;
+  const SceneDesc s = quickScene(q);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_FALSE(s.meshes[0].mesh.positions.empty());
+  for (const glm::dvec3& p : s.meshes[0].mesh.positions) {
+    const glm::dvec3 w(s.meshes[0].transform * glm::dvec4(p, 1.0));
+    EXPECT_EQ(std::abs(w.x), 30.0);
+    EXPECT_EQ(std::abs(w.y), 30.0);
+    EXPECT_EQ(w.z, -1.5);
+  }
+  q.clipRadius = 5e15;
+  EXPECT_NO_THROW(quickScene(q));
+  q.clipRadius = 1e16;
+  EXPECT_THROW(quickScene(q), Error);
+  q.clipRadius = 3e-17;
+  EXPECT_NO_THROW(quickScene(q));
+  q.clipRadius = 2e-17;
+  EXPECT_THROW(quickScene(q), Error);
+}
+
 TEST(QuickScene, BadEquationThrowsParseError) {
   QuickOptions q;
   q.surface = "x^2 + * 3";

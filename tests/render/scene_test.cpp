@@ -418,6 +418,70 @@ TEST(MeshData, ShapesWindOutward) {
   }
 }
 
+// Twice a triangle list's area: the sum of |cross(p1 - p0, p2 - p0)|.
+double twiceArea(const MeshData& m) {
+  double sum = 0;
+  for (const auto& t : m.triangles)
+    sum += glm::length(
+        glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
+  return sum;
+}
+
+// mesh.h: the plane is the square [-half, half]^2 (area (2 half)^2) wound to face +z; the
+// quad is the parallelogram corner + s edge1 + t edge2 (area |edge1 x edge2|), each of its
+// triangles wound to face along cross(edge1, edge2) as its normal is said to.
+TEST(MeshData, PlaneAndQuadCoverTheirAreaFacingTheirNormal) {
+  const MeshData plane = makePlane(1.5);
+  EXPECT_NEAR(twiceArea(plane), 2 * 3.0 * 3.0, 1e-12);
+  for (const glm::dvec3& p : plane.positions) {
+    EXPECT_EQ(std::abs(p.x), 1.5);
+    EXPECT_EQ(std::abs(p.y), 1.5);
+    EXPECT_EQ(p.z, 0.0);
+  }
+  const glm::dvec3 e1(2, 0, 1), e2(0, 3, 0);  // cross = (-3, 0, 6), length sqrt(45)
+  const MeshData quad = makeQuad({1, -1, 2}, e1, e2);
+  ASSERT_EQ(quad.triangles.size(), 2u);
+  EXPECT_NEAR(twiceArea(quad), 2 * std::sqrt(45.0), 1e-12);
+  for (const auto& t : quad.triangles) {
+    const glm::dvec3 c = glm::cross(quad.positions[t[1]] - quad.positions[t[0]],
+                                    quad.positions[t[2]] - quad.positions[t[0]]);
+    EXPECT_GT(glm::dot(c, glm::cross(e1, e2)), 0.0);
+  }
+}
+
+// mesh.h: the box [-half, half]^3 has six faces of two triangles; each corner has
+// |coordinate i| = half[i], and the faces cover 2 (ab + bc + ca) for the full extents
+// a, b, c = 2, 4, 6: 88.
+TEST(MeshData, BoxHasSixFacesOnItsCorners) {
+  const MeshData box = makeBox({1, 2, 3});
+  EXPECT_EQ(box.triangles.size(), 12u);
+  for (const glm::dvec3& p : box.positions)
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(std::abs(p[i]), i + 1.0) << i;
+  EXPECT_NEAR(twiceArea(box), 2 * 88.0, 1e-12);
+}
+
+// Each subdivision splits every triangle in four, from the icosahedron's 20: 20 * 4^n
+// triangles, every vertex on the unit sphere (its normal the position), and together
+// they close around the centre: the solid angles of the triangles seen from the
+// origin (Van Oosterom-Strackee) add up to the whole sphere, 4 pi.
+TEST(MeshData, IcosphereIsAClosedUnitSphereOfTwentyTimesFourToTheN) {
+  for (int sub : {0, 1, 2, 3}) {
+    const MeshData m = makeIcosphere(sub);
+    EXPECT_EQ(m.triangles.size(), 20u << (2 * sub)) << sub;
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+      EXPECT_NEAR(glm::length(m.positions[i]), 1.0, 1e-15) << sub;
+      EXPECT_NEAR(glm::length(m.normals[i] - m.positions[i]), 0.0, 1e-15) << sub;
+    }
+    double solidAngle = 0;
+    for (const auto& t : m.triangles) {
+      const glm::dvec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+      solidAngle += 2 * std::atan2(glm::dot(a, glm::cross(b, c)),
+                                   1 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a));
+    }
+    EXPECT_NEAR(solidAngle, 4 * std::numbers::pi, 1e-12) << sub;
+  }
+}
+
 // mesh.h: the plane's uv is position / uvScale.
 TEST(MeshData, PlaneUvIsPositionOverScale) {
   const MeshData m = makePlane(2.0, 4.0);
