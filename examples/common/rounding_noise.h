@@ -37,7 +37,8 @@ inline double noiseFraction(Polynomial f, const glm::dvec3& lo, const glm::dvec3
   const auto c = f.coeffs();
   const bool subnormal =
       std::any_of(c.begin(), c.end(), [](double v) { return std::fpclassify(v) == FP_SUBNORMAL; });
-  if (const int e = std::ilogb(f.maxAbsCoeff()); !subnormal && !f.isZero()) {
+  if (!subnormal && !f.isZero()) {
+    const int e = std::ilogb(f.maxAbsCoeff());
     f *= std::ldexp(1.0, -e / 2);  // two halves: 2^-e alone may leave double's range
     f *= std::ldexp(1.0, -(e - e / 2));
   }
