@@ -1,12 +1,14 @@
 #include "pov_export.h"
 
 #include "sampling.h"
+#include "value_checks.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -60,8 +62,14 @@ std::string povrayScene(const SceneDesc& scene, bool sturm) {
   out << "#version 3.7;\n";
   out << "global_settings { assumed_gamma 1.0 ambient_light rgb <1, 1, 1> max_trace_level 5 }\n";
   // POV-Ray is left-handed; a negative `right` makes the picture right-handed like ours.
-  out << "camera { perspective location " << vec(cam.position) << " sky " << vec(cam.up) << " up "
-      << vec(cam.up) << " right <" << -aspect << ", 0, 0> angle " << hfov << " look_at "
+  // look_at turns up and right about sky but keeps their lengths, whose ratio is the
+  // picture's: up is written as a unit vector (a scene built in code with up <0, 0, 3> was
+  // exported three times too tall; the loaders normalise it).
+  const std::optional<glm::dvec3> up = safeNormalize(cam.up);
+  if (!up)
+    throw std::runtime_error("POV-Ray export: the camera's up must be a finite non-zero vector");
+  out << "camera { perspective location " << vec(cam.position) << " sky " << vec(*up) << " up "
+      << vec(*up) << " right <" << -aspect << ", 0, 0> angle " << hfov << " look_at "
       << vec(cam.lookAt) << " }\n";
   out << "background { color " << rgb(scene.hasBackground ? scene.background : env) << " }\n";
   double far = 1e3 * std::max(1.0, glm::length(cam.position - cam.lookAt));

@@ -165,11 +165,6 @@ void Scene::build() {
     gEmbreeError.clear();
     throw std::runtime_error(message);
   }
-  RTCBounds b;
-  rtcGetSceneBounds(scene_, &b);
-  if (std::isfinite(b.lower_x) && b.upper_x >= b.lower_x)
-    radius_ = 0.5 * glm::length(glm::dvec3(b.upper_x - b.lower_x, b.upper_y - b.lower_y,
-                                           b.upper_z - b.lower_z));
 
   // ---- Light table -----------------------------------------------------------------
   geomLight_.assign(geoms_.size(), -1);

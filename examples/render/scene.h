@@ -78,7 +78,6 @@ class Scene {
   double lightPdf(const glm::dvec3& p, const Hit& hit) const;
   // Same for a ray that escaped to the environment.
   double environmentPdf() const;
-  double sceneRadius() const { return radius_; }
   // The world point the scene is built and rendered about: the centre of the geometry's
   // bounds where the scene lies more than 16 times its own size from the world origin,
   // else 0. desc() is the described scene moved by -frameOrigin() (camera, point lights,
@@ -117,7 +116,6 @@ class Scene {
   int envLight_ = -1;
   std::shared_ptr<const Texture> envImage_;
   glm::dvec3 envMean_{0.0};
-  double radius_ = 1.0;
   glm::dvec3 frameOrigin_{0.0};
   std::vector<std::string> emptySurfaces_;
   std::vector<std::string> noisySurfaces_;

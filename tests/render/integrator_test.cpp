@@ -3,6 +3,7 @@
 //    reflects exactly Le, whatever its shape (all light is eventually reflected out);
 //    with albedo a < 1 a convex surface reflects a * Le (one bounce, nothing else seen);
 //  * the same image for 1 and 2 threads (per-pixel random streams).
+#include "camera.h"
 #include "render.h"
 #include "sampling.h"
 #include "scene.h"
@@ -18,8 +19,11 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <thread>
 #include <vector>
 
 namespace algray::render {
@@ -222,6 +226,31 @@ TEST(EnvironmentImage, PolesReadOnlyTheirOwnRows) {
     const glm::dvec3 up(std::sin(tilt), 0.0, std::cos(tilt)), down(up.x, up.y, -up.z);
     EXPECT_DOUBLE_EQ(scene.environment(up).x, rows.front()) << tilt;
     EXPECT_DOUBLE_EQ(scene.environment(down).x, rows.back()) << tilt;
+  }
+  std::filesystem::remove(file);
+}
+
+// The lat-long image's azimuth: its centre column looks along +x (u = 1/2 + azimuth / 2pi,
+// as surfaces read their textures, SurfaceTexture above), and a rotation of a degrees turns
+// the image about +z by the right-hand rule, so what lay at azimuth phi lies at phi + a.
+// Four columns of 1, 2, 4, 8 (one row): column k's centre is at u = (k + 1/2) / 4, azimuth
+// (k - 3/2) pi / 2, where any interpolation reads the column's own value.
+TEST(EnvironmentImage, CentreColumnFacesPlusXAndRotationsTurnAnticlockwise) {
+  const std::vector<float> columns = {1, 2, 4, 8};
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "algray_env_columns.exr").string();
+  writeGreyImage(file, 4, 1, columns);
+  for (const double degrees : {0.0, 90.0, -30.0}) {
+    SceneDesc s = furnace(0.5);
+    s.environment.color = glm::dvec3(1.0);
+    s.environment.image = file;
+    s.environment.rotation = degrees;
+    const Scene scene(s);
+    for (int k = 0; k < 4; ++k) {
+      const double phi = (k - 1.5) * kPi / 2 + degrees * kPi / 180;
+      const glm::dvec3 dir(std::cos(phi), std::sin(phi), 0.0);
+      EXPECT_NEAR(scene.environment(dir).x, columns[k], 1e-6) << degrees << " " << k;
+    }
   }
   std::filesystem::remove(file);
 }
@@ -457,6 +486,49 @@ TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
   EXPECT_GT(sphereIds, 50);
   EXPECT_GT(floorIds, 50);
   EXPECT_GT(misses, 50);
+}
+
+// The depth and id of a pixel are its nearest sample's (a z-buffer's choice), in
+// DepthAndIdOfOutlinePixelsComeFromOneSurface's scene: where the unit sphere covers at least
+// half of a pixel and the floor lies behind the rest, the pixel is the sphere's unless all
+// of its 16 samples missed it (probability at most 2^-16). The coverage: an 8 x 8 grid of
+// camera rays o + t d across the pixel, each meeting the sphere iff o.d < 0 and
+// (o.d)^2 - |o|^2 + 1 >= 0 (|o + t d|^2 = 1 has a real root, in front).
+TEST(Aov, PixelsMostlyCoveredByTheNearerSurfaceAreIts) {
+  SceneDesc s;
+  s.settings.width = 40;
+  s.settings.height = 30;
+  s.settings.spp = 16;
+  s.settings.maxDepth = 1;
+  s.camera.position = {0, -6, 0};
+  s.camera.lookAt = {0, 0, 0};
+  s.camera.fovY = 30;
+  s.addMaterial(Material{});
+  addUnitSphere(s);
+  s.meshes.push_back(
+      {"floor", makePlane(2.0),
+       glm::rotate(glm::translate(glm::dmat4(1.0), {0, 3, -2}), 0.5 * M_PI, glm::dvec3(1, 0, 0)), 0,
+       -1});
+  Scene scene(s);
+  Image image;
+  render(scene, image);
+  const Camera camera(s.camera, s.settings.width, s.settings.height);
+  int partial = 0;
+  for (int y = 0; y < s.settings.height; ++y)
+    for (int x = 0; x < s.settings.width; ++x) {
+      int covered = 0;
+      for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j) {
+          const CameraRay r = camera.generateRay({x + (i + 0.5) / 8, y + (j + 0.5) / 8}, {});
+          const double od = glm::dot(r.org, r.dir);
+          covered += od < 0 && od * od - glm::dot(r.org, r.org) + 1 >= 0;
+        }
+      const size_t i = static_cast<size_t>(y) * s.settings.width + x;
+      if (covered < 32 || image.id[i] == 0) continue;
+      EXPECT_LT(image.depth[i], 8.0f) << x << " " << y << ": " << covered << " of 64";
+      partial += covered < 64 && y > s.settings.height / 2;  // floor behind the rest
+    }
+  EXPECT_GT(partial, 5);  // pixels where a farther sample could win (the test could fail)
 }
 
 // A scene far from the world origin renders as at the origin: it is built and rendered
@@ -787,6 +859,151 @@ TEST(WhiteFurnace, BackgroundIsSeenOnlyByCameraRays) {
     ASSERT_EQ(image.id[0], 0.0f);  // the corner sees past the sphere
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(image.color[0][k], s.background[k], 1e-6);
   }
+}
+
+// ---- The render loop (render.h) ----------------------------------------------------------
+
+// The seed chooses the random numbers (RenderSettings::seed): the same seed gives the
+// same image, another seed another one (the noise of a path-traced scene).
+TEST(Render, TheSeedChoosesTheRandomStream) {
+  SceneDesc s = furnace(0.8);
+  addSurface(s, "torus");
+  s.meshes.push_back(
+      {"floor", makePlane(5.0), glm::translate(glm::dmat4(1.0), {0, 0, -0.6}), 0, -1});
+  s.pointLights.push_back({{1, -2, 3}, glm::dvec3(10.0)});
+  s.settings.spp = 2;
+  s.settings.maxDepth = 5;
+  Image images[3];
+  for (int k = 0; k < 3; ++k) {
+    s.settings.seed = k == 1 ? 1 : 0;
+    Scene scene(s);
+    render(scene, images[k]);
+  }
+  int same = 0, other = 0;
+  for (size_t i = 0; i < images[0].color.size(); ++i) {
+    same += images[0].color[i] != images[2].color[i];
+    other += images[0].color[i] != images[1].color[i];
+  }
+  EXPECT_EQ(same, 0);
+  // Most pixels see the noisy torus or floor: far more than a quarter differ.
+  EXPECT_GT(other, static_cast<int>(images[0].color.size() / 4));
+}
+
+// The normal AOV is a direction: the samples' normals summed and normalised, unit length
+// in every pixel where a sample hit (also where others missed, on the outline, or met the
+// sphere at other angles) and zero where none did. The albedo AOV is the samples' mean:
+// the grey sphere's 0.5 where every sample hit it, 0 where none did.
+TEST(Render, NormalAovIsUnitAndAlbedoAovTheMean) {
+  SceneDesc s = furnace(0.5);
+  s.settings.spp = 8;
+  s.settings.maxDepth = 1;
+  addUnitSphere(s);
+  Scene scene(s);
+  Image image;
+  render(scene, image);
+  const int w = image.width, h = image.height;
+  int hits = 0, misses = 0, inside = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int i = y * w + x;
+      const double length = glm::length(glm::dvec3(image.normal[i]));
+      if (image.id[i] == 0) {
+        EXPECT_EQ(length, 0.0) << i;
+        EXPECT_EQ(image.albedo[i], glm::vec3(0.0f)) << i;
+        ++misses;
+        continue;
+      }
+      EXPECT_NEAR(length, 1.0, 1e-6) << i;
+      ++hits;
+      // A pixel whose eight neighbours all hold a hit lies inside the sphere's (convex)
+      // outline: every closed half-plane through a point of it holds one of them.
+      if (x == 0 || y == 0 || x + 1 == w || y + 1 == h) continue;
+      bool ring = true;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) ring = ring && image.id[i + dy * w + dx] > 0;
+      if (!ring) continue;
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(image.albedo[i][k], 0.5, 1e-6) << i;
+      ++inside;
+    }
+  EXPECT_GT(hits, 50);
+  EXPECT_GT(misses, 50);
+  EXPECT_GT(inside, 20);
+}
+
+// A pixel beyond float's range is reported by its column and row (RenderStats::overflowX,
+// overflowY, the first in row order) and its value. An orthographic view of the floor 8
+// wide and 2 high, 8 x 2 pixels: pixel (x, y) sees the floor point (x - 3.5, 0.5 - y). A
+// point light of intensity I = 1e37 at h = 0.01 above the point of pixel (5, 1) gives
+// there (0.8 / pi) I / h^2 = 2.5e40, beyond float; one pixel away at most (0.8 / pi) I h /
+// (1 + h^2)^(3/2) = 2.5e34, within it.
+TEST(Render, PixelsBeyondFloatAreFoundByColumnAndRow) {
+  const double intensity = 1e37, h = 0.01;
+  SceneDesc s = pointCamera({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 8, 1);
+  s.settings.height = 2;
+  s.camera.height = 2;
+  s.settings.integrator = IntegratorType::Direct;
+  s.settings.maxDepth = 1;
+  s.meshes.push_back({"floor", makePlane(10.0), kOffCentre, s.addMaterial(Material{}), -1});
+  s.pointLights.push_back({{1.5, -0.5, h}, glm::dvec3(intensity)});
+  Scene scene(s);
+  Image image;
+  const RenderStats stats = render(scene, image);
+  EXPECT_EQ(stats.overflowPixels, 1u);
+  EXPECT_EQ(stats.overflowX, 5);
+  EXPECT_EQ(stats.overflowY, 1);
+  const double expected = 0.8 / kPi * intensity / (h * h);
+  EXPECT_NEAR(stats.overflowValue, expected, 1e-4 * expected);
+  // The value is the pixel's mean over its samples: at 4 samples a pixel, every sample of
+  // the 2 x 2 pinhole-thin view sees the point below the light, each the same 2.5e40.
+  SceneDesc thin = pointCamera({1.5, -0.5, 1}, {1.5, -0.5, 0}, {0, 1, 0}, 2, 4);
+  thin.settings.integrator = IntegratorType::Direct;
+  thin.settings.maxDepth = 1;
+  thin.meshes = s.meshes;
+  thin.materials = s.materials;
+  thin.pointLights = s.pointLights;
+  Scene thinScene(thin);
+  const RenderStats four = render(thinScene, image);
+  EXPECT_EQ(four.overflowPixels, 4u);
+  EXPECT_NEAR(four.overflowValue, expected, 1e-4 * expected);
+}
+
+// The ray count adds up every thread's: a scene whose camera rays all miss (the sphere is
+// behind the camera) traces exactly one ray a sample, width x height x spp, on two threads.
+TEST(Render, RayCountIsEveryThreadsSum) {
+  SceneDesc s = furnace(0.5);
+  s.settings.width = s.settings.height = 64;  // 16 tiles to share
+  s.settings.spp = 128;                       // enough work for the second thread to join in
+  s.settings.threads = 2;
+  addUnitSphere(s, {0, -10, 0});
+  Scene scene(s);
+  Image image;
+  const RenderStats stats = render(scene, image);
+  ASSERT_EQ(*std::max_element(image.id.begin(), image.id.end()), 0.0f);  // nothing hit
+  EXPECT_EQ(stats.rays, 64u * 64u * 128u);
+}
+
+// Cancellation is checked before every pixel, not only between tiles: one 16 x 16 tile at
+// 32768 samples a pixel (seconds of work) is cancelled 50 ms in and stops there, the tile
+// unfinished (a 16x16 image at --spp 1048576 ran on for 10 minutes after Ctrl-C).
+TEST(Cancel, StopsWithinATile) {
+  SceneDesc s = furnace(0.8);
+  s.settings.width = s.settings.height = 16;
+  s.settings.spp = 32768;
+  addSurface(s, "sphere");
+  Scene scene(s);
+  Image image;
+  std::atomic<bool> cancel{false};
+  RenderOptions options;
+  options.cancel = &cancel;
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    cancel = true;
+  });
+  const RenderStats stats = render(scene, image, options);
+  stopper.join();
+  EXPECT_TRUE(stats.interrupted);
+  EXPECT_EQ(stats.tilesDone, 0);
+  EXPECT_EQ(stats.tilesTotal, 1);
 }
 
 }  // namespace

@@ -16,8 +16,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <regex>
 #include <string>
+#include <vector>
 
 namespace algray::render {
 namespace {
@@ -338,6 +340,170 @@ TEST(DefaultScene, SurfacesOfDifferentDegreesBesideMeshes) {
     emissive += s.materials[m.material].type == MaterialType::Emissive;
   EXPECT_EQ(emissive, 1);                     // the area light
   EXPECT_GE(s.meshes.size() - emissive, 2u);  // floor and icosphere
+}
+
+// The numbers of the exported scene are algray's (a scene built here, not by quick mode:
+// a camera off the axes, a coloured directional light, front and back materials, a
+// background):
+//  * POV-Ray's camera is left-handed; with `right` along -x at the image's aspect (its
+//    documentation's recipe for right-handed coordinates) the picture is not mirrored;
+//  * positions keep every digit (1/3 reads back as the same double);
+//  * a `parallel` light shines from its location towards point_at: the location lies along
+//    algray's direction, which points towards the light;
+//  * algray's Lambertian floor reflects (albedo / pi) E cos under irradiance E, POV-Ray's
+//    `diffuse 1 brilliance 1` pigment * colour * cos: the light's colour is E / pi;
+//  * the direct integrator adds albedo times the (grey) environment as ambient light, POV-Ray
+//    pigment * ambient * ambient_light (1): `ambient` is the environment's grey;
+//  * the background, the clip sphere's radius, the back material's colour as the interior
+//    texture, and each triangle's vertices in their order (which side is the front).
+TEST(PovExport, CameraLightsAndColoursAreAlgraysNumbers) {
+  SceneDesc s;
+  s.settings.width = 40;
+  s.settings.height = 30;
+  s.camera.position = {1.0 / 3.0, -6, 2.0 / 3.0};
+  s.camera.lookAt = {0, 0, 0};
+  s.environment.color = glm::dvec3(0.25);
+  s.hasBackground = true;
+  s.background = {0.1, 0.2, 0.3};
+  s.directionalLights.push_back({{1, 2, 2}, {3, 1.5, 0.75}});
+  Material front, back;
+  front.color = {0.5, 0.25, 0.125};
+  back.color = {0.2, 0.4, 0.6};
+  const int f = s.addMaterial(front), b = s.addMaterial(back);
+  SurfaceItem sphere;
+  sphere.polynomial = parsePolynomial("x^2 + y^2 + z^2 - 1");
+  sphere.clip = ClipSphere{glm::dvec3(0.0), 1.5};
+  sphere.material = f;
+  sphere.backMaterial = b;
+  s.surfaces.push_back(sphere);
+  MeshItem floor;
+  floor.mesh.positions = {{-2, -2, -1}, {2, -2, -1}, {2, 2, -1}, {-2, 2, -1}};
+  floor.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  floor.material = f;
+  floor.backMaterial = b;
+  s.meshes.push_back(floor);
+  const std::string pov = povrayScene(s, false);
+  const std::string number = "([-+0-9.eE]+)";
+  const std::string triple = "<" + number + ", " + number + ", " + number + ">";
+  auto vectorAfter = [&](const std::string& prefix) {
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(pov, m, std::regex(prefix + triple))) << prefix << "\n" << pov;
+    return m.empty() ? glm::dvec3(0.0)
+                     : glm::dvec3(std::stod(m[1]), std::stod(m[2]), std::stod(m[3]));
+  };
+  auto numberAfter = [&](const std::string& prefix) {
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(pov, m, std::regex(prefix + number))) << prefix << "\n" << pov;
+    return m.empty() ? 0.0 : std::stod(m[1]);
+  };
+  EXPECT_EQ(vectorAfter(R"(right )").x, -40.0 / 30.0);
+  EXPECT_EQ(vectorAfter(R"(location )"), s.camera.position);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      pov, m, std::regex(R"(light_source \{ )" + triple + " color rgb " + triple + " parallel")))
+      << pov;
+  const glm::dvec3 light(std::stod(m[1]), std::stod(m[2]), std::stod(m[3]));
+  const glm::dvec3 towards(1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0);  // (1, 2, 2) normalised
+  EXPECT_NEAR(glm::dot(glm::normalize(light), towards), 1.0, 1e-12);
+  const double pi = std::acos(-1.0);
+  EXPECT_NEAR(std::stod(m[4]), 3 / pi, 1e-15);
+  EXPECT_NEAR(std::stod(m[5]), 1.5 / pi, 1e-15);
+  EXPECT_NEAR(std::stod(m[6]), 0.75 / pi, 1e-15);
+  EXPECT_EQ(vectorAfter(R"(background \{ color rgb )"), s.background);
+  EXPECT_EQ(numberAfter(R"(clipped_by \{ sphere \{ <0, 0, 0>, )"), 1.5);
+  // Every texture's ambient is the environment's grey; the front pigments are the front
+  // material's colour, the interior ones the back material's (one each for the surface and
+  // the mesh).
+  std::regex ambient("ambient " + number);
+  int ambients = 0;
+  for (auto it = std::sregex_iterator(pov.begin(), pov.end(), ambient);
+       it != std::sregex_iterator(); ++it, ++ambients)
+    EXPECT_EQ(std::stod((*it)[1]), 0.25);
+  EXPECT_EQ(ambients, 4);
+  for (const auto& [kind, material] : {std::pair{std::string("  texture"), front},
+                                       std::pair{std::string("interior_texture"), back}}) {
+    std::regex pigment(kind + R"( \{ pigment \{ color rgb )" + triple);
+    int count = 0;
+    for (auto it = std::sregex_iterator(pov.begin(), pov.end(), pigment);
+         it != std::sregex_iterator(); ++it, ++count)
+      EXPECT_EQ(glm::dvec3(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3])),
+                material.color)
+          << kind;
+    EXPECT_EQ(count, 2) << kind;
+  }
+  EXPECT_NE(pov.find("face_indices { 2, <0, 1, 2>, <0, 2, 3> }"), std::string::npos) << pov;
+}
+
+// A thin-lens camera (aperture > 0) has no POV-Ray counterpart here: refused, as an
+// orthographic one is, rather than exported as a pinhole with everything in focus.
+TEST(PovExport, ThinLensCamerasAreRefused) {
+  QuickOptions q;
+  q.surface = "sphere";
+  SceneDesc s = quickScene(q);
+  EXPECT_NO_THROW(povrayScene(s, false));
+  s.camera.aperture = 0.05;
+  try {
+    povrayScene(s, false);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "POV-Ray export: only pinhole perspective cameras");
+  }
+}
+
+// POV-Ray takes the picture's height from the length of `up` (look_at turns up and right
+// about sky, keeping their lengths): an up of length 3 is exported as the unit vector, and
+// one that is no direction is refused.
+TEST(PovExport, UpIsWrittenAsAUnitVector) {
+  QuickOptions q;
+  q.surface = "sphere";
+  SceneDesc s = quickScene(q);
+  s.camera.up = {0, 0, 3};
+  const std::string pov = povrayScene(s, false);
+  EXPECT_NE(pov.find(" up <0, 0, 1> "), std::string::npos) << pov;
+  EXPECT_NE(pov.find(" sky <0, 0, 1> "), std::string::npos) << pov;
+  s.camera.up = {0, 0, 0};
+  EXPECT_THROW(povrayScene(s, false), std::runtime_error);
+}
+
+// What POV-Ray cannot be given the same way is refused, not exported as something else:
+// a coloured environment (the ambient light is one grey), a textured or non-diffuse
+// material (a plain pigment), a surface with a transform or a clip box (the polynomial is
+// written in scene space, clipped by a sphere), a point light.
+TEST(PovExport, WhatPovRayCannotBeGivenIsRefused) {
+  QuickOptions q;
+  q.surface = "sphere";
+  const SceneDesc base = quickScene(q);
+  ASSERT_NO_THROW(povrayScene(base, false));
+  const auto refused = [&](SceneDesc s, const std::string& message) {
+    try {
+      povrayScene(s, false);
+      ADD_FAILURE() << "no error for " << message;
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), "POV-Ray export: " + message);
+    }
+  };
+  SceneDesc s = base;
+  s.environment.color = {0.5, 0.5, 0.6};
+  refused(s, "grey environments only");
+  s = base;
+  Material textured = s.materials.at(s.surfaces[0].material);
+  textured.texture = std::make_shared<const Texture>(1, 1, std::vector<glm::vec3>{glm::vec3(1)});
+  s.surfaces[0].material = s.addMaterial(textured);
+  refused(s, "untextured diffuse materials only");
+  s = base;
+  Material metal;
+  metal.type = MaterialType::Conductor;
+  s.surfaces[0].backMaterial = s.addMaterial(metal);
+  refused(s, "untextured diffuse materials only");
+  s = base;
+  s.surfaces[0].transform[3] = glm::dvec4(0, 0, 1, 1);  // moved up by 1
+  refused(s, "surfaces need a clip sphere and no transform");
+  s = base;
+  s.surfaces[0].clip = ClipBox{glm::dvec3(-1), glm::dvec3(1)};
+  refused(s, "surfaces need a clip sphere and no transform");
+  s = base;
+  s.pointLights.push_back({{0, 0, 3}, glm::dvec3(1.0)});
+  refused(s, "point lights are not exported");
 }
 
 }  // namespace

@@ -82,6 +82,106 @@ TEST(Scene, DirectionalLightWithTinyOrHugeDirection) {
   }
 }
 
+// A scene of one triangle mesh (material 0, added here) and nothing else.
+SceneDesc meshScene(const MeshData& mesh, const Material& material) {
+  SceneDesc s;
+  s.addMaterial(material);
+  s.meshes.push_back({"mesh", mesh, glm::dmat4(1.0), 0, -1});
+  return s;
+}
+
+// An emissive mesh is sampled uniformly by area (pbrt-v4 Sec. 4.4.2, 6.2): a triangle in
+// proportion to its area, then a uniform point on it, with the solid-angle density d^2 /
+// (cos * A) of the mesh's whole area A. Two triangles in z = 0 of areas 1/2 and 3/2 (A = 2):
+// a quarter of the samples fall in the first, and their mean is the area-weighted centroid,
+// (1/4) (1/3, 1/3, 0) + (3/4) (3, 1/3, 0) = (7/3, 1/3, 0). A stratified grid of u stands for
+// uniform random numbers. Every triangle was sampled along one line (its CDF segment read
+// as empty) and the mean missed the centroid by 0.1.
+TEST(Scene, MeshLightsAreSampledUniformlyByArea) {
+  MeshData mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {5, 0, 0}, {2, 1, 0}};
+  mesh.triangles = {{0, 1, 2}, {3, 4, 5}};
+  Material light;
+  light.type = MaterialType::Emissive;
+  light.emission = glm::dvec3(2.0, 1.0, 0.5);
+  const Scene scene(meshScene(mesh, light));
+  ASSERT_EQ(scene.lightCount(), 1);
+  const glm::dvec3 p(1, 0.5, 2);
+  const int n = 64;
+  glm::dvec3 sum(0.0);
+  int first = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const auto s = scene.sampleLight(0, p, {(i + 0.5) / n, (j + 0.5) / n});
+      ASSERT_TRUE(s.has_value());
+      const glm::dvec3 q = p + s->distance * s->wi;
+      EXPECT_NEAR(q.z, 0.0, 1e-12);
+      sum += q;
+      first += q.x < 1.5;
+      EXPECT_EQ(s->radiance, light.emission);
+      EXPECT_FALSE(s->delta);
+      // The normal is +-z: cos = |wi.z|.
+      const double d2 = s->distance * s->distance;
+      EXPECT_NEAR(s->pdf, d2 / (std::abs(s->wi.z) * 2.0), 1e-12 * s->pdf);
+    }
+  const glm::dvec3 mean = sum / double(n * n);
+  EXPECT_EQ(first, n * n / 4);
+  EXPECT_NEAR(mean.x, 7.0 / 3.0, 2e-3);
+  EXPECT_NEAR(mean.y, 1.0 / 3.0, 2e-3);
+}
+
+// A triangle's hit interpolates its vertices' normals and uvs with the hit's barycentric
+// coordinates: on (0,0,0), (1,0,0), (0,1,0) the point (x, y, 0) has weights 1 - x - y, x, y
+// (the vertices' uvs are their x, y, so its uv is (x, y)). The shading normal is the
+// normalised interpolation, turned into the geometric normal's hemisphere (Hit::ns): normals
+// given against the winding are flipped, not used as they are.
+TEST(Scene, TriangleHitsInterpolateNormalsAndUvsByPosition) {
+  MeshData mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  mesh.normals = {{0, 0, 1}, {0.6, 0, 0.8}, {0, 0.6, 0.8}};
+  mesh.triangles = {{0, 1, 2}};
+  const double x = 0.2, y = 0.5;
+  const glm::dvec3 interpolated = (1 - x - y) * mesh.normals[0] + x * mesh.normals[1] +
+                                  y * mesh.normals[2];  // (0.12, 0.3, 0.86)
+  RayCounter counter;
+  {
+    const Scene scene(meshScene(mesh, Material{}));
+    const auto hit = scene.intersect({x, y, 1}, {0, 0, -1}, 0.0, counter);
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_NEAR(hit->uv.x, x, 1e-6);
+    EXPECT_NEAR(hit->uv.y, y, 1e-6);
+    EXPECT_EQ(hit->ng, glm::dvec3(0, 0, 1));  // cross(p1 - p0, p2 - p0)
+    const glm::dvec3 expected = glm::normalize(interpolated);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(hit->ns[k], expected[k], 1e-6) << k;
+  }
+  for (glm::dvec3& n : mesh.normals) n = -n;  // against the winding
+  const Scene scene(meshScene(mesh, Material{}));
+  const auto hit = scene.intersect({x, y, 1}, {0, 0, -1}, 0.0, counter);
+  ASSERT_TRUE(hit.has_value());
+  const glm::dvec3 expected = glm::normalize(interpolated);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(hit->ns[k], expected[k], 1e-6) << k;
+}
+
+// A material index must name one of the scene's materials: the count itself is one past
+// the last (SceneDesc built in code; the loaders assign indices themselves).
+TEST(Scene, MaterialIndexEqualToTheCountIsRefused) {
+  MeshData mesh = makePlane(1.0);
+  SceneDesc s = meshScene(mesh, Material{});
+  s.meshes.front().material = 1;
+  try {
+    const Scene scene(s);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "mesh: material index out of range");
+  }
+  s.meshes.front().material = 0;
+  s.meshes.front().backMaterial = 1;
+  EXPECT_THROW(Scene{s}, std::runtime_error);
+  s.meshes.front().backMaterial = 0;
+  EXPECT_NO_THROW(Scene{s});
+}
+
 TEST(ValueChecks, SafeNormalize) {
   EXPECT_FALSE(safeNormalize(glm::dvec3(0.0)).has_value());
   EXPECT_FALSE(safeNormalize({std::numeric_limits<double>::infinity(), 0, 0}).has_value());
