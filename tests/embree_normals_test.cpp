@@ -465,5 +465,39 @@ TEST_F(EmbreeNormals, ZeroGradientGivesAUsableNormal) {
   }
 }
 
+// The normal search steps back from the hit by rungs of the scene radius (hit_normal.cpp:
+// SurfaceData::sceneRadius, the clip radius but at most 2^13 object radii), not of the clip
+// radius: a unit sphere (x^2 + y^2 + z^2 - 1)^2 (its gradient vanishes on the surface, so
+// every hit takes the search) in a clip ball of radius 1e14 looked 2^-32 1e14 = 2.3e4 away
+// from its hits (the audit of session 51). Rays from 3 radii at least 0.3 from tangent;
+// reference: the sphere's radial direction at the hit, facing the ray, within 1e-5 radians
+// (the bound of HighMultiplicitySurfacesGetTheirOwnNormal for m = 2).
+TEST_F(EmbreeNormals, TheSearchStepsByTheObjectsSizeInAHugeClipBall) {
+  const Polynomial sphere = spherePolynomial(1.0);
+  SurfaceDesc desc;
+  desc.polynomial = sphere * sphere;
+  desc.clip = ClipSphere{{0, 0, 0}, 1e14};
+  const SurfaceScene scene(device, desc);
+  std::mt19937 random(5903);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto unit = [&] {
+    return glm::normalize(glm::dvec3(uniform(random), uniform(random), uniform(random)));
+  };
+  int checked = 0;
+  for (int k = 0; k < 200; ++k) {
+    const glm::dvec3 o = 3.0 * unit(), d = glm::normalize(0.8 * unit() - o);
+    const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
+    if (!hit.hit) continue;
+    const glm::dvec3 n = glm::normalize(o + hit.t * d);
+    if (std::abs(glm::dot(n, d)) < 0.3) continue;
+    ++checked;
+    const glm::dvec3 facing = glm::dot(n, d) < 0 ? n : -n;
+    const double angle =
+        std::acos(std::clamp(glm::dot(glm::normalize(glm::dvec3(hit.Ng)), facing), -1.0, 1.0));
+    EXPECT_LT(angle, 1e-5) << k << " normal " << hit.Ng[0] << " " << hit.Ng[1] << " " << hit.Ng[2];
+  }
+  EXPECT_GT(checked, 100);
+}
+
 }  // namespace
 }  // namespace algray::test

@@ -528,5 +528,53 @@ TEST_F(EmbreeQuadric, TightBoundsHoldTheSurface) {
   }
 }
 
+// A quadric with a single cross term (x y, x z or y z) is not diagonal: QuadricForm's
+// diagonal flag, which lets the path take A d as the diagonal's products, must see each of
+// the three off-diagonal entries. The ellipsoid x^2 + y^2 + z^2 + 1.2 m = 1 (m one cross
+// term; definite as 1.2 < 2) against its closed form along the ray: f(o + t d) = a t^2 + b t
+// + c with a = |d|^2 + 1.2 m(d, d), b = 2 o . d + 1.2 (m(o, d) + m(d, o)), c = |o|^2 + 1.2
+// m(o, o) - 1, the smaller root in long double; Ng along grad f = 2 p + 1.2 grad m(p).
+TEST_F(EmbreeQuadric, EachSingleCrossTermReachesThePath) {
+  std::mt19937 random(5902);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int pair = 0; pair < 3; ++pair) {
+    const int i = pair == 2 ? 1 : 0, j = pair == 0 ? 1 : 2;  // (x, y), (x, z), (y, z)
+    SCOPED_TRACE(pair);
+    const Polynomial v[3] = {X(), Y(), Z()};
+    SurfaceDesc desc;
+    desc.polynomial =
+        v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + 1.2 * (v[i] * v[j]) - Polynomial(1.0);
+    desc.clip = ClipSphere{glm::dvec3(0.0), 4.0};
+    const SurfaceScene scene(device, desc);
+    using LD = long double;
+    int hits = 0;
+    for (int k = 0; k < 200; ++k) {
+      const glm::dvec3 o =
+          3.0 * glm::normalize(glm::dvec3(uniform(random), uniform(random), uniform(random)));
+      const glm::dvec3 d =
+          glm::normalize(0.5 * glm::dvec3(uniform(random), uniform(random), uniform(random)) - o);
+      const LD a = LD(d.x) * d.x + LD(d.y) * d.y + LD(d.z) * d.z + 1.2L * d[i] * d[j];
+      const LD b = 2 * (LD(o.x) * d.x + LD(o.y) * d.y + LD(o.z) * d.z) +
+                   1.2L * (LD(o[i]) * d[j] + LD(d[i]) * o[j]);
+      const LD c = LD(o.x) * o.x + LD(o.y) * o.y + LD(o.z) * o.z + 1.2L * o[i] * o[j] - 1;
+      const LD disc = b * b - 4 * a * c;
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
+      // Rays within 1e-6 of tangent are left out (a touch may round either way).
+      if (std::abs(disc) < 1e-6L) continue;
+      ASSERT_EQ(hit.hit, disc > 0) << k;
+      if (!hit.hit) continue;
+      ++hits;
+      const double t = double((-b - std::sqrt(disc)) / (2 * a));
+      EXPECT_NEAR(hit.t, t, 1e-12) << k;
+      const glm::dvec3 p = o + t * d;
+      glm::dvec3 g = 2.0 * p;
+      g[i] += 1.2 * p[j];
+      g[j] += 1.2 * p[i];
+      EXPECT_GT(glm::dot(glm::normalize(glm::dvec3(hit.Ng)), glm::normalize(g)), 1.0 - 1e-12) << k;
+    }
+    EXPECT_GT(hits, 100);
+  }
+}
+
 }  // namespace
 }  // namespace algray::test

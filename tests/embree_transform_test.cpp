@@ -156,5 +156,80 @@ TEST_F(EmbreeTransform, RaysLeavingFlattenedSurfacesFarAwayReachTheFarSide) {
   }
 }
 
+// A cell's world box is the hull of its 8 corners through the transform (worldBounds,
+// surface_geometry.cpp). Under a rotation in general position each world axis takes its
+// extreme at one corner alone, so a corner left out shrinks the box. The plane x + y + z =
+// 2.95 in the clip box [-1, 1]^3 is the triangle near the corner (1, 1, 1) with x, y, z >=
+// 0.95; the rotation whose third row is (1, 1, 1) / sqrt 3 puts it at world z = 2.95 / sqrt
+// 3, within 0.05 / sqrt 3 of that corner's z (sqrt 3), above every other corner of the box
+// (at most 1 / sqrt 3). Rays straight down from world z = 3 onto points of the triangle
+// (barycentric weights >= 0.1: clear of its edges), ending 0.05 past it (so that Embree
+// tests the box over that segment only; a ray reaching into the box enters it anyway), must
+// hit it at t = 3 - 2.95 / sqrt 3 (closed form), in both channels, with one cell and with
+// the cell grid.
+TEST_F(EmbreeTransform, RotatedClipBoxKeepsTheCornerOfItsBounds) {
+  const double s3 = std::sqrt(3.0), s2 = std::sqrt(2.0), s6 = std::sqrt(6.0);
+  // Rows e1, e2, e3 of the rotation (world = R object); glm's [column][row].
+  const glm::dvec3 e[3] = {
+      {1 / s2, -1 / s2, 0}, {1 / s6, 1 / s6, -2 / s6}, {1 / s3, 1 / s3, 1 / s3}};
+  for (const bool cells : {false, true}) {
+    SurfaceDesc desc;
+    desc.polynomial = X() + Y() + Z() - Polynomial(2.95);
+    desc.clip = ClipBox{glm::dvec3(-1.0), glm::dvec3(1.0)};
+    desc.options.useCells = cells;
+    desc.transform = glm::dmat4(1.0);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) desc.transform[c][r] = e[r][c];
+    const SurfaceScene scene(device, desc);
+    std::uniform_real_distribution<double> u(0.1, 1.0);
+    const double expected = 3.0 - 2.95 / s3;
+    for (int i = 0; i < 200; ++i) {
+      glm::dvec3 w(u(rng), u(rng), u(rng));
+      w /= w.x + w.y + w.z;
+      if (std::min({w.x, w.y, w.z}) < 0.1) continue;
+      const glm::dvec3 q = w.x * glm::dvec3(1.0, 1.0, 0.95) + w.y * glm::dvec3(1.0, 0.95, 1.0) +
+                           w.z * glm::dvec3(0.95, 1.0, 1.0);
+      const glm::dvec3 o(glm::dot(e[0], q), glm::dot(e[1], q), 3.0), d(0.0, 0.0, -1.0);
+      const HitD hit = intersectD(scene, RayD{o, d, 0.0, expected + 0.05});
+      ASSERT_TRUE(hit.hit) << i << " cells " << cells;
+      EXPECT_NEAR(hit.t, expected, 1e-12) << i;
+      const RTCRayHit rh =
+          intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d), 0.0f, float(expected + 0.05)));
+      ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << i << " cells " << cells;
+      EXPECT_NEAR(rh.ray.tfar, expected, 1e-6) << i;
+    }
+  }
+}
+
+// The world box of a clip sphere under the transform x -> A x + b is the ellipsoid's: half
+// extent R |row_i(A)| along world axis i (worldBounds), which a sheared A tells apart from
+// its columns. The plane z = 0 in the unit clip ball is the unit disc; under the shear x' = x
+// + 2 y its world x reaches +-sqrt 5 (row (1, 2, 0)), not +-1 (column (1, 0, 0)). Rays straight
+// down from world z = 3 onto points of the disc (radius up to 0.95) hit it at t = 3 (closed
+// form), in both channels.
+TEST_F(EmbreeTransform, ShearedClipSphereKeepsItsWorldExtent) {
+  SurfaceDesc desc;
+  desc.polynomial = Z();
+  desc.clip = ClipSphere{glm::dvec3(0.0), 1.0};
+  desc.transform = glm::dmat4(1.0);
+  desc.transform[1][0] = 2.0;  // column y, row x: x' = x + 2 y
+  const SurfaceScene scene(device, desc);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int wide = 0;
+  for (int i = 0; i < 200; ++i) {
+    const glm::dvec2 q(0.95 * u(rng), 0.95 * u(rng));
+    if (glm::length(q) > 0.95) continue;
+    wide += std::abs(q.x + 2.0 * q.y) > 1.1;
+    const glm::dvec3 o(q.x + 2.0 * q.y, q.y, 3.0), d(0.0, 0.0, -1.0);
+    const HitD hit = intersectD(scene, RayD{o, d, 0.0, 1e30});
+    ASSERT_TRUE(hit.hit) << i << " at " << q.x << " " << q.y;
+    EXPECT_NEAR(hit.t, 3.0, 1e-12) << i;
+    const RTCRayHit rh = intersect1(scene, makeRay(glm::vec3(o), glm::vec3(d)));
+    ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << i << " at " << q.x << " " << q.y;
+    EXPECT_NEAR(rh.ray.tfar, 3.0, 1e-6) << i;
+  }
+  EXPECT_GT(wide, 30);  // rays outside the column's extent of +-1
+}
+
 }  // namespace
 }  // namespace algray::test
