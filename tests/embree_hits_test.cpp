@@ -132,6 +132,43 @@ TEST_F(EmbreeHits, DoubleRaysSteppingPastAHitMeetEachRootOnce) {
   EXPECT_EQ(extra, 0);
 }
 
+// A leaving double ray asked again with tnear one double before its hit (README: a root whose
+// noise band holds tnear counts as at tnear and is not reported) gets no hit: the quadric
+// path's linear rest after the self-root division (linearFirst) must drop a root within
+// noise of its span's start, as firstRoot does. From points of the unit sphere inwards the
+// line meets the sphere at the origin and at the far root t = -b + sqrt(b^2 - c) (b = o . d,
+// c = |o|^2 - 1 in long double), which the first query must find.
+TEST_F(EmbreeHits, LeavingRaysAskedJustBeforeTheirHitDoNotGetItAgain) {
+  const SurfaceScene scene(device, sphereDesc(1.0, 1.25));
+  std::mt19937_64 gen(47);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto random3 = [&] { return glm::dvec3(uniform(gen), uniform(gen), uniform(gen)); };
+  int again = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const glm::dvec3 o = glm::normalize(random3());
+    glm::dvec3 d = glm::normalize(random3());
+    if (glm::dot(d, o) > -0.1) d = glm::normalize(d - 1.5 * o);  // inwards, not grazing
+    const long double b = static_cast<long double>(o.x) * d.x +
+                          static_cast<long double>(o.y) * d.y + static_cast<long double>(o.z) * d.z;
+    const long double c = static_cast<long double>(o.x) * o.x +
+                          static_cast<long double>(o.y) * o.y +
+                          static_cast<long double>(o.z) * o.z - 1.0L;
+    const long double dd = static_cast<long double>(d.x) * d.x +
+                           static_cast<long double>(d.y) * d.y +
+                           static_cast<long double>(d.z) * d.z;
+    const long double far = (-b + std::sqrt(b * b - dd * c)) / dd;
+    const HitD first = intersectD(scene, unboundedRay(o, d));
+    ASSERT_TRUE(first.hit) << "ray " << k;
+    EXPECT_NEAR(first.t, static_cast<double>(far), 1e-12) << "ray " << k;
+    RayD ray = unboundedRay(o, d);
+    ray.tnear = std::nextafter(first.t, 0.0);
+    const HitD next = intersectD(scene, ray);
+    if (next.hit && again++ == 0)
+      ADD_FAILURE() << "ray " << k << ": t " << next.t << " again after " << first.t;
+  }
+  EXPECT_EQ(again, 0);
+}
+
 // Dekker's TwoProduct (productError, without hardware FMA) gives the product's exact error,
 // as std::fma does, over operands of every scale, signs and subnormal and huge ones included.
 TEST(TwoProduct, ProductErrorIsTheExactError) {
