@@ -439,12 +439,9 @@ TEST(SurfaceTexture, PolesReadTheImagesEdgeRowsAsTheEnvironmentDoes) {
     }
 }
 
-// The depth and id AOVs of a pixel come from one of its samples, the nearest hit: a unit
-// sphere 6 away and a floor behind it, 16 samples a pixel. Until session 52 depth was the
-// mean over the samples with a miss counted as 0 and id sample 0's: outline pixels read
-// depths in front of everything (0.38 where the nearest surface is 5), and some had a depth
-// with id 0.
-TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
+// A unit sphere 6 away and a floor 3 behind its centre, facing the camera and covering the
+// lower half of the picture, 16 samples a pixel (the AOV tests' scene).
+SceneDesc sphereBeforeAFloor() {
   SceneDesc s;
   s.settings.width = 40;
   s.settings.height = 30;
@@ -455,11 +452,19 @@ TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
   s.camera.fovY = 30;
   s.addMaterial(Material{});
   addUnitSphere(s);
-  // A floor 3 behind the sphere's centre, facing the camera, covering the lower half.
   s.meshes.push_back(
       {"floor", makePlane(2.0),
        glm::rotate(glm::translate(glm::dmat4(1.0), {0, 3, -2}), 0.5 * M_PI, glm::dvec3(1, 0, 0)), 0,
        -1});
+  return s;
+}
+
+// The depth and id AOVs of a pixel come from one of its samples, the nearest hit
+// (sphereBeforeAFloor). Until session 52 depth was the mean over the samples with a miss
+// counted as 0 and id sample 0's: outline pixels read depths in front of everything (0.38
+// where the nearest surface is 5), and some had a depth with id 0.
+TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
+  const SceneDesc s = sphereBeforeAFloor();
   Scene scene(s);
   Image image;
   render(scene, image);
@@ -495,20 +500,7 @@ TEST(Aov, DepthAndIdOfOutlinePixelsComeFromOneSurface) {
 // camera rays o + t d across the pixel, each meeting the sphere iff o.d < 0 and
 // (o.d)^2 - |o|^2 + 1 >= 0 (|o + t d|^2 = 1 has a real root, in front).
 TEST(Aov, PixelsMostlyCoveredByTheNearerSurfaceAreIts) {
-  SceneDesc s;
-  s.settings.width = 40;
-  s.settings.height = 30;
-  s.settings.spp = 16;
-  s.settings.maxDepth = 1;
-  s.camera.position = {0, -6, 0};
-  s.camera.lookAt = {0, 0, 0};
-  s.camera.fovY = 30;
-  s.addMaterial(Material{});
-  addUnitSphere(s);
-  s.meshes.push_back(
-      {"floor", makePlane(2.0),
-       glm::rotate(glm::translate(glm::dmat4(1.0), {0, 3, -2}), 0.5 * M_PI, glm::dvec3(1, 0, 0)), 0,
-       -1});
+  const SceneDesc s = sphereBeforeAFloor();
   Scene scene(s);
   Image image;
   render(scene, image);
