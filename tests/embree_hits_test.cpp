@@ -136,8 +136,8 @@ TEST_F(EmbreeHits, DoubleRaysSteppingPastAHitMeetEachRootOnce) {
 // noise band holds tnear counts as at tnear and is not reported) gets no hit: the quadric
 // path's linear rest after the self-root division (linearFirst) must drop a root within
 // noise of its span's start, as firstRoot does. From points of the unit sphere inwards the
-// line meets the sphere at the origin and at the far root t = -b + sqrt(b^2 - c) (b = o . d,
-// c = |o|^2 - 1 in long double), which the first query must find.
+// line meets the sphere at the origin and at the far root (sphereRoot's closed form in long
+// double), which the first query must find.
 TEST_F(EmbreeHits, LeavingRaysAskedJustBeforeTheirHitDoNotGetItAgain) {
   const SurfaceScene scene(device, sphereDesc(1.0, 1.25));
   std::mt19937_64 gen(47);
@@ -148,15 +148,8 @@ TEST_F(EmbreeHits, LeavingRaysAskedJustBeforeTheirHitDoNotGetItAgain) {
     const glm::dvec3 o = glm::normalize(random3());
     glm::dvec3 d = glm::normalize(random3());
     if (glm::dot(d, o) > -0.1) d = glm::normalize(d - 1.5 * o);  // inwards, not grazing
-    const long double b = static_cast<long double>(o.x) * d.x +
-                          static_cast<long double>(o.y) * d.y + static_cast<long double>(o.z) * d.z;
-    const long double c = static_cast<long double>(o.x) * o.x +
-                          static_cast<long double>(o.y) * o.y +
-                          static_cast<long double>(o.z) * o.z - 1.0L;
-    const long double dd = static_cast<long double>(d.x) * d.x +
-                           static_cast<long double>(d.y) * d.y +
-                           static_cast<long double>(d.z) * d.z;
-    const long double far = (-b + std::sqrt(b * b - dd * c)) / dd;
+    // The far root lies at -2 o . d >= 0.2; the near one within rounding of 0.
+    const long double far = *sphereRoot(o, d, 1.0L, 0.1L);
     const HitD first = intersectD(scene, unboundedRay(o, d));
     ASSERT_TRUE(first.hit) << "ray " << k;
     EXPECT_NEAR(first.t, static_cast<double>(far), 1e-12) << "ray " << k;
